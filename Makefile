@@ -1,0 +1,34 @@
+# Two set-up-free entry points: `make demo` (the main job) and `make test` (the suite).
+# Each creates .venv on first use and installs the project with what it needs.
+PY ?= python3.11
+VENV := .venv
+BIN := $(VENV)/bin
+STAMP := $(VENV)/.installed-stamp
+
+.PHONY: demo test lint bench clean-venv
+
+$(STAMP): pyproject.toml
+	@command -v $(PY) >/dev/null 2>&1 || { echo "make: $(PY) not found; set PY=python3.X (>= 3.11)" >&2; exit 2; }
+	$(PY) -m venv $(VENV)
+	$(BIN)/python -m pip install -q --upgrade pip
+	$(BIN)/python -m pip install -q -e '.[test]'
+	$(BIN)/python -m pip install -q --no-deps mealpy==3.0.3 opfunu==1.0.4
+	touch $(STAMP)
+
+demo: $(STAMP)
+	$(BIN)/chassistune demo --out demo-output
+
+test: $(STAMP)
+	$(BIN)/ruff check src tests benchmarks
+	$(BIN)/mypy
+	$(BIN)/python -m pytest
+
+lint: $(STAMP)
+	$(BIN)/ruff check src tests benchmarks
+	$(BIN)/mypy
+
+bench: $(STAMP)
+	$(BIN)/chassistune bench
+
+clean-venv:
+	rm -rf $(VENV)

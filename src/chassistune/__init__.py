@@ -1,0 +1,3 @@
+"""chassistune: tune vehicle chassis controllers with swarm optimizers in closed-loop simulation."""
+
+__version__ = "0.1.0"

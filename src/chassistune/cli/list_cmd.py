@@ -1,0 +1,83 @@
+"""`chassistune list {plants|presets|roads|controllers|optimizers|functions} [--json]`."""
+
+from __future__ import annotations
+
+import json
+
+import click
+
+from chassistune.cli.main import cli
+from chassistune.plants.registry import get_plant, plant_names
+
+KINDS = ["plants", "presets", "roads", "controllers", "optimizers", "functions"]
+
+
+def catalogue(kind: str) -> object:
+    """The JSON-ready listing of one kind (grouped by plant where it applies)."""
+    from chassistune.controllers.registry import for_plant
+
+    if kind == "plants":
+        return [
+            {"name": n, "description": get_plant(n).description, "default_preset": get_plant(n).default_preset}
+            for n in plant_names()
+        ]
+    if kind == "presets":
+        return {
+            n: [
+                {"name": p.name, "description": p.description, "roads": list(p.roads)}
+                for p in get_plant(n).presets().values()
+            ]
+            for n in plant_names()
+        }
+    if kind == "roads":
+        return {
+            n: [{"name": r, "description": d} for r, d in get_plant(n).roads().items()]
+            for n in plant_names()
+        }
+    if kind == "controllers":
+        out = {}
+        for n in plant_names():
+            get_plant(n)  # importing the plant registers its controllers
+            out[n] = [c.as_dict() for c in for_plant(n)]
+        return out
+    if kind == "optimizers":
+        from chassistune.optimizers.registry import catalogue as opt_catalogue
+
+        return opt_catalogue()
+    from chassistune.benchmarks.functions import catalogue as fn_catalogue
+
+    return fn_catalogue()
+
+
+def _print_human(kind: str, data: object) -> None:
+    if isinstance(data, dict):
+        for plant, items in data.items():
+            click.echo(f"{plant}:")
+            for item in items:
+                extra = ""
+                if kind == "controllers":
+                    gains = ", ".join(
+                        f"{g['name']} [{g['bounds'][0]:g}, {g['bounds'][1]:g}] {g['unit']}"
+                        for g in item["gains"]
+                    )
+                    extra = f"  gains: {gains}" if gains else "  (no gains)"
+                elif kind == "presets":
+                    extra = f"  roads: {', '.join(item['roads'])}"
+                click.echo(f"  {item['name']:<26} {item['description']}")
+                if extra:
+                    click.echo(f"  {'':<26}{extra}")
+    else:
+        for item in data:  # type: ignore[attr-defined]
+            click.echo(f"{item['name']:<14} {item.get('description', '')}")
+
+
+@cli.command("list")
+@click.argument("kind", type=click.Choice(KINDS))
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
+def list_command(kind: str, as_json: bool) -> None:
+    """List plants, presets, roads, controllers (with gain bounds), optimizers or functions."""
+    data = catalogue(kind)
+    if as_json:
+        click.echo(json.dumps({kind: data}, indent=1))
+    else:
+        _print_human(kind, data)

@@ -1,0 +1,120 @@
+"""One registry of controllers keyed by (plant, controller): gain names, units, defaults, bounds.
+
+`chassistune list controllers --json`, `--gains`, `tune`, study configs and exported tables all
+read it. The ABS PID and the suspension PID share a name, not their bounds.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from chassistune.errors import InputError
+
+
+@dataclass(frozen=True)
+class GainSpec:
+    """A tunable gain: name, unit, default value and tuning bounds [lo, hi]."""
+
+    name: str
+    unit: str
+    default: float
+    lo: float
+    hi: float
+    description: str = ""
+
+    def as_dict(self) -> dict[str, object]:
+        return {
+            "name": self.name,
+            "unit": self.unit,
+            "default": self.default,
+            "bounds": [self.lo, self.hi],
+            "description": self.description,
+        }
+
+
+@dataclass(frozen=True)
+class ParamSpec:
+    """A fixed (not tuned) controller parameter, set with `--param NAME=VALUE`.
+
+    `default` is a float, or a string for symbolic choices (then `choices` lists them; an empty
+    tuple means free text such as a file path).
+    """
+
+    name: str
+    unit: str
+    default: float | str | None
+    description: str = ""
+    choices: tuple[str, ...] = ()
+    positive: bool = False
+
+    def as_dict(self) -> dict[str, object]:
+        out: dict[str, object] = {
+            "name": self.name,
+            "unit": self.unit,
+            "default": self.default,
+            "description": self.description,
+        }
+        if self.choices:
+            out["choices"] = list(self.choices)
+        return out
+
+
+@dataclass(frozen=True)
+class ControllerSpec:
+    """A controller structure available for one plant."""
+
+    plant: str
+    name: str
+    description: str
+    gains: tuple[GainSpec, ...] = ()
+    params: tuple[ParamSpec, ...] = ()
+
+    @property
+    def gain_names(self) -> tuple[str, ...]:
+        return tuple(g.name for g in self.gains)
+
+    @property
+    def param_names(self) -> tuple[str, ...]:
+        return tuple(p.name for p in self.params)
+
+    def default_gains(self) -> dict[str, float]:
+        return {g.name: g.default for g in self.gains}
+
+    def bounds(self) -> list[tuple[float, float]]:
+        return [(g.lo, g.hi) for g in self.gains]
+
+    def as_dict(self) -> dict[str, object]:
+        return {
+            "name": self.name,
+            "description": self.description,
+            "gains": [g.as_dict() for g in self.gains],
+            "params": [p.as_dict() for p in self.params],
+        }
+
+
+_REGISTRY: dict[tuple[str, str], ControllerSpec] = {}
+
+
+def register(spec: ControllerSpec) -> ControllerSpec:
+    """Add a controller; registering the same (plant, name) twice is a programming error."""
+    key = (spec.plant, spec.name)
+    if key in _REGISTRY:
+        raise RuntimeError(f"controller {spec.name!r} registered twice for plant {spec.plant!r}")
+    _REGISTRY[key] = spec
+    return spec
+
+
+def get(plant: str, name: str) -> ControllerSpec:
+    """The controller `name` of `plant`, or InputError listing the known ones."""
+    try:
+        return _REGISTRY[(plant, name)]
+    except KeyError:
+        known = ", ".join(sorted(n for p, n in _REGISTRY if p == plant)) or "none"
+        raise InputError(
+            "controller", f"unknown controller {name!r} for plant {plant!r} (known: {known})"
+        ) from None
+
+
+def for_plant(plant: str) -> list[ControllerSpec]:
+    """All controllers of a plant, in registration order."""
+    return [s for (p, _), s in _REGISTRY.items() if p == plant]

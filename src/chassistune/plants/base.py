@@ -1,0 +1,111 @@
+"""What every plant offers the simulation, tuning and CLI layers.
+
+A *plant* (registered by name in `chassistune.plants.registry`) knows its presets and roads and
+builds a *scenario*: plant + preset + road + controller + parameter overrides, fully resolved and
+validated. A scenario evaluates a whole population of gain vectors at once (`metrics`, `cost`)
+and traces one candidate for plots (`trace`).
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from chassistune.controllers.registry import ControllerSpec
+
+PENALTY = 1e9
+"""Cost of a run that cannot be scored (diverged, NaN, unstable, hopeless, not stopped)."""
+
+
+@dataclass(frozen=True)
+class PresetInfo:
+    """A named parameter set of a plant, with the roads of its paper (first = default)."""
+
+    name: str
+    description: str
+    roads: tuple[str, ...]
+
+
+@dataclass
+class Trace:
+    """Time series of one closed-loop run (`signals[name]` arrays of equal length) and metrics."""
+
+    signals: dict[str, np.ndarray]
+    metrics: dict[str, Any]
+    units: dict[str, str] = field(default_factory=dict)
+
+
+class Scenario(ABC):
+    """A resolved plant + preset + road + controller. Gains are `(n, k)` arrays, k = len(gain_names)."""
+
+    plant: str
+    preset: str
+    road: str
+    controller: ControllerSpec
+    objectives: tuple[str, ...]
+    default_objective: str
+
+    @property
+    def gain_names(self) -> tuple[str, ...]:
+        return self.controller.gain_names
+
+    @abstractmethod
+    def params(self) -> dict[str, Any]:
+        """Every plant, road, solver and controller value used, by name, in SI (JSON echo)."""
+
+    @abstractmethod
+    def metrics(self, gains: np.ndarray) -> dict[str, np.ndarray]:
+        """Metrics of each candidate row: name -> array of shape (n,)."""
+
+    @abstractmethod
+    def cost(self, gains: np.ndarray, objective: str | None = None) -> np.ndarray:
+        """Objective of each row, shape (n,), finite, at most PENALTY, never NaN."""
+
+    @abstractmethod
+    def trace(self, gains: np.ndarray) -> Trace:
+        """Time series of one candidate (gains of shape (k,))."""
+
+    def gains_array(self, gains: Mapping[str, float] | None) -> np.ndarray:
+        """Registry defaults overridden by `gains`, as a (k,) array in gain_names order."""
+        from chassistune.errors import InputError
+
+        values = self.controller.default_gains()
+        for name, value in (gains or {}).items():
+            if name not in values:
+                known = ", ".join(self.gain_names) or "none"
+                raise InputError(
+                    "--gains", f"unknown gain {name!r} for {self.controller.name} (known: {known})"
+                )
+            values[name] = float(value)
+        return np.array([values[n] for n in self.gain_names], dtype=np.float64)
+
+
+class Plant(ABC):
+    """A registered plant: its presets, roads and how to build a scenario."""
+
+    name: str
+    description: str
+    default_preset: str
+
+    @abstractmethod
+    def presets(self) -> dict[str, PresetInfo]:
+        """Presets by name."""
+
+    @abstractmethod
+    def roads(self) -> dict[str, str]:
+        """Road name -> one-line description."""
+
+    @abstractmethod
+    def scenario(
+        self,
+        preset: str | None = None,
+        road: str | None = None,
+        controller: str = "none",
+        params: Mapping[str, object] | None = None,
+        seed: int = 0,
+    ) -> Scenario:
+        """Resolve and validate; unknown names or bad values raise InputError."""
