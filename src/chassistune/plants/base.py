@@ -109,3 +109,11 @@ class Plant(ABC):
         seed: int = 0,
     ) -> Scenario:
         """Resolve and validate; unknown names or bad values raise InputError."""
+
+    @abstractmethod
+    def plot(self, scenario: Scenario, trace: Trace, path: str) -> None:
+        """Draw the figure of `simulate --plot` for this trace into `path` (PNG).
+
+        Implementations import matplotlib lazily (physics imports no plotting) from
+        `chassistune.plots.<plant module>`.
+        """
