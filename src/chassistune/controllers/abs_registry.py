@@ -1,0 +1,67 @@
+"""Controllers of the single-wheel ABS plant, with their gains and bounds (DESIGN 4)."""
+
+from __future__ import annotations
+
+from chassistune.controllers.registry import (
+    ControllerSpec,
+    GainSpec,
+    ParamSpec,
+    for_plant,
+    register,
+)
+from chassistune.controllers.registry import get as _get
+
+PLANT = "abs-wheel"
+
+AMPLITUDE = ParamSpec(
+    "amplitude", "-", None,
+    "pressure command magnitude (rate K*amplitude); default reaches q_max in 0.15 s",
+    positive=True,
+)
+
+register(ControllerSpec(PLANT, "none", "no ABS: the driver's pressure ramps to q_max and holds",
+                        params=(AMPLITUDE,)))
+register(ControllerSpec(
+    PLANT, "pid",
+    "PID on the slip error e = S_target - S (seed 000 eq. 12), filtered derivative without kick, "
+    "conditional-integration anti-windup",
+    gains=(
+        GainSpec("kp", "1/(slip)", 5000.0, 0.0, 1e4, "proportional gain (acts like an integral "
+                 "gain on pressure: the actuator integrates)"),
+        GainSpec("ki", "1/(slip s)", 0.0, 0.0, 1e4, "integral gain"),
+        GainSpec("kd", "s/(slip)", 230.0, 0.0, 1e3, "derivative gain (acts like a proportional "
+                 "gain on pressure)"),
+    ),
+    params=(ParamSpec("n_filter", "rad/s", 100.0, "derivative filter coefficient N",
+                      positive=True),),
+))
+register(ControllerSpec(
+    PLANT, "bang-bang",
+    "sldemo's controller: u = amplitude * sign(S_target - S), sampled each step",
+    params=(AMPLITUDE,),
+))
+register(ControllerSpec(
+    PLANT, "threshold",
+    "rule-based ABS: wheel deceleration/acceleration and slip thresholds drive pressure "
+    "build, hold, dump, recover and slow-build phases (see docs/abs.md)",
+    params=(
+        AMPLITUDE,
+        ParamSpec("decel_threshold_m_s2", "m/s^2", 15.0,
+                  "-a: wheel circumferential deceleration that stops the build-up", positive=True),
+        ParamSpec("accel_threshold_m_s2", "m/s^2", 10.0,
+                  "+a: wheel re-acceleration held before building again", positive=True),
+        ParamSpec("slip_margin", "-", 0.05, "dump when slip exceeds target + margin",
+                  positive=True),
+        ParamSpec("slow_fraction", "-", 0.25, "slow build rate as a fraction of amplitude",
+                  positive=True),
+    ),
+))
+
+
+def get(name: str) -> ControllerSpec:
+    """The abs-wheel controller `name`."""
+    return _get(PLANT, name)
+
+
+def names() -> list[str]:
+    return [s.name for s in for_plant(PLANT)]

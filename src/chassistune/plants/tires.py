@@ -1,0 +1,149 @@
+"""Longitudinal tire friction curves mu(S) and their peaks (DESIGN 3.2).
+
+Three families, all evaluated by one compiled function (`tire_mu`) from plain arrays so that roads
+are data, not code paths:
+
+* bilinear (seed 000 eq. 5): mu = mu_h S / S_T for S <= S_T, else
+  (mu_h - mu_g S_T)/(1 - S_T) - (mu_h - mu_g) S / (1 - S_T); stored as the piecewise-linear table
+  (0, 0), (S_T, mu_h), (1, mu_g);
+* Burckhardt: mu = c1 (1 - exp(-c2 S)) - c3 S;
+* a piecewise-linear table (MathWorks' sldemo_absbrake mu-slip table).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numba
+import numpy as np
+
+from chassistune.errors import InputError
+
+KIND_TABLE = 0
+KIND_BURCKHARDT = 1
+
+_POS = {"positive": True}
+_NONNEG = {"nonnegative": True}
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def tire_mu(kind: int, coef: np.ndarray, xs: np.ndarray, ys: np.ndarray, s: float) -> float:
+    """Friction coefficient at slip s in [0, 1] (kind 0: linear table, kind 1: Burckhardt)."""
+    if kind == KIND_BURCKHARDT:
+        return coef[0] * (1.0 - math.exp(-coef[1] * s)) - coef[2] * s
+    n = xs.shape[0]
+    j = 1
+    while j < n - 1 and s > xs[j]:
+        j += 1
+    return ys[j - 1] + (ys[j] - ys[j - 1]) * (s - xs[j - 1]) / (xs[j] - xs[j - 1])
+
+
+@dataclass(frozen=True)
+class TireCurve:
+    """Base: a curve mu(S) on S in [0, 1], with its kernel representation."""
+
+    def kernel_data(self) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
+        """(kind, coef, xs, ys) as `tire_mu` takes them."""
+        raise NotImplementedError
+
+    def mu(self, slip: np.ndarray | float) -> np.ndarray:
+        """Vectorized mu(S) (for plots, peaks and tests)."""
+        kind, coef, xs, ys = self.kernel_data()
+        s = np.clip(np.asarray(slip, dtype=np.float64), 0.0, 1.0)
+        if kind == KIND_BURCKHARDT:
+            return np.asarray(coef[0] * (1.0 - np.exp(-coef[1] * s)) - coef[2] * s)
+        return np.interp(s, xs, ys)
+
+    def peak(self) -> tuple[float, float, float]:
+        """(mu_peak, slip at the peak, target slip).
+
+        The target is the slip of the peak when the curve has an interior peak, else the smallest
+        slip reaching 98 % of mu_peak (a curve rising up to S = 1, such as Burckhardt ice, must not
+        ask the controller for a locked wheel).
+        """
+        kind, _, xs, ys = self.kernel_data()
+        if kind == KIND_TABLE:  # the peak of a linear table is one of its nodes
+            i = int(np.argmax(ys))
+            mu_peak, s_peak = float(ys[i]), float(xs[i])
+        else:
+            s = np.linspace(0.0, 1.0, 200_001)
+            i = int(np.argmax(self.mu(s)))
+            lo, hi = s[max(i - 1, 0)], s[min(i + 1, s.size - 1)]
+            for _ in range(60):  # golden-section refinement around the grid peak
+                a = hi - (hi - lo) * 0.6180339887498949
+                b = lo + (hi - lo) * 0.6180339887498949
+                if self.mu(a) >= self.mu(b):
+                    hi = b
+                else:
+                    lo = a
+            s_peak = 0.5 * (lo + hi)
+            mu_peak = float(self.mu(s_peak))
+        mu_end = float(self.mu(1.0))
+        if mu_end < mu_peak * (1.0 - 1e-9):
+            return mu_peak, float(s_peak), float(s_peak)
+        # no interior peak: the curve rises (or saturates) up to a locked wheel
+        mu_peak = max(mu_peak, mu_end)
+        s = np.linspace(0.0, 1.0, 1_000_001)
+        target = float(s[np.argmax(self.mu(s) >= 0.98 * mu_peak)])
+        return mu_peak, 1.0, target
+
+
+@dataclass(frozen=True)
+class BilinearTire(TireCurve):
+    """Seed 000 eq. 5 with Table 1's (S_T, mu_h, mu_g)."""
+
+    slip_opt: float = field(metadata=_POS)
+    mu_peak: float = field(metadata=_POS)
+    mu_lock: float = field(metadata=_NONNEG)
+
+    def __post_init__(self) -> None:
+        if not 0.0 < self.slip_opt < 1.0:
+            raise InputError("--param slip_opt", f"must be in (0, 1), got {self.slip_opt:g}")
+
+    def kernel_data(self) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
+        xs = np.array([0.0, self.slip_opt, 1.0])
+        ys = np.array([0.0, self.mu_peak, self.mu_lock])
+        return KIND_TABLE, np.zeros(3), xs, ys
+
+
+@dataclass(frozen=True)
+class BurckhardtTire(TireCurve):
+    """Burckhardt's curve mu = c1 (1 - exp(-c2 S)) - c3 S."""
+
+    c1: float = field(metadata=_POS)
+    c2: float = field(metadata=_POS)
+    c3: float = field(metadata=_NONNEG)
+
+    def kernel_data(self) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
+        return KIND_BURCKHARDT, np.array([self.c1, self.c2, self.c3]), np.zeros(2), np.zeros(2)
+
+
+@dataclass(frozen=True)
+class TableTire(TireCurve):
+    """A piecewise-linear mu-slip table on increasing slips from 0 to 1."""
+
+    slips: tuple[float, ...]
+    mus: tuple[float, ...]
+
+    def kernel_data(self) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
+        return KIND_TABLE, np.zeros(3), np.array(self.slips), np.array(self.mus)
+
+
+SLDEMO_TABLE = TableTire(
+    slips=tuple(np.round(np.arange(21) * 0.05, 10)),
+    mus=(0.0, 0.4, 0.8, 0.97, 1.0, 0.98, 0.96, 0.94, 0.92, 0.9, 0.88, 0.855, 0.83, 0.81, 0.79,
+         0.77, 0.75, 0.73, 0.72, 0.71, 0.7),
+)
+"""MathWorks sldemo_absbrake's mu-slip table (slip 0:0.05:1)."""
+
+BURCKHARDT_SURFACES: dict[str, tuple[float, float, float]] = {
+    "dry-asphalt": (1.2801, 23.99, 0.52),
+    "wet-asphalt": (0.857, 33.822, 0.347),
+    "dry-concrete": (1.1973, 25.168, 0.5373),
+    "cobblestone-dry": (1.3713, 6.4565, 0.6691),
+    "cobblestone-wet": (0.4004, 33.708, 0.1204),
+    "snow": (0.1946, 94.129, 0.0646),
+    "ice": (0.05, 306.39, 0.0),
+}
+"""Burckhardt's (c1, c2, c3) for his seven surfaces."""

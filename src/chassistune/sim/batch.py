@@ -1,0 +1,51 @@
+"""Run a compiled batch kernel over fixed-size chunks of candidates on a thread pool.
+
+Chunks have a fixed size, so the work each candidate sees is the same however many threads run
+(results are identical for any worker count). Kernels must be compiled with nogil=True.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+
+CHUNK = 64
+
+
+def default_workers() -> int:
+    """Threads to use: CHASSISTUNE_THREADS if set, else the cores this process may use."""
+    env = os.environ.get("CHASSISTUNE_THREADS")
+    if env:
+        return max(1, int(env))
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - non-Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def run_chunked(
+    kernel_call: Callable[[np.ndarray, np.ndarray], None],
+    gains: np.ndarray,
+    n_out: int,
+    workers: int | None = None,
+) -> np.ndarray:
+    """Call `kernel_call(gains_chunk, out_chunk)` on chunks; return out of shape (n, n_out)."""
+    n = gains.shape[0]
+    out = np.empty((n, n_out))
+    starts = list(range(0, n, CHUNK))
+    workers = default_workers() if workers is None else workers
+    if workers <= 1 or len(starts) == 1:
+        for s in starts:
+            kernel_call(gains[s : s + CHUNK], out[s : s + CHUNK])
+        return out
+    with ThreadPoolExecutor(max_workers=min(workers, len(starts))) as pool:
+        futures = [
+            pool.submit(kernel_call, np.ascontiguousarray(gains[s : s + CHUNK]), out[s : s + CHUNK])
+            for s in starts
+        ]
+        for f in futures:
+            f.result()
+    return out
