@@ -80,6 +80,7 @@ def _sldemo_params() -> AbsWheelParams:
         brake_gain=FT_LBF,
         q_max=1500.0,
         load_fraction=0.25,
+        v_stop_m_s=0.01,  # the demo runs to standstill (its wheel is locked by then)
     )
 
 
@@ -235,9 +236,9 @@ class AbsWheelScenario(Scenario):
         p[K.P_TARGET] = self.target_slip
         p[K.P_HOPELESS_M] = self.scoring.hopeless_factor * self.bound_distance_m
         p[K.P_LOCK_RATIO] = pp.lock_ratio
+        p[K.P_NFILTER] = self.controller_params.get("n_filter", 100.0)
         cp = self.controller_params
         c = np.zeros(K.N_CTRL)
-        c[K.Q_NFILTER] = cp.get("n_filter", 100.0)
         c[K.Q_AMPLITUDE] = cp.get("amplitude", 0.0)
         c[K.Q_DECEL] = cp.get("decel_threshold_m_s2", 0.0)
         c[K.Q_ACCEL] = cp.get("accel_threshold_m_s2", 0.0)

@@ -22,14 +22,23 @@ from chassistune.errors import InputError
 
 KIND_TABLE = 0
 KIND_BURCKHARDT = 1
+KIND_BILINEAR = 2
 
 _POS = {"positive": True}
 _NONNEG = {"nonnegative": True}
 
 
-@numba.njit(cache=True, nogil=True, inline="always")
+@numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
 def tire_mu(kind: int, coef: np.ndarray, xs: np.ndarray, ys: np.ndarray, s: float) -> float:
-    """Friction coefficient at slip s in [0, 1] (kind 0: linear table, kind 1: Burckhardt)."""
+    """Friction coefficient at slip s in [0, 1].
+
+    kind 0: linear table (xs, ys); 1: Burckhardt, coef = (c1, c2, c3); 2: bilinear in closed form,
+    coef = (S_T, mu_h / S_T, (mu_h - mu_g S_T)/(1 - S_T), (mu_h - mu_g)/(1 - S_T)).
+    """
+    if kind == KIND_BILINEAR:
+        rising = coef[1] * s
+        falling = coef[2] - coef[3] * s
+        return rising if s <= coef[0] else falling
     if kind == KIND_BURCKHARDT:
         return coef[0] * (1.0 - math.exp(-coef[1] * s)) - coef[2] * s
     n = xs.shape[0]
@@ -53,7 +62,7 @@ class TireCurve:
         s = np.clip(np.asarray(slip, dtype=np.float64), 0.0, 1.0)
         if kind == KIND_BURCKHARDT:
             return np.asarray(coef[0] * (1.0 - np.exp(-coef[1] * s)) - coef[2] * s)
-        return np.interp(s, xs, ys)
+        return np.interp(s, xs, ys)  # tables and bilinear curves (their xs, ys are the corners)
 
     def peak(self) -> tuple[float, float, float]:
         """(mu_peak, slip at the peak, target slip).
@@ -63,7 +72,7 @@ class TireCurve:
         ask the controller for a locked wheel).
         """
         kind, _, xs, ys = self.kernel_data()
-        if kind == KIND_TABLE:  # the peak of a linear table is one of its nodes
+        if kind != KIND_BURCKHARDT:  # the peak of a piecewise-linear curve is one of its nodes
             i = int(np.argmax(ys))
             mu_peak, s_peak = float(ys[i]), float(xs[i])
         else:
@@ -104,7 +113,9 @@ class BilinearTire(TireCurve):
     def kernel_data(self) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
         xs = np.array([0.0, self.slip_opt, 1.0])
         ys = np.array([0.0, self.mu_peak, self.mu_lock])
-        return KIND_TABLE, np.zeros(3), xs, ys
+        st, h, g = self.slip_opt, self.mu_peak, self.mu_lock
+        coef = np.array([st, h / st, (h - g * st) / (1.0 - st), (h - g) / (1.0 - st)])
+        return KIND_BILINEAR, coef, xs, ys
 
 
 @dataclass(frozen=True)

@@ -12,8 +12,15 @@ Control u: a continuous PID with filtered derivative and conditional integration
     u = u0 + kp e + ki z + kd N (e - xf),  dz/dt = e (unless the pressure saturates in the
     direction e pushes),  dxf/dt = N (e - xf),  e = S_target - S,
 plus a sampled part u0 (zero-order hold over each step) for the switching laws (no ABS, bang-bang,
-threshold). Integration: classic RK4 at a fixed step; the stop at v_stop is located by linear
-interpolation inside the last step.
+threshold). Integration: classic RK4 at a fixed step on (v, w, q, r, z, xf); distance and the slip
+integrals (IAE, ITAE, ISE, mean slip) by quadrature of the step-end values, exact for a slip error
+linear over the step (so a sign change inside a step costs no first-order error); the stop at v_stop
+is located by linear interpolation inside the last step.
+
+Speed: the RK4 stages run stage by stage over all running candidates (short independent loop
+bodies the CPU overlaps; one candidate's stages form a long dependent chain), and finished
+candidates leave the index list of running ones. Float division follows numpy's error model (no
+Python zero-division checks in the loops).
 """
 
 from __future__ import annotations
@@ -28,11 +35,12 @@ from chassistune.plants.tires import tire_mu
 # plant parameter vector
 P_MASS, P_INERTIA, P_RADIUS, P_V0, P_G, P_K, P_TAU, P_KQ, P_QMAX = 0, 1, 2, 3, 4, 5, 6, 7, 8
 P_VSTOP, P_TMAX, P_DT, P_LOAD, P_TARGET, P_HOPELESS_M, P_LOCK_RATIO = 9, 10, 11, 12, 13, 14, 15
-N_PLANT = 16
+P_NFILTER = 16
+N_PLANT = 17
 
 # controller kinds and parameter vector
 C_NONE, C_PID, C_BANGBANG, C_THRESHOLD = 0, 1, 2, 3
-Q_NFILTER, Q_AMPLITUDE, Q_DECEL, Q_ACCEL, Q_SLIP_HIGH, Q_SLOW = 0, 1, 2, 3, 4, 5
+Q_AMPLITUDE, Q_DECEL, Q_ACCEL, Q_SLIP_HIGH, Q_SLOW = 1, 2, 3, 4, 5
 N_CTRL = 6
 
 # metrics columns
@@ -40,6 +48,10 @@ N_CTRL = 6
  M_LOCKED_S, M_CLIP, M_NTRACE, M_MIN_SLIP) = range(13)
 N_METRICS = 13
 STATUS_STOPPED, STATUS_HOPELESS, STATUS_TIMEOUT, STATUS_DIVERGED = 0, 1, 2, 3
+
+# state rows
+S_V, S_W, S_Q, S_R, S_Z, S_XF = 0, 1, 2, 3, 4, 5
+N_STATE = 6
 
 # trace columns
 (T_TIME, T_V, T_WHEEL_V, T_SLIP, T_Q, T_TB, T_U, T_X, T_MU, T_TARGET) = range(10)
@@ -49,32 +61,74 @@ N_TRACE = 10
 PH_BUILD, PH_HOLD, PH_DUMP, PH_RECOVER, PH_SLOW = 0, 1, 2, 3, 4
 
 
-@numba.njit(cache=True, nogil=True, inline="always")
-def _rhs(v, w, q, r, z, xf, t, u0, kp, ki, kd, p, kind, coef, xs, ys, nf):
-    """Time derivatives of (v, w, q, r, x, z, xf, iae, itae, ise, int S) and the command u."""
-    s = (v - w * p[P_RADIUS]) / v
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _rhs(v, w, q, r, z, xf, u0, kp, ki, kd, r_w, target, fz, inv_m, inv_i, kq, gain, inv_tau,
+         q_max, nf, kind, coef, xs, ys):
+    """Derivatives of (v, w, q, r, z, xf) and the command u at one state (fz = wheel load)."""
+    s = (v - w * r_w) / v
     s = min(max(s, 0.0), 1.0)  # guard only: physics keeps S in [0, 1]
-    e = p[P_TARGET] - s
-    fz = p[P_LOAD] * p[P_MASS] * p[P_G]
+    e = target - s
     fx = tire_mu(kind, coef, xs, ys, s) * fz
-    dv = -fx / p[P_MASS]
-    dw = (p[P_RADIUS] * fx - p[P_KQ] * q) / p[P_INERTIA]
-    if w <= 0.0 and dw < 0.0:
-        dw = 0.0
+    dv = -fx * inv_m
+    dw = (r_w * fx - kq * q) * inv_i
+    dw = 0.0 if (w <= 0.0 and dw < 0.0) else dw
     u = u0 + kp * e + ki * z + kd * nf * (e - xf)
-    dr = (p[P_K] * u - r) / p[P_TAU]
-    dq = r
-    if (q >= p[P_QMAX] and r > 0.0) or (q <= 0.0 and r < 0.0):
-        dq = 0.0
-    dz = e
-    if (q >= p[P_QMAX] and e > 0.0) or (q <= 0.0 and e < 0.0):
-        dz = 0.0
-    dxf = nf * (e - xf)
-    ae = abs(e)
-    return dv, dw, dq, dr, v, dz, dxf, ae, t * ae, e * e, s, u
+    dr = (gain * u - r) * inv_tau
+    q_hi = q >= q_max
+    q_lo = q <= 0.0
+    dq = 0.0 if ((q_hi and r > 0.0) or (q_lo and r < 0.0)) else r
+    dz = 0.0 if ((q_hi and e > 0.0) or (q_lo and e < 0.0)) else e
+    return dv, dw, dq, dr, dz, nf * (e - xf), u
 
 
-@numba.njit(cache=True, nogil=True, inline="always")
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _stage(m, active, x, k_in, c, k_out, u_out, u0, kp, ki, kd, p, kind, coef, xs, ys):
+    """One RK4 stage for the running candidates: k_out = f(x + c k_in)."""
+    r_w = p[P_RADIUS]
+    target = p[P_TARGET]
+    fz = p[P_LOAD] * p[P_MASS] * p[P_G]
+    inv_m = 1.0 / p[P_MASS]
+    inv_i = 1.0 / p[P_INERTIA]
+    kq = p[P_KQ]
+    gain = p[P_K]
+    inv_tau = 1.0 / p[P_TAU]
+    q_max = p[P_QMAX]
+    nf = p[P_NFILTER]
+    for j in range(m):
+        i = active[j]
+        dv, dw, dq, dr, dz, dxf, u = _rhs(
+            x[S_V, i] + c * k_in[S_V, i], x[S_W, i] + c * k_in[S_W, i],
+            x[S_Q, i] + c * k_in[S_Q, i], x[S_R, i] + c * k_in[S_R, i],
+            x[S_Z, i] + c * k_in[S_Z, i], x[S_XF, i] + c * k_in[S_XF, i],
+            u0[i], kp[i], ki[i], kd[i], r_w, target, fz, inv_m, inv_i, kq, gain, inv_tau, q_max,
+            nf, kind, coef, xs, ys)
+        k_out[S_V, i] = dv
+        k_out[S_W, i] = dw
+        k_out[S_Q, i] = dq
+        k_out[S_R, i] = dr
+        k_out[S_Z, i] = dz
+        k_out[S_XF, i] = dxf
+        u_out[i] = u
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _abs_integrals(a, b, t, h):
+    """Integrals over [t, t + h] of |e|, (t) |e| and e^2 for e linear from a to b."""
+    aa = abs(a)
+    bb = abs(b)
+    if a * b >= 0.0:
+        iae = 0.5 * h * (aa + bb)
+        itae = t * iae + h * h * (aa / 6.0 + bb / 3.0)
+    else:  # the error crosses zero at t + h1
+        h1 = h * aa / (aa + bb)
+        h2 = h - h1
+        iae = 0.5 * (aa * h1 + bb * h2)
+        itae = aa * (0.5 * t * h1 + h1 * h1 / 6.0) + bb * (0.5 * (t + h1) * h2 + h2 * h2 / 3.0)
+    ise = h * (a * a + a * b + b * b) / 3.0
+    return iae, itae, ise
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _sampled_command(ctrl_kind, c, phase, s, target, aw):
     """Zero-order-hold command u0 of the switching laws and the next threshold phase."""
     amp = c[Q_AMPLITUDE]
@@ -118,7 +172,7 @@ def _sampled_command(ctrl_kind, c, phase, s, target, aw):
     return 0.0, phase
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(cache=True, nogil=True, error_model="numpy")
 def simulate_abs_wheel(gains, p, tire_kind, tire_coef, tire_xs, tire_ys, ctrl_kind, c, trace, out):
     """Simulate every row of `gains` (n, 3: kp, ki, kd; zeros for laws without gains).
 
@@ -127,147 +181,152 @@ def simulate_abs_wheel(gains, p, tire_kind, tire_coef, tire_xs, tire_ys, ctrl_ki
     """
     n = gains.shape[0]
     dt = p[P_DT]
+    hs = 0.5 * dt
+    h6 = dt / 6.0
     r_w = p[P_RADIUS]
     v_stop = p[P_VSTOP]
+    q_max = p[P_QMAX]
     target = p[P_TARGET]
-    nf = c[Q_NFILTER]
     n_steps = int(math.ceil(p[P_TMAX] / dt - 1e-9))
-    v = np.full(n, p[P_V0])
-    w = np.full(n, p[P_V0] / r_w)
-    q = np.zeros(n)
-    r = np.zeros(n)
-    x = np.zeros(n)
-    z = np.zeros(n)
-    xf = np.full(n, target)  # derivative filter starts at e(0): no derivative kick
+    kp = np.ascontiguousarray(gains[:, 0])
+    ki = np.ascontiguousarray(gains[:, 1])
+    kd = np.ascontiguousarray(gains[:, 2])
+    x = np.zeros((N_STATE, n))
+    x[S_V, :] = p[P_V0]
+    x[S_W, :] = p[P_V0] / r_w
+    x[S_XF, :] = target  # derivative filter starts at e(0): no derivative kick
+    k1 = np.zeros((N_STATE, n))
+    k2 = np.zeros((N_STATE, n))
+    k3 = np.zeros((N_STATE, n))
+    k4 = np.zeros((N_STATE, n))
+    u0 = np.zeros(n)
+    u_first = np.zeros(n)
+    u_tmp = np.zeros(n)
+    slip = np.zeros(n)  # clipped slip at the last step end
+    dist = np.zeros(n)
     iae = np.zeros(n)
     itae = np.zeros(n)
     ise = np.zeros(n)
     sint = np.zeros(n)
-    aw = np.zeros(n)  # wheel circumferential acceleration at the step start
+    aw = np.zeros(n)  # wheel circumferential acceleration over the last step
     phase = np.zeros(n, dtype=np.int64)
-    active = np.ones(n, dtype=np.bool_)
-    for i in range(n):
-        out[i, :] = 0.0
-        out[i, M_STATUS] = STATUS_TIMEOUT
-        out[i, M_LOCK_T] = np.nan
-        out[i, M_MIN_SLIP] = 0.0
+    status = np.full(n, float(STATUS_TIMEOUT))
+    t_end = np.full(n, n_steps * dt)
+    lock_t = np.full(n, np.nan)
+    locked = np.zeros(n)
+    clipmax = np.zeros(n)
+    minslip = np.zeros(n)
+    peakslip = np.zeros(n)
+    active = np.arange(n)
+    m = n
     n_trace = trace.shape[0]
     if n_trace > 0:
-        trace[0, T_TIME] = 0.0
-        trace[0, T_V] = v[0]
-        trace[0, T_WHEEL_V] = w[0] * r_w
-        trace[0, T_SLIP] = 0.0
-        trace[0, T_Q] = 0.0
-        trace[0, T_TB] = 0.0
-        trace[0, T_U] = 0.0
-        trace[0, T_X] = 0.0
-        trace[0, T_MU] = 0.0
+        trace[0, :] = 0.0
+        trace[0, T_V] = p[P_V0]
+        trace[0, T_WHEEL_V] = p[P_V0]
         trace[0, T_TARGET] = target
-        out[0, M_NTRACE] = 1
-    n_active = n
+    rows = 1
     for k in range(n_steps):
-        if n_active == 0:
+        if m == 0:
             break
         t = k * dt
-        for i in range(n):
-            if not active[i]:
-                continue
-            kp = gains[i, 0]
-            ki = gains[i, 1]
-            kd = gains[i, 2]
-            vi, wi, qi, ri, zi, xfi = v[i], w[i], q[i], r[i], z[i], xf[i]
-            s0 = min(max((vi - wi * r_w) / vi, 0.0), 1.0)
-            u0, ph = _sampled_command(ctrl_kind, c, phase[i], s0, target, aw[i])
-            phase[i] = ph
-            a1, b1, c1, d1, e1, f1, g1, h1, i1, j1, l1, u1 = _rhs(
-                vi, wi, qi, ri, zi, xfi, t, u0, kp, ki, kd, p,
-                tire_kind, tire_coef, tire_xs, tire_ys, nf)
-            hs = 0.5 * dt
-            a2, b2, c2, d2, e2, f2, g2, h2, i2, j2, l2, _ = _rhs(
-                vi + hs * a1, wi + hs * b1, qi + hs * c1, ri + hs * d1, zi + hs * f1,
-                xfi + hs * g1, t + hs, u0, kp, ki, kd, p,
-                tire_kind, tire_coef, tire_xs, tire_ys, nf)
-            a3, b3, c3, d3, e3, f3, g3, h3, i3, j3, l3, _ = _rhs(
-                vi + hs * a2, wi + hs * b2, qi + hs * c2, ri + hs * d2, zi + hs * f2,
-                xfi + hs * g2, t + hs, u0, kp, ki, kd, p,
-                tire_kind, tire_coef, tire_xs, tire_ys, nf)
-            a4, b4, c4, d4, e4, f4, g4, h4, i4, j4, l4, _ = _rhs(
-                vi + dt * a3, wi + dt * b3, qi + dt * c3, ri + dt * d3, zi + dt * f3,
-                xfi + dt * g3, t + dt, u0, kp, ki, kd, p,
-                tire_kind, tire_coef, tire_xs, tire_ys, nf)
-            h6 = dt / 6.0
-            vn = vi + h6 * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
-            wn = max(wi + h6 * (b1 + 2.0 * b2 + 2.0 * b3 + b4), 0.0)
-            qn = min(max(qi + h6 * (c1 + 2.0 * c2 + 2.0 * c3 + c4), 0.0), p[P_QMAX])
-            rn = ri + h6 * (d1 + 2.0 * d2 + 2.0 * d3 + d4)
-            dx = h6 * (e1 + 2.0 * e2 + 2.0 * e3 + e4)
-            zn = zi + h6 * (f1 + 2.0 * f2 + 2.0 * f3 + f4)
-            xfn = xfi + h6 * (g1 + 2.0 * g2 + 2.0 * g3 + g4)
-            d_iae = h6 * (h1 + 2.0 * h2 + 2.0 * h3 + h4)
-            d_itae = h6 * (i1 + 2.0 * i2 + 2.0 * i3 + i4)
-            d_ise = h6 * (j1 + 2.0 * j2 + 2.0 * j3 + j4)
-            d_sint = h6 * (l1 + 2.0 * l2 + 2.0 * l3 + l4)
-            aw[i] = (wn - wi) * r_w / dt
-            if not (math.isfinite(vn) and math.isfinite(wn) and math.isfinite(rn)
-                    and math.isfinite(zn) and math.isfinite(xfn) and math.isfinite(d_itae)):
-                out[i, M_STATUS] = STATUS_DIVERGED
-                out[i, M_TIME] = t
-                active[i] = False
-                n_active -= 1
-                continue
-            if vn <= v_stop:
-                frac = (vi - v_stop) / (vi - vn)
-            else:
-                frac = 1.0
-            x[i] += frac * dx
-            iae[i] += frac * d_iae
-            itae[i] += frac * d_itae
-            ise[i] += frac * d_ise
-            sint[i] += frac * d_sint
+        if ctrl_kind != C_PID:
+            for j in range(m):
+                i = active[j]
+                u0[i], phase[i] = _sampled_command(ctrl_kind, c, phase[i], slip[i], target, aw[i])
+        _stage(m, active, x, k4, 0.0, k1, u_first, u0, kp, ki, kd, p, tire_kind, tire_coef,
+               tire_xs, tire_ys)
+        _stage(m, active, x, k1, hs, k2, u_tmp, u0, kp, ki, kd, p, tire_kind, tire_coef,
+               tire_xs, tire_ys)
+        _stage(m, active, x, k2, hs, k3, u_tmp, u0, kp, ki, kd, p, tire_kind, tire_coef,
+               tire_xs, tire_ys)
+        _stage(m, active, x, k3, dt, k4, u_tmp, u0, kp, ki, kd, p, tire_kind, tire_coef,
+               tire_xs, tire_ys)
+        j = 0
+        while j < m:
+            i = active[j]
+            vi = x[S_V, i]
+            wi = x[S_W, i]
+            vn = vi + h6 * (k1[S_V, i] + 2.0 * k2[S_V, i] + 2.0 * k3[S_V, i] + k4[S_V, i])
+            wn = max(wi + h6 * (k1[S_W, i] + 2.0 * k2[S_W, i] + 2.0 * k3[S_W, i] + k4[S_W, i]),
+                     0.0)
+            qn = x[S_Q, i] + h6 * (k1[S_Q, i] + 2.0 * k2[S_Q, i] + 2.0 * k3[S_Q, i] + k4[S_Q, i])
+            qn = min(max(qn, 0.0), q_max)
+            rn = x[S_R, i] + h6 * (k1[S_R, i] + 2.0 * k2[S_R, i] + 2.0 * k3[S_R, i] + k4[S_R, i])
+            zn = x[S_Z, i] + h6 * (k1[S_Z, i] + 2.0 * k2[S_Z, i] + 2.0 * k3[S_Z, i] + k4[S_Z, i])
+            xfn = x[S_XF, i] + h6 * (k1[S_XF, i] + 2.0 * k2[S_XF, i] + 2.0 * k3[S_XF, i]
+                                     + k4[S_XF, i])
             s_raw = (vn - wn * r_w) / vn
             s_new = min(max(s_raw, 0.0), 1.0)
-            clip = abs(s_raw - s_new)
-            if clip > out[i, M_CLIP]:
-                out[i, M_CLIP] = clip
-            if s_raw < out[i, M_MIN_SLIP]:
-                out[i, M_MIN_SLIP] = s_raw
-            if s_new > out[i, M_PEAK_SLIP]:
-                out[i, M_PEAK_SLIP] = s_new
+            stop = vn <= v_stop
+            frac = (vi - v_stop) / (vi - vn) if stop else 1.0
+            h = frac * dt
+            v_end = v_stop if stop else vn
+            s_end = slip[i] + frac * (s_new - slip[i])
+            dist[i] += 0.5 * h * (vi + v_end)
+            d_iae, d_itae, d_ise = _abs_integrals(target - slip[i], target - s_end, t, h)
+            iae[i] += d_iae
+            itae[i] += d_itae
+            ise[i] += d_ise
+            sint[i] += 0.5 * h * (slip[i] + s_end)
+            clipmax[i] = max(clipmax[i], abs(s_raw - s_new))
+            minslip[i] = min(minslip[i], s_raw)
+            peakslip[i] = max(peakslip[i], s_new)
             if vn > v_stop and wn * r_w < p[P_LOCK_RATIO] * vn:
-                if math.isnan(out[i, M_LOCK_T]):
-                    out[i, M_LOCK_T] = t + dt
-                out[i, M_LOCKED_S] += dt
-            v[i], w[i], q[i], r[i], z[i], xf[i] = vn, wn, qn, rn, zn, xfn
-            if n_trace > 0 and k + 1 < n_trace:
-                row = k + 1
-                trace[row, T_TIME] = t + frac * dt
-                trace[row, T_V] = vn
-                trace[row, T_WHEEL_V] = wn * r_w
-                trace[row, T_SLIP] = s_new
-                trace[row, T_Q] = qn
-                trace[row, T_TB] = p[P_KQ] * qn
-                trace[row, T_U] = u1
-                trace[row, T_X] = x[i]
-                trace[row, T_MU] = tire_mu(tire_kind, tire_coef, tire_xs, tire_ys, s_new)
-                trace[row, T_TARGET] = target
-                out[i, M_NTRACE] = row + 1
-            if vn <= v_stop:
-                t_stop = t + frac * dt
-                out[i, M_STATUS] = STATUS_STOPPED
-                out[i, M_TIME] = t_stop
-                active[i] = False
-                n_active -= 1
-            elif x[i] > p[P_HOPELESS_M]:
-                out[i, M_STATUS] = STATUS_HOPELESS
-                out[i, M_TIME] = t + dt
-                active[i] = False
-                n_active -= 1
+                locked[i] += dt
+                if lock_t[i] != lock_t[i]:
+                    lock_t[i] = t + dt
+            aw[i] = (wn - wi) * r_w / dt
+            x[S_V, i] = vn
+            x[S_W, i] = wn
+            x[S_Q, i] = qn
+            x[S_R, i] = rn
+            x[S_Z, i] = zn
+            x[S_XF, i] = xfn
+            slip[i] = s_new
+            check = vn + wn + rn + zn + xfn + itae[i]
+            ended = True
+            if not (check - check) == 0.0:
+                status[i] = STATUS_DIVERGED
+                t_end[i] = t
+            elif stop:
+                status[i] = STATUS_STOPPED
+                t_end[i] = t + h
+            elif dist[i] > p[P_HOPELESS_M]:
+                status[i] = STATUS_HOPELESS
+                t_end[i] = t + dt
+            else:
+                ended = False
+            if ended:  # leave the running list (order does not matter: candidates are independent)
+                m -= 1
+                active[j] = active[m]
+                active[m] = i
+            else:
+                j += 1
+        if n_trace > 0 and rows < n_trace:
+            trace[rows, T_TIME] = min(t + dt, t_end[0])
+            trace[rows, T_V] = max(x[S_V, 0], v_stop) if status[0] == STATUS_STOPPED else x[S_V, 0]
+            trace[rows, T_WHEEL_V] = x[S_W, 0] * r_w
+            trace[rows, T_SLIP] = slip[0]
+            trace[rows, T_Q] = x[S_Q, 0]
+            trace[rows, T_TB] = p[P_KQ] * x[S_Q, 0]
+            trace[rows, T_U] = u_first[0]
+            trace[rows, T_X] = dist[0]
+            trace[rows, T_MU] = tire_mu(tire_kind, tire_coef, tire_xs, tire_ys, slip[0])
+            trace[rows, T_TARGET] = target
+            rows += 1
     for i in range(n):
-        if active[i]:
-            out[i, M_TIME] = n_steps * dt
-        out[i, M_DIST] = x[i]
+        out[i, :] = 0.0
+        out[i, M_STATUS] = status[i]
+        out[i, M_TIME] = t_end[i]
+        out[i, M_DIST] = dist[i]
+        out[i, M_LOCK_T] = lock_t[i]
         out[i, M_IAE] = iae[i]
         out[i, M_ITAE] = itae[i]
         out[i, M_ISE] = ise[i]
-        tt = out[i, M_TIME]
-        out[i, M_MEAN_SLIP] = sint[i] / tt if tt > 0.0 else 0.0
+        out[i, M_MEAN_SLIP] = sint[i] / t_end[i] if t_end[i] > 0.0 else 0.0
+        out[i, M_PEAK_SLIP] = peakslip[i]
+        out[i, M_LOCKED_S] = locked[i]
+        out[i, M_CLIP] = clipmax[i]
+        out[i, M_MIN_SLIP] = minslip[i]
+        out[i, M_NTRACE] = rows if n_trace > 0 else 0.0
