@@ -2,3 +2,7 @@
 
 from chassistune.cli import list_cmd  # noqa: F401
 from chassistune.cli import fuzzy  # noqa: F401
+from chassistune.cli import simulate  # noqa: F401
+from chassistune.cli import demo  # noqa: F401
+from chassistune.cli import bench  # noqa: F401
+from chassistune.cli import optimize  # noqa: F401

@@ -18,7 +18,8 @@ def catalogue(kind: str) -> object:
 
     if kind == "plants":
         return [
-            {"name": n, "description": get_plant(n).description, "default_preset": get_plant(n).default_preset}
+            {"name": n, "description": get_plant(n).description,
+             "default_preset": get_plant(n).default_preset}
             for n in plant_names()
         ]
     if kind == "presets":

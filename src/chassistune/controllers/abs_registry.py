@@ -19,6 +19,12 @@ AMPLITUDE = ParamSpec(
     positive=True,
 )
 
+SAMPLE_PERIOD = ParamSpec(
+    "ts_s", "s", 1e-3,
+    "sample period of the switching law (rounded to whole integration steps, at least one)",
+    positive=True,
+)
+
 register(ControllerSpec(PLANT, "none", "no ABS: the driver's pressure ramps to q_max and holds",
                         params=(AMPLITUDE,)))
 register(ControllerSpec(
@@ -37,8 +43,8 @@ register(ControllerSpec(
 ))
 register(ControllerSpec(
     PLANT, "bang-bang",
-    "sldemo's controller: u = amplitude * sign(S_target - S), sampled each step",
-    params=(AMPLITUDE,),
+    "sldemo's controller: u = amplitude * sign(S_target - S), sampled every ts_s",
+    params=(AMPLITUDE, SAMPLE_PERIOD),
 ))
 register(ControllerSpec(
     PLANT, "threshold",
@@ -46,6 +52,7 @@ register(ControllerSpec(
     "build, hold, dump, recover and slow-build phases (see docs/abs.md)",
     params=(
         AMPLITUDE,
+        SAMPLE_PERIOD,
         ParamSpec("decel_threshold_m_s2", "m/s^2", 15.0,
                   "-a: wheel circumferential deceleration that stops the build-up", positive=True),
         ParamSpec("accel_threshold_m_s2", "m/s^2", 10.0,

@@ -80,7 +80,6 @@ def _sldemo_params() -> AbsWheelParams:
         brake_gain=FT_LBF,
         q_max=1500.0,
         load_fraction=0.25,
-        v_stop_m_s=0.01,  # the demo runs to standstill (its wheel is locked by then)
     )
 
 
@@ -239,6 +238,7 @@ class AbsWheelScenario(Scenario):
         p[K.P_NFILTER] = self.controller_params.get("n_filter", 100.0)
         cp = self.controller_params
         c = np.zeros(K.N_CTRL)
+        c[K.Q_TS] = cp.get("ts_s", self.plant_params.dt_s)
         c[K.Q_AMPLITUDE] = cp.get("amplitude", 0.0)
         c[K.Q_DECEL] = cp.get("decel_threshold_m_s2", 0.0)
         c[K.Q_ACCEL] = cp.get("accel_threshold_m_s2", 0.0)
@@ -310,7 +310,7 @@ class AbsWheelScenario(Scenario):
     def trace(self, gains: np.ndarray) -> Trace:
         p, kind, coef, xs, ys, ckind, c = self._kernel_args
         g = self._kernel_gains(np.asarray(gains, dtype=np.float64).reshape(1, -1))
-        n_rows = int(math.ceil(self.plant_params.t_max_s / self.plant_params.dt_s)) + 2
+        n_rows = math.ceil(self.plant_params.t_max_s / self.plant_params.dt_s) + 2
         tr = np.zeros((n_rows, K.N_TRACE))
         out = np.zeros((1, K.N_METRICS))
         K.simulate_abs_wheel(g, p, kind, coef, xs, ys, ckind, c, tr, out)

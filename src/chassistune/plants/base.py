@@ -40,7 +40,7 @@ class Trace:
 
 
 class Scenario(ABC):
-    """A resolved plant + preset + road + controller. Gains are `(n, k)` arrays, k = len(gain_names)."""
+    """A resolved plant + preset + road + controller; gains are (n, k) rows (gain_names)."""
 
     plant: str
     preset: str

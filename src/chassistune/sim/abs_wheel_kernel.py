@@ -1,9 +1,7 @@
 """Compiled closed-loop simulation of the single-wheel ABS (DESIGN 3.1) over a population.
 
-One kernel serves every controller of the plant (an integer selects the control law; a loop-invariant
-branch the compiler hoists) and both paths: a batch of n gain rows, or one row with a trace.
-The time loop is outside and the loop over candidates inside, so the compiler can vectorize
-across candidates; finished candidates are masked.
+One kernel serves every controller of the plant (an integer selects the control law) and both
+paths: a batch of n gain rows, or one row with a trace (a single run is a batch of one).
 
 Plant (seed 000 eqs. 1-4, 9-10), with Fz = lf M g the wheel load (lf = 1 except sldemo's quirk):
     M dv/dt = -mu(S) Fz,   I dw/dt = R mu(S) Fz - kq q  (w >= 0: held at 0 while Tb >= R Fx),
@@ -11,11 +9,14 @@ Plant (seed 000 eqs. 1-4, 9-10), with Fz = lf M g the wheel load (lf = 1 except 
 Control u: a continuous PID with filtered derivative and conditional integration (DESIGN 4),
     u = u0 + kp e + ki z + kd N (e - xf),  dz/dt = e (unless the pressure saturates in the
     direction e pushes),  dxf/dt = N (e - xf),  e = S_target - S,
-plus a sampled part u0 (zero-order hold over each step) for the switching laws (no ABS, bang-bang,
-threshold). Integration: classic RK4 at a fixed step on (v, w, q, r, z, xf); distance and the slip
-integrals (IAE, ITAE, ISE, mean slip) by quadrature of the step-end values, exact for a slip error
-linear over the step (so a sign change inside a step costs no first-order error); the stop at v_stop
-is located by linear interpolation inside the last step.
+plus a sampled part u0 for the switching laws (no ABS, bang-bang, threshold): evaluated every
+`ts_s` (a whole number of steps) and held in between, so that the controller does not change
+when the integration step is refined.
+
+Integration: classic RK4 at a fixed step on (v, w, q, r, z, xf); distance and the slip integrals
+(IAE, ITAE, ISE, mean slip) by quadrature of the step-end values, exact for a slip error linear
+over the step (a sign change inside a step costs no first-order error); the stop at v_stop is
+located by linear interpolation inside the last step.
 
 Speed: the RK4 stages run stage by stage over all running candidates (short independent loop
 bodies the CPU overlaps; one candidate's stages form a long dependent chain), and finished
@@ -40,7 +41,7 @@ N_PLANT = 17
 
 # controller kinds and parameter vector
 C_NONE, C_PID, C_BANGBANG, C_THRESHOLD = 0, 1, 2, 3
-Q_AMPLITUDE, Q_DECEL, Q_ACCEL, Q_SLIP_HIGH, Q_SLOW = 1, 2, 3, 4, 5
+Q_TS, Q_AMPLITUDE, Q_DECEL, Q_ACCEL, Q_SLIP_HIGH, Q_SLOW = 0, 1, 2, 3, 4, 5
 N_CTRL = 6
 
 # metrics columns
@@ -187,7 +188,7 @@ def simulate_abs_wheel(gains, p, tire_kind, tire_coef, tire_xs, tire_ys, ctrl_ki
     v_stop = p[P_VSTOP]
     q_max = p[P_QMAX]
     target = p[P_TARGET]
-    n_steps = int(math.ceil(p[P_TMAX] / dt - 1e-9))
+    n_steps = math.ceil(p[P_TMAX] / dt - 1e-9)
     kp = np.ascontiguousarray(gains[:, 0])
     ki = np.ascontiguousarray(gains[:, 1])
     kd = np.ascontiguousarray(gains[:, 2])
@@ -208,7 +209,9 @@ def simulate_abs_wheel(gains, p, tire_kind, tire_coef, tire_xs, tire_ys, ctrl_ki
     itae = np.zeros(n)
     ise = np.zeros(n)
     sint = np.zeros(n)
-    aw = np.zeros(n)  # wheel circumferential acceleration over the last step
+    aw = np.zeros(n)  # wheel circumferential acceleration over the last sample period
+    w_sampled = np.full(n, p[P_V0] / r_w)  # wheel speed at the last sample
+    steps_per_sample = max(1, round(c[Q_TS] / dt))
     phase = np.zeros(n, dtype=np.int64)
     status = np.full(n, float(STATUS_TIMEOUT))
     t_end = np.full(n, n_steps * dt)
@@ -230,9 +233,12 @@ def simulate_abs_wheel(gains, p, tire_kind, tire_coef, tire_xs, tire_ys, ctrl_ki
         if m == 0:
             break
         t = k * dt
-        if ctrl_kind != C_PID:
+        if ctrl_kind != C_PID and k % steps_per_sample == 0:  # sampled laws: own period ts
             for j in range(m):
                 i = active[j]
+                if k > 0:
+                    aw[i] = (x[S_W, i] - w_sampled[i]) * r_w / (steps_per_sample * dt)
+                w_sampled[i] = x[S_W, i]
                 u0[i], phase[i] = _sampled_command(ctrl_kind, c, phase[i], slip[i], target, aw[i])
         _stage(m, active, x, k4, 0.0, k1, u_first, u0, kp, ki, kd, p, tire_kind, tire_coef,
                tire_xs, tire_ys)
@@ -276,7 +282,6 @@ def simulate_abs_wheel(gains, p, tire_kind, tire_coef, tire_xs, tire_ys, ctrl_ki
                 locked[i] += dt
                 if lock_t[i] != lock_t[i]:
                     lock_t[i] = t + dt
-            aw[i] = (wn - wi) * r_w / dt
             x[S_V, i] = vn
             x[S_W, i] = wn
             x[S_Q, i] = qn
@@ -286,7 +291,7 @@ def simulate_abs_wheel(gains, p, tire_kind, tire_coef, tire_xs, tire_ys, ctrl_ki
             slip[i] = s_new
             check = vn + wn + rn + zn + xfn + itae[i]
             ended = True
-            if not (check - check) == 0.0:
+            if check - check != 0.0:
                 status[i] = STATUS_DIVERGED
                 t_end[i] = t
             elif stop:

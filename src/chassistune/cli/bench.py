@@ -1,0 +1,43 @@
+"""`chassistune bench [--quick] [--json]`: the speed and accuracy figures of DESIGN 8.
+
+Every ratio is measured against its baseline in the same run. Figures of areas not installed
+yet are skipped with a note.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+import click
+
+from chassistune.cli.common import echo_json, fmt
+from chassistune.cli.main import cli
+
+AREAS = ("abs", "optimizer", "tuning", "fuzzy", "suspension")
+
+
+@cli.command("bench")
+@click.option("--quick", is_flag=True, help="Fewer repetitions and a smaller baseline sample.")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
+@click.option("--only", type=click.Choice(AREAS), multiple=True,
+              help="Measure only these areas (repeatable).")
+def bench_command(quick: bool, as_json: bool, only: tuple[str, ...]) -> None:
+    """Measure the DESIGN 8 figures (simulations/s, accuracy, speedups against baselines)."""
+    figures: dict[str, float] = {}
+    notes: dict[str, str] = {}
+    for area in only or AREAS:
+        try:
+            module = importlib.import_module(f"chassistune.perf.{area}")
+        except ModuleNotFoundError as exc:
+            notes[area] = f"not available: {exc}"
+            continue
+        if not as_json:
+            click.echo(f"measuring {area} ...", err=True)
+        figures.update(module.figures(quick))
+    if as_json:
+        echo_json({**figures, "notes": notes} if notes else figures)
+        return
+    for name, value in figures.items():
+        click.echo(f"{name:<36} {fmt(value)}")
+    for area, note in notes.items():
+        click.echo(f"{area:<36} {note}")

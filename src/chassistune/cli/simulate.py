@@ -1,0 +1,83 @@
+"""`chassistune simulate PLANT ...`: one closed-loop run, its metrics, plot and trace."""
+
+from __future__ import annotations
+
+import csv
+import os
+import tempfile
+
+import click
+import numpy as np
+
+from chassistune.cli.common import check_output_file, echo_json, fmt
+from chassistune.cli.main import cli
+from chassistune.params import parse_assignments
+from chassistune.plants.registry import get_plant, plant_names
+from chassistune.simulate import SimulationResult, simulate
+
+
+def write_csv(result: SimulationResult, path: str) -> None:
+    """The trace as CSV, one row per step, written atomically."""
+    sig = result.trace.signals
+    names = list(sig)
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(suffix=".csv", dir=folder)
+    try:
+        with os.fdopen(fd, "w", newline="") as fh:
+            w = csv.writer(fh)
+            units = result.trace.units
+            w.writerow([f"{n} [{units[n]}]" if n in units else n for n in names])
+            w.writerows(np.column_stack([sig[n] for n in names]).tolist())
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
+@cli.command("simulate")
+@click.argument("plant", metavar="PLANT")
+@click.option("--preset", help="Parameter preset (default: the plant's paper preset).")
+@click.option("--road", help="Road (default: the preset's first road).")
+@click.option("--controller", default="pid", show_default=True,
+              help="Controller structure; `chassistune list controllers` shows them.")
+@click.option("--param", "params", multiple=True, metavar="NAME=VALUE",
+              help="Override a plant, road, solver or controller parameter (repeatable).")
+@click.option("--gains", "gains", multiple=True, metavar="NAME=VALUE,...",
+              help="Controller gains (default: the registry's defaults).")
+@click.option("--seed", default=0, show_default=True, type=int,
+              help="Seed of any random draw (road realizations).")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
+@click.option("--plot", "plot_path", metavar="FILE.png", help="Draw the response into FILE.png.")
+@click.option("--csv", "csv_path", metavar="FILE.csv", help="Write the time series to FILE.csv.")
+def simulate_command(plant: str, preset: str | None, road: str | None, controller: str,
+                     params: tuple[str, ...], gains: tuple[str, ...], seed: int, as_json: bool,
+                     plot_path: str | None, csv_path: str | None) -> None:
+    """Simulate one closed-loop run of PLANT and report its metrics.
+
+    PLANT is one of the plants of `chassistune list plants` (abs-wheel, quarter-car). Units are SI.
+    Example: chassistune simulate abs-wheel --road wet-asphalt --gains kp=5000,kd=230 --plot out.png
+    """
+    if plant not in plant_names():
+        get_plant(plant)  # raises the one-line error listing the plants
+    check_output_file(plot_path, "--plot", ".png")
+    check_output_file(csv_path, "--csv", ".csv")
+    result = simulate(plant, preset=preset, road=road, controller=controller,
+                      params=parse_assignments(params, "--param"),
+                      gains=parse_assignments(gains, "--gains"), seed=seed)
+    if plot_path:
+        get_plant(plant).plot(result.scenario, result.trace, plot_path)
+    if csv_path:
+        write_csv(result, csv_path)
+    if as_json:
+        echo_json(result.as_dict())
+        return
+    sc = result.scenario
+    click.echo(f"{plant}  preset {sc.preset}  road {sc.road}  controller {sc.controller.name}")
+    if result.gains:
+        click.echo("gains: " + ", ".join(f"{k}={fmt(v)}" for k, v in result.gains.items()))
+    width = max(len(k) for k in result.metrics)
+    for k, v in result.metrics.items():
+        click.echo(f"  {k:<{width}}  {fmt(v)}")
+    for path in (plot_path, csv_path):
+        if path:
+            click.echo(f"wrote {path}")
