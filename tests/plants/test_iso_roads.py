@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 from scipy.signal import welch
@@ -52,7 +54,7 @@ def test_generated_psd_matches_iso_8608(road_name: str, seed: int) -> None:
     n = f / road.speed_m_s  # cycles/m
     g_n = g_t * road.speed_m_s  # one-sided spatial PSD, m^3
     edges = np.geomspace(0.02, 2.8, 8)
-    for lo, hi in zip(edges[:-1], edges[1:], strict=True):
+    for lo, hi in itertools.pairwise(edges):
         band = (n >= lo) & (n < hi)
         assert band.sum() >= 10
         iso = R.iso_psd(n[band], road.gq_m3).mean()

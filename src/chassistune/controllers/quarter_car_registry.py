@@ -4,7 +4,7 @@ Force u acts + on the body and - on the wheel; e = 0 - y. Gain units are those o
 feedback y = body vertical velocity (then kp is a sky-hook damper, ki a sky spring since
 int(vs) = zs, kd a sky inertance with the filter N s/(s + N)). The bounds span the forces an
 active suspension actuator delivers: on an ISO class B road at 20 m/s the passive body velocity,
-displacement and (filtered) acceleration have RMS of about 0.05-0.07 m/s, 0.015 m and 1-2 m/s^2,
+displacement and acceleration have RMS of about 0.05-0.07 m/s, 0.015 m and 0.6-1.7 m/s^2,
 so the upper bounds give about 0.5-1.5 kN RMS there and 4x that on class D; every optimum we
 found for either preset lies well inside. For other feedback signals the units change (see
 docs/suspension.md); seed 001 tuned all three gains on [0, 500] (PAPER_BOX).

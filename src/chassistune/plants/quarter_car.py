@@ -251,7 +251,10 @@ class QuarterCarScenario(Scenario):
             "diverged": diverged,
         }
 
-    def cost(self, gains: np.ndarray, objective: str | None = None) -> np.ndarray:
+    def cost(
+        self, gains: np.ndarray, objective: str | None = None, workers: int | None = None
+    ) -> np.ndarray:
+        """Eq. 10 per row; `workers` threads for the simulation (default: all cores)."""
         objective = objective or self.default_objective
         if objective not in OBJECTIVES:
             raise InputError("objective", f"unknown objective {objective!r} for quarter-car "
@@ -260,7 +263,7 @@ class QuarterCarScenario(Scenario):
         stable = exact[:, lyapunov.E_STABLE] == 1.0
         if objective == "rms-ratio-exact":
             return lyapunov.rms_ratio(exact, self.passive_exact, stable, PENALTY)
-        sim = self.simulate(gains)
+        sim = self.simulate(gains, workers)
         usable = stable & (sim[:, kernel.R_DIVERGED] == 0.0)
         return lyapunov.rms_ratio(sim, self.passive_sim, usable, PENALTY)
 

@@ -1,4 +1,4 @@
-"""Figures of the quarter-car suspension: time histories and frequency response, passive vs active."""
+"""Quarter-car figures: time histories and frequency response, passive vs active."""
 
 from __future__ import annotations
 
