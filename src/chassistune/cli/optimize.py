@@ -1,0 +1,118 @@
+"""`chassistune optimize FUNCTION [--dim D] --optimizer O [--pop N] [--iters N | --evals N]
+[--seed S] [--json]`: minimize one benchmark function with one optimizer."""
+
+from __future__ import annotations
+
+import json
+import math
+from typing import Any
+
+import click
+
+from chassistune.cli.main import cli
+from chassistune.errors import InputError
+
+_OPTION_NAMES = {
+    "pop_size": "--pop",
+    "max_iter": "--iters",
+    "max_evals": "--evals",
+    "dim": "--dim",
+    "seed": "--seed",
+    "optimizer": "--optimizer",
+    "function": "FUNCTION",
+}
+
+
+def _finite(v: float) -> float | None:
+    return v if math.isfinite(v) else None
+
+
+def run_optimize(
+    function: str,
+    dim: int | None,
+    optimizer: str,
+    pop: int,
+    iters: int | None,
+    evals: int | None,
+    seed: int,
+) -> dict[str, Any]:
+    """Run one optimizer on one benchmark function; the `optimize --json` object (DESIGN 7)."""
+    import numpy as np
+
+    from chassistune.benchmarks.functions import get as get_function
+    from chassistune.optimizers.minimize import minimize
+
+    if iters is not None and evals is not None:
+        raise InputError("--iters", "give --iters or --evals, not both")
+    if iters is None and evals is None:
+        iters = 100
+    try:
+        fn = get_function(function)
+        bounds = fn.bounds(dim)
+        # F7's noise has its own stream, derived from the seed
+        noise = (
+            np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0]) if fn.noisy else None
+        )
+
+        def objective(x: Any) -> Any:
+            return fn(x, noise)
+
+        res = minimize(
+            objective,
+            bounds,
+            method=optimizer,
+            pop_size=pop,
+            max_iter=iters,
+            max_evals=evals,
+            seed=seed,
+        )
+    except InputError as exc:
+        raise InputError(_OPTION_NAMES.get(exc.field, exc.field), exc.problem) from None
+    return {
+        "function": fn.name,
+        "dim": int(bounds.shape[0]),
+        "optimizer": optimizer.lower(),
+        "best_f": _finite(res.fun),
+        "best_x": [float(v) for v in res.x],
+        "nfev": res.nfev,
+        "nit": res.nit,
+        "history": [_finite(float(v)) for v in res.history],
+        "history_nfev": [int(v) for v in res.history_nfev],
+    }
+
+
+@cli.command("optimize")
+@click.argument("function")
+@click.option(
+    "--dim", type=int, default=None, help="Dimension (default: the function's usual one)."
+)
+@click.option(
+    "--optimizer", required=True, help="Optimizer name (see `chassistune list optimizers`)."
+)
+@click.option("--pop", type=int, default=30, show_default=True, help="Population size.")
+@click.option("--iters", type=int, default=None, help="Iterations (default 100 unless --evals).")
+@click.option("--evals", type=int, default=None, help="Exact evaluation budget.")
+@click.option("--seed", type=int, default=0, show_default=True, help="Random seed.")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
+def optimize_command(
+    function: str,
+    dim: int | None,
+    optimizer: str,
+    pop: int,
+    iters: int | None,
+    evals: int | None,
+    seed: int,
+    as_json: bool,
+) -> None:
+    """Minimize a benchmark function F1..F23 with one optimizer."""
+    out = run_optimize(function, dim, optimizer, pop, iters, evals, seed)
+    if as_json:
+        click.echo(json.dumps(out))
+        return
+    best = out["best_f"]
+    click.echo(
+        f"{out['optimizer']} on {out['function']} (dim {out['dim']}): "
+        f"best f = {best if best is None else f'{best:.10g}'}"
+    )
+    click.echo(f"  nfev {out['nfev']}, nit {out['nit']}")
+    click.echo("  best x = [" + ", ".join(f"{v:.6g}" for v in out["best_x"]) + "]")
