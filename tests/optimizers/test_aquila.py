@@ -32,8 +32,15 @@ def test_median_of_10_runs_below_1e_10(name: str, fn: str, request: pytest.Fixtu
     f = benchmarks.get(fn)
     below = 0
     for seed in range(10):
-        res = minimize(f, f.bounds(30), method=name, pop_size=30, max_iter=500, seed=seed,
-                       callback=lambda r: r.fun < 1e-10)
+        res = minimize(
+            f,
+            f.bounds(30),
+            method=name,
+            pop_size=30,
+            max_iter=500,
+            seed=seed,
+            callback=lambda r: r.fun < 1e-10,
+        )
         below += res.fun < 1e-10
         if below >= 6 or below + (9 - seed) < 6:
             break
@@ -63,11 +70,27 @@ def test_strategies_are_switches_of_one_engine() -> None:
     assert ao.__mro__[1] is derlsp.__mro__[1] is deffao.__mro__[1]
     f = benchmarks.get("F5")
     base = run("ao", f, f.bounds(8), max_iter=60, seed=1)
-    off = run("derlsp-ao", f, f.bounds(8), max_iter=60, seed=1, lens_opposition=False,
-              stagnation=False, de_step=False)
+    off = run(
+        "derlsp-ao",
+        f,
+        f.bounds(8),
+        max_iter=60,
+        seed=1,
+        lens_opposition=False,
+        stagnation=False,
+        de_step=False,
+    )
     assert np.array_equal(base.history, off.history)  # DERLSP-AO with every strategy off is AO
-    off = run("deffao", f, f.bounds(8), max_iter=60, seed=1, free_hunting=False,
-              nonlinear_factor=False, de_elimination=False)
+    off = run(
+        "deffao",
+        f,
+        f.bounds(8),
+        max_iter=60,
+        seed=1,
+        free_hunting=False,
+        nonlinear_factor=False,
+        de_elimination=False,
+    )
     assert np.array_equal(base.history, off.history)
     for strategy in ("lens_opposition", "stagnation", "de_step"):
         one = run("ao", f, f.bounds(8), max_iter=60, seed=1, **{strategy: True})
@@ -82,8 +105,16 @@ def test_lens_opposition_point() -> None:
         seen.append(x.copy())
         return np.sum(x * x, axis=1)
 
-    run("derlsp-ao", fun, [(-5, 5)] * 3, pop=6, max_iter=1, lens_k=1.0, de_step=False,
-        stagnation=False)
+    run(
+        "derlsp-ao",
+        fun,
+        [(-5, 5)] * 3,
+        pop=6,
+        max_iter=1,
+        lens_k=1.0,
+        de_step=False,
+        stagnation=False,
+    )
     pop, batch = seen[0], seen[1]
     best = pop[np.argmin(np.sum(pop * pop, axis=1))]
     expected = pop.min(axis=0) + pop.max(axis=0) - best
