@@ -1,7 +1,8 @@
-"""Run a compiled batch kernel over fixed-size chunks of candidates on a thread pool.
+"""Run a compiled batch kernel over chunks of candidates on a thread pool.
 
-Chunks have a fixed size, so the work each candidate sees is the same however many threads run
-(results are identical for any worker count). Kernels must be compiled with nogil=True.
+The kernels compute each candidate independently of the others (no reduction across candidates,
+no vector lanes shared between them), so a candidate's numbers do not depend on which chunk it
+lands in: results are bitwise identical for any worker count. Kernels must be nogil.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-CHUNK = 64
+MIN_CHUNK = 8
 
 
 def default_workers() -> int:
@@ -35,15 +36,15 @@ def run_chunked(
     """Call `kernel_call(gains_chunk, out_chunk)` on chunks; return out of shape (n, n_out)."""
     n = gains.shape[0]
     out = np.empty((n, n_out))
-    starts = list(range(0, n, CHUNK))
     workers = default_workers() if workers is None else workers
-    if workers <= 1 or len(starts) == 1:
-        for s in starts:
-            kernel_call(gains[s : s + CHUNK], out[s : s + CHUNK])
+    chunk = max(MIN_CHUNK, -(-n // max(workers, 1)))
+    starts = list(range(0, n, chunk))
+    if workers <= 1 or len(starts) <= 1:
+        kernel_call(np.ascontiguousarray(gains), out)
         return out
     with ThreadPoolExecutor(max_workers=min(workers, len(starts))) as pool:
         futures = [
-            pool.submit(kernel_call, np.ascontiguousarray(gains[s : s + CHUNK]), out[s : s + CHUNK])
+            pool.submit(kernel_call, np.ascontiguousarray(gains[s : s + chunk]), out[s : s + chunk])
             for s in starts
         ]
         for f in futures:

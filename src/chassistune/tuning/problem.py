@@ -1,0 +1,80 @@
+"""A tuning problem: the gains of one controller scored on one or several roads (DESIGN 5).
+
+The box comes from the controller registry (or the caller's override); the cost of a population
+is one kernel call per road, aggregated by mean or max across roads (one controller for several
+roads is a first-class option).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from chassistune.errors import InputError
+from chassistune.plants.base import PENALTY, Scenario
+from chassistune.plants.registry import get_plant
+
+AGGREGATES = ("mean", "max")
+
+
+@dataclass
+class TuningProblem:
+    """Scenarios that share a controller, an objective and an aggregate across roads."""
+
+    scenarios: list[Scenario]
+    objective: str
+    aggregate: str
+    bounds: list[tuple[float, float]]
+
+    @property
+    def gain_names(self) -> tuple[str, ...]:
+        return self.scenarios[0].gain_names
+
+    @property
+    def roads(self) -> list[str]:
+        return [s.road for s in self.scenarios]
+
+    def __call__(self, gains: np.ndarray) -> np.ndarray:
+        """Costs of an (n, k) population, shape (n,), finite and at most PENALTY."""
+        costs = np.stack([s.cost(gains, self.objective) for s in self.scenarios])
+        agg = costs.mean(axis=0) if self.aggregate == "mean" else costs.max(axis=0)
+        return np.minimum(agg, PENALTY)
+
+
+def build_problem(
+    plant: str,
+    controller: str,
+    preset: str | None = None,
+    roads: Sequence[str] | None = None,
+    objective: str | None = None,
+    aggregate: str = "mean",
+    params: Mapping[str, object] | None = None,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
+    seed: int = 0,
+) -> TuningProblem:
+    """Resolve the scenarios (one per road; default the preset's first road) and the box."""
+    if aggregate not in AGGREGATES:
+        raise InputError("--aggregate", f"must be mean or max, got {aggregate!r}")
+    p = get_plant(plant)
+    road_list: list[str | None] = list(roads) if roads else [None]
+    if len(set(road_list)) != len(road_list):
+        raise InputError("--road", "a road is listed twice")
+    scenarios = [p.scenario(preset, r, controller, params or {}, seed) for r in road_list]
+    spec = scenarios[0].controller
+    if not spec.gains:
+        raise InputError("--controller", f"{controller} has no gains to tune")
+    objective = objective or scenarios[0].default_objective
+    if objective not in scenarios[0].objectives:
+        raise InputError("--objective", f"unknown objective {objective!r} for {plant} "
+                         f"(known: {', '.join(scenarios[0].objectives)})")
+    box = dict(zip(spec.gain_names, spec.bounds(), strict=True))
+    for name, (lo, hi) in (bounds or {}).items():
+        if name not in box:
+            raise InputError("bounds", f"unknown gain {name!r} for {controller} "
+                             f"(known: {', '.join(spec.gain_names)})")
+        if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+            raise InputError(f"bounds {name}", f"need finite lo < hi, got [{lo}, {hi}]")
+        box[name] = (float(lo), float(hi))
+    return TuningProblem(scenarios, objective, aggregate, [box[n] for n in spec.gain_names])

@@ -1,0 +1,131 @@
+"""`chassistune.tune(...)`: tune a controller's gains with any registered optimizer."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from chassistune.errors import InputError
+from chassistune.optimizers.base import SeedLike
+from chassistune.optimizers.registry import make
+from chassistune.tuning.problem import TuningProblem, build_problem
+
+
+@dataclass
+class TuneResult:
+    """Best gains and cost, budget spent, convergence history, metrics of the tuned controller."""
+
+    problem: TuningProblem
+    optimizer: str
+    best_gains: dict[str, float]
+    best_cost: float
+    nfev: int
+    nit: int
+    wall_time_s: float
+    history: np.ndarray
+    history_nfev: np.ndarray
+    metrics: dict[str, dict[str, Any]] = field(default_factory=dict)
+    hyperparameters: dict[str, Any] = field(default_factory=dict)
+
+    def as_dict(self) -> dict[str, Any]:
+        """The `tune --json` object (DESIGN 7); `metrics` by road when several were tuned."""
+        roads = self.problem.roads
+        metrics: dict[str, Any] = self.metrics[roads[0]] if len(roads) == 1 else self.metrics
+        sc = self.problem.scenarios[0]
+        return {
+            "plant": sc.plant,
+            "preset": sc.preset,
+            "roads": roads,
+            "controller": sc.controller.name,
+            "optimizer": self.optimizer,
+            "objective": self.problem.objective,
+            "aggregate": self.problem.aggregate,
+            "bounds": dict(zip(self.problem.gain_names, self.problem.bounds, strict=True)),
+            "hyperparameters": self.hyperparameters,
+            "best_gains": self.best_gains,
+            "best_cost": self.best_cost,
+            "nfev": self.nfev,
+            "nit": self.nit,
+            "wall_time_s": self.wall_time_s,
+            "history": self.history,
+            "history_nfev": self.history_nfev,
+            "metrics": metrics,
+            "params": sc.params(),
+        }
+
+
+def run_optimizer(
+    problem: TuningProblem,
+    optimizer: str,
+    pop_size: int,
+    max_iter: int | None,
+    max_evals: int | None,
+    seed: SeedLike,
+    progress: Callable[[int, int, float], None] | None = None,
+    **hyper: Any,
+) -> TuneResult:
+    """Drive `optimizer` over `problem`; `progress(nit, nfev, best)` after each iteration."""
+    if max_iter is None and max_evals is None:
+        raise InputError("--iters", "give an iteration or an evaluation budget")
+    opt = make(optimizer, problem.bounds, pop_size, seed, max_iter=max_iter, max_evals=max_evals,
+               **hyper)
+    t0 = time.perf_counter()
+    while not opt.done:
+        x = opt.ask()
+        before = opt.nit
+        opt.tell(x, problem(np.asarray(x)))
+        if progress is not None and opt.nit > before:
+            progress(opt.nit, opt.nfev, opt.best_f)
+    wall = time.perf_counter() - t0
+    best = np.asarray(opt.best_x, dtype=float)
+    metrics = {}
+    for sc in problem.scenarios:
+        trace = sc.trace(best)
+        metrics[sc.road] = trace.metrics
+    return TuneResult(
+        problem=problem,
+        optimizer=optimizer,
+        best_gains=dict(zip(problem.gain_names, best.tolist(), strict=True)),
+        best_cost=float(opt.best_f),
+        nfev=int(opt.nfev),
+        nit=int(opt.nit),
+        wall_time_s=wall,
+        history=opt.history,
+        history_nfev=opt.history_nfev,
+        metrics=metrics,
+        hyperparameters=opt.hyper.as_dict(),
+    )
+
+
+def tune(
+    plant: str,
+    controller: str,
+    optimizer: str = "derlsp-ao",
+    preset: str | None = None,
+    roads: Sequence[str] | str | None = None,
+    objective: str | None = None,
+    aggregate: str = "mean",
+    pop_size: int = 30,
+    max_iter: int | None = None,
+    max_evals: int | None = None,
+    seed: int = 0,
+    params: Mapping[str, object] | None = None,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
+    progress: Callable[[int, int, float], None] | None = None,
+    **hyper: Any,
+) -> TuneResult:
+    """Tune `controller` of `plant` on `roads` with `optimizer` (defaults of DESIGN 7).
+
+    Without a budget, 100 iterations. The same seed gives the same result.
+    """
+    if max_iter is None and max_evals is None:
+        max_iter = 100
+    road_list = [roads] if isinstance(roads, str) else roads
+    problem = build_problem(plant, controller, preset, road_list, objective, aggregate, params,
+                            bounds, seed)
+    return run_optimizer(problem, optimizer, pop_size, max_iter, max_evals, seed, progress,
+                         **hyper)
