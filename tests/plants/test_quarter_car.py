@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -204,7 +205,7 @@ def test_bad_objective_and_gain_shape() -> None:
 
 @pytest.mark.parametrize(("controller", "gains"), [("pid", [500.0, 500.0, 100.0]),
                                                    ("passive", [])])
-def test_plot_writes_a_png(tmp_path, controller: str, gains: list[float]) -> None:  # type: ignore[no-untyped-def]
+def test_plot_writes_a_png(tmp_path: Path, controller: str, gains: list[float]) -> None:
     sc = PLANT.scenario("paper-iabc", controller=controller, params={"duration_s": 8})
     path = tmp_path / "qc.png"
     PLANT.plot(sc, sc.trace(np.array(gains)), str(path))

@@ -7,7 +7,7 @@ import pytest
 from scipy.linalg import expm
 
 from chassistune.plants import iso_roads
-from chassistune.plants.quarter_car import PLANT
+from chassistune.plants.quarter_car import PLANT, QuarterCarScenario
 from chassistune.sim import lti
 from chassistune.sim import quarter_car_kernel as K
 from chassistune.sim import quarter_car_model as M
@@ -33,7 +33,8 @@ def test_zoh_step_of_a_first_order_lag() -> None:
     assert gam[0] == pytest.approx(2.0 * (1 - np.exp(-0.3)) / 3.0, rel=1e-14)
 
 
-def run(scenario, gains: np.ndarray, n_rec: int = 0) -> tuple[np.ndarray, np.ndarray]:  # type: ignore[no-untyped-def]
+def run(scenario: QuarterCarScenario, gains: np.ndarray, n_rec: int = 0
+        ) -> tuple[np.ndarray, np.ndarray]:
     pid = scenario.pid_gains(gains)
     out = np.empty((pid.shape[0], K.N_RESULT))
     rec = np.zeros((M.N_OUT, n_rec))

@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from chassistune.plants.iso_roads import NOISE_INTENSITY
 from chassistune.sim.quarter_car_model import (
     MAX_STATES,
     N_OUT,
@@ -28,8 +29,8 @@ from chassistune.sim.quarter_car_model import (
     closed_loop,
 )
 
-W_ROAD = 0.5
-"""Intensity of the road's white noise: one-sided PSD 1 (DESIGN 3.4)."""
+W_ROAD = NOISE_INTENSITY
+"""Intensity of the road's white noise: W = 1/2, one-sided PSD 1 (DESIGN 3.4)."""
 
 # columns of exact_rms_batch's output
 E_ACC, E_TRAVEL, E_TIRE, E_FORCE, E_STABLE = range(5)

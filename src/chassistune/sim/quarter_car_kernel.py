@@ -25,6 +25,7 @@ N_RESULT = 5
 N_RMS = 4  # outputs 0..3 of quarter_car_model (acc, travel, tire, force) are accumulated
 
 DIVERGED_ABOVE = 1e6
+BLOCK = 64
 _CHECK_EVERY = 512
 
 
@@ -45,7 +46,27 @@ def simulate_batch(
     out (n, N_RESULT): RMS over samples 1..len(noise) of the first N_RMS outputs, and the
     diverged flag. trace (N_OUT, n_rec): if n_rec > 0, outputs of candidate 0 at samples
     0, stride, 2 stride, ... (sample k is time k dt, sample 0 the initial rest state).
+    Candidates run in blocks of BLOCK so that a block's matrices stay in cache.
     """
+    no_trace = np.zeros((N_OUT, 0))
+    for lo in range(0, gains.shape[0], BLOCK):
+        hi = min(lo + BLOCK, gains.shape[0])
+        _simulate_block(plant, feedback, n_filter, gains[lo:hi], noise, dt,
+                        trace if lo == 0 else no_trace, stride, out[lo:hi])
+
+
+@njit(cache=True, nogil=True)
+def _simulate_block(
+    plant: np.ndarray,
+    feedback: int,
+    n_filter: float,
+    gains: np.ndarray,
+    noise: np.ndarray,
+    dt: float,
+    trace: np.ndarray,
+    stride: int,
+    out: np.ndarray,
+) -> None:
     n = gains.shape[0]
     ms = MAX_STATES
     phi = np.zeros((ms, ms, n))
