@@ -160,7 +160,30 @@ def make_tire(road: str, values: Mapping[str, object]) -> tuple[TireCurve, set[s
 
 
 KERNEL_KIND = {"none": K.C_NONE, "pid": K.C_PID, "bang-bang": K.C_BANGBANG,
-               "threshold": K.C_THRESHOLD}
+               "threshold": K.C_THRESHOLD, "fuzzy-pid": K.C_FUZZY_PID,
+               "fuzzy-immune-pid": K.C_IMMUNE}
+FUZZY_OUTPUTS = {"fuzzy-pid": 3, "fuzzy-immune-pid": 1}
+"""How many outputs each fuzzy controller reads from its rule base (two inputs: e, de/dt)."""
+
+
+def _no_surface() -> tuple[Any, ...]:
+    """A placeholder surface of the kernel's table type, for controllers without a rule base."""
+    return (np.zeros((1, 2, 2)), np.full((1, 1), -1, dtype=np.int32), np.zeros(0, dtype=np.int64),
+            np.zeros(0, dtype=np.int64), np.zeros(0), 0.0, 1.0, 0.0, 1.0)
+
+
+def fuzzy_table(controller: str, rulebase: str) -> tuple[Any, ...]:
+    """The compiled surface of `rulebase` for `controller`, checked for its inputs and outputs."""
+    from chassistune.fuzzy.loader import load_rulebase
+    from chassistune.fuzzy.surface import compiled
+
+    rb = load_rulebase(rulebase, "--param rulebase")
+    need = FUZZY_OUTPUTS[controller]
+    if len(rb.inputs) != 2 or len(rb.outputs) != need:
+        raise InputError("--param rulebase", f"{controller} needs a rule base with inputs (e, ec) "
+                         f"and {need} output(s); {rulebase!r} has {len(rb.inputs)} inputs and "
+                         f"{len(rb.outputs)} outputs")
+    return compiled(rb).table
 
 METRIC_COLUMNS = {
     "stop_time_s": K.M_TIME,
@@ -194,7 +217,7 @@ class AbsWheelScenario(Scenario):
         controller: ControllerSpec,
         plant_params: AbsWheelParams,
         tire: TireCurve,
-        controller_params: dict[str, float],
+        controller_params: dict[str, Any],
         target_slip: float,
         scoring: Scoring,
         seed: int,
@@ -245,7 +268,10 @@ class AbsWheelScenario(Scenario):
         c[K.Q_SLIP_HIGH] = cp.get("slip_margin", 0.0)
         c[K.Q_SLOW] = cp.get("slow_fraction", 0.0)
         kind, coef, xs, ys = self.tire.kernel_data()
-        return p, kind, coef, xs, ys, KERNEL_KIND[self.controller.name], c
+        name = self.controller.name
+        table = (fuzzy_table(name, str(self.controller_params["rulebase"]))
+                 if name in FUZZY_OUTPUTS else _no_surface())
+        return p, kind, coef, xs, ys, KERNEL_KIND[name], c, table
 
     def params(self) -> dict[str, Any]:
         out: dict[str, Any] = as_dict(self.plant_params)
@@ -266,17 +292,17 @@ class AbsWheelScenario(Scenario):
         if g.ndim != 2 or g.shape[1] != k:
             raise InputError("gains", f"expected shape (n, {k}) for {self.controller.name}, got "
                              f"{tuple(np.shape(gains))}")
-        full = np.zeros((g.shape[0], 3))
-        full[:, :k] = g
-        return np.ascontiguousarray(full)
+        if k == 0:  # laws without gains: the kernel reads no column
+            return np.zeros((g.shape[0], 1))
+        return np.ascontiguousarray(g)
 
     def raw(self, gains: np.ndarray, workers: int | None = None) -> np.ndarray:
         """The kernel's metrics matrix (n, N_METRICS) for a population of gain rows."""
-        p, kind, coef, xs, ys, ckind, c = self._kernel_args
+        p, kind, coef, xs, ys, ckind, c, table = self._kernel_args
         empty = np.zeros((0, K.N_TRACE))
 
         def call(g: np.ndarray, out: np.ndarray) -> None:
-            K.simulate_abs_wheel(g, p, kind, coef, xs, ys, ckind, c, empty, out)
+            K.simulate_abs_wheel(g, p, kind, coef, xs, ys, ckind, c, table, empty, out)
 
         return run_chunked(call, self._kernel_gains(gains), K.N_METRICS, workers)
 
@@ -308,12 +334,12 @@ class AbsWheelScenario(Scenario):
         return self.cost_from_raw(self.raw(gains), objective)
 
     def trace(self, gains: np.ndarray) -> Trace:
-        p, kind, coef, xs, ys, ckind, c = self._kernel_args
+        p, kind, coef, xs, ys, ckind, c, table = self._kernel_args
         g = self._kernel_gains(np.asarray(gains, dtype=np.float64).reshape(1, -1))
         n_rows = math.ceil(self.plant_params.t_max_s / self.plant_params.dt_s) + 2
         tr = np.zeros((n_rows, K.N_TRACE))
         out = np.zeros((1, K.N_METRICS))
-        K.simulate_abs_wheel(g, p, kind, coef, xs, ys, ckind, c, tr, out)
+        K.simulate_abs_wheel(g, p, kind, coef, xs, ys, ckind, c, table, tr, out)
         m = int(out[0, K.M_NTRACE])
         cols = {
             "time_s": K.T_TIME, "vehicle_speed_m_s": K.T_V, "wheel_speed_m_s": K.T_WHEEL_V,
@@ -371,8 +397,12 @@ class AbsWheelPlant(Plant):
         tire, used_tire = make_tire(road, values)
         scoring, used_scoring = override(Scoring(), values)
         used |= used_tire | used_scoring
-        ctrl_values: dict[str, float] = {}
+        ctrl_values: dict[str, Any] = {}
         for ps in spec.params:
+            if isinstance(ps.default, str):
+                ctrl_values[ps.name] = str(values.get(ps.name, ps.default))
+                used.add(ps.name)
+                continue
             if ps.name in values:
                 ctrl_values[ps.name] = to_float(values[ps.name], f"--param {ps.name}")
                 used.add(ps.name)

@@ -31,6 +31,7 @@ import math
 import numba
 import numpy as np
 
+from chassistune.fuzzy.gains import fuzzy_pid_gains, immune_gain, incremental_pid_du
 from chassistune.plants.tires import tire_mu
 
 # plant parameter vector
@@ -40,7 +41,7 @@ P_NFILTER = 16
 N_PLANT = 17
 
 # controller kinds and parameter vector
-C_NONE, C_PID, C_BANGBANG, C_THRESHOLD = 0, 1, 2, 3
+C_NONE, C_PID, C_BANGBANG, C_THRESHOLD, C_FUZZY_PID, C_IMMUNE = 0, 1, 2, 3, 4, 5
 Q_TS, Q_AMPLITUDE, Q_DECEL, Q_ACCEL, Q_SLIP_HIGH, Q_SLOW = 0, 1, 2, 3, 4, 5
 N_CTRL = 6
 
@@ -173,9 +174,27 @@ def _sampled_command(ctrl_kind, c, phase, s, target, aw):
     return 0.0, phase
 
 
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _immune_command(g, table, e, e1, e2, u_prev, ts, first):
+    """Fuzzy immune PID (seed 004 eqs. 6-10, DESIGN 4), g = (k_immune, eta, ki, kd, ke, kec).
+
+    The controller starts from rest (u = 0 and e = 0 before the first sample) without a
+    derivative kick: the first sample adds kp1 e + ki ts e only."""
+    ec = 0.0 if first else (e - e1) / ts
+    kp1 = immune_gain(table, e, ec, g[4], g[5], g[0], g[1])
+    if first:
+        return u_prev + incremental_pid_du(kp1, g[2], 0.0, ts, e, 0.0, 0.0)
+    return u_prev + incremental_pid_du(kp1, g[2], g[3], ts, e, e1, e2)
+
+
 @numba.njit(cache=True, nogil=True, error_model="numpy")
-def simulate_abs_wheel(gains, p, tire_kind, tire_coef, tire_xs, tire_ys, ctrl_kind, c, trace, out):
-    """Simulate every row of `gains` (n, 3: kp, ki, kd; zeros for laws without gains).
+def simulate_abs_wheel(gains, p, tire_kind, tire_coef, tire_xs, tire_ys, ctrl_kind, c, table,
+                       trace, out):
+    """Simulate every row of `gains` (n, G: the controller's gains in registry order).
+
+    `table` is a compiled fuzzy surface (`chassistune.fuzzy.surface`) for the fuzzy laws, any
+    surface otherwise. Fuzzy PID gains: ke, kec, ku_p, ku_i, ku_d, kp0, ki0, kd0; fuzzy immune
+    PID gains: k_immune, eta, ki, kd, ke, kec.
 
     Writes the metrics row of each candidate into `out` (n, N_METRICS); when `trace` has rows
     (n must be 1), also the time series (columns T_*), one row per step.
@@ -189,9 +208,16 @@ def simulate_abs_wheel(gains, p, tire_kind, tire_coef, tire_xs, tire_ys, ctrl_ki
     q_max = p[P_QMAX]
     target = p[P_TARGET]
     n_steps = math.ceil(p[P_TMAX] / dt - 1e-9)
-    kp = np.ascontiguousarray(gains[:, 0])
-    ki = np.ascontiguousarray(gains[:, 1])
-    kd = np.ascontiguousarray(gains[:, 2])
+    kp = np.zeros(n)  # gains of the continuous PID part (scheduled by the fuzzy PID)
+    ki = np.zeros(n)
+    kd = np.zeros(n)
+    if ctrl_kind == C_PID:
+        kp[:] = gains[:, 0]
+        ki[:] = gains[:, 1]
+        kd[:] = gains[:, 2]
+    scheduled = np.zeros(3)
+    e_prev = np.full(n, target)  # immune PID: e(k-1), e(k-2); starting at e(0): no kick
+    e_prev2 = np.full(n, target)
     x = np.zeros((N_STATE, n))
     x[S_V, :] = p[P_V0]
     x[S_W, :] = p[P_V0] / r_w
@@ -234,12 +260,29 @@ def simulate_abs_wheel(gains, p, tire_kind, tire_coef, tire_xs, tire_ys, ctrl_ki
             break
         t = k * dt
         if ctrl_kind != C_PID and k % steps_per_sample == 0:  # sampled laws: own period ts
+            ts = steps_per_sample * dt
             for j in range(m):
                 i = active[j]
-                if k > 0:
-                    aw[i] = (x[S_W, i] - w_sampled[i]) * r_w / (steps_per_sample * dt)
-                w_sampled[i] = x[S_W, i]
-                u0[i], phase[i] = _sampled_command(ctrl_kind, c, phase[i], slip[i], target, aw[i])
+                if ctrl_kind == C_FUZZY_PID:
+                    e = target - slip[i]
+                    ec = p[P_NFILTER] * (e - x[S_XF, i])  # filtered de/dt
+                    g = gains[i]
+                    fuzzy_pid_gains(table, e, ec, g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7],
+                                    scheduled)
+                    kp[i] = scheduled[0]
+                    ki[i] = scheduled[1]
+                    kd[i] = scheduled[2]
+                elif ctrl_kind == C_IMMUNE:
+                    u0[i] = _immune_command(gains[i], table, target - slip[i], e_prev[i],
+                                            e_prev2[i], u0[i], ts, k == 0)
+                    e_prev2[i] = e_prev[i]
+                    e_prev[i] = target - slip[i]
+                else:
+                    if k > 0:
+                        aw[i] = (x[S_W, i] - w_sampled[i]) * r_w / ts
+                    w_sampled[i] = x[S_W, i]
+                    u0[i], phase[i] = _sampled_command(ctrl_kind, c, phase[i], slip[i], target,
+                                                       aw[i])
         _stage(m, active, x, k4, 0.0, k1, u_first, u0, kp, ki, kd, p, tire_kind, tire_coef,
                tire_xs, tire_ys)
         _stage(m, active, x, k1, hs, k2, u_tmp, u0, kp, ki, kd, p, tire_kind, tire_coef,
