@@ -1,4 +1,4 @@
-"""Build a scikit-fuzzy ControlSystem from a `fuzzy show --json` description (tests and bench only)."""
+"""A scikit-fuzzy ControlSystem built from a `fuzzy show --json` description (tests only)."""
 
 from __future__ import annotations
 
@@ -50,4 +50,6 @@ def evaluate(simulation: Any, description: dict[str, Any], points: np.ndarray) -
     with warnings.catch_warnings():  # scikit-fuzzy 0.5.0 calls np.maximum with 3 positionals
         warnings.simplefilter("ignore", DeprecationWarning)
         simulation.compute()
-    return np.stack([np.asarray(simulation.output[v["name"]]) for v in description["outputs"]], axis=1)
+    return np.stack(
+        [np.asarray(simulation.output[v["name"]]) for v in description["outputs"]], axis=1
+    )

@@ -1,4 +1,7 @@
-"""The built-in rule bases hold the papers' tables (seed 003 Table 3, fuzzy_tables.md, seed 004 Table 1)."""
+"""The built-in rule bases hold the papers' tables.
+
+Seed 003 Table 3 (deffao), shared/fuzzy_tables.md (classic), seed 004 Table 1 (immune).
+"""
 
 from __future__ import annotations
 

@@ -127,7 +127,7 @@ def test_evaluate_named() -> None:
     classic = load_classic()
     out = evaluate_named(classic, {"e": [0.0, 1.0], "ec": 0.0})
     assert set(out) == {"dkp", "dki", "dkd"} and out["dkd"].shape == (2,)
-    with pytest.raises(InputError, match="unknown input 'de'.*inputs: e, ec"):
+    with pytest.raises(InputError, match=r"unknown input 'de'.*inputs: e, ec"):
         evaluate_named(classic, {"e": 0.0, "de": 1.0})
     with pytest.raises(InputError, match="missing a value for input 'ec'"):
         evaluate_named(classic, {"e": 0.0})

@@ -96,7 +96,12 @@ def _break(description: dict[str, Any], path: str, value: Any) -> dict[str, Any]
         ("inputs.0.sets.0.params", [-1.0, 0.0], "inputs[0].sets[0].params", "takes 4 parameters"),
         ("outputs.0.sets.1.params", [5.0, -1.0], "outputs[0].sets[1].params", "sigma"),
         ("outputs.0.sets.0.params", [0.0, 6.0, 5.0], "outputs[0].sets[0].params", "non-decreasing"),
-        ("outputs.0.sets.2.params", [20.0, 21.0, 22.0, 23.0], "outputs[0].sets[2].params", "outside"),
+        (
+            "outputs.0.sets.2.params",
+            [20.0, 21.0, 22.0, 23.0],
+            "outputs[0].sets[2].params",
+            "outside",
+        ),
         ("outputs.0.sets.2.name", "LO", "outputs[0].sets[2].name", "duplicate set name 'LO'"),
         ("outputs.0.name", "x", "outputs", "duplicate variable name 'x'"),
         ("inputs.0.sets.0.colour", "red", "inputs[0].sets[0]", "unknown key 'colour'"),
@@ -121,7 +126,7 @@ def test_bad_description_names_the_field(path: str, value: Any, field: str, word
 def test_missing_file_and_unknown_name(tmp_path: Path) -> None:
     with pytest.raises(InputError, match="file not found"):
         load_rulebase(str(tmp_path / "nope.toml"))
-    with pytest.raises(InputError, match="unknown rule base 'fancy'.*deffao"):
+    with pytest.raises(InputError, match=r"unknown rule base 'fancy'.*deffao"):
         load_rulebase("fancy")
     with pytest.raises(InputError, match="not a file"):
         load_rulebase(str(tmp_path) + "/")
@@ -129,7 +134,7 @@ def test_missing_file_and_unknown_name(tmp_path: Path) -> None:
 
 def test_not_toml(tmp_path: Path) -> None:
     path = tmp_path / "bad.toml"
-    path.write_text("rules = [[\"NB\", \n")
+    path.write_text('rules = [["NB", \n')
     with pytest.raises(InputError, match="is not valid TOML") as info:
         load_rulebase(str(path))
     assert info.value.field == "rulebase"
