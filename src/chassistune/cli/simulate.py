@@ -34,6 +34,22 @@ def write_csv(result: SimulationResult, path: str) -> None:
             os.remove(tmp)
 
 
+def _print_metrics(metrics: dict[str, object]) -> None:
+    """Metrics as a list; those with a `passive_` twin as an active / passive / ratio table."""
+    paired = [k for k in metrics if f"passive_{k}" in metrics]
+    alone = [k for k in metrics if k not in paired and not (
+        k.startswith("passive_") and k[len("passive_"):] in paired)]
+    width = max(len(k) for k in metrics)
+    if paired:
+        click.echo(f"  {'':<{width}}  {'active':>10}  {'passive':>10}  {'ratio':>7}")
+        for k in paired:
+            a, b = metrics[k], metrics[f"passive_{k}"]
+            ratio = a / b if isinstance(a, float) and isinstance(b, float) and b else None
+            click.echo(f"  {k:<{width}}  {fmt(a):>10}  {fmt(b):>10}  {fmt(ratio):>7}")
+    for k in alone:
+        click.echo(f"  {k:<{width}}  {fmt(metrics[k])}")
+
+
 @cli.command("simulate")
 @click.argument("plant", metavar="PLANT")
 @click.option("--preset", help="Parameter preset (default: the plant's paper preset).")
@@ -75,9 +91,7 @@ def simulate_command(plant: str, preset: str | None, road: str | None, controlle
     click.echo(f"{plant}  preset {sc.preset}  road {sc.road}  controller {sc.controller.name}")
     if result.gains:
         click.echo("gains: " + ", ".join(f"{k}={fmt(v)}" for k, v in result.gains.items()))
-    width = max(len(k) for k in result.metrics)
-    for k, v in result.metrics.items():
-        click.echo(f"  {k:<{width}}  {fmt(v)}")
+    _print_metrics(result.metrics)
     for path in (plot_path, csv_path):
         if path:
             click.echo(f"wrote {path}")
