@@ -68,8 +68,10 @@ def plot_rulebase(rb: RuleBase, path: str | Path) -> Path:
     width = max(3.0 * n_top, 4.8 * n_bottom)
     fig = Figure(figsize=(width, 2.4 + (4.2 if n_bottom else 0.0)), layout="constrained")
     FigureCanvasAgg(fig)
-    rows = fig.subfigures(2 if n_bottom else 1, 1, height_ratios=[2.4, 4.2] if n_bottom else None)
-    top, bottom = (rows[0], rows[1]) if n_bottom else (rows, None)
+    rows: Any = np.atleast_1d(
+        fig.subfigures(2 if n_bottom else 1, 1, height_ratios=[2.4, 4.2] if n_bottom else None)
+    )
+    top, bottom = rows[0], (rows[1] if n_bottom else None)
     for ax, (role, var) in zip(np.atleast_1d(top.subplots(1, n_top)), variables, strict=True):
         _plot_sets(ax, var, role)
     title = f"rule base {rb.name}: {len(rb.rules)} rules, Mamdani min/max, centroid"
