@@ -68,9 +68,7 @@ def plot_rulebase(rb: RuleBase, path: str | Path) -> Path:
     width = max(3.0 * n_top, 4.8 * n_bottom)
     fig = Figure(figsize=(width, 2.4 + (4.2 if n_bottom else 0.0)), layout="constrained")
     FigureCanvasAgg(fig)
-    rows: Any = np.atleast_1d(
-        fig.subfigures(2 if n_bottom else 1, 1, height_ratios=[2.4, 4.2] if n_bottom else None)
-    )
+    rows: Any = fig.subfigures(2, 1, height_ratios=[2.4, 4.2]) if n_bottom else [fig]
     top, bottom = rows[0], (rows[1] if n_bottom else None)
     for ax, (role, var) in zip(np.atleast_1d(top.subplots(1, n_top)), variables, strict=True):
         _plot_sets(ax, var, role)
