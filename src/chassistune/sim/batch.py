@@ -14,6 +14,15 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 MIN_CHUNK = 8
+_POOLS: dict[int, ThreadPoolExecutor] = {}
+
+
+def _pool(workers: int) -> ThreadPoolExecutor:
+    """A process-wide pool per size (creating threads for every batch costs more than small
+    batches take)."""
+    if workers not in _POOLS:
+        _POOLS[workers] = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="kernel")
+    return _POOLS[workers]
 
 
 def default_workers() -> int:
@@ -42,11 +51,11 @@ def run_chunked(
     if workers <= 1 or len(starts) <= 1:
         kernel_call(np.ascontiguousarray(gains), out)
         return out
-    with ThreadPoolExecutor(max_workers=min(workers, len(starts))) as pool:
-        futures = [
-            pool.submit(kernel_call, np.ascontiguousarray(gains[s : s + chunk]), out[s : s + chunk])
-            for s in starts
-        ]
-        for f in futures:
-            f.result()
+    pool = _pool(workers)
+    futures = [
+        pool.submit(kernel_call, np.ascontiguousarray(gains[s : s + chunk]), out[s : s + chunk])
+        for s in starts
+    ]
+    for f in futures:
+        f.result()
     return out
