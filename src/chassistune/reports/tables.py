@@ -1,0 +1,293 @@
+"""Tables of a study, as pandas DataFrames: the run export and the report's statistics.
+
+All statistics come from `chassistune.stats` (the one statistics module). Costs are minimized:
+"best" is the lowest. Key metrics are the plant's lower-is-better figures (KEY_METRICS), so their
+best and worst are their minimum and maximum too.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from chassistune import stats
+from chassistune.errors import InputError
+from chassistune.reports.files import atomic_path
+from chassistune.studies.store import RunRecord, Store
+
+KEY_METRICS: dict[str, tuple[str, ...]] = {
+    "abs-wheel": ("stop_distance_m", "distance_ratio", "stop_time_s", "slip_itae",
+                  "locked_time_s"),
+    "quarter-car": ("objective_exact", "body_acc_rms", "susp_travel_rms", "tire_defl_rms",
+                    "force_rms"),
+}
+"""Per plant, the lower-is-better metrics summarized in the report."""
+
+SUMMARY_COLUMNS = ("n", "mean", "std", "best", "worst", "median")
+
+
+@dataclass(frozen=True)
+class StudyData:
+    """A study's finished runs, with scenarios and optimizers in the config's order."""
+
+    name: str
+    records: tuple[RunRecord, ...]
+    scenarios: tuple[str, ...]
+    optimizers: tuple[str, ...]
+
+    def runs(self, scenario: str, optimizer: str | None = None,
+             completed: bool = True) -> list[RunRecord]:
+        """Runs of `scenario` (and `optimizer`), completed ones only by default, by seed."""
+        return [r for r in self.records
+                if r.spec.scenario == scenario
+                and (optimizer is None or r.spec.optimizer == optimizer)
+                and (r.completed or not completed)]
+
+    def costs(self, scenario: str, optimizer: str) -> np.ndarray:
+        return np.array([r.best_cost for r in self.runs(scenario, optimizer)], dtype=float)
+
+    @property
+    def failed(self) -> list[RunRecord]:
+        return [r for r in self.records if not r.completed]
+
+
+def _ordered(preferred: Iterable[str], present: Iterable[str]) -> tuple[str, ...]:
+    present = list(dict.fromkeys(present))
+    first = [p for p in preferred if p in present]
+    return tuple(first + sorted(set(present) - set(first)))
+
+
+def load_study(store: Store) -> StudyData:
+    """Read every finished run of a store."""
+    meta = store.meta()
+    records = tuple(store.records())
+    return StudyData(
+        name=meta.get("study", ""),
+        records=records,
+        scenarios=_ordered(meta.get("scenarios", "").splitlines(),
+                           (r.spec.scenario for r in records)),
+        optimizers=_ordered(meta.get("optimizers", "").splitlines(),
+                            (r.spec.optimizer for r in records)),
+    )
+
+
+# -- the export ----------------------------------------------------------------------------------
+
+
+def _metric_columns(r: RunRecord) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    single = len(r.spec.roads) == 1
+    for road, metrics in r.metrics.items():
+        for name, value in metrics.items():
+            out[f"metric_{name}" if single else f"metric_{name}@{road}"] = value
+    return out
+
+
+def runs_table(records: Sequence[RunRecord]) -> pd.DataFrame:
+    """One row per run: identity, status, cost, budget spent, one column per best gain
+    (`gain_<name>`), metrics (`metric_<name>`; `metric_<name>@<road>` for multi-road runs),
+    the cost of the best gains on each test road (`cost@<road>`), and versions (JSON)."""
+    rows = []
+    for r in records:
+        s = r.spec
+        row: dict[str, Any] = {
+            "scenario": s.scenario, "plant": s.plant, "preset": s.preset, "road": s.road,
+            "controller": s.controller, "objective": s.objective, "aggregate": s.aggregate,
+            "optimizer": s.optimizer, "optimizer_name": s.optimizer_name, "seed": s.seed,
+            "root_seed": s.root_seed, "status": r.status, "best_cost": r.best_cost,
+            "nfev": r.nfev, "nit": r.nit, "wall_time_s": r.wall_time_s, "error": r.error,
+        }
+        for name in s.bounds:
+            row[f"gain_{name}"] = r.best_gains.get(name, math.nan)
+        row.update({f"cost@{road}": c for road, c in r.test_costs.items()})
+        row.update(_metric_columns(r))
+        row["versions"] = json.dumps(r.versions, sort_keys=True)
+        rows.append(row)
+    df = pd.DataFrame(rows)
+    for col in ("nfev", "nit"):
+        if col in df:
+            df[col] = df[col].astype("Int64")
+    return df
+
+
+def write_table(df: pd.DataFrame, path: str, fmt: str = "csv") -> None:
+    """Write CSV (floats exact: repr precision) or Parquet atomically."""
+    if fmt not in ("csv", "parquet"):
+        raise InputError("--format", f"unknown format {fmt!r} (known: csv, parquet)")
+    with atomic_path(path) as tmp:
+        if fmt == "csv":
+            df.to_csv(tmp, index=False)
+        else:
+            df.to_parquet(tmp, index=False)
+
+
+# -- statistics ----------------------------------------------------------------------------------
+
+
+def _quantities(data: StudyData, scenario: str) -> list[str]:
+    """best_cost, then the key metrics present in this scenario's runs (by road if several)."""
+    runs = data.runs(scenario)
+    out = ["best_cost"]
+    for r in runs[:1]:
+        keys = KEY_METRICS.get(r.spec.plant, ())
+        for road in r.spec.roads:
+            for k in keys:
+                if k in r.metrics.get(road, {}):
+                    out.append(k if len(r.spec.roads) == 1 else f"{k}@{road}")
+    return out
+
+
+def _values(runs: Sequence[RunRecord], quantity: str) -> np.ndarray:
+    if quantity == "best_cost":
+        vals = [r.best_cost for r in runs]
+    else:
+        name, _, road = quantity.partition("@")
+        vals = [r.metrics.get(road or r.spec.roads[0], {}).get(name) for r in runs]
+    a = np.array([math.nan if v is None else float(v) for v in vals], dtype=float)
+    return a[np.isfinite(a)]
+
+
+def summary_table(data: StudyData) -> pd.DataFrame:
+    """Per scenario, optimizer and quantity (final cost, key metrics): n, mean, std, best, worst,
+    median over the completed runs; `failed` counts the failed runs of that cell."""
+    rows = []
+    for sc in data.scenarios:
+        quantities = _quantities(data, sc)
+        for opt in data.optimizers:
+            runs = data.runs(sc, opt)
+            failed = len(data.runs(sc, opt, completed=False)) - len(runs)
+            for q in quantities:
+                v = _values(runs, q)
+                summ = stats.summary(v) if v.size else {c: math.nan for c in SUMMARY_COLUMNS}
+                if not v.size:
+                    summ["n"] = 0
+                rows.append({"scenario": sc, "optimizer": opt, "quantity": q, "failed": failed,
+                             **{c: summ[c] for c in SUMMARY_COLUMNS}})
+    return pd.DataFrame(rows, columns=["scenario", "optimizer", "quantity", "failed",
+                                       *SUMMARY_COLUMNS])
+
+
+def check_reference(data: StudyData, reference: str | None) -> str:
+    """The reference optimizer: the given label, else the config's first."""
+    if reference is None:
+        return data.optimizers[0]
+    if reference not in data.optimizers:
+        raise InputError("--reference", f"unknown optimizer {reference!r} in this study "
+                         f"(known: {', '.join(data.optimizers)})")
+    return reference
+
+
+def rank_sum_table(data: StudyData, reference: str) -> pd.DataFrame:
+    """Wilcoxon rank-sum of the reference against each other optimizer, per scenario.
+
+    `sign` is read from the reference's side: "+" the reference is significantly better.
+    """
+    rows = []
+    for sc in data.scenarios:
+        ref = data.costs(sc, reference)
+        for opt in data.optimizers:
+            if opt == reference:
+                continue
+            other = data.costs(sc, opt)
+            if ref.size and other.size:
+                res = stats.rank_sum(ref, other)
+                sign, p = res.sign, res.p_value
+            else:
+                sign, p = "n/a", math.nan
+            rows.append({"scenario": sc, "reference": reference, "optimizer": opt,
+                         "n_reference": ref.size, "n": other.size, "p_value": p, "sign": sign})
+    return pd.DataFrame(rows, columns=["scenario", "reference", "optimizer", "n_reference", "n",
+                                       "p_value", "sign"])
+
+
+def rank_sum_counts_table(data: StudyData, reference: str) -> pd.DataFrame:
+    """+/=/- counts over the scenarios, per optimizer (stats.rank_sum_counts)."""
+    def by_scenario(opt: str) -> dict[str, np.ndarray]:
+        return {sc: c for sc in data.scenarios if (c := data.costs(sc, opt)).size}
+
+    ref = by_scenario(reference)
+    rows = []
+    for opt in data.optimizers:
+        if opt != reference:
+            counts = stats.rank_sum_counts(ref, by_scenario(opt))
+            rows.append({"reference": reference, "optimizer": opt, **counts})
+    return pd.DataFrame(rows, columns=["reference", "optimizer", "+", "=", "-"])
+
+
+def score_matrix(data: StudyData) -> tuple[list[str], np.ndarray]:
+    """Mean final cost (scenarios x optimizers) over the scenarios where every optimizer has a
+    completed run; those scenarios."""
+    kept, scores = [], []
+    for sc in data.scenarios:
+        means = [data.costs(sc, opt) for opt in data.optimizers]
+        if all(m.size for m in means):
+            kept.append(sc)
+            scores.append([float(np.mean(m)) for m in means])
+    return kept, np.array(scores, dtype=float).reshape(len(kept), len(data.optimizers))
+
+
+def friedman_table(data: StudyData) -> tuple[pd.DataFrame, stats.Friedman | None]:
+    """Friedman mean ranks (1 = best) of the optimizers across scenarios, by mean final cost."""
+    kept, scores = score_matrix(data)
+    if not kept:
+        return pd.DataFrame(columns=["optimizer", "mean_rank", "scenarios"]), None
+    res = stats.friedman(scores, data.optimizers)
+    df = pd.DataFrame({"optimizer": res.methods, "mean_rank": res.mean_ranks,
+                       "scenarios": res.n_problems})
+    return df, res
+
+
+def posthoc_table(data: StudyData, reference: str) -> pd.DataFrame:
+    """Holm-corrected post-hoc tests of mean ranks against the reference (>= 2 scenarios)."""
+    kept, scores = score_matrix(data)
+    cols = ["reference", "optimizer", "rank_difference", "z", "p_value", "p_holm", "reject"]
+    if len(kept) < 2 or len(data.optimizers) < 2:
+        return pd.DataFrame(columns=cols)
+    comps = stats.posthoc(scores, data.optimizers, control=reference)
+    return pd.DataFrame([{"reference": c.a, "optimizer": c.b, "rank_difference": c.rank_difference,
+                          "z": c.z, "p_value": c.p_value, "p_holm": c.p_holm,
+                          "reject": c.reject} for c in comps], columns=cols)
+
+
+def generalization_table(data: StudyData) -> pd.DataFrame:
+    """Tuned on X, tested on Y: the cost of each run's best gains on each test road of its
+    scenario, median and mean over seeds (scenario groups with two or more test roads)."""
+    rows = []
+    groups = dict.fromkeys(r.spec.group for r in data.records if len(r.spec.test_roads) > 1)
+    for group in groups:
+        runs = [r for r in data.records if r.spec.group == group and r.completed]
+        for opt in data.optimizers:
+            mine = [r for r in runs if r.spec.optimizer == opt]
+            for tuned in dict.fromkeys(r.spec.road for r in mine):
+                cell = [r for r in mine if r.spec.road == tuned]
+                for road in cell[0].spec.test_roads:
+                    v = np.array([r.test_costs.get(road, math.nan) for r in cell], dtype=float)
+                    v = v[np.isfinite(v)]
+                    rows.append({"group": group, "optimizer": opt, "tuned_on": tuned,
+                                 "tested_on": road, "n": v.size,
+                                 "median_cost": float(np.median(v)) if v.size else math.nan,
+                                 "mean_cost": float(np.mean(v)) if v.size else math.nan})
+    return pd.DataFrame(rows, columns=["group", "optimizer", "tuned_on", "tested_on", "n",
+                                       "median_cost", "mean_cost"])
+
+
+def failures_table(data: StudyData) -> pd.DataFrame:
+    """Failed runs and their errors."""
+    return pd.DataFrame([{"scenario": r.spec.scenario, "optimizer": r.spec.optimizer,
+                          "seed": r.spec.seed, "error": r.error} for r in data.failed],
+                        columns=["scenario", "optimizer", "seed", "error"])
+
+
+def best_run(data: StudyData, scenario: str) -> RunRecord | None:
+    """The completed run of `scenario` with the lowest final cost (config order breaks ties)."""
+    rank = {o: i for i, o in enumerate(data.optimizers)}
+    runs = data.runs(scenario)
+    if not runs:
+        return None
+    return min(runs, key=lambda r: (r.best_cost, rank[r.spec.optimizer], r.spec.seed))

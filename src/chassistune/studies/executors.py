@@ -1,0 +1,199 @@
+"""Where runs execute: in the driver (serial), in a local process pool, or on Dask.
+
+Every executor takes run specs and yields the workers' plain result dicts as runs finish (in any
+order); only the driver writes them to the store. A run's numbers depend only on its spec, so all
+executors give identical results. Worker processes simulate with one thread each
+(CHASSISTUNE_THREADS=1): the parallelism is across runs; a kernel's results do not depend on its
+thread count.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import multiprocessing
+import os
+from abc import ABC, abstractmethod
+from collections.abc import Callable, Iterator, Sequence
+from typing import Any
+
+from chassistune.errors import InputError
+from chassistune.studies.spec import RunSpec
+from chassistune.studies.worker import execute_run, failed_result
+
+EXECUTORS = ("serial", "process", "dask")
+MAX_ATTEMPTS = 2
+"""A run whose worker process died is given to a new worker once more, then recorded failed."""
+
+Result = dict[str, Any]
+
+
+def default_workers() -> int:
+    """The cores this process may use."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - non-Linux
+        return max(1, os.cpu_count() or 1)
+
+
+class Executor(ABC):
+    """Runs specs; `results(specs)` yields one result dict per spec as runs finish."""
+
+    name: str = ""
+
+    @abstractmethod
+    def results(self, specs: Sequence[RunSpec]) -> Iterator[Result]:
+        """Yield one result per spec, in completion order."""
+
+    def close(self) -> None:  # noqa: B027 - nothing to release by default
+        """Release workers and clusters."""
+
+    def __enter__(self) -> Executor:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+class SerialExecutor(Executor):
+    """Runs in the driver's process, one after the other."""
+
+    name = "serial"
+
+    def results(self, specs: Sequence[RunSpec]) -> Iterator[Result]:
+        for spec in specs:
+            yield execute_run(spec)
+
+
+def _init_worker(extra: Callable[[], None] | None) -> None:
+    os.environ["CHASSISTUNE_THREADS"] = "1"
+    if extra is not None:
+        extra()
+
+
+class ProcessExecutor(Executor):
+    """A pool of `workers` spawned processes; a few runs in flight per worker.
+
+    `initializer` (a module-level function) runs once in each worker, e.g. to register a plant.
+    """
+
+    name = "process"
+
+    def __init__(self, workers: int | None = None,
+                 initializer: Callable[[], None] | None = None) -> None:
+        self.workers = workers or default_workers()
+        self._initializer = initializer
+        self._pool: cf.ProcessPoolExecutor | None = None
+
+    def _new_pool(self) -> cf.ProcessPoolExecutor:
+        if self._pool is not None:
+            self._pool.shutdown(wait=False, cancel_futures=True)
+        self._pool = cf.ProcessPoolExecutor(
+            self.workers, mp_context=multiprocessing.get_context("spawn"),
+            initializer=_init_worker, initargs=(self._initializer,))
+        return self._pool
+
+    def results(self, specs: Sequence[RunSpec]) -> Iterator[Result]:
+        pool = self._new_pool()
+        pending = list(reversed(specs))
+        attempts: dict[str, int] = {}
+        running: dict[cf.Future[Result], RunSpec] = {}
+        window = 2 * self.workers
+        while pending or running:
+            while pending and len(running) < window:
+                spec = pending.pop()
+                attempts[spec.key] = attempts.get(spec.key, 0) + 1
+                running[pool.submit(execute_run, spec)] = spec
+            done, _ = cf.wait(running, return_when=cf.FIRST_COMPLETED)
+            broken = False
+            for fut in done:
+                spec = running.pop(fut)
+                try:
+                    yield fut.result()
+                except cf.process.BrokenProcessPool:
+                    broken = True
+                    if attempts[spec.key] < MAX_ATTEMPTS:
+                        pending.append(spec)
+                    else:
+                        yield failed_result(spec, "worker process died (BrokenProcessPool)")
+            if broken:  # every other run in flight is lost with the pool: resubmit them
+                pending.extend(running.values())
+                running.clear()
+                pool = self._new_pool()
+
+    def close(self) -> None:
+        if self._pool is not None:
+            self._pool.shutdown(wait=True, cancel_futures=True)
+            self._pool = None
+
+
+def _dask_missing() -> InputError:
+    return InputError("--executor", 'dask is not installed: pip install "chassistune[dask]" '
+                      '(or pip install "dask[distributed]")')
+
+
+def check_dask() -> None:
+    """InputError saying how to install Dask when it is missing."""
+    try:
+        import distributed  # noqa: F401
+    except ImportError:
+        raise _dask_missing() from None
+
+
+class DaskExecutor(Executor):
+    """dask.distributed: the scheduler at `address`, else a LocalCluster on loopback.
+
+    A lost worker's runs are retried elsewhere by Dask (`retries`); a run that still cannot
+    finish is recorded failed with the reason.
+    """
+
+    name = "dask"
+
+    def __init__(self, address: str | None = None, workers: int | None = None,
+                 processes: bool = True, retries: int = 1) -> None:
+        check_dask()
+        from distributed import Client, LocalCluster
+
+        self._cluster: Any = None
+        self.retries = retries
+        if address is None:
+            self._cluster = LocalCluster(
+                n_workers=workers or default_workers(), threads_per_worker=1,
+                processes=processes, host="127.0.0.1", dashboard_address=None,
+                env={"CHASSISTUNE_THREADS": "1"} if processes else None)
+            self._client = Client(self._cluster)
+        else:
+            self._client = Client(address, timeout="20s")
+
+    def results(self, specs: Sequence[RunSpec]) -> Iterator[Result]:
+        from distributed import as_completed
+
+        futures = {self._client.submit(execute_run, s, key=f"run-{s.spec_hash}", pure=False,
+                                       retries=self.retries): s for s in specs}
+        for fut in as_completed(futures):
+            spec = futures[fut]
+            try:
+                result: Result = fut.result()
+            except Exception as exc:  # the worker running it was lost too often
+                result = failed_result(spec, f"dask: {type(exc).__name__}: {exc}")
+            fut.release()
+            yield result
+
+    def close(self) -> None:
+        self._client.close()
+        if self._cluster is not None:
+            self._cluster.close()
+
+
+def make_executor(name: str, workers: int | None = None, scheduler: str | None = None) -> Executor:
+    """An executor by name (`serial`, `process`, `dask`)."""
+    if name not in EXECUTORS:
+        raise InputError("--executor", f"unknown executor {name!r} (known: {', '.join(EXECUTORS)})")
+    if scheduler is not None and name != "dask":
+        raise InputError("--scheduler", "a scheduler address needs --executor dask")
+    if workers is not None and workers < 1:
+        raise InputError("--workers", f"must be a positive whole number, got {workers}")
+    if name == "serial":
+        return SerialExecutor()
+    if name == "process":
+        return ProcessExecutor(workers)
+    return DaskExecutor(scheduler, workers)

@@ -1,0 +1,408 @@
+"""Study configs (TOML, validated by pydantic) and their expansion into run specs (DESIGN 2, 9).
+
+A config is data: nothing in it is evaluated. `load_config` parses and validates the file,
+`plan_study` resolves every name against the registries (building every scenario, as the runs
+will) and expands the grid scenarios x roads x optimizers x seeds into `RunSpec`s. Both raise
+`InputError` naming the field (`scenarios[0].roads`, `optimizers[1].hyperparameters`, ...), so a
+bad config is refused before anything is written.
+
+Seeds: each run's randomness comes from `SeedSequence(study.seed, spawn_key=(seed_index,))`, the
+same for every scenario and optimizer at that index (common random numbers) and unchanged when
+seeds, scenarios or optimizers are added.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import tomllib
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+import numpy as np
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    StrictBool,
+    StrictFloat,
+    StrictInt,
+    StrictStr,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
+
+from chassistune.errors import InputError
+
+MAX_SEEDS = 100_000
+"""Largest seed count (and seed index) a config may ask for."""
+
+Finite = Annotated[float, Field(strict=True, allow_inf_nan=False)]
+Name = Annotated[str, Field(strict=True, min_length=1, max_length=200)]
+Count = Annotated[int, Field(strict=True, ge=1)]
+Value = StrictFloat | StrictInt | StrictStr
+HyperValue = StrictBool | StrictFloat | StrictInt | StrictStr
+
+
+class _Model(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class StudySection(_Model):
+    """`[study]`: name, seeds (a count n = indices 0..n-1, or a list of indices), root seed."""
+
+    name: Name
+    seeds: tuple[int, ...]
+    seed: Annotated[int, Field(strict=True, ge=0, lt=2**63)] = 0
+    description: Annotated[str, Field(strict=True, max_length=2000)] = ""
+
+    @field_validator("seeds", mode="before")
+    @classmethod
+    def _seed_indices(cls, v: Any) -> tuple[int, ...]:
+        if isinstance(v, int) and not isinstance(v, bool):
+            if not 1 <= v <= MAX_SEEDS:
+                raise ValueError(f"a seed count must be in 1..{MAX_SEEDS}, got {v}")
+            return tuple(range(v))
+        if isinstance(v, list):
+            if not v:
+                raise ValueError("the list of seed indices is empty")
+            for s in v:
+                if isinstance(s, bool) or not isinstance(s, int) or not 0 <= s < MAX_SEEDS:
+                    raise ValueError(f"seed indices must be integers in 0..{MAX_SEEDS - 1}, "
+                                     f"got {s!r}")
+            if len(set(v)) != len(v):
+                raise ValueError("a seed index is listed twice")
+            return tuple(v)
+        raise ValueError(f"expected a seed count or a list of seed indices, got {v!r}")
+
+
+class ScenarioConfig(_Model):
+    """`[[scenarios]]`: what is tuned, on which roads, scored how."""
+
+    name: Name | None = None
+    plant: Name
+    preset: Name | None = None
+    controller: Name
+    objective: Name | None = None
+    roads: list[Name] | None = None
+    tune_roads: list[Name] | None = None
+    aggregate: Literal["mean", "max"] = "mean"
+    test_roads: list[Name] | None = None
+    params: dict[str, Value] = Field(default_factory=dict)
+    bounds: dict[str, tuple[Finite, Finite]] = Field(default_factory=dict)
+
+    @field_validator("roads", "tune_roads", "test_roads")
+    @classmethod
+    def _distinct(cls, v: list[str] | None) -> list[str] | None:
+        if v is not None:
+            if not v:
+                raise ValueError("the list is empty")
+            if len(set(v)) != len(v):
+                raise ValueError("a road is listed twice")
+        return v
+
+    @field_validator("tune_roads")
+    @classmethod
+    def _several(cls, v: list[str] | None) -> list[str] | None:
+        if v is not None and len(v) < 2:
+            raise ValueError("one controller for several roads needs at least two roads "
+                             "(use `roads` for one)")
+        return v
+
+    @field_validator("bounds")
+    @classmethod
+    def _ordered(cls, v: dict[str, tuple[float, float]]) -> dict[str, tuple[float, float]]:
+        for gain, (lo, hi) in v.items():
+            if not lo < hi:
+                raise ValueError(f"{gain}: need lo < hi, got [{lo:g}, {hi:g}]")
+        return v
+
+
+class OptimizerConfig(_Model):
+    """`[[optimizers]]`: a registered optimizer, an optional label and hyperparameters."""
+
+    name: Name
+    label: Name | None = None
+    hyperparameters: dict[str, HyperValue] = Field(default_factory=dict)
+
+
+class BudgetConfig(_Model):
+    """`[budget]`: population and iterations and/or evaluations (defaults as `tune`)."""
+
+    pop_size: Count = 30
+    iterations: Count | None = None
+    evaluations: Count | None = None
+
+    @model_validator(mode="after")
+    def _some_budget(self) -> BudgetConfig:
+        if self.iterations is None and self.evaluations is None:
+            return self.model_copy(update={"iterations": 100})
+        return self
+
+
+class StudyConfig(_Model):
+    """A whole study config file."""
+
+    study: StudySection
+    scenarios: Annotated[list[ScenarioConfig], Field(min_length=1)]
+    optimizers: Annotated[list[OptimizerConfig], Field(min_length=1)]
+    budget: BudgetConfig = Field(default_factory=BudgetConfig)
+
+
+class RunSpec(_Model):
+    """Everything a worker needs to do one run; its JSON is the run's identity in the store."""
+
+    study: str
+    group: str
+    scenario: str
+    plant: str
+    preset: str
+    controller: str
+    objective: str
+    roads: tuple[str, ...]
+    aggregate: str
+    test_roads: tuple[str, ...]
+    params: dict[str, Value]
+    bounds: dict[str, tuple[float, float]]
+    optimizer: str
+    optimizer_name: str
+    hyperparameters: dict[str, HyperValue]
+    pop_size: int
+    max_iter: int | None
+    max_evals: int | None
+    root_seed: int
+    seed: int
+
+    @property
+    def key(self) -> str:
+        """Unique within a study: scenario, optimizer label and seed index."""
+        return f"{self.scenario}|{self.optimizer}|{self.seed}"
+
+    @property
+    def road(self) -> str:
+        """The export's `road`: the road, or the tuned roads joined by '+'."""
+        return "+".join(self.roads)
+
+    @property
+    def spec_hash(self) -> str:
+        text = json.dumps(self.model_dump(mode="json"), sort_keys=True)
+        return hashlib.sha256(text.encode()).hexdigest()
+
+    def seed_sequence(self) -> np.random.SeedSequence:
+        return np.random.SeedSequence(self.root_seed, spawn_key=(self.seed,))
+
+    def optimizer_rng(self) -> np.random.Generator:
+        """The optimizer's generator: `default_rng(SeedSequence(root, spawn_key=(seed,)))`."""
+        return np.random.default_rng(self.seed_sequence())
+
+    @property
+    def scenario_seed(self) -> int:
+        """The scenario's seed (the quarter car's road realization), from the same sequence."""
+        return int(self.seed_sequence().generate_state(1, np.uint32)[0])
+
+
+@dataclass(frozen=True)
+class StudyPlan:
+    """A validated config and its runs, in grid order (scenario, road, optimizer, seed)."""
+
+    config: StudyConfig
+    runs: tuple[RunSpec, ...]
+
+    @property
+    def scenarios(self) -> list[str]:
+        return list(dict.fromkeys(r.scenario for r in self.runs))
+
+    @property
+    def optimizers(self) -> list[str]:
+        return list(dict.fromkeys(r.optimizer for r in self.runs))
+
+    def config_json(self) -> str:
+        return json.dumps(self.config.model_dump(mode="json"), sort_keys=True)
+
+
+# -- loading -------------------------------------------------------------------------------------
+
+
+def _where(loc: tuple[int | str, ...]) -> str:
+    out = ""
+    for part in loc:
+        out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
+    return out or "CONFIG"
+
+
+def _first_error(exc: ValidationError) -> InputError:
+    err = exc.errors()[0]
+    kind = err["type"]
+    if kind == "extra_forbidden":
+        problem = "unknown key"
+    elif kind == "missing":
+        problem = "missing required field"
+    else:
+        problem = str(err["msg"]).removeprefix("Value error, ")
+    return InputError(_where(tuple(err["loc"])), problem)
+
+
+def parse_config(data: dict[str, Any]) -> StudyConfig:
+    """Validate parsed TOML; the first problem raises InputError naming its field."""
+    if not data:
+        raise InputError("CONFIG", "the config is empty (need [study], [[scenarios]] and "
+                         "[[optimizers]])")
+    try:
+        return StudyConfig.model_validate(data)
+    except ValidationError as exc:
+        raise _first_error(exc) from None
+
+
+def load_config(path: str | Path) -> StudyConfig:
+    """Read and validate a TOML study config."""
+    p = Path(path)
+    if not p.exists():
+        raise InputError("CONFIG", f"file not found: {str(p)!r}")
+    if p.is_dir():
+        raise InputError("CONFIG", f"{str(p)!r} is a folder, not a TOML file")
+    try:
+        text = p.read_bytes().decode("utf-8")
+    except OSError as exc:
+        raise InputError("CONFIG", f"cannot read {str(p)!r}: {exc.strerror}") from None
+    except UnicodeDecodeError:
+        raise InputError("CONFIG", f"{str(p)!r} is not UTF-8 text (not a TOML file)") from None
+    if not text.strip():
+        raise InputError("CONFIG", f"{str(p)!r} is empty")
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError("CONFIG", f"{str(p)!r} is not valid TOML: {exc}") from None
+    return parse_config(data)
+
+
+# -- planning ------------------------------------------------------------------------------------
+
+_FIELD_NAMES = {
+    "--road": "roads", "road": "roads", "--controller": "controller", "--objective": "objective",
+    "objective": "objective", "--aggregate": "aggregate", "bounds": "bounds",
+    "preset": "preset", "plant": "plant", "controller": "controller", "--seed": "seed",
+}
+
+
+def _scenario_field(index: int, field: str) -> str:
+    """`--param mass_kg` -> `scenarios[0].params.mass_kg`, `--road` -> `scenarios[0].roads`."""
+    base = f"scenarios[{index}]"
+    for prefix, name in (("--param ", "params"), ("bounds ", "bounds")):
+        if field.startswith(prefix):
+            return f"{base}.{name}.{field[len(prefix):]}"
+    return f"{base}.{_FIELD_NAMES.get(field, field.lstrip('-'))}"
+
+
+@dataclass(frozen=True)
+class _Cell:
+    """One scenario of the comparison: a config scenario on one road or one set of roads."""
+
+    group: str
+    name: str
+    roads: tuple[str, ...]
+
+
+def _cells(sc: ScenarioConfig, default_road: str) -> Iterator[_Cell]:
+    group = sc.name or f"{sc.plant}-{sc.controller}"
+    roads = sc.roads if sc.roads is not None else ([] if sc.tune_roads else [default_road])
+    for road in roads:
+        yield _Cell(group, f"{group}/{road}", (road,))
+    if sc.tune_roads:
+        yield _Cell(group, f"{group}/{'+'.join(sc.tune_roads)}", tuple(sc.tune_roads))
+
+
+def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int) -> list[dict[str, Any]]:
+    """Build every scenario the runs will build; the run-spec fields of each cell."""
+    from chassistune.plants.registry import get_plant
+    from chassistune.tuning.problem import build_problem
+
+    try:
+        plant = get_plant(sc.plant)
+        preset = sc.preset or plant.default_preset
+        default_road = plant.presets()[preset].roads[0] if preset in plant.presets() else ""
+        cells = list(_cells(sc, default_road))
+        every_road = list(dict.fromkeys(r for c in cells for r in c.roads))
+        test_roads = tuple(sc.test_roads or every_road)
+        out = []
+        for cell in cells:
+            problem = build_problem(sc.plant, sc.controller, preset, list(cell.roads),
+                                    sc.objective, sc.aggregate, sc.params, sc.bounds, seed)
+            out.append({
+                "group": cell.group, "scenario": cell.name, "plant": sc.plant,
+                "preset": problem.scenarios[0].preset,
+                "controller": sc.controller, "objective": problem.objective, "roads": cell.roads,
+                "aggregate": sc.aggregate, "test_roads": test_roads, "params": dict(sc.params),
+                "bounds": dict(zip(problem.gain_names, problem.bounds, strict=True)),
+            })
+    except InputError as exc:
+        raise InputError(_scenario_field(index, exc.field), exc.problem) from None
+    for road in test_roads:
+        if road not in every_road:
+            try:
+                plant.scenario(preset, road, sc.controller, sc.params, seed)
+            except InputError as exc:
+                raise InputError(f"scenarios[{index}].test_roads", exc.problem) from None
+    return out
+
+
+def _resolve_optimizer(index: int, opt: OptimizerConfig, budget: BudgetConfig,
+                       bounds: list[tuple[float, float]]) -> None:
+    """Construct the optimizer once (no evaluation) so that every setting is checked."""
+    from chassistune.optimizers.registry import get, make
+
+    where = f"optimizers[{index}]"
+    try:
+        get(opt.name)
+    except InputError as exc:
+        raise InputError(f"{where}.name", exc.problem) from None
+    hyper: dict[str, Any] = dict(opt.hyperparameters)
+    try:
+        make(opt.name, bounds, budget.pop_size, 0, max_iter=budget.iterations,
+             max_evals=budget.evaluations, **hyper)
+    except InputError as exc:
+        field = {"pop_size": "budget.pop_size", "max_iter": "budget.iterations",
+                 "max_evals": "budget.evaluations"}.get(exc.field, f"{where}.hyperparameters")
+        if field == f"{where}.hyperparameters" and exc.field in opt.hyperparameters:
+            field = f"{field}.{exc.field}"
+        raise InputError(field, exc.problem) from None
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{where}.hyperparameters", str(exc)) from None
+
+
+def plan_study(config: StudyConfig) -> StudyPlan:
+    """Resolve every name and expand the grid into run specs (InputError on the first problem)."""
+    cells: list[dict[str, Any]] = []
+    for i, sc in enumerate(config.scenarios):
+        resolved = _resolve_scenario(i, sc, 0)
+        if any(c["group"] == resolved[0]["group"] for c in cells):
+            raise InputError(f"scenarios[{i}].name", f"another scenario is also named "
+                             f"{resolved[0]['group']!r}: give each scenario a distinct `name`")
+        cells.extend(resolved)
+    labels: list[str] = []
+    for j, opt in enumerate(config.optimizers):
+        label = opt.label or opt.name
+        if label in labels:
+            raise InputError(f"optimizers[{j}].label", f"{label!r} is used twice: give each "
+                             "optimizer entry a distinct `label`")
+        labels.append(label)
+        for c in cells:
+            _resolve_optimizer(j, opt, config.budget, list(c["bounds"].values()))
+    b = config.budget
+    runs = tuple(
+        RunSpec(study=config.study.name, optimizer=label, optimizer_name=opt.name.lower(),
+                hyperparameters=dict(opt.hyperparameters), pop_size=b.pop_size,
+                max_iter=b.iterations, max_evals=b.evaluations, root_seed=config.study.seed,
+                seed=s, **c)
+        for c in cells
+        for opt, label in zip(config.optimizers, labels, strict=True)
+        for s in config.study.seeds
+    )
+    return StudyPlan(config, runs)
+
+
+def load_plan(path: str | Path) -> StudyPlan:
+    """`load_config` then `plan_study`."""
+    return plan_study(load_config(path))

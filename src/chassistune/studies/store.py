@@ -1,0 +1,210 @@
+"""The study store: one SQLite file, DIR/study.sqlite, written only by the driver.
+
+WAL journal; each finished run is one transaction (`record`), so a study killed at any moment
+keeps every run it finished and loses only the ones in flight. A run is in the store only once it
+finished: `completed` or `failed` (with its error text); unfinished runs leave no row. Arrays and
+mappings are stored as JSON text (floats round-trip exactly); nothing is pickled.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sqlite3
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from chassistune.errors import InputError
+from chassistune.studies.spec import RunSpec
+
+STORE_NAME = "study.sqlite"
+SCHEMA_VERSION = "1"
+
+_SCHEMA = """
+CREATE TABLE IF NOT EXISTS meta (
+    key TEXT PRIMARY KEY,
+    value TEXT NOT NULL
+);
+CREATE TABLE IF NOT EXISTS runs (
+    key TEXT PRIMARY KEY,
+    scenario TEXT NOT NULL,
+    optimizer TEXT NOT NULL,
+    seed INTEGER NOT NULL,
+    spec_hash TEXT NOT NULL,
+    spec TEXT NOT NULL,
+    status TEXT NOT NULL CHECK (status IN ('completed', 'failed')),
+    error TEXT,
+    best_cost REAL,
+    nfev INTEGER,
+    nit INTEGER,
+    wall_time_s REAL,
+    best_gains TEXT,
+    metrics TEXT,
+    test_costs TEXT,
+    history TEXT,
+    history_nfev TEXT,
+    versions TEXT NOT NULL,
+    finished_at TEXT NOT NULL
+);
+"""
+
+_JSON_COLUMNS = ("best_gains", "metrics", "test_costs", "history", "history_nfev")
+
+
+@dataclass(frozen=True)
+class RunRecord:
+    """A finished run as read back from the store."""
+
+    spec: RunSpec
+    status: str
+    error: str | None
+    best_cost: float | None
+    nfev: int | None
+    nit: int | None
+    wall_time_s: float | None
+    best_gains: dict[str, float]
+    metrics: dict[str, dict[str, Any]]
+    test_costs: dict[str, float]
+    history: list[float]
+    history_nfev: list[int]
+    versions: dict[str, str]
+
+    @property
+    def completed(self) -> bool:
+        return self.status == "completed"
+
+
+def store_path(study_dir: str | Path) -> Path:
+    return Path(study_dir) / STORE_NAME
+
+
+def _connect(path: Path, read_only: bool) -> sqlite3.Connection:
+    if read_only:
+        conn = sqlite3.connect(f"{path.resolve().as_uri()}?mode=ro", uri=True)
+    else:
+        conn = sqlite3.connect(path)
+        conn.execute("PRAGMA journal_mode=WAL")
+        conn.execute("PRAGMA synchronous=NORMAL")  # WAL + NORMAL: commits survive a killed process
+    conn.execute("PRAGMA busy_timeout=10000")
+    return conn
+
+
+class Store:
+    """Read and write access to DIR/study.sqlite."""
+
+    def __init__(self, conn: sqlite3.Connection, path: Path) -> None:
+        self._conn = conn
+        self.path = path
+
+    @classmethod
+    def create(cls, study_dir: str | Path) -> Store:
+        """Open DIR/study.sqlite for writing, creating the folder and the schema if needed."""
+        os.makedirs(study_dir, exist_ok=True)
+        path = store_path(study_dir)
+        conn = _connect(path, read_only=False)
+        with conn:
+            conn.executescript(_SCHEMA)
+            conn.execute("INSERT OR IGNORE INTO meta VALUES ('schema_version', ?)",
+                         (SCHEMA_VERSION,))
+        return cls(conn, path)
+
+    @classmethod
+    def open(cls, study_dir: str | Path, field: str = "DIR") -> Store:
+        """Open an existing study read-only (InputError naming `field` when there is none)."""
+        path = store_path(study_dir)
+        if not Path(study_dir).is_dir():
+            raise InputError(field, f"no study folder {str(study_dir)!r}")
+        if not path.is_file():
+            raise InputError(field, f"{str(study_dir)!r} holds no {STORE_NAME} (not a study "
+                             "folder)")
+        try:
+            conn = _connect(path, read_only=True)
+            version = conn.execute(
+                "SELECT value FROM meta WHERE key = 'schema_version'").fetchone()
+        except sqlite3.DatabaseError as exc:
+            raise InputError(field, f"{str(path)!r} is not a readable study store ({exc})"
+                             ) from None
+        if version is None or version[0] != SCHEMA_VERSION:
+            conn.close()
+            raise InputError(field, f"{str(path)!r} has an unknown store schema")
+        return cls(conn, path)
+
+    def close(self) -> None:
+        self._conn.close()
+
+    def __enter__(self) -> Store:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # -- meta ------------------------------------------------------------------------------------
+
+    def set_meta(self, values: dict[str, str]) -> None:
+        with self._conn:
+            self._conn.executemany("INSERT OR REPLACE INTO meta VALUES (?, ?)", values.items())
+
+    def meta(self) -> dict[str, str]:
+        return dict(self._conn.execute("SELECT key, value FROM meta").fetchall())
+
+    # -- runs ------------------------------------------------------------------------------------
+
+    def finished(self) -> dict[str, tuple[str, str]]:
+        """key -> (spec_hash, status) of every finished run."""
+        rows = self._conn.execute("SELECT key, spec_hash, status FROM runs").fetchall()
+        return {k: (h, s) for k, h, s in rows}
+
+    def record(self, spec: RunSpec, result: dict[str, Any]) -> None:
+        """Write one finished run (a worker's result dict) as one transaction."""
+        if result["key"] != spec.key or result["spec_hash"] != spec.spec_hash:
+            raise RuntimeError(f"result {result['key']} does not belong to run {spec.key}")
+        row = {
+            "key": spec.key, "scenario": spec.scenario, "optimizer": spec.optimizer,
+            "seed": spec.seed, "spec_hash": spec.spec_hash,
+            "spec": spec.model_dump_json(),  # field and gain order kept
+            "status": result["status"], "error": result.get("error"),
+            "best_cost": result.get("best_cost"), "nfev": result.get("nfev"),
+            "nit": result.get("nit"), "wall_time_s": result.get("wall_time_s"),
+            "versions": json.dumps(result.get("versions", {}), sort_keys=True),
+            "finished_at": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+        }
+        for col in _JSON_COLUMNS:
+            value = result.get(col)
+            row[col] = None if value is None else json.dumps(value)
+        cols = ", ".join(row)
+        marks = ", ".join(f":{c}" for c in row)
+        with self._conn:
+            self._conn.execute(f"INSERT OR REPLACE INTO runs ({cols}) VALUES ({marks})", row)
+
+    def records(self) -> Iterator[RunRecord]:
+        """Every finished run, ordered by scenario, optimizer and seed."""
+        cur = self._conn.execute(
+            "SELECT spec, status, error, best_cost, nfev, nit, wall_time_s, best_gains, metrics, "
+            "test_costs, history, history_nfev, versions FROM runs "
+            "ORDER BY scenario, optimizer, seed")
+        for (spec, status, error, cost, nfev, nit, wall, gains, metrics, tests, hist, hist_n,
+             vers) in cur:
+            yield RunRecord(
+                spec=RunSpec.model_validate_json(spec), status=status, error=error,
+                best_cost=cost, nfev=nfev, nit=nit, wall_time_s=wall,
+                best_gains=_loads(gains, {}), metrics=_loads(metrics, {}),
+                test_costs=_loads(tests, {}), history=_loads(hist, []),
+                history_nfev=_loads(hist_n, []), versions=_loads(vers, {}))
+
+
+def _loads(text: str | None, empty: Any) -> Any:
+    return empty if text is None else json.loads(text)
+
+
+@contextmanager
+def open_study(study_dir: str | Path, field: str = "DIR") -> Iterator[Store]:
+    """`Store.open` as a context manager."""
+    store = Store.open(study_dir, field)
+    try:
+        yield store
+    finally:
+        store.close()
