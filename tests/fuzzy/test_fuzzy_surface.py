@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from numba import njit
 
 from chassistune.errors import InputError
 from chassistune.fuzzy import (
@@ -65,7 +64,7 @@ def test_table_layout() -> None:
     cs = compiled(load_rulebase("deffao"))
     values, block, block_start, block_r, fine, lo0, step0, lo1, step1 = cs.table
     n0, n1 = cs.n
-    assert values.shape == (3, n0, n1) and values.dtype == np.float64 and values.flags.c_contiguous
+    assert values.shape == (n0, n1, 3) and values.dtype == np.float64 and values.flags.c_contiguous
     assert block.shape == (n0 - 1, n1 - 1) and block.dtype == np.int32
     refined = block[block >= 0]
     assert np.array_equal(np.sort(refined), np.arange(block_r.size))
@@ -73,9 +72,9 @@ def test_table_layout() -> None:
     # A refined block's corner nodes are the coarse nodes of its cell.
     i, j = np.argwhere(block >= 0)[0]
     b, r = block[i, j], block_r[block[i, j]]
-    sub = fine[block_start[b] : block_start[b] + 3 * (r + 1) ** 2].reshape(3, r + 1, r + 1)
-    np.testing.assert_allclose(sub[:, 0, 0], values[:, i, j], atol=1e-12)
-    np.testing.assert_allclose(sub[:, r, r], values[:, i + 1, j + 1], atol=1e-12)
+    sub = fine[block_start[b] : block_start[b] + 3 * (r + 1) ** 2].reshape(r + 1, r + 1, 3)
+    np.testing.assert_allclose(sub[0, 0], values[i, j], atol=1e-12)
+    np.testing.assert_allclose(sub[r, r], values[i + 1, j + 1], atol=1e-12)
     assert (lo0, lo1) == (-3.0, -3.0) and step0 == step1 == pytest.approx(6.0 / (n0 - 1))
 
 
@@ -88,23 +87,6 @@ def test_compiled_is_cached_and_compile_checks_inputs() -> None:
         compile_rulebase(rb, cells=1)
 
 
-@njit(cache=True)
-def _pid_schedule(table, e, de, factors):
-    out = np.empty(3)
-    res = np.empty((e.size, 3))
-    for p in range(e.size):
-        fuzzy_pid_gains(table, e[p], de[p], *factors, out)
-        res[p] = out
-    return res
-
-
-@njit(cache=True)
-def _scalar_calls(table, x0, x1):
-    out = np.empty(3)
-    surface_lookup(table, x0, x1, out)
-    return out, surface_value(table, 2, x0, x1)
-
-
 @pytest.mark.parametrize("name", ["deffao", "classic"])
 def test_fuzzy_pid_gain_schedule(name: str) -> None:
     rb = load_rulebase(name)
@@ -112,12 +94,15 @@ def test_fuzzy_pid_gain_schedule(name: str) -> None:
     rng = np.random.default_rng(5)
     e, de = rng.uniform(-0.3, 0.3, 200), rng.uniform(-30.0, 30.0, 200)
     ke, kec, ku, k0 = 10.0, 0.1, np.array([500.0, 20.0, 50.0]), np.array([3000.0, 5.0, 200.0])
-    gains = _pid_schedule(cs.table, e, de, (ke, kec, *ku, *k0))
+    gains = np.empty((e.size, 3))
+    for p in range(e.size):  # compiled helpers are callable from Python too
+        fuzzy_pid_gains(cs.table, e[p], de[p], ke, kec, *ku, *k0, gains[p])
     exact = k0 + ku * evaluate(rb, np.stack([ke * e, kec * de], 1))
     np.testing.assert_allclose(gains, exact, atol=float(np.max(ku * cs.output_spans)) * TOLERANCE)
-    out, single = _scalar_calls(cs.table, 0.4, -1.2)
+    out = np.empty(3)
+    surface_lookup(cs.table, 0.4, -1.2, out)
     np.testing.assert_array_equal(out, cs.lookup(0.4, -1.2))
-    assert single == out[2]
+    assert surface_value(cs.table, 2, 0.4, -1.2) == out[2]
 
 
 def test_immune_gain_and_incremental_law() -> None:

@@ -10,7 +10,7 @@ can be called from any `@njit` function.
   ki and kd. No clipping of the gains: with `classic` and large `ku_*` they can turn negative.
 - Fuzzy immune PID (seed 004 eqs. 6-10; DESIGN 4): kp1 = k_immune (1 - eta f(e, ec)) with f the
   output of the `immune` rule base at (ke e, kec ec) (eq. 9), and the incremental law
-  du = kp1 (e_k - e_k-1) + ki ts e_k + kd (e_k - 2 e_k-1 + e_k-2) / ts (eq. 10 as DESIGN 4 reads it).
+  du = kp1 (e_k - e_k-1) + ki ts e_k + kd (e_k - 2 e_k-1 + e_k-2) / ts (eq. 10, DESIGN 4's reading).
 """
 
 from __future__ import annotations
