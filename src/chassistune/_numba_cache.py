@@ -1,0 +1,28 @@
+"""Point numba's on-disk cache at a folder keyed by the package's source files.
+
+numba's `cache=True` keys a compiled function on its own file only: when a kernel inlines a
+jitted helper from another module (a tire curve, a fuzzy surface) and that module changes, the
+stale machine code is loaded and can read memory with the old layout. Keying the cache folder on
+every source file of the package (path, size, mtime) makes any change start a fresh cache.
+Takes effect only if numba has not been imported yet and NUMBA_CACHE_DIR is not set.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import sys
+from pathlib import Path
+
+
+def configure() -> None:
+    """Set NUMBA_CACHE_DIR (unless set, or numba already imported) to a source-keyed folder."""
+    if "NUMBA_CACHE_DIR" in os.environ or "numba" in sys.modules:
+        return
+    root = Path(__file__).resolve().parent
+    digest = hashlib.sha1()
+    for path in sorted(root.rglob("*.py")):
+        st = path.stat()
+        digest.update(f"{path.relative_to(root)}:{st.st_size}:{st.st_mtime_ns};".encode())
+    base = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "chassistune"
+    os.environ["NUMBA_CACHE_DIR"] = str(base / f"numba-{digest.hexdigest()[:16]}")
