@@ -22,7 +22,11 @@ AREAS = ("abs", "optimizer", "tuning", "fuzzy", "suspension")
 @click.option("--only", type=click.Choice(AREAS), multiple=True,
               help="Measure only these areas (repeatable).")
 def bench_command(quick: bool, as_json: bool, only: tuple[str, ...]) -> None:
-    """Measure the DESIGN 8 figures (simulations/s, accuracy, speedups against baselines)."""
+    """Measure speed and accuracy: simulations/s, errors, speedups against baselines.
+
+    Every ratio is measured against its baseline (scipy solve_ivp, mealpy, scikit-fuzzy, the
+    simulated objective) in the same run; `--quick` uses fewer repetitions.
+    """
     figures: dict[str, float] = {}
     notes: dict[str, str] = {}
     for area in only or AREAS:
