@@ -3,69 +3,59 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import pytest
 from test_fuzzy_schema import SMALL_TOML
 
-from chassistune.cli.main import main
 from chassistune.fuzzy import evaluate, load_rulebase, rulebase_from_dict
 
 
-def run(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]:
-    with pytest.raises(SystemExit) as info:
-        main(list(args))
-    out, err = capsys.readouterr()
-    return int(info.value.code or 0), out, err
-
-
 @pytest.mark.parametrize("name", ["deffao", "classic", "immune"])
-def test_show_json_is_the_description(capsys: pytest.CaptureFixture[str], name: str) -> None:
-    code, out, err = run(capsys, "fuzzy", "show", name, "--json")
-    assert code == 0 and err == ""
-    description = json.loads(out)
+def test_show_json_is_the_description(cli: Callable[..., Any], name: str) -> None:
+    r = cli("fuzzy", "show", name, "--json")
+    assert r.code == 0 and r.err == ""
+    description = json.loads(r.out)
     assert set(description) == {"inputs", "outputs", "rules", "operators"}
     assert description["operators"] == {"and": "min", "aggregate": "max", "defuzzify": "centroid"}
     assert rulebase_from_dict(description, name) == load_rulebase(name)
 
 
-def test_show_human_prints_the_table(capsys: pytest.CaptureFixture[str]) -> None:
-    code, out, _ = run(capsys, "fuzzy", "show", "immune")
-    assert code == 0
-    assert "e \\ ec  NB  NS  ZE  PS  PB" in out
-    assert "  NS      NB  NB  NS  PB  NB" in out
+def test_show_human_prints_the_table(cli: Callable[..., Any]) -> None:
+    r = cli("fuzzy", "show", "immune")
+    assert r.code == 0
+    assert "e \\ ec  NB  NS  ZE  PS  PB" in r.out
+    assert "  NS      NB  NB  NS  PB  NB" in r.out
 
 
-def test_eval_json(capsys: pytest.CaptureFixture[str]) -> None:
-    code, out, err = run(
-        capsys, "fuzzy", "eval", "deffao", "--input", "e=0.7", "--input", "ec=-1.3", "--json"
-    )
-    assert code == 0 and err == ""
-    outputs = json.loads(out)["outputs"]
+def test_eval_json(cli: Callable[..., Any]) -> None:
+    r = cli("fuzzy", "eval", "deffao", "--input", "e=0.7", "--input", "ec=-1.3", "--json")
+    assert r.code == 0 and r.err == ""
+    outputs = json.loads(r.out)["outputs"]
     expected = evaluate(load_rulebase("deffao"), [0.7, -1.3])[0]
     assert list(outputs) == ["kp", "ki", "kd"]
     assert [outputs[k] for k in ("kp", "ki", "kd")] == pytest.approx(expected, abs=1e-12)
 
 
-def test_eval_human_notes_clipping(capsys: pytest.CaptureFixture[str]) -> None:
-    code, out, _ = run(capsys, "fuzzy", "eval", "immune", "--input", "ec=0", "--input", "e=7")
-    assert code == 0
-    assert "e = 7  (clipped to 1)" in out and out.strip().splitlines()[-1].startswith("f = ")
+def test_eval_human_notes_clipping(cli: Callable[..., Any]) -> None:
+    r = cli("fuzzy", "eval", "immune", "--input", "ec=0", "--input", "e=7")
+    assert r.code == 0
+    assert "e = 7  (clipped to 1)" in r.out and r.out.strip().splitlines()[-1].startswith("f = ")
 
 
-def test_user_file(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+def test_user_file(cli: Callable[..., Any], tmp_path: Path) -> None:
     path = tmp_path / "mine.toml"
     path.write_text(SMALL_TOML)
-    code, out, _ = run(
-        capsys, "fuzzy", "eval", str(path), "--input", "x=0.2", "--input", "y=1", "--json"
-    )
-    assert code == 0 and set(json.loads(out)["outputs"]) == {"z"}
+    r = cli("fuzzy", "eval", str(path), "--input", "x=0.2", "--input", "y=1", "--json")
+    assert r.code == 0 and set(json.loads(r.out)["outputs"]) == {"z"}
 
 
-def test_plot(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+def test_plot(cli: Callable[..., Any], tmp_path: Path) -> None:
     path = tmp_path / "immune.png"
-    code, out, _ = run(capsys, "fuzzy", "show", "immune", "--json", "--plot", str(path))
-    assert code == 0 and json.loads(out)["rules"]
+    r = cli("fuzzy", "show", "immune", "--json", "--plot", str(path))
+    assert r.code == 0 and json.loads(r.out)["rules"]
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and path.stat().st_size > 20_000
 
 
@@ -90,11 +80,11 @@ def test_plot(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(
-    capsys: pytest.CaptureFixture[str], args: list[str], message: str
+    cli: Callable[..., Any], args: list[str], message: str
 ) -> None:
-    code, out, err = run(capsys, "fuzzy", *args)
-    assert code == 2 and out == ""
-    assert err.count("\n") == 1 and message in err, err
+    r = cli("fuzzy", *args)
+    assert r.code == 2 and r.out == ""
+    assert r.err.count("\n") == 1 and message in r.err, r.err
 
 
 @pytest.mark.parametrize(
@@ -116,10 +106,10 @@ def test_bad_input_is_one_line_and_exit_2(
     ],
 )
 def test_bad_rulebase_file_is_one_line_and_exit_2(
-    capsys: pytest.CaptureFixture[str], tmp_path: Path, text: str, message: str
+    cli: Callable[..., Any], tmp_path: Path, text: str, message: str
 ) -> None:
     path = tmp_path / "bad.toml"
     path.write_text(text)
-    code, out, err = run(capsys, "fuzzy", "show", str(path))
-    assert code == 2 and out == ""
-    assert err.count("\n") == 1 and message in err and "bad.toml" in err, err
+    r = cli("fuzzy", "show", str(path))
+    assert r.code == 2 and r.out == ""
+    assert r.err.count("\n") == 1 and message in r.err and "bad.toml" in r.err, r.err
