@@ -74,7 +74,10 @@ def show_command(rulebase: str, as_json: bool, plot: str | None) -> None:
     if out is not None:
         from chassistune.plots.fuzzy import plot_rulebase
 
-        plot_rulebase(rb, out)
+        try:
+            plot_rulebase(rb, out)
+        except OSError as exc:
+            raise InputError("--plot", f"cannot write {out}: {exc.strerror or exc}") from None
     if as_json:
         click.echo(json.dumps(rb.as_dict(), indent=1))
         return

@@ -5,6 +5,7 @@ matplotlib is imported when a figure is drawn, never at package import; no pyplo
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Any
 
@@ -90,5 +91,10 @@ def plot_rulebase(rb: RuleBase, path: str | Path) -> Path:
             ax.set_title(rb.outputs[k].name, fontsize=9)
             ax.grid(alpha=0.3)
     out = Path(path)
-    fig.savefig(out, dpi=110)
+    partial = out.with_name(f".{out.name}.partial")
+    try:  # never leave a half-written figure behind
+        fig.savefig(partial, dpi=110, format=out.suffix.lstrip(".").lower() or "png")
+        os.replace(partial, out)
+    finally:
+        partial.unlink(missing_ok=True)
     return out
