@@ -34,10 +34,15 @@ engine clips to the universe); NaN inputs give NaN outputs.
 
 from __future__ import annotations
 
+import hashlib
+import json
 import math
+import os
+import tempfile
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import lru_cache
+from pathlib import Path
 
 import numpy as np
 from numba import njit
@@ -271,7 +276,47 @@ def compile_rulebase(
     )
 
 
+_ARRAYS = ("output_spans", "grid_lo", "grid_step", "n", "values", "block", "block_start",
+           "block_r", "fine")
+
+
+def _cache_path(rb: RuleBase, cells: int, tol: float) -> Path:
+    """Where the compiled surface of this rule base content and these settings is kept."""
+    key = json.dumps([rb.as_dict(), cells, tol, Path(__file__).stat().st_size], sort_keys=True)
+    digest = hashlib.sha1(key.encode()).hexdigest()[:20]
+    base = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "chassistune"
+    return base / "surfaces" / f"{digest}.npz"
+
+
+def _load(path: Path, rb: RuleBase) -> CompiledSurface | None:
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            arrays = {k: data[k] for k in _ARRAYS}
+    except (OSError, KeyError, ValueError):
+        return None
+    return CompiledSurface(name=rb.name, input_names=(rb.inputs[0].name, rb.inputs[1].name),
+                           output_names=rb.output_names, **arrays)
+
+
+def _store(path: Path, surface: CompiledSurface) -> None:
+    """Write atomically; a cache that cannot be written is only slower, never an error."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(suffix=".npz", dir=path.parent)
+        with os.fdopen(fd, "wb") as fh:
+            np.savez(fh, **{k: getattr(surface, k) for k in _ARRAYS})
+        os.replace(tmp, path)
+    except OSError:
+        return
+
+
 @lru_cache(maxsize=16)
 def compiled(rb: RuleBase, cells: int = DEFAULT_CELLS, tol: float = DEFAULT_TOL) -> CompiledSurface:
-    """`compile_rulebase`, cached per rule base (content) and settings for the process."""
-    return compile_rulebase(rb, cells, tol)
+    """`compile_rulebase`, cached per rule base content and settings: in the process, and on
+    disk (an .npz under ~/.cache/chassistune/surfaces, read without pickle) across processes."""
+    path = _cache_path(rb, cells, tol)
+    surface = _load(path, rb) if path.exists() else None
+    if surface is None:
+        surface = compile_rulebase(rb, cells, tol)
+        _store(path, surface)
+    return surface
