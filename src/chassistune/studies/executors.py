@@ -156,10 +156,12 @@ class DaskExecutor(Executor):
         self._cluster: Any = None
         self.retries = retries
         if address is None:
-            self._cluster = LocalCluster(
-                n_workers=workers or default_workers(), threads_per_worker=1,
-                processes=processes, host="127.0.0.1", dashboard_address=None,
-                env={"CHASSISTUNE_THREADS": "1"} if processes else None)
+            # worker processes listen on loopback only; threads talk in-process (inproc://)
+            where: dict[str, Any] = ({"host": "127.0.0.1", "env": {"CHASSISTUNE_THREADS": "1"}}
+                                     if processes else {})
+            self._cluster = LocalCluster(n_workers=workers or default_workers(),
+                                         threads_per_worker=1, processes=processes,
+                                         dashboard_address=None, **where)
             self._client = Client(self._cluster)
         else:
             self._client = Client(address, timeout="20s")

@@ -112,6 +112,15 @@ class ScenarioConfig(_Model):
                              "(use `roads` for one)")
         return v
 
+    @field_validator("bounds", mode="before")
+    @classmethod
+    def _pairs(cls, v: Any) -> Any:
+        if isinstance(v, dict):
+            for gain, pair in v.items():
+                if not isinstance(pair, list) or len(pair) != 2:
+                    raise ValueError(f"{gain}: expected [lo, hi], got {pair!r}")
+        return v
+
     @field_validator("bounds")
     @classmethod
     def _ordered(cls, v: dict[str, tuple[float, float]]) -> dict[str, tuple[float, float]]:
@@ -136,11 +145,12 @@ class BudgetConfig(_Model):
     iterations: Count | None = None
     evaluations: Count | None = None
 
-    @model_validator(mode="after")
-    def _some_budget(self) -> BudgetConfig:
-        if self.iterations is None and self.evaluations is None:
-            return self.model_copy(update={"iterations": 100})
-        return self
+    @model_validator(mode="before")
+    @classmethod
+    def _some_budget(cls, data: Any) -> Any:
+        if isinstance(data, dict) and "iterations" not in data and "evaluations" not in data:
+            return {**data, "iterations": 100}
+        return data
 
 
 class StudyConfig(_Model):
@@ -242,6 +252,10 @@ def _first_error(exc: ValidationError) -> InputError:
         problem = "missing required field"
     else:
         problem = str(err["msg"]).removeprefix("Value error, ")
+        problem = problem[:1].lower() + problem[1:]
+        value = err.get("input")
+        if kind != "value_error" and isinstance(value, str | int | float | bool):
+            problem += f", got {value!r}"
     return InputError(_where(tuple(err["loc"])), problem)
 
 

@@ -1,0 +1,46 @@
+"""A test-only plant: the quarter car with one more objective, `raises`, whose cost raises.
+
+Registered under the name `raising-quarter-car` by `register()`, which worker processes run as
+their initializer (this module is importable there: spawned workers inherit sys.path).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from chassistune.plants import registry
+from chassistune.plants.quarter_car import QuarterCarPlant, QuarterCarScenario
+
+NAME = "raising-quarter-car"
+MESSAGE = "test objective raised on purpose"
+
+
+class RaisingScenario(QuarterCarScenario):
+    objectives = (*QuarterCarScenario.objectives, "raises")
+
+    def cost(self, gains: np.ndarray, objective: str | None = None,
+             workers: int | None = None) -> np.ndarray:
+        if objective == "raises":
+            raise RuntimeError(MESSAGE)
+        return super().cost(gains, objective, workers)
+
+
+class RaisingPlant(QuarterCarPlant):
+    name = NAME
+
+    def scenario(self, preset: str | None = None, road: str | None = None,
+                 controller: str = "none", params: Mapping[str, object] | None = None,
+                 seed: int = 0) -> RaisingScenario:
+        sc = super().scenario(preset, road, controller, params, seed)
+        return RaisingScenario(sc.preset, sc.road, sc.controller, sc.vehicle, sc.road_params,
+                               sc.solver, sc.controller_params, sc.seed)
+
+
+PLANT = RaisingPlant()
+
+
+def register() -> None:
+    """Make `raising-quarter-car` a known plant in this process."""
+    registry._MODULES[NAME] = __name__
