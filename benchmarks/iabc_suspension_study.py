@@ -36,6 +36,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.optimize import minimize
 
 from chassistune import stats
@@ -50,6 +51,10 @@ ROOT_ENTROPY = 1_001_2023
 """Root of every run seed (seed 001, published 2023)."""
 PRESETS = ("paper-iabc", "typical")
 BOXES = ("paper", "si")
+"""Boxes tuned with the exact objective."""
+TEN_S = "paper-10s"
+"""The paper's own protocol: its box, eq. 10 from one 10 s simulated road (realization = seed)."""
+TEN_S_CELL = ("paper-iabc", TEN_S)
 ALGORITHMS = ("abc", "iabc")
 GAINS = ("kp", "ki", "kd")
 OBJECTIVE = "rms-ratio-exact"
@@ -90,6 +95,7 @@ class Config:
     iters: int = 100
     realizations: int = 30
     checkpoints: tuple[int, ...] = CHECKPOINTS
+    grid_points: int = GRID_POINTS
 
 
 # -- runs ------------------------------------------------------------------------------------
@@ -102,13 +108,15 @@ def seed_sequence(index: int) -> np.random.SeedSequence:
 
 def box_bounds(box: str) -> dict[str, tuple[float, float]] | None:
     """The gain box: the paper's [0, 500]^3, or None for the registry's SI bounds."""
-    return dict(zip(GAINS, PAPER_BOX, strict=True)) if box == "paper" else None
+    return None if box == "si" else dict(zip(GAINS, PAPER_BOX, strict=True))
 
 
 @cache
-def problem(preset: str, box: str) -> TuningProblem:
-    """The exact eq. 10 tuning problem of the PID on class B for `preset` and `box`."""
-    return build_problem("quarter-car", "pid", preset, [ROAD], OBJECTIVE, bounds=box_bounds(box))
+def problem(preset: str, box: str, road_seed: int = 0) -> TuningProblem:
+    """Eq. 10 for the PID on class B: exact, or from the 10 s road `road_seed` (box TEN_S)."""
+    objective = "rms-ratio" if box == TEN_S else OBJECTIVE
+    return build_problem("quarter-car", "pid", preset, [ROAD], objective, bounds=box_bounds(box),
+                         seed=road_seed if box == TEN_S else 0)
 
 
 def run_path(out: Path, preset: str, box: str, algorithm: str, seed: int) -> Path:
@@ -116,7 +124,8 @@ def run_path(out: Path, preset: str, box: str, algorithm: str, seed: int) -> Pat
     return out / "runs" / preset / box / algorithm / f"seed_{seed:03d}.json"
 
 
-def tune_once(prob: TuningProblem, algorithm: str, pop: int, iters: int, seed: int) -> Row:
+def tune_once(prob: TuningProblem, algorithm: str, pop: int, iters: int, seed: int,
+              road_seed: int = 0) -> Row:
     """One ask/tell run (our loop rather than `run_optimizer`: it keeps the scout count)."""
     opt = make(algorithm, prob.bounds, pop, seed_sequence(seed), max_iter=iters, **HYPER)
     t0 = time.perf_counter()
@@ -130,7 +139,8 @@ def tune_once(prob: TuningProblem, algorithm: str, pop: int, iters: int, seed: i
         "spawn_key": [seed],
         "pop_size": pop,
         "max_iter": iters,
-        "objective": OBJECTIVE,
+        "objective": prob.objective,
+        "road_seed": road_seed,
         "bounds": [list(b) for b in prob.bounds],
         "hyperparameters": opt.hyper.as_dict(),
         "best_gains": dict(zip(GAINS, np.asarray(opt.best_x, dtype=float).tolist(), strict=True)),
@@ -175,9 +185,19 @@ def check_manifest(cfg: Config) -> None:
     write_json(path, budget)
 
 
+def pairs() -> list[tuple[str, str]]:
+    """(preset, box) in run order: exact cells, paper-iabc first; the 10 s protocol last."""
+    return [(p, b) for p in PRESETS for b in BOXES] + [TEN_S_CELL]
+
+
+def exact_pairs() -> list[tuple[str, str]]:
+    """The (preset, box) cells tuned with the exact objective."""
+    return [c for c in pairs() if c[1] != TEN_S]
+
+
 def cells() -> list[tuple[str, str, str]]:
-    """(preset, box, algorithm) in run order: paper-iabc first."""
-    return [(p, b, a) for p in PRESETS for b in BOXES for a in ALGORITHMS]
+    """(preset, box, algorithm) in run order."""
+    return [(p, b, a) for p, b in pairs() for a in ALGORITHMS]
 
 
 def run_all(cfg: Config, log: Callable[[str], None] = print) -> int:
@@ -188,11 +208,12 @@ def run_all(cfg: Config, log: Callable[[str], None] = print) -> int:
         todo = [s for s in range(cfg.seeds)
                 if not run_path(cfg.out, preset, box, algorithm, s).exists()]
         for s in todo:
-            row = tune_once(problem(preset, box), algorithm, cfg.pop, cfg.iters, s)
+            road = s if box == TEN_S else 0
+            row = tune_once(problem(preset, box, road), algorithm, cfg.pop, cfg.iters, s, road)
             write_json(run_path(cfg.out, preset, box, algorithm, s), {"preset": preset,
                                                                        "box": box, **row})
         done += len(todo)
-        log(f"{preset:10s} {box:5s} {algorithm:4s}: {len(todo)} run(s) now, "
+        log(f"{preset:10s} {box:9s} {algorithm:4s}: {len(todo)} run(s) now, "
             f"{cfg.seeds - len(todo)} already there")
     return done
 
@@ -248,15 +269,14 @@ def wilcoxon_rows(runs: Mapping[tuple[str, str, str], list[Row]],
                   checkpoints: Iterable[int]) -> list[Row]:
     """IABC vs ABC at each checkpoint iteration, per preset and box (sign from IABC's side)."""
     rows = []
-    for preset in PRESETS:
-        for box in BOXES:
-            a, b = runs[(preset, box, "abc")], runs[(preset, box, "iabc")]
-            for it in checkpoints:
-                if it > a[0]["max_iter"]:
-                    continue
-                rows.append({"preset": preset, "box": box, "iteration": it,
-                             "nfev_abc": int(np.median(at_nfev(a, it))),
-                             **rank_sum_row(at_iteration(a, it), at_iteration(b, it))})
+    for preset, box in pairs():
+        a, b = runs[(preset, box, "abc")], runs[(preset, box, "iabc")]
+        for it in checkpoints:
+            if it > a[0]["max_iter"]:
+                continue
+            rows.append({"preset": preset, "box": box, "iteration": it,
+                         "nfev_abc": int(np.median(at_nfev(a, it))),
+                         **rank_sum_row(at_iteration(a, it), at_iteration(b, it))})
     return rows
 
 
@@ -275,7 +295,7 @@ def iterations_to(runs: Sequence[Row], target: float) -> np.ndarray:
 def convergence_rows(runs: Mapping[tuple[str, str, str], list[Row]]) -> list[Row]:
     """Median and quartiles of the iterations needed to come within each tolerance of Q*."""
     rows = []
-    for preset, box, algorithm in runs:
+    for preset, box, algorithm in ((p, b, a) for p, b in exact_pairs() for a in ALGORITHMS):
         q_star = best_known(runs, preset, box)
         for tol in TOLERANCES:
             its = iterations_to(runs[(preset, box, algorithm)], q_star + tol)
@@ -304,21 +324,21 @@ def grid_optimum(preset: str, box: str, points: int = GRID_POINTS) -> Row:
 
     res = minimize(q, start, method="Nelder-Mead", bounds=prob.bounds,
                    options={"xatol": 1e-6, "fatol": 1e-15, "maxiter": 5000})
-    return {"q_grid": float(q_grid.min()), "q_polished": float(res.fun),
+    return {"grid_points": points, "q_grid": float(q_grid.min()), "q_polished": float(res.fun),
             "gains_polished": [float(v) for v in res.x]}
 
 
-def optimum_rows(runs: Mapping[tuple[str, str, str], list[Row]]) -> list[Row]:
+def optimum_rows(runs: Mapping[tuple[str, str, str], list[Row]],
+                 grid_points: int = GRID_POINTS) -> list[Row]:
     """Best Q found per preset and box, its gains, and the independent grid + simplex check."""
     rows = []
-    for preset in PRESETS:
-        for box in BOXES:
-            pool = [r for a in ALGORITHMS for r in runs[(preset, box, a)]]
-            best = min(pool, key=lambda r: r["best_cost"])
-            gains = [best["best_gains"][g] for g in GAINS]
-            rows.append({"preset": preset, "box": box, "q_best": best["best_cost"],
-                         "gains": gains, "found_by": best["algorithm"],
-                         **grid_optimum(preset, box)})
+    for preset, box in exact_pairs():
+        pool = [r for a in ALGORITHMS for r in runs[(preset, box, a)]]
+        best = min(pool, key=lambda r: r["best_cost"])
+        gains = [best["best_gains"][g] for g in GAINS]
+        rows.append({"preset": preset, "box": box, "q_best": best["best_cost"],
+                     "gains": gains, "found_by": best["algorithm"],
+                     **grid_optimum(preset, box, grid_points)})
     return rows
 
 
@@ -354,15 +374,16 @@ def exact_table(preset: str, gains: np.ndarray) -> np.ndarray:
     return np.column_stack([ex[:, :3], q])
 
 
+def on_realization(preset: str, seed: int, gains: np.ndarray) -> np.ndarray:
+    """(n, 4): 10 s simulated acc, travel, tire RMS and Q on road realization `seed`."""
+    sc = scenario(preset, seed)
+    sim = sc.simulate(gains)[:, : kernel.R_FORCE]
+    return np.column_stack([sim, (sim / sc.passive_sim).sum(axis=1)])
+
+
 def simulated_table(preset: str, gains: np.ndarray, realizations: int) -> np.ndarray:
-    """(realizations, n, 4): 10 s simulated acc, travel, tire RMS and Q, one road per seed."""
-    out = np.empty((realizations, gains.shape[0], 4))
-    for s in range(realizations):
-        sc = scenario(preset, s)
-        sim = sc.simulate(gains)[:, : kernel.R_FORCE]
-        out[s, :, :3] = sim
-        out[s, :, 3] = (sim / sc.passive_sim).sum(axis=1)
-    return out
+    """(realizations, n, 4): `on_realization` for the roads 0 .. realizations-1."""
+    return np.stack([on_realization(preset, s, gains) for s in range(realizations)])
 
 
 def table2_rows(runs: Mapping[tuple[str, str, str], list[Row]], preset: str, box: str,
@@ -387,7 +408,7 @@ def table2_rows(runs: Mapping[tuple[str, str, str], list[Row]], preset: str, box
     return rows
 
 
-def improvement(abc: Sequence[float], iabc: Sequence[float]) -> list[float]:
+def improvement(abc: ArrayLike, iabc: ArrayLike) -> list[float]:
     """Percent reduction of each metric from ABC to IABC (the paper's "optimized by")."""
     a, b = np.asarray(abc, dtype=float), np.asarray(iabc, dtype=float)
     return (100.0 * (a - b) / a).tolist()
@@ -398,9 +419,7 @@ def improvement_rows(t2: Sequence[Row], paper: Mapping[str, Any]) -> list[Row]:
     metrics = ("body_acc", "susp_travel", "tire_defl")
     by = {(r["preset"], r["box"], r["controller"]): r for r in t2}
     rows = []
-    keys = sorted({(r["preset"], r["box"]) for r in t2},
-                  key=lambda k: (PRESETS.index(k[0]), BOXES.index(k[1])))
-    for preset, box in keys:
+    for preset, box in exact_pairs():
         a, b = by[(preset, box, "ABC-PID")], by[(preset, box, "IABC-PID")]
         for kind in ("exact", "sim_mean"):
             pct = improvement([a[f"{m}_{kind}"] for m in metrics],
@@ -442,6 +461,62 @@ def realization_check(preset: str, gains: Sequence[float], target: float,
             "q_min": float(q.min()), "q_median": float(np.median(q)), "q_max": float(q.max())}
 
 
+# -- the paper's protocol: one 10 s road -------------------------------------------------------
+
+METRICS = ("body_acc", "susp_travel", "tire_defl")
+
+
+def ten_s_rows(runs: Mapping[tuple[str, str, str], list[Row]], preset: str) -> list[Row]:
+    """Per seed: ABC's and IABC's best 10 s Q on road `seed`, the exact Q of their gains, and the
+    IABC vs ABC improvement (%) of the three RMS values on that road (the paper's Table 2 recipe).
+    """
+    rows = []
+    for a, b in zip(runs[(preset, TEN_S, "abc")], runs[(preset, TEN_S, "iabc")], strict=True):
+        gains = np.array([[r["best_gains"][g] for g in GAINS] for r in (a, b)])
+        sim = on_realization(preset, a["road_seed"], gains)
+        exact = exact_table(preset, gains)[:, 3]
+        rows.append({"seed": a["seed_index"], "q10_abc": a["best_cost"], "q10_iabc": b["best_cost"],
+                     "q_exact_abc": float(exact[0]), "q_exact_iabc": float(exact[1]),
+                     **{f"{m}_pct": v for m, v in zip(METRICS, improvement(sim[0, :3], sim[1, :3]),
+                                                       strict=True)}})
+    return rows
+
+
+def ten_s_summary(rows: Sequence[Row], target: float, claimed: Sequence[float]) -> list[Row]:
+    """Summary of each column of `ten_s_rows`; Q columns count runs at or below `target`,
+    improvement columns runs at or above the paper's claimed value."""
+    out = []
+    for key in rows[0]:
+        if key == "seed":
+            continue
+        v = np.array([r[key] for r in rows])
+        if key.endswith("_pct"):
+            hits = int(np.sum(v >= claimed[METRICS.index(key[:-4])]))
+        else:
+            hits = int(np.sum(v <= target))
+        out.append({"quantity": key, **stats.summary(v), "hits": hits})
+    every = np.all([[r[f"{m}_pct"] >= c for m, c in zip(METRICS, claimed, strict=True)]
+                    for r in rows], axis=1)
+    out.append({"quantity": "all three pct >= claimed", "hits": int(every.sum()), "n": len(rows)})
+    return out
+
+
+def realization_pairs(preset: str, gains: Sequence[float], realizations: int,
+                      claimed: Sequence[float]) -> Row:
+    """One controller, two different 10 s roads (all ordered pairs): how often the second road
+    makes it look better than the first by the paper's claimed percentages."""
+    sim = simulated_table(preset, np.asarray(gains, dtype=float).reshape(1, 3),
+                          realizations)[:, 0, :3]
+    i, j = np.nonzero(~np.eye(realizations, dtype=bool))
+    pct = 100.0 * (sim[i] - sim[j]) / sim[i]
+    each = pct >= np.asarray(claimed)
+    return {"preset": preset, "gains": list(gains), "pairs": int(i.size),
+            "fraction_each_at_least_claimed": each.mean(axis=0).tolist() if i.size else [],
+            "fraction_all_three": float(each.all(axis=1).mean()) if i.size else 0.0,
+            "pct_p95": np.percentile(pct, 95, axis=0).tolist() if i.size else [],
+            "pct_max": pct.max(axis=0).tolist() if i.size else []}
+
+
 # -- figures -----------------------------------------------------------------------------------
 
 
@@ -460,17 +535,17 @@ def plot_cells(runs: Mapping[tuple[str, str, str], list[Row]], out: Path) -> lis
     from chassistune.plots.convergence import plot_convergence
 
     paths = []
-    for preset in PRESETS:
-        for box in BOXES:
-            q_star = best_known(runs, preset, box)
-            for kind, shift in (("q", 0.0), ("gap", q_star)):
-                path = out / f"convergence_{kind}_{preset}_{box}.png"
-                what = ("Q (eq. 10)" if kind == "q"
-                        else f"gap Q - Q* (floored at {GAP_FLOOR:g}), Q* = {q_star:.6f}")
-                plot_convergence({a.upper(): curves(runs[(preset, box, a)], shift)
-                                  for a in ALGORITHMS}, str(path),
-                                 title=f"{preset}, {box} box: {what}")
-                paths.append(path)
+    for preset, box in pairs():
+        q_star = best_known(runs, preset, box)
+        kinds = (("q", 0.0),) if box == TEN_S else (("q", 0.0), ("gap", q_star))
+        for kind, shift in kinds:
+            path = out / f"convergence_{kind}_{preset}_{box}.png"
+            what = ("Q (eq. 10)" if kind == "q"
+                    else f"gap Q - Q* (floored at {GAP_FLOOR:g}), Q* = {q_star:.6f}")
+            plot_convergence({a.upper(): curves(runs[(preset, box, a)], shift)
+                              for a in ALGORITHMS}, str(path),
+                             title=f"{preset}, {box} box: {what}")
+            paths.append(path)
     return paths
 
 
@@ -530,13 +605,17 @@ def percent(x: float) -> str:
     return f"{x:.2f}" if abs(x) >= 0.005 else f"{x:.1e}"
 
 
+def number(x: float) -> str:
+    """Four decimals, or scientific for small non-zero magnitudes (no '-0.0000')."""
+    return f"{x:.4f}" if x == 0 or abs(x) >= 5e-5 else f"{x:.1e}"
+
+
 def md_report(res: Mapping[str, Any], paper: Mapping[str, Any]) -> str:
     """tables.md: every table of the study in markdown."""
     parts = ["# Seed 001 study: tables (generated by benchmarks/iabc_suspension_study.py)\n"]
-    for preset in PRESETS:
-        for box in BOXES:
-            parts.append(f"\n## Table 2, {preset}, {box} box\n\n"
-                         + md_table2(res["table2"], preset, box, paper))
+    for preset, box in exact_pairs():
+        parts.append(f"\n## Table 2, {preset}, {box} box\n\n"
+                     + md_table2(res["table2"], preset, box, paper))
     parts.append("\n## IABC vs ABC improvement (%)\n\n" + md_table(
         ["preset", "box", "source", "body acc", "travel", "tire"],
         ([r["preset"], r["box"], r["source"], *(percent(r[m]) for m in
@@ -559,11 +638,24 @@ def md_report(res: Mapping[str, Any], paper: Mapping[str, Any]) -> str:
         ([r["preset"], r["box"], r["algorithm"], f"{r['tolerance']:g}", r["runs_reached"],
           f"{r['median_iterations']:.0f} [{r['q25']:.0f}, {r['q75']:.0f}]"]
          for r in res["convergence"])))
+    parts.append("\n## The paper's protocol: tuned on one 10 s road (seed = road)\n\n" + md_table(
+        ["quantity", "mean", "std", "min", "max", "median", "hits (Q <= 2.7321 or pct >= claim)"],
+        ([r["quantity"], *(number(r[k]) if k in r else "-"
+                           for k in ("mean", "std", "best", "worst", "median")),
+          f"{r['hits']} of {r['n']}"] for r in res["ten_s_summary"])))
+    rp = res["road_pairs"]
+    parts.append(
+        f"\nSame gains (the exact optimum), two different 10 s roads, {rp['pairs']} ordered pairs: "
+        "fraction of pairs in which the second road's RMS values are lower by at least the "
+        "paper's 15.1 / 26.3 / 15.4 %: "
+        + " / ".join(f"{x:.3f}" for x in rp["fraction_each_at_least_claimed"])
+        + f" (all three at once: {rp['fraction_all_three']:.3f}); 95th percentiles of the "
+        "differences: " + " / ".join(f"{x:.1f} %" for x in rp["pct_p95"]) + ".\n")
     parts.append("\n## Exact optimum per box\n\n" + md_table(
         ["preset", "box", "Q* (best run)", "kp, ki, kd", "found by",
-         f"grid {GRID_POINTS}^3", "grid + Nelder-Mead", "its kp, ki, kd"],
+         "grid min", "grid + Nelder-Mead", "its kp, ki, kd"],
         ([r["preset"], r["box"], f"{r['q_best']:.10f}", ", ".join(f"{g:.2f}" for g in r["gains"]),
-          r["found_by"], f"{r['q_grid']:.6f}", f"{r['q_polished']:.10f}",
+          r["found_by"], f"{r['q_grid']:.6f} ({r['grid_points']}^3)", f"{r['q_polished']:.10f}",
           ", ".join(f"{g:.2f}" for g in r["gains_polished"])] for r in res["optimum"])))
     return "".join(parts)
 
@@ -575,10 +667,12 @@ def report(cfg: Config, log: Callable[[str], None] = print) -> dict[str, Any]:
     """Every report of the finished runs, written under cfg.out; returns them."""
     runs = load_runs(cfg)
     paper = PAPER
-    t2 = [row for p in PRESETS for b in BOXES
+    t2 = [row for p, b in exact_pairs()
           for row in table2_rows(runs, p, b, paper, cfg.realizations)]
-    opt = optimum_rows(runs)
+    opt = optimum_rows(runs, cfg.grid_points)
     q_opt = next(r for r in opt if (r["preset"], r["box"]) == PAPER_CELL)
+    claimed = paper["claimed_improvement_iabc_vs_abc_percent"]
+    ten_s = ten_s_rows(runs, TEN_S_CELL[0])
     res: dict[str, Any] = {
         "seeds": cfg.seeds,
         "summary": summary_rows(runs),
@@ -593,11 +687,15 @@ def report(cfg: Config, log: Callable[[str], None] = print) -> dict[str, Any]:
                               cfg.realizations),
             realization_check("paper-iabc", [paper["iabc_gains"][g] for g in GAINS],
                               paper["iabc_objective"], cfg.realizations)],
+        "ten_s": ten_s,
+        "ten_s_summary": ten_s_summary(ten_s, paper["iabc_objective"], claimed),
+        "road_pairs": realization_pairs(PAPER_CELL[0], q_opt["gains"], cfg.realizations, claimed),
         "after_first_iteration_worst": {
             f"{p}/{b}/{a}": float(at_iteration(runs[(p, b, a)], 1).max())
             for p, b, a in cells()},
     }
-    for name in ("summary", "wilcoxon", "convergence", "optimum", "table2", "improvement"):
+    for name in ("summary", "wilcoxon", "convergence", "optimum", "table2", "improvement", "ten_s",
+                 "ten_s_summary"):
         write_csv(cfg.out / f"{name}.csv", res[name])
     write_json(cfg.out / "results.json", res)
     write_atomic(cfg.out / "tables.md", md_report(res, paper))
