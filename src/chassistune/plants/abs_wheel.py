@@ -18,7 +18,15 @@ from chassistune.controllers import abs_registry
 from chassistune.controllers.registry import ControllerSpec
 from chassistune.errors import InputError
 from chassistune.params import as_dict, override, to_float, validate
-from chassistune.plants.base import PENALTY, Plant, PresetInfo, Scenario, Trace
+from chassistune.plants.base import (
+    PENALTY,
+    Plant,
+    PresetInfo,
+    Scenario,
+    Trace,
+    json_scalar,
+    pick_preset,
+)
 from chassistune.plants.tires import (
     BURCKHARDT_SURFACES,
     SLDEMO_TABLE,
@@ -347,21 +355,12 @@ class AbsWheelScenario(Scenario):
             "brake_torque_n_m": K.T_TB, "command": K.T_U, "distance_m": K.T_X, "mu": K.T_MU,
         }
         signals = {name: tr[:m, col].copy() for name, col in cols.items()}
-        metrics = {k: _scalar(v[0]) for k, v in self.metrics_from_raw(out).items()}
+        metrics = {k: json_scalar(v[0]) for k, v in self.metrics_from_raw(out).items()}
         units = {"time_s": "s", "vehicle_speed_m_s": "m/s", "wheel_speed_m_s": "m/s",
                  "slip": "-", "target_slip": "-", "pressure": "preset unit",
                  "brake_torque_n_m": "N m", "command": "-", "distance_m": "m", "mu": "-"}
         return Trace(signals, metrics, units)
 
-
-def _scalar(x: Any) -> Any:
-    """A JSON-friendly scalar: NaN -> None, numpy -> Python."""
-    if isinstance(x, np.bool_ | bool):
-        return bool(x)
-    if isinstance(x, np.str_ | str):
-        return str(x)
-    x = float(x)
-    return None if math.isnan(x) else x
 
 
 class AbsWheelPlant(Plant):
@@ -385,10 +384,7 @@ class AbsWheelPlant(Plant):
         params: Mapping[str, object] | None = None,
         seed: int = 0,
     ) -> AbsWheelScenario:
-        preset = preset or self.default_preset
-        if preset not in PRESETS:
-            raise InputError("preset", f"unknown preset {preset!r} for abs-wheel "
-                             f"(known: {', '.join(PRESETS)})")
+        preset = pick_preset("abs-wheel", preset, self.default_preset, PRESETS)
         pre = PRESETS[preset]
         road = road or pre.info.roads[0]
         spec = abs_registry.get(controller)

@@ -8,6 +8,7 @@ and traces one candidate for plots (`trace`).
 
 from __future__ import annotations
 
+import math
 from abc import ABC, abstractmethod
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -16,9 +17,29 @@ from typing import Any
 import numpy as np
 
 from chassistune.controllers.registry import ControllerSpec
+from chassistune.errors import InputError
 
 PENALTY = 1e9
 """Cost of a run that cannot be scored (diverged, NaN, unstable, hopeless, not stopped)."""
+
+
+def json_scalar(x: Any) -> Any:
+    """A JSON-friendly metric value: numpy -> Python, NaN -> None."""
+    if isinstance(x, np.bool_ | bool):
+        return bool(x)
+    if isinstance(x, np.str_ | str):
+        return str(x)
+    x = float(x)
+    return None if math.isnan(x) else x
+
+
+def pick_preset(plant: str, name: str | None, default: str, known: Mapping[str, Any]) -> str:
+    """The preset name to use (default when None), or InputError listing the known ones."""
+    name = name or default
+    if name not in known:
+        raise InputError("preset", f"unknown preset {name!r} for {plant} "
+                         f"(known: {', '.join(known)})")
+    return name
 
 
 @dataclass(frozen=True)
@@ -71,8 +92,6 @@ class Scenario(ABC):
 
     def gains_array(self, gains: Mapping[str, float] | None) -> np.ndarray:
         """Registry defaults overridden by `gains`, as a (k,) array in gain_names order."""
-        from chassistune.errors import InputError
-
         values = self.controller.default_gains()
         for name, value in (gains or {}).items():
             if name not in values:

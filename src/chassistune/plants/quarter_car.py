@@ -21,7 +21,15 @@ from chassistune.controllers.registry import ControllerSpec
 from chassistune.errors import InputError
 from chassistune.params import as_dict, override, validate
 from chassistune.plants import iso_roads
-from chassistune.plants.base import PENALTY, Plant, PresetInfo, Scenario, Trace
+from chassistune.plants.base import (
+    PENALTY,
+    Plant,
+    PresetInfo,
+    Scenario,
+    Trace,
+    json_scalar,
+    pick_preset,
+)
 from chassistune.sim import lyapunov
 from chassistune.sim import quarter_car_kernel as kernel
 from chassistune.sim import quarter_car_model as model
@@ -298,7 +306,7 @@ class QuarterCarScenario(Scenario):
             "passive_tire_defl_m": passive[names["tire_defl"]],
         }
         units = {k: _UNITS[k.rsplit("_", 1)[-1]] for k in signals}
-        metrics = {k: _scalar(v[0]) for k, v in self.metrics(g.reshape(1, -1)).items()}
+        metrics = {k: json_scalar(v[0]) for k, v in self.metrics(g.reshape(1, -1)).items()}
         return QuarterCarTrace(signals, metrics, units, gains=g.copy())
 
     def frequency_response(self, gains: np.ndarray, freq_hz: np.ndarray) -> dict[str, np.ndarray]:
@@ -316,13 +324,6 @@ class QuarterCarScenario(Scenario):
 
 _UNITS = {"s": "s", "m": "m", "s2": "m/s^2", "n": "N"}
 
-
-def _scalar(x: Any) -> Any:
-    """A JSON-friendly scalar: NaN -> None, numpy -> Python."""
-    if isinstance(x, np.bool_ | bool):
-        return bool(x)
-    x = float(x)
-    return None if math.isnan(x) else x
 
 
 class QuarterCarPlant(Plant):
@@ -346,10 +347,7 @@ class QuarterCarPlant(Plant):
         params: Mapping[str, object] | None = None,
         seed: int = 0,
     ) -> QuarterCarScenario:
-        preset = preset or self.default_preset
-        if preset not in PRESETS:
-            raise InputError("preset", f"unknown preset {preset!r} for quarter-car "
-                             f"(known: {', '.join(PRESETS)})")
+        preset = pick_preset("quarter-car", preset, self.default_preset, PRESETS)
         pre = PRESETS[preset]
         road = road or pre.info.roads[0]
         gq = iso_roads.road_class(road)
