@@ -1,4 +1,5 @@
-"""A test-only plant: the quarter car with one more objective, `raises`, whose cost raises.
+"""A test-only plant: the quarter car with two more objectives: `raises`, whose cost raises, and
+`dies`, whose cost ends its (worker) process at once, like a crash in compiled code.
 
 Registered under the name `raising-quarter-car` by `register()`, which worker processes run as
 their initializer (this module is importable there: spawned workers inherit sys.path).
@@ -6,6 +7,7 @@ their initializer (this module is importable there: spawned workers inherit sys.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Mapping
 
 import numpy as np
@@ -18,12 +20,14 @@ MESSAGE = "test objective raised on purpose"
 
 
 class RaisingScenario(QuarterCarScenario):
-    objectives = (*QuarterCarScenario.objectives, "raises")
+    objectives = (*QuarterCarScenario.objectives, "raises", "dies")
 
     def cost(self, gains: np.ndarray, objective: str | None = None,
              workers: int | None = None) -> np.ndarray:
         if objective == "raises":
             raise RuntimeError(MESSAGE)
+        if objective == "dies":
+            os._exit(3)
         return super().cost(gains, objective, workers)
 
 

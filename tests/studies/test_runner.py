@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sqlite3
 
+import pandas as pd
 import pytest
 import raising_plant
 from studies_helpers import RAISING, tiny_config, write_plan
@@ -134,3 +135,21 @@ def test_the_cli_runs_a_study_with_the_process_executor(cli, tmp_path):
     assert r.code == 0, r.err
     assert "2 completed and 0 failed" in r.out
     assert len(_table(out)) == 2
+
+
+def test_a_run_that_kills_its_worker_process_is_found_and_recorded_failed(tmp_path, raising):
+    dies = RAISING.replace('"raises"', '"dies"')
+    _, plan = write_plan(tmp_path, tiny_config(seeds=2, extra=dies))
+    with ProcessExecutor(2, initializer=raising_plant.register) as ex:
+        outcome = run_study(plan, tmp_path / "out", ex)
+    assert (outcome.completed, outcome.failed) == (4, 4)
+    table = _table(tmp_path / "out")
+    failed = table[table["status"] == "failed"]
+    assert set(failed["scenario"]) == {"boom/iso-b"}
+    assert failed["error"].str.contains("worker process died").all()
+    serial = tmp_path / "serial"
+    run_study(write_plan(tmp_path, tiny_config(seeds=2), "ok.toml")[1], serial, SerialExecutor())
+    alone = _table(serial)
+    ok = table[table["status"] == "completed"].reset_index(drop=True)[alone.columns]
+    pd.testing.assert_frame_equal(ok.drop(columns=["error"]), alone.drop(columns=["error"]),
+                                  check_dtype=False)  # failed rows made bool columns object

@@ -12,7 +12,10 @@ from __future__ import annotations
 import concurrent.futures as cf
 import multiprocessing
 import os
+import threading
+import time
 from abc import ABC, abstractmethod
+from collections import deque
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
@@ -21,8 +24,6 @@ from chassistune.studies.spec import RunSpec
 from chassistune.studies.worker import execute_run, failed_result
 
 EXECUTORS = ("serial", "process", "dask")
-MAX_ATTEMPTS = 2
-"""A run whose worker process died is given to a new worker once more, then recorded failed."""
 
 Result = dict[str, Any]
 
@@ -64,8 +65,16 @@ class SerialExecutor(Executor):
             yield execute_run(spec)
 
 
-def _init_worker(extra: Callable[[], None] | None) -> None:
+def _exit_with_parent(parent: int, period_s: float = 0.5) -> None:
+    """End this worker once its driver is gone (a SIGKILLed driver cannot shut its pool)."""
+    while os.getppid() == parent:
+        time.sleep(period_s)
+    os._exit(1)
+
+
+def _init_worker(parent: int, extra: Callable[[], None] | None) -> None:
     os.environ["CHASSISTUNE_THREADS"] = "1"
+    threading.Thread(target=_exit_with_parent, args=(parent,), daemon=True).start()
     if extra is not None:
         extra()
 
@@ -73,6 +82,9 @@ def _init_worker(extra: Callable[[], None] | None) -> None:
 class ProcessExecutor(Executor):
     """A pool of `workers` spawned processes; a few runs in flight per worker.
 
+    A worker process that dies (killed, out of memory, a crash in compiled code) breaks the pool:
+    the runs that were in flight are then redone one at a time in a new pool, so that the run
+    that kills its worker is found and recorded failed while the others complete.
     `initializer` (a module-level function) runs once in each worker, e.g. to register a plant.
     """
 
@@ -89,36 +101,44 @@ class ProcessExecutor(Executor):
             self._pool.shutdown(wait=False, cancel_futures=True)
         self._pool = cf.ProcessPoolExecutor(
             self.workers, mp_context=multiprocessing.get_context("spawn"),
-            initializer=_init_worker, initargs=(self._initializer,))
+            initializer=_init_worker, initargs=(os.getpid(), self._initializer))
         return self._pool
 
+    def _alone(self, spec: RunSpec) -> Result:
+        """Run one suspect with nothing else in flight; its worker dying convicts it."""
+        pool = self._pool or self._new_pool()
+        try:
+            return pool.submit(execute_run, spec).result()
+        except cf.process.BrokenProcessPool:
+            self._new_pool()
+            return failed_result(spec, "the worker process died while running it")
+
     def results(self, specs: Sequence[RunSpec]) -> Iterator[Result]:
-        pool = self._new_pool()
-        pending = list(reversed(specs))
-        attempts: dict[str, int] = {}
+        self._new_pool()
+        pending, suspects = deque(specs), deque[RunSpec]()
         running: dict[cf.Future[Result], RunSpec] = {}
         window = 2 * self.workers
-        while pending or running:
-            while pending and len(running) < window:
-                spec = pending.pop()
-                attempts[spec.key] = attempts.get(spec.key, 0) + 1
-                running[pool.submit(execute_run, spec)] = spec
+        while pending or suspects or running:
+            if suspects and not running:
+                yield self._alone(suspects.popleft())
+                continue
+            while pending and not suspects and len(running) < window:
+                spec = pending.popleft()
+                running[self._pool.submit(execute_run, spec)] = spec  # type: ignore[union-attr]
             done, _ = cf.wait(running, return_when=cf.FIRST_COMPLETED)
-            broken = False
+            finished: list[Result] = []
             for fut in done:
                 spec = running.pop(fut)
                 try:
-                    yield fut.result()
+                    finished.append(fut.result())
                 except cf.process.BrokenProcessPool:
-                    broken = True
-                    if attempts[spec.key] < MAX_ATTEMPTS:
-                        pending.append(spec)
-                    else:
-                        yield failed_result(spec, "worker process died (BrokenProcessPool)")
-            if broken:  # every other run in flight is lost with the pool: resubmit them
-                pending.extend(running.values())
+                    suspects.append(spec)
+            if suspects and running:  # the pool is broken: every run in flight is lost
+                suspects.extend(running.values())
                 running.clear()
-                pool = self._new_pool()
+            if suspects and not running:
+                self._new_pool()
+            yield from finished
 
     def close(self) -> None:
         if self._pool is not None:
