@@ -90,7 +90,8 @@ def _overview(data: tables.StudyData, config: dict[str, Any], w: _Writer) -> Sec
     for o in config.get("optimizers", []):
         hyper = ", ".join(f"{k}={v}" for k, v in o.get("hyperparameters", {}).items())
         label = o.get("label") or o["name"]
-        opts.append(f"{label} ({o['name']}{': ' + hyper if hyper else ''})")
+        detail = ", ".join(x for x in (o["name"] if label != o["name"] else "", hyper) if x)
+        opts.append(f"{label} ({detail})" if detail else label)
     versions = data.records[0].versions if data.records else {}
     rows = [
         ("runs finished", f"{len(data.records)} ({n_ok} completed, {len(data.failed)} failed)"),
@@ -133,6 +134,8 @@ def _scenario_section(data: tables.StudyData, sc: str, index: int, reference: st
         f"+ {reference} significantly better, - significantly worse, = no significant "
         f"difference.", sources["summary"]))
     metrics = mine[mine["quantity"] != "best_cost"].drop(columns=["scenario", "failed"])
+    order = {q: i for i, q in enumerate(dict.fromkeys(metrics["quantity"]))}
+    metrics = metrics.sort_values("quantity", key=lambda q: q.map(order), kind="stable")
     if not metrics.empty:
         section.items.append(w.table(
             metrics.rename(columns={"quantity": "metric"}), f"Key metrics, {sc}",

@@ -38,13 +38,16 @@ class TableView:
     rows: list[list[str]]
     caption: str = ""
     source: str = ""
+    numeric: list[bool] = field(default_factory=list)
     kind: str = "table"
 
     @classmethod
     def from_frame(cls, df: pd.DataFrame, id: str, title: str, caption: str = "",
                    source: str = "") -> TableView:
         rows = [[format_cell(v) for v in rec] for rec in df.astype(object).itertuples(index=False)]
-        return cls(id, title, [str(c) for c in df.columns], rows, caption, source)
+        numeric = [pd.api.types.is_numeric_dtype(df[c]) and not pd.api.types.is_bool_dtype(df[c])
+                   for c in df.columns]
+        return cls(id, title, [str(c) for c in df.columns], rows, caption, source, numeric)
 
 
 @dataclass(frozen=True)
@@ -91,9 +94,9 @@ h3 { font-size: 1.05em; margin-bottom: 0.3em; }
 nav ol { columns: 2; font-size: 0.9em; }
 table { border-collapse: collapse; margin: 0.5em 0 1.5em; font-size: 0.85em; }
 caption { caption-side: bottom; text-align: left; color: #555; padding-top: 0.3em; }
-th, td { border: 1px solid #ddd; padding: 0.25em 0.6em; text-align: right; }
+th, td { border: 1px solid #ddd; padding: 0.25em 0.6em; text-align: left; }
 th { background: #f2f2f2; }
-td:first-child, th:first-child { text-align: left; }
+.num { text-align: right; font-variant-numeric: tabular-nums; }
 tbody tr:nth-child(even) { background: #fafafa; }
 figure { margin: 0.5em 0 2em; }
 figure img { max-width: 100%; height: auto; border: 1px solid #eee; }
@@ -123,9 +126,11 @@ figcaption { color: #555; font-size: 0.9em; }
 <h3>{{ labels[item.id] }}: {{ item.title }}</h3>
 <table id="{{ item.id }}">
 {% if item.caption %}<caption>{{ item.caption }}</caption>{% endif %}
-<thead><tr>{% for c in item.columns %}<th scope="col">{{ c }}</th>{% endfor %}</tr></thead>
+<thead><tr>{% for c in item.columns %}<th scope="col"{% if item.numeric[loop.index0] %}
+ class="num"{% endif %}>{{ c }}</th>{% endfor %}</tr></thead>
 <tbody>
-{% for row in item.rows %}<tr>{% for v in row %}<td>{{ v }}</td>{% endfor %}</tr>
+{% for row in item.rows %}<tr>{% for v in row %}<td{% if item.numeric[loop.index0] %} class="num"
+{% endif %}>{{ v }}</td>{% endfor %}</tr>
 {% endfor %}</tbody>
 </table>
 {% if item.source %}<p class="source">data: <a href="{{ item.source }}">{{ item.source }}</a></p>

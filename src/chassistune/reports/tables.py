@@ -259,9 +259,11 @@ def generalization_table(data: StudyData) -> pd.DataFrame:
     """Tuned on X, tested on Y: the cost of each run's best gains on each test road of its
     scenario, median and mean over seeds (scenario groups with two or more test roads)."""
     rows = []
-    groups = dict.fromkeys(r.spec.group for r in data.records if len(r.spec.test_roads) > 1)
+    rank = {sc: i for i, sc in enumerate(data.scenarios)}
+    records = sorted(data.records, key=lambda r: rank[r.spec.scenario])  # config order
+    groups = dict.fromkeys(r.spec.group for r in records if len(r.spec.test_roads) > 1)
     for group in groups:
-        runs = [r for r in data.records if r.spec.group == group and r.completed]
+        runs = [r for r in records if r.spec.group == group and r.completed]
         for opt in data.optimizers:
             mine = [r for r in runs if r.spec.optimizer == opt]
             for tuned in dict.fromkeys(r.spec.road for r in mine):

@@ -1,0 +1,242 @@
+"""`study report` and `study export`: tables, figures, a self-contained page, the run table."""
+
+from __future__ import annotations
+
+import base64
+import shutil
+import subprocess
+from html.parser import HTMLParser
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from chassistune import stats
+from chassistune.reports.tables import load_study, runs_table
+from chassistune.studies.executors import SerialExecutor
+from chassistune.studies.runner import run_study
+from chassistune.studies.spec import load_plan
+from chassistune.studies.store import Store, open_study
+from chassistune.studies.worker import failed_result
+
+CONFIG = """
+[study]
+name = "report-test"
+description = "A tiny study <with> characters to escape & such"
+seeds = 4
+
+[[scenarios]]
+name = "qc"
+plant = "quarter-car"
+roads = ["iso-b", "iso-c"]
+tune_roads = ["iso-b", "iso-c"]
+controller = "pid"
+objective = "rms-ratio-exact"
+bounds = { kp = [0.0, 500.0], ki = [0.0, 500.0], kd = [0.0, 500.0] }
+
+[[scenarios]]
+name = "sky"
+plant = "quarter-car"
+preset = "typical"
+controller = "skyhook"
+
+[[optimizers]]
+name = "pso"
+
+[[optimizers]]
+name = "de"
+
+[[optimizers]]
+name = "ga"
+
+[budget]
+pop_size = 6
+iterations = 3
+"""
+N_RUNS = 4 * 3 * 4
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    folder = tmp_path_factory.mktemp("report")
+    config = folder / "study.toml"
+    config.write_text(CONFIG)
+    plan = load_plan(config)
+    out = folder / "study"
+    # every run but one completes; that one is recorded failed (a worker lost, say)
+    run_study(plan, out, SerialExecutor())
+    lost = next(s for s in plan.runs if s.scenario == "sky/iso-b" and s.optimizer == "ga")
+    with Store.create(out) as store:
+        store.record(lost, failed_result(lost, "worker lost <on purpose>"))
+    return out
+
+
+class _Page(HTMLParser):
+    """Collects the contents list, element ids, tables (rows) and embedded images."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.contents: list[tuple[str, str]] = []
+        self.ids: dict[str, str] = {}
+        self.rows: dict[str, int] = {}
+        self.images: dict[str, str] = {}
+        self.external: list[str] = []
+        self._stack: list[str] = []  # ids of the open table/figure
+        self._in_nav = False
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        a = dict(attrs)
+        if tag == "nav":
+            self._in_nav = True
+        if self._in_nav and tag == "a":
+            self.contents.append((str(a["href"]).lstrip("#"), str(a["data-kind"])))
+        if a.get("id"):
+            self.ids[str(a["id"])] = tag
+            if tag in ("table", "figure"):
+                self._stack.append(str(a["id"]))
+        if tag == "tr" and self._stack:
+            self.rows[self._stack[-1]] = self.rows.get(self._stack[-1], 0) + 1
+        if tag == "img":
+            self.images[self._stack[-1]] = str(a["src"])
+        if tag in ("script", "link", "iframe") or (tag == "img" and not str(
+                a.get("src", "")).startswith("data:")):
+            self.external.append(tag)
+
+    def handle_endtag(self, tag: str) -> None:
+        if tag == "nav":
+            self._in_nav = False
+        if tag in ("table", "figure") and self._stack:
+            self._stack.pop()
+
+
+@pytest.fixture(scope="module")
+def report(study: Path) -> tuple[Path, _Page]:
+    from chassistune.cli.main import main
+
+    with pytest.raises(SystemExit) as exc:
+        main(["study", "report", str(study), "--reference", "de"])
+    assert exc.value.code == 0
+    html = study / "report.html"
+    page = _Page()
+    page.feed(html.read_text(encoding="utf-8"))
+    page.close()
+    return html, page
+
+
+def test_the_page_parses_and_holds_every_table_and_figure_it_lists(report, study):
+    html, page = report
+    kinds = [k for _, k in page.contents]
+    assert kinds.count("table") >= 10 and kinds.count("figure") >= 10
+    for target, kind in page.contents:
+        assert page.ids.get(target) == kind
+        if kind == "table":
+            assert page.rows.get(target, 0) >= 2  # a header and at least one row
+        else:
+            src = page.images[target]
+            assert src.startswith("data:image/png;base64,")
+            assert base64.b64decode(src.split(",", 1)[1])[:8] == b"\x89PNG\r\n\x1a\n"
+    assert page.external == []  # self-contained
+    text = html.read_text(encoding="utf-8")
+    assert "&lt;with&gt; characters to escape &amp; such" in text
+    assert "worker lost &lt;on purpose&gt;" in text
+    for link in ("report/tables/summary.csv", "report/figures/"):
+        assert link in text
+    for name in ("summary", "rank_sum", "rank_sum_counts", "friedman", "posthoc",
+                 "generalization", "failures"):
+        assert (study / "report" / "tables" / f"{name}.csv").is_file()
+    pngs = list((study / "report" / "figures").glob("*.png"))
+    assert len(pngs) == kinds.count("figure")
+
+
+def test_summary_and_rank_sums_match_the_statistics_module(report, study):
+    with open_study(study) as store:
+        data = load_study(store)
+    summary = pd.read_csv(study / "report" / "tables" / "summary.csv")
+    costs = {o: data.costs("qc/iso-b", o) for o in data.optimizers}
+    row = summary[(summary.scenario == "qc/iso-b") & (summary.optimizer == "pso")
+                  & (summary.quantity == "best_cost")].iloc[0]
+    expected = stats.summary(costs["pso"])
+    for key in ("mean", "std", "best", "worst", "median"):
+        assert row[key] == pytest.approx(expected[key], rel=1e-12)
+    assert set(summary.quantity) >= {"best_cost", "body_acc_rms", "objective_exact",
+                                     "body_acc_rms@iso-b"}
+    sky_ga = summary[(summary.scenario == "sky/iso-b") & (summary.optimizer == "ga")]
+    assert (sky_ga.failed == 1).all() and (sky_ga.n == 3).all()
+    ranks = pd.read_csv(study / "report" / "tables" / "rank_sum.csv")
+    r = ranks[(ranks.scenario == "qc/iso-b") & (ranks.optimizer == "pso")].iloc[0]
+    assert r.reference == "de"
+    assert r.sign == stats.rank_sum(costs["de"], costs["pso"]).sign
+    friedman = pd.read_csv(study / "report" / "tables" / "friedman.csv")
+    assert list(friedman.optimizer) == ["pso", "de", "ga"]
+    assert friedman.mean_rank.sum() == pytest.approx(6.0)
+
+
+def test_generalization_matrix_tuned_on_x_tested_on_y(report, study):
+    gen = pd.read_csv(study / "report" / "tables" / "generalization.csv")
+    qc = gen[(gen.group == "qc") & (gen.optimizer == "pso")]
+    assert set(qc.tuned_on) == {"iso-b", "iso-c", "iso-b+iso-c"}
+    assert set(qc.tested_on) == {"iso-b", "iso-c"}
+    assert (qc.n == 4).all()
+    with open_study(study) as store:
+        runs = [r for r in store.records() if r.spec.scenario == "qc/iso-c"
+                and r.spec.optimizer == "pso"]
+    diag = qc[(qc.tuned_on == "iso-c") & (qc.tested_on == "iso-c")].median_cost.iloc[0]
+    assert diag == pytest.approx(float(np.median([r.best_cost for r in runs])), rel=1e-12)
+    assert "sky" not in set(gen.group)  # one road: no matrix
+
+
+def test_the_page_renders_in_headless_chromium(report, tmp_path):
+    browser = next((b for b in ("chromium", "chromium-browser", "google-chrome")
+                    if shutil.which(b)), None)
+    if browser is None:
+        pytest.skip("Chromium is not installed")
+    html, _ = report
+    shot = tmp_path / "page.png"
+    flags = ["--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+             f"--user-data-dir={tmp_path / 'profile'}"]
+    dom = subprocess.run([browser, *flags, "--dump-dom", html.as_uri()], capture_output=True,
+                         text=True, timeout=120)
+    assert dom.returncode == 0, dom.stderr[-2000:]
+    assert "Study report-test" in dom.stdout and 'id="figure-' in dom.stdout
+    subprocess.run([browser, *flags, "--window-size=1100,1600", f"--screenshot={shot}",
+                    html.as_uri()], capture_output=True, timeout=120, check=True)
+    from PIL import Image
+
+    pixels = np.asarray(Image.open(shot).convert("L"), dtype=float)
+    assert pixels.shape == (1600, 1100)
+    assert pixels.std() > 10  # text, tables and figures, not a blank page
+
+
+def test_export_csv_and_parquet_one_row_per_run(cli, study, tmp_path):
+    frames = {}
+    for fmt in ("csv", "parquet"):
+        out = tmp_path / f"runs.{fmt}"
+        r = cli("study", "export", str(study), "--format", fmt, "--output", str(out))
+        assert r.code == 0, r.err
+        frames[fmt] = pd.read_csv(out) if fmt == "csv" else pd.read_parquet(out)
+    df = frames["parquet"]
+    assert len(df) == N_RUNS
+    for col in ("scenario", "plant", "road", "controller", "optimizer", "seed", "status",
+                "best_cost", "nfev", "gain_kp", "gain_ki", "gain_kd", "gain_c_sky",
+                "cost@iso-b", "cost@iso-c", "metric_body_acc_rms",
+                "metric_body_acc_rms@iso-c"):
+        assert col in df.columns, col
+    assert df.groupby(["scenario", "optimizer", "seed"]).size().max() == 1
+    assert set(df.status) == {"completed", "failed"}
+    assert df.loc[df.road == "iso-b+iso-c", "metric_body_acc_rms"].isna().all()
+    csv = frames["csv"]
+    assert np.array_equal(csv.best_cost.to_numpy(), df.best_cost.to_numpy(), equal_nan=True)
+    with open_study(study) as store:
+        assert df.drop(columns=["versions"]).equals(
+            runs_table(list(store.records())).drop(columns=["versions"]))
+
+
+def test_report_and_export_bad_input(cli, study, tmp_path):
+    r = cli("study", "report", str(study), "--reference", "annealing")
+    assert r.code == 2 and r.err.startswith("chassistune: error: --reference")
+    r = cli("study", "export", str(study), "--format", "xlsx", "--output", str(tmp_path / "x"))
+    assert r.code == 2 and len(r.err.strip().splitlines()) == 1
+    r = cli("study", "export", str(study), "--format", "csv", "--output",
+            str(tmp_path / "no" / "x.csv"))
+    assert r.code == 2 and "--output" in r.err
