@@ -184,7 +184,11 @@ class DaskExecutor(Executor):
                                          dashboard_address=None, **where)
             self._client = Client(self._cluster)
         else:
-            self._client = Client(address, timeout="20s")
+            try:
+                self._client = Client(address, timeout="20s")
+            except (OSError, ValueError, TypeError) as exc:
+                raise InputError("--scheduler", f"cannot reach a Dask scheduler at {address!r} "
+                                 f"({type(exc).__name__}: {exc})") from None
 
     def results(self, specs: Sequence[RunSpec]) -> Iterator[Result]:
         from distributed import as_completed
