@@ -96,6 +96,9 @@ def test_a_folder_made_from_another_config_is_refused(tmp_path, cli):
     before = _table(out)
     r = cli("study", "run", str(config), "--out", str(out))
     assert r.code == 2 and "different config" in r.err and len(r.err.strip().splitlines()) == 1
+    config.write_text(changed.replace('name = "tiny"', 'name = "other"'))
+    r = cli("study", "run", str(config), "--out", str(out))
+    assert r.code == 2 and "holds the study 'tiny'" in r.err
     assert _table(out).equals(before)
 
 

@@ -53,6 +53,10 @@ def pending_runs(plan: StudyPlan, out_dir: str | Path,
         return list(plan.runs)
     with Store.open(out_dir, "--out") as store:
         finished = store.finished()
+        name = store.meta().get("study")
+    if name is not None and name != plan.config.study.name:
+        raise InputError("--out", f"{str(out_dir)!r} holds the study {name!r}, not "
+                         f"{plan.config.study.name!r}; use a new --out folder")
     todo = []
     for spec in plan.runs:
         if spec.key not in finished:
