@@ -11,7 +11,9 @@ from __future__ import annotations
 
 import hashlib
 import os
+import shutil
 import sys
+import time
 from pathlib import Path
 
 
@@ -25,4 +27,17 @@ def configure() -> None:
         st = path.stat()
         digest.update(f"{path.relative_to(root)}:{st.st_size}:{st.st_mtime_ns};".encode())
     base = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "chassistune"
-    os.environ["NUMBA_CACHE_DIR"] = str(base / f"numba-{digest.hexdigest()[:16]}")
+    target = base / f"numba-{digest.hexdigest()[:16]}"
+    os.environ["NUMBA_CACHE_DIR"] = str(target)
+    _prune(base, keep=target)
+
+
+def _prune(base: Path, keep: Path, max_age_s: float = 7 * 86400) -> None:
+    """Remove caches of other source versions unused for a week (best effort)."""
+    now = time.time()
+    try:
+        old = [p for p in base.glob("numba-*") if p != keep and now - p.stat().st_mtime > max_age_s]
+    except OSError:
+        return
+    for path in old:
+        shutil.rmtree(path, ignore_errors=True)
