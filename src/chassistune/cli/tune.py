@@ -120,7 +120,8 @@ def tune_command(plant: str, preset: str | None, roads: tuple[str, ...], aggrega
     click.echo("best gains: " + ", ".join(f"{k}={v:.6g}" for k, v in result.best_gains.items()))
     for road, m in result.metrics.items():
         keys = [k for k in ("stop_distance_m", "bound_distance_m", "distance_ratio",
-                            "stop_time_s", "slip_itae", "objective", "body_acc_rms") if k in m]
+                            "stop_time_s", "slip_itae", "objective_exact", "objective",
+                            "body_acc_rms") if k in m]
         click.echo(f"  {road}: " + ", ".join(f"{k}={fmt(m[k])}" for k in keys))
     for path in written:
         click.echo(f"wrote {path}")
