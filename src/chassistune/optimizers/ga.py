@@ -70,7 +70,8 @@ class GA(Optimizer):
     def _tournament(self, f: FloatArray, m: int) -> NDArray[np.intp]:
         """m winners of tournaments without replacement (Deb's scheme): the population is
         shuffled, cut into groups of `tournament`, the best of each group wins; repeat as needed."""
-        k, n = self.hyper.tournament, f.size
+        n = f.size
+        k = min(self.hyper.tournament, n)  # a population smaller than a tournament: one group
         per_round = n // k
         rounds = -(-m // per_round)
         entrants = np.concatenate([self.rng.permutation(n)[: per_round * k] for _ in range(rounds)])
