@@ -14,9 +14,6 @@ from chassistune.cli.common import echo_json
 from chassistune.cli.main import cli
 from chassistune.errors import InputError
 
-DEMO_PID = {"kp": 5000.0, "ki": 0.0, "kd": 230.0}
-"""A hand-set PID for preset paper-derlsp-ao (the registry defaults; see README)."""
-
 
 @cli.command("demo")
 @click.option("--out", "out_dir", default="demo-output", show_default=True,
@@ -24,6 +21,7 @@ DEMO_PID = {"kp": 5000.0, "ki": 0.0, "kd": 230.0}
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
 def demo_command(out_dir: str, as_json: bool) -> None:
     """No ABS against a PID ABS on seed 000's three roads: table and plots."""
+    from chassistune.controllers import abs_registry
     from chassistune.plants.abs_wheel import PLANT
     from chassistune.plots.abs_wheel import plot_comparison
 
@@ -31,10 +29,11 @@ def demo_command(out_dir: str, as_json: bool) -> None:
     if not os.path.isdir(parent):
         raise InputError("--out", f"folder {parent!r} does not exist")
     os.makedirs(out_dir, exist_ok=True)
+    pid = abs_registry.get("pid").default_gains()  # the hand-set PID of the registry
     rows = []
     for road in PLANT.presets()["paper-derlsp-ao"].roads:
         runs = []
-        for controller, gains in (("none", {}), ("pid", DEMO_PID)):
+        for controller, gains in (("none", {}), ("pid", pid)):
             sc = PLANT.scenario("paper-derlsp-ao", road, controller)
             tr = sc.trace(sc.gains_array(gains))
             runs.append((controller, tr))
@@ -46,13 +45,13 @@ def demo_command(out_dir: str, as_json: bool) -> None:
             })
         path = os.path.join(out_dir, f"abs-wheel-{road}.png")
         plot_comparison(sc, runs, path, title=f"abs-wheel, seed 000 preset, {road}: "
-                        "no ABS vs PID (kp=5000, ki=0, kd=230)")
+                        "no ABS vs PID (" + ", ".join(f"{k}={v:g}" for k, v in pid.items()) + ")")
     if as_json:
         echo_json({"rows": rows, "out": out_dir})
         return
     click.echo("Single-wheel ABS, preset paper-derlsp-ao "
                "(M = 100 kg, v0 = 30 m/s, v_stop = 0.5 m/s)")
-    click.echo(f"PID gains: kp={DEMO_PID['kp']:g}, ki={DEMO_PID['ki']:g}, kd={DEMO_PID['kd']:g}")
+    click.echo("PID gains: " + ", ".join(f"{k}={v:g}" for k, v in pid.items()))
     click.echo(f"{'road':<14}{'controller':<11}{'stop time s':>12}{'distance m':>12}"
                f"{'bound m':>10}{'ratio':>8}{'lock at s':>11}")
     for r in rows:

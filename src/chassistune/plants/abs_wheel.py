@@ -318,7 +318,8 @@ class AbsWheelScenario(Scenario):
         out = {name: raw[:, col].copy() for name, col in METRIC_COLUMNS.items()}
         status = raw[:, K.M_STATUS].astype(int)
         out["stopped"] = status == K.STATUS_STOPPED
-        out["status"] = np.array([STATUS_NAMES[s] for s in status])
+        names = np.array([STATUS_NAMES[k] for k in range(len(STATUS_NAMES))])
+        out["status"] = names[status]
         out["bound_distance_m"] = np.full(raw.shape[0], self.bound_distance_m)
         out["bound_time_s"] = np.full(raw.shape[0], self.bound_time_s)
         out["distance_ratio"] = raw[:, K.M_DIST] / self.bound_distance_m
