@@ -79,6 +79,13 @@ IN_WHEEL_SPEED = 1  # threshold: (slip, wheel_speed_rad_s)
 
 PH_BUILD, PH_HOLD, PH_DUMP, PH_RECOVER, PH_SLOW = 0, 1, 2, 3, 4
 
+INPUT_DESCRIPTIONS = {
+    "slip": "wheel slip (v - w R) / v against the reference speed, in [0, 1]",
+    "pressure_at_max": "1 while the brake pressure sits at its maximum q_max, else 0",
+    "pressure_at_min": "1 while the brake pressure is 0, else 0",
+    "wheel_speed_rad_s": "wheel angular speed (rad/s)",
+}
+
 
 @dataclass(frozen=True)
 class DiscreteLaw:

@@ -41,14 +41,13 @@ def replay(ec: ExportedController, inputs: NDArray[np.float64]) -> NDArray[np.fl
                                 ec.params, ec.table, ec.grid)
 
 
-def write_csv(path: str, names: tuple[str, ...], inputs: NDArray[np.float64],
-              u: NDArray[np.float64]) -> None:
+def csv_text(names: tuple[str, ...], inputs: NDArray[np.float64], u: NDArray[np.float64]) -> str:
     """test_vectors.csv: a header of the input names and `u`, every number as Python's repr
     (the shortest decimal that reads back to the same double)."""
-    with open(path, "w", encoding="ascii", newline="\n") as fh:
-        fh.write(",".join((*names, "u")) + "\n")
-        for row, value in zip(inputs.tolist(), u.tolist(), strict=True):
-            fh.write(",".join(repr(float(v)) for v in (*row, value)) + "\n")
+    lines = [",".join((*names, "u"))]
+    lines += [",".join(repr(float(v)) for v in (*row, value))
+              for row, value in zip(inputs.tolist(), u.tolist(), strict=True)]
+    return "\n".join(lines) + "\n"
 
 
 def read_csv(path: str) -> tuple[tuple[str, ...], NDArray[np.float64]]:

@@ -1,0 +1,324 @@
+"""C99 source of an exported discrete controller: controller.h and controller.c.
+
+The C prints the arithmetic of `chassistune.controllers.discrete` in the same operation order, so
+that `cc -std=c99 -O2 -ffp-contract=off` (no FMA contraction) reproduces the numba law bit for
+bit. Every number is printed with "%.17g", which reads back to the same double. The state is a
+complete struct (`ct_state`, with the parameters in `ct_state.p`, tunable between steps); the
+lookup tables are `static const` (read-only data: ROM on an ECU); no allocation, no mutable
+globals, no library function at all (math.h only for the NAN macro).
+"""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+from numpy.typing import NDArray
+
+from chassistune import __version__
+from chassistune.controllers import discrete
+from chassistune.export.source import ExportedController
+
+HEADER = "controller.h"
+SOURCE = "controller.c"
+BITWISE_FLAGS = ("-std=c99", "-O2", "-ffp-contract=off")
+SWITCHING = ("threshold",)
+"""Laws with discrete decisions: a build with FMA contraction may flip a phase; only the bitwise
+build is supported for them."""
+
+
+def c_double(x: float) -> str:
+    """A C double literal that reads back to exactly x ("%.17g", with a decimal point)."""
+    x = float(x)
+    if not np.isfinite(x):
+        raise ValueError(f"cannot print {x!r} as a C constant")
+    text = f"{x:.17g}"
+    if not any(c in text for c in ".e"):
+        text += ".0"
+    assert float(text) == x
+    return text
+
+
+def c_name(name: str) -> str:
+    """An upper-case C identifier fragment from a name (non-word characters become _)."""
+    return re.sub(r"\W", "_", name).upper()
+
+
+def _list(values: NDArray[np.float64], indent: str, per_line: int = 4) -> str:
+    items = [c_double(v) for v in values]
+    lines = [", ".join(items[i:i + per_line]) for i in range(0, len(items), per_line)]
+    return "{ \\\n" + ",\\\n".join(indent + line for line in lines) + " }"
+
+
+def _table_macro(table: NDArray[np.float64]) -> str:
+    rows = [_list(row, "    ", 4).replace("\n", "\n  ") for row in table]
+    return "{ \\\n  " + ", \\\n  ".join(rows) + " }"
+
+
+_STEP = {
+    "pid": """\
+double ct_step(ct_state *s, const double *in)
+{
+    double e = s->p.target_slip - in[CT_IN_SLIP];
+    double d = ct_filtered_derivative(s, e, s->p.n_filter, s->p.ts_s);
+    return ct_pid_output(s, in, e, d, s->p.kp, s->p.ki, s->p.kd, s->p.ts_s);
+}
+""",
+    "fuzzy-pid": """\
+double ct_step(ct_state *s, const double *in)
+{
+    double e = s->p.target_slip - in[CT_IN_SLIP];
+    double d = ct_filtered_derivative(s, e, s->p.n_filter, s->p.ts_s);
+    double x0 = s->p.ke * e;
+    double x1 = s->p.kec * d;
+    double kp = s->p.kp0 + s->p.ku_p * ct_lookup(ct_table_{0}, x0, x1);
+    double ki = s->p.ki0 + s->p.ku_i * ct_lookup(ct_table_{1}, x0, x1);
+    double kd = s->p.kd0 + s->p.ku_d * ct_lookup(ct_table_{2}, x0, x1);
+    return ct_pid_output(s, in, e, d, kp, ki, kd, s->p.ts_s);
+}
+""",
+    "fuzzy-immune-pid": """\
+/* seed 004 eq. 10 as DESIGN 4 reads it: the increment of the incremental PID */
+static double ct_incremental_du(double kp1, double ki, double kd, double ts, double e0,
+                                double e1, double e2)
+{
+    return kp1 * (e0 - e1) + ki * ts * e0 + kd * (e0 - 2.0 * e1 + e2) / ts;
+}
+
+double ct_step(ct_state *s, const double *in)
+{
+    double ts = s->p.ts_s;
+    double e = s->p.target_slip - in[CT_IN_SLIP];
+    int first = s->started == 0.0;
+    double ec = first ? 0.0 : (e - s->e_prev) / ts;
+    double f = ct_lookup(ct_table_{0}, s->p.ke * e, s->p.kec * ec);
+    double kp1 = s->p.k_immune * (1.0 - s->p.eta * f);
+    double u;
+    if (first) {
+        u = s->u_prev + ct_incremental_du(kp1, s->p.ki, 0.0, ts, e, 0.0, 0.0);
+        s->e_prev2 = e;
+    } else {
+        u = s->u_prev + ct_incremental_du(kp1, s->p.ki, s->p.kd, ts, e, s->e_prev, s->e_prev2);
+        s->e_prev2 = s->e_prev;
+    }
+    s->e_prev = e;
+    s->u_prev = u;
+    s->started = 1.0;
+    return u;
+}
+""",
+    "threshold": """\
+enum { CT_BUILD = 0, CT_HOLD = 1, CT_DUMP = 2, CT_RECOVER = 3, CT_SLOW = 4 };
+
+static int ct_next_phase(int ph, double slip, double aw, double s_high, double a_minus,
+                         double a_plus)
+{
+    if (ph == CT_BUILD && aw < -a_minus) return CT_HOLD;
+    if (ph == CT_HOLD) {
+        if (slip > s_high) return CT_DUMP;
+        if (aw > -a_minus) return CT_SLOW;
+    } else if (ph == CT_DUMP && aw > 0.0) {
+        return CT_RECOVER;
+    } else if (ph == CT_RECOVER && aw < a_plus && slip < s_high) {
+        return CT_SLOW;
+    } else if (ph == CT_SLOW) {
+        if (slip > s_high) return CT_DUMP;
+        if (aw < -a_minus) return CT_HOLD;
+    }
+    return ph;
+}
+
+double ct_step(ct_state *s, const double *in)
+{
+    double w = in[CT_IN_WHEEL_SPEED_RAD_S];
+    int ph;
+    if (s->started != 0.0) {
+        s->wheel_accel = (w - s->wheel_speed_prev) * s->p.wheel_radius_m / s->p.ts_s;
+    }
+    s->wheel_speed_prev = w;
+    s->started = 1.0;
+    ph = ct_next_phase((int)s->phase, in[CT_IN_SLIP], s->wheel_accel,
+                       s->p.target_slip + s->p.slip_margin, s->p.decel_threshold_m_s2,
+                       s->p.accel_threshold_m_s2);
+    s->phase = (double)ph;
+    if (ph == CT_BUILD) return s->p.amplitude;
+    if (ph == CT_DUMP) return -s->p.amplitude;
+    if (ph == CT_SLOW) return s->p.amplitude * s->p.slow_fraction;
+    return 0.0;
+}
+""",
+}
+
+_PID_HELPERS = """\
+/* backward-Euler derivative filter: xf_k = (xf_k-1 + ts N e_k) / (1 + ts N), d = N (e - xf) */
+static double ct_filtered_derivative(ct_state *s, double e, double n_filter, double ts)
+{
+    if (s->started == 0.0) {
+        s->filter = e;
+    } else {
+        double a = ts * n_filter;
+        s->filter = (s->filter + a * e) / (1.0 + a);
+    }
+    return n_filter * (e - s->filter);
+}
+
+/* u = kp e + ki z + kd d; forward-Euler integral with conditional integration (anti-windup) */
+static double ct_pid_output(ct_state *s, const double *in, double e, double d, double kp,
+                            double ki, double kd, double ts)
+{
+    double u = kp * e + ki * s->integral + kd * d;
+    int at_max = in[CT_IN_PRESSURE_AT_MAX] != 0.0;
+    int at_min = in[CT_IN_PRESSURE_AT_MIN] != 0.0;
+    if (!((at_max && e > 0.0) || (at_min && e < 0.0))) {
+        s->integral = s->integral + ts * e;
+    }
+    s->started = 1.0;
+    return u;
+}
+"""
+
+_LOOKUP = """\
+/* cell index and fraction of x on a uniform grid, clipped to it */
+static int ct_locate(double lo, double step, int n, double x, double *f)
+{
+    double t = (x - lo) / step;
+    int i;
+    if (t < 0.0) t = 0.0;
+    if (t > n - 1.0) t = n - 1.0;
+    i = (int)t;
+    if (i > n - 2) i = n - 2;
+    *f = t - i;
+    return i;
+}
+
+/* bilinear interpolation in a table of CT_TABLE_ROWS x CT_TABLE_COLS nodes */
+static double ct_lookup(const double tab[CT_TABLE_ROWS][CT_TABLE_COLS], double x0, double x1)
+{
+    double f0, f1;
+    int i, j;
+    if (x0 != x0 || x1 != x1) return NAN;
+    i = ct_locate(CT_TABLE_ROW_LO, CT_TABLE_ROW_STEP, CT_TABLE_ROWS, x0, &f0);
+    j = ct_locate(CT_TABLE_COL_LO, CT_TABLE_COL_STEP, CT_TABLE_COLS, x1, &f1);
+    return (tab[i][j] * (1.0 - f1) + tab[i][j + 1] * f1) * (1.0 - f0)
+           + (tab[i + 1][j] * (1.0 - f1) + tab[i + 1][j + 1] * f1) * f0;
+}
+"""
+
+
+def _equations(controller: str) -> str:
+    """The law's equations, from the discrete module's docstring."""
+    doc = discrete.__doc__ or ""
+    start = doc.index(f"- `{controller}`")
+    end = doc.find("\n- `", start + 1)
+    end = doc.index("\n\nLookup", start) if end < 0 else end
+    return doc[start:end].strip()
+
+
+def header(ec: ExportedController) -> str:
+    """The text of controller.h."""
+    law = ec.law
+    sc = ec.scenario
+    lines = [
+        f"/* controller.h: {law.controller} ABS controller exported by chassistune {__version__}",
+        " *",
+        f" * Discrete form: {law.form}.",
+        f" * Source: {ec.source}; plant {sc.plant}, preset {sc.preset}, road {sc.road}.",
+        " * Call ct_init once, then ct_step once every CT_P_TS_S seconds with the inputs of",
+        " * that sample (CT_INPUT_NAMES order); it returns the command u of the brake-pressure",
+        " * modulator (dr/dt = (K u - r) / T, dq/dt = r in the plant model), to hold until the",
+        " * next call. Parameters may be changed in ct_state.p between calls.",
+        " *",
+        " * Equations (e = target_slip - slip):",
+        *(f" * {line.strip()}" for line in _equations(law.controller).splitlines()),
+        " *",
+        " * Numbers are printed with %.17g: each reads back to the exact double.",
+        " * Bit-exact build: cc " + " ".join(BITWISE_FLAGS) + " (no FMA contraction)",
+        " * reproduces test_vectors.csv bit for bit."
+        + (" Only that build is supported: with FMA contraction a"
+           " rounding difference may switch a phase." if law.controller in SWITCHING else
+           " With FMA contraction the commands stay within 1e-9 (relative)."),
+        " */",
+        "#ifndef CT_CONTROLLER_H",
+        "#define CT_CONTROLLER_H",
+        "",
+        f"#define CT_N_INPUTS {len(law.inputs)}",
+        "#define CT_INPUT_NAMES { " + ", ".join(f'"{n}"' for n in law.inputs) + " }",
+    ]
+    for i, name in enumerate(law.inputs):
+        lines.append(f"#define CT_IN_{c_name(name)} {i} /* {discrete.INPUT_DESCRIPTIONS[name]} */")
+    lines += ["", "/* exported parameter values (ct_init copies them into ct_state.p) */"]
+    lines += [f"#define CT_P_{c_name(n)} {c_double(v)}" for n, v in ec.param_dict().items()]
+    if law.table_outputs:
+        lines += _table_lines(ec)
+    lines += [
+        "",
+        "typedef struct {",
+        *(f"    double {n};" for n in law.params),
+        "} ct_params;",
+        "",
+        "typedef struct {",
+        "    ct_params p; /* parameters, tunable between steps */",
+        *(f"    double {n};" for n in law.state),
+        "} ct_state;",
+        "",
+        "void ct_init(ct_state *s);",
+        "double ct_step(ct_state *s, const double *inputs);",
+        "",
+        "#endif",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def _table_lines(ec: ExportedController) -> list[str]:
+    rows, cols = ec.table_inputs
+    bp_rows, bp_cols = ec.breakpoints
+    lo0, step0, lo1, step1 = ec.grid.tolist()
+    lines = [
+        "",
+        f"/* lookup tables of rule base {ec.rulebase!r}: CT_TABLE_<OUTPUT>[i][j] is the output",
+        f" * at {rows} = CT_BP_{c_name(rows)}[i] (rows) and {cols} = CT_BP_{c_name(cols)}[j]"
+        " (columns),",
+        f" * exact Mamdani inference at the nodes. The table inputs are {rows} = ke e and",
+        f" * {cols} = kec de/dt (or kec ec), clipped to the grid; the interpolation is bilinear",
+        " * on the uniform grid lo + i step (the breakpoints are those nodes, for lookup blocks). */",
+        f"#define CT_TABLE_ROWS {bp_rows.size}",
+        f"#define CT_TABLE_COLS {bp_cols.size}",
+        f"#define CT_TABLE_ROW_LO {c_double(lo0)}",
+        f"#define CT_TABLE_ROW_STEP {c_double(step0)}",
+        f"#define CT_TABLE_COL_LO {c_double(lo1)}",
+        f"#define CT_TABLE_COL_STEP {c_double(step1)}",
+        f"#define CT_BP_{c_name(rows)} " + _list(bp_rows, "    "),
+        f"#define CT_BP_{c_name(cols)} " + _list(bp_cols, "    "),
+    ]
+    for k, out in enumerate(ec.table_outputs):
+        lines.append(f"#define CT_TABLE_{c_name(out)} " + _table_macro(ec.table[k]))
+    return lines
+
+
+def source(ec: ExportedController) -> str:
+    """The text of controller.c."""
+    law = ec.law
+    outs = [c_name(o).lower() for o in ec.table_outputs]
+    parts = [
+        f"/* controller.c: {law.controller} ABS controller exported by chassistune "
+        f"{__version__} (see controller.h) */",
+        '#include "controller.h"',
+    ]
+    if law.table_outputs:
+        parts.append("#include <math.h> /* NAN only */\n")
+        parts += [f"static const double ct_table_{o}[CT_TABLE_ROWS][CT_TABLE_COLS] = "
+                  f"CT_TABLE_{o.upper()};" for o in outs]
+        parts.append("\n" + _LOOKUP)
+    else:
+        parts.append("")
+    if law.controller in ("pid", "fuzzy-pid"):
+        parts.append(_PID_HELPERS)
+    init = [f"    s->p.{n} = CT_P_{c_name(n)};" for n in law.params]
+    init += [f"    s->{n} = 0.0;" for n in law.state]
+    parts.append("void ct_init(ct_state *s)\n{\n" + "\n".join(init) + "\n}\n")
+    step = _STEP[law.controller]
+    for k, o in enumerate(outs):
+        step = step.replace("{" + str(k) + "}", o)
+    parts.append(step)
+    return "\n".join(parts)
