@@ -8,3 +8,4 @@ from chassistune.cli import bench  # noqa: F401
 from chassistune.cli import optimize  # noqa: F401
 from chassistune.cli import tune  # noqa: F401
 from chassistune.cli import study  # noqa: F401
+from chassistune.cli import export  # noqa: F401

@@ -205,13 +205,16 @@ static double ct_lookup(const double tab[CT_TABLE_ROWS][CT_TABLE_COLS], double x
 """
 
 
-def _equations(controller: str) -> str:
-    """The law's equations, from the discrete module's docstring."""
+def _equations(controller: str) -> list[str]:
+    """The law's equations, from the discrete module's docstring (the fuzzy PID adds the PID's)."""
     doc = discrete.__doc__ or ""
-    start = doc.index(f"- `{controller}`")
-    end = doc.find("\n- `", start + 1)
-    end = doc.index("\n\nLookup", start) if end < 0 else end
-    return doc[start:end].strip()
+    names = ("pid", "fuzzy-pid") if controller == "fuzzy-pid" else (controller,)
+    out = []
+    for name in names:
+        start = doc.index(f"- `{name}`")
+        ends = [i for i in (doc.find("\n- `", start + 1), doc.find("\n\n", start)) if i > 0]
+        out += doc[start:min(ends)].strip().splitlines()
+    return out
 
 
 def header(ec: ExportedController) -> str:
@@ -229,7 +232,7 @@ def header(ec: ExportedController) -> str:
         " * next call. Parameters may be changed in ct_state.p between calls.",
         " *",
         " * Equations (e = target_slip - slip):",
-        *(f" * {line.strip()}" for line in _equations(law.controller).splitlines()),
+        *(f" *   {line.strip()}" for line in _equations(law.controller)),
         " *",
         " * Numbers are printed with %.17g: each reads back to the exact double.",
         " * Bit-exact build: cc " + " ".join(BITWISE_FLAGS) + " (no FMA contraction)",
@@ -279,9 +282,9 @@ def _table_lines(ec: ExportedController) -> list[str]:
         f"/* lookup tables of rule base {ec.rulebase!r}: CT_TABLE_<OUTPUT>[i][j] is the output",
         f" * at {rows} = CT_BP_{c_name(rows)}[i] (rows) and {cols} = CT_BP_{c_name(cols)}[j]"
         " (columns),",
-        f" * exact Mamdani inference at the nodes. The table inputs are {rows} = ke e and",
-        f" * {cols} = kec de/dt (or kec ec), clipped to the grid; the interpolation is bilinear",
-        " * on the uniform grid lo + i step (the breakpoints are those nodes, for lookup blocks). */",
+        " * exact Mamdani inference at the nodes; read at the scaled inputs (ke e, kec de/dt),",
+        " * clipped to the grid, by bilinear interpolation on the uniform grid lo + i step",
+        " * (CT_TABLE_ROW_LO/STEP, CT_TABLE_COL_LO/STEP; the breakpoints are these nodes). */",
         f"#define CT_TABLE_ROWS {bp_rows.size}",
         f"#define CT_TABLE_COLS {bp_cols.size}",
         f"#define CT_TABLE_ROW_LO {c_double(lo0)}",

@@ -71,6 +71,30 @@ class ExportedController:
     def param_dict(self) -> dict[str, float]:
         return dict(zip(self.law.params, self.params.tolist(), strict=True))
 
+    def pid_form(self) -> dict[str, Any] | None:
+        """The law as Simulink's Discrete PID Controller (P, I, D, N, methods named), or None.
+
+        The fuzzy laws give the base (fuzzy-pid) or nominal (fuzzy-immune-pid) gains and say
+        which gain the table schedules."""
+        p = self.param_dict()
+        if self.controller == "pid":
+            return {"P": p["kp"], "I": p["ki"], "D": p["kd"], "N": p["n_filter"],
+                    "Form": "Parallel", "IntegratorMethod": "Forward Euler",
+                    "FilterMethod": "Backward Euler", "Scheduled": "none"}
+        if self.controller == "fuzzy-pid":
+            return {"P": p["kp0"], "I": p["ki0"], "D": p["kd0"], "N": p["n_filter"],
+                    "Form": "Parallel", "IntegratorMethod": "Forward Euler",
+                    "FilterMethod": "Backward Euler",
+                    "Scheduled": "P = kp0 + ku_p*kp(ke*e, kec*d), I = ki0 + ku_i*ki(...), "
+                                 "D = kd0 + ku_d*kd(...), d the filtered derivative"}
+        if self.controller == "fuzzy-immune-pid":
+            return {"P": p["k_immune"], "I": p["ki"], "D": p["kd"], "N": None,
+                    "Form": "Parallel, incremental (velocity) implementation",
+                    "IntegratorMethod": "Backward Euler",
+                    "FilterMethod": "none (backward difference, no filter)",
+                    "Scheduled": "P = k_immune*(1 - eta*f(ke*e, kec*(e - e_prev)/Ts))"}
+        return None
+
 
 def _from_tune_json(path: Path) -> tuple[str, str, str, str, dict[str, Any], dict[str, Any]]:
     try:

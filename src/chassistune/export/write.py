@@ -1,0 +1,77 @@
+"""Write an exported controller in one format into a folder: all files or none.
+
+Every format carries test_vectors.csv (the reference the C, the FMU and any port must reproduce).
+Files are built in memory, written into a temporary folder beside the target and moved into it
+only once all are written.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from chassistune.errors import InputError
+from chassistune.export import c99, fmu, json_export, matlab, vectors
+from chassistune.export.source import ExportedController
+
+FORMATS = ("c", "fmu", "mat", "json")
+VECTORS = "test_vectors.csv"
+
+
+def check_folder(out_dir: str) -> None:
+    """Refuse, before any work, a folder that cannot be created or written."""
+    path = Path(out_dir).absolute()
+    existing = path
+    while not existing.exists():
+        existing = existing.parent
+    if path.exists() and not path.is_dir():
+        raise InputError("--out", f"{out_dir!r} exists and is not a folder")
+    if not existing.is_dir():
+        raise InputError("--out", f"cannot create {out_dir!r}: {str(existing)!r} is not a folder")
+    if not os.access(existing, os.W_OK | os.X_OK):
+        raise InputError("--out", f"folder {str(existing)!r} is not writable")
+
+
+def files(ec: ExportedController, fmt: str) -> dict[str, bytes]:
+    """File name -> content of the format `fmt` (FORMATS)."""
+    if fmt not in FORMATS:
+        raise InputError("--format", f"unknown format {fmt!r} (known: {', '.join(FORMATS)})")
+    inputs, u = vectors.record(ec)
+    if not (np.all(np.isfinite(inputs)) and np.all(np.isfinite(u))):
+        raise InputError("--gains", "the closed-loop stop diverged: no test vectors to export")
+    out = {VECTORS: vectors.csv_text(ec.law.inputs, inputs, u).encode()}
+    if fmt == "c":
+        out[c99.HEADER] = c99.header(ec).encode()
+        out[c99.SOURCE] = c99.source(ec).encode()
+    elif fmt == "fmu":
+        out[f"{ec.model_name}.fmu"] = fmu.fmu_bytes(ec)
+    elif fmt == "mat":
+        out[f"{ec.model_name}.mat"] = matlab.mat_bytes(ec, inputs, u)
+        out[f"{ec.model_name}.m"] = matlab.script(ec).encode()
+    else:
+        out[f"{ec.model_name}.json"] = json_export.json_text(ec, inputs, u).encode()
+    return out
+
+
+def write(ec: ExportedController, fmt: str, out_dir: str) -> list[str]:
+    """Write the files of `fmt` into out_dir (created if needed); the paths written."""
+    check_folder(out_dir)
+    contents = files(ec, fmt)
+    target = Path(out_dir).absolute()
+    parent = target
+    while not parent.exists():
+        parent = parent.parent
+    staging = Path(tempfile.mkdtemp(prefix=".export-", dir=parent))
+    try:
+        for name, data in contents.items():
+            (staging / name).write_bytes(data)
+        target.mkdir(parents=True, exist_ok=True)
+        for name in contents:
+            os.replace(staging / name, target / name)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+    return [str(target / name) for name in contents]
