@@ -35,7 +35,8 @@ Lookup (fuzzy laws): a uniform grid of `fuzzy_table_points` nodes per input over
 universes, values exact Mamdani inference at the nodes (`chassistune.fuzzy.engine`), bilinear
 interpolation, inputs clipped to the grid:
     t = (x - lo) / step, clipped to [0, n - 1];  i = min(floor(t), n - 2);  f = t - i
-    T = (v[i, j] (1 - f1) + v[i, j + 1] f1) (1 - f0) + (v[i + 1, j] (1 - f1) + v[i + 1, j + 1] f1) f0
+    T = (v[i, j] (1 - f1) + v[i, j + 1] f1) (1 - f0)
+        + (v[i + 1, j] (1 - f1) + v[i + 1, j + 1] f1) f0       (in this order, no fma)
 Default 49 points: 48 intervals put every set peak and every crossing of the built-in rule bases
 on a grid line (deffao's integer peaks on [-3, 3], immune's quarter points on [-1, 1]). Largest
 error against exact inference over 200,000 random points, as a fraction of the output range:

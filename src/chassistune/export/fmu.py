@@ -132,8 +132,12 @@ fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
     size_t k;
     for (k = 0; k < n; k++) {
         if (vr[k] < VR_U) f->in[vr[k]] = v[k];
-        else if (vr[k] > VR_U && vr[k] < VR_P0 + N_PARAMS) *param_ref(&f->s.p, vr[k] - VR_P0) = v[k];
-        else { fmu_log(f, fmi2Error, "fmi2SetReal: not a settable value reference"); return fmi2Error; }
+        else if (vr[k] > VR_U && vr[k] < VR_P0 + N_PARAMS)
+            *param_ref(&f->s.p, vr[k] - VR_P0) = v[k];
+        else {
+            fmu_log(f, fmi2Error, "fmi2SetReal: not a settable value reference");
+            return fmi2Error;
+        }
     }
     return fmi2OK;
 }
@@ -154,9 +158,12 @@ fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t 
                          const fmi2String v[])
 { (void)c; (void)vr; (void)v; return n ? fmi2Error : fmi2OK; }
 
-fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s) { (void)c; (void)s; return fmi2Error; }
-fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate s) { (void)c; (void)s; return fmi2Error; }
-fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *s) { (void)c; (void)s; return fmi2Error; }
+fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s)
+{ (void)c; (void)s; return fmi2Error; }
+fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate s)
+{ (void)c; (void)s; return fmi2Error; }
+fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *s)
+{ (void)c; (void)s; return fmi2Error; }
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate s, size_t *n)
 { (void)c; (void)s; (void)n; return fmi2Error; }
 fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate s, fmi2Byte b[], size_t n)
