@@ -12,6 +12,7 @@ import pytest
 from helpers import CC, CONTINUOUS, LAWS, CLaw, case, needs_cc, write_c
 
 from chassistune.export import c99, closed_loop, vectors
+from chassistune.export.write import files
 
 pytestmark = needs_cc
 
@@ -111,3 +112,20 @@ def test_closed_loop_with_the_c_controller_matches_the_numba_law_bit_for_bit(
     if controller == "threshold":  # sampled in the kernel too: the kernel's own stop
         kernel = c.ec.scenario.metrics(np.zeros((1, 0)))["stop_distance_m"][0]
         assert with_c.stop_distance_m == kernel
+
+
+def test_shipped_check_program_replays_the_vectors_and_catches_a_change(tmp_path: Path) -> None:
+    for name, data in files(case("fuzzy-immune-pid").ec, "c").items():
+        (tmp_path / name).write_bytes(data)
+    exe = tmp_path / "ct_check"
+    subprocess.run([str(CC), *c99.BITWISE_FLAGS, "-o", str(exe), str(tmp_path / c99.SOURCE),
+                    str(tmp_path / c99.CHECK)], check=True)
+    ok = subprocess.run([str(exe)], cwd=tmp_path, capture_output=True, text=True, check=False)
+    assert ok.returncode == 0 and " 0 mismatches" in ok.stdout
+    lines = (tmp_path / "test_vectors.csv").read_text().splitlines()
+    last = lines[-1].split(",")
+    last[-1] = repr(np.nextafter(float(last[-1]), np.inf))  # one ulp off
+    (tmp_path / "bad.csv").write_text("\n".join([*lines[:-1], ",".join(last)]) + "\n")
+    bad = subprocess.run([str(exe), "bad.csv"], cwd=tmp_path, capture_output=True, text=True,
+                         check=False)
+    assert bad.returncode == 1 and " 1 mismatches" in bad.stdout

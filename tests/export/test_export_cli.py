@@ -48,7 +48,7 @@ def test_export_from_registry_defaults_writes_c_and_vectors(cli: Callable[..., o
     out = tmp_path / "new" / "ecu"
     res = cli("export", "--controller", "fuzzy-pid", "--format", "c", "--out", str(out))
     assert res.code == 0, res.err
-    assert _files(out) == {"controller.h", "controller.c", "test_vectors.csv"}
+    assert _files(out) == {"controller.h", "controller.c", "ct_check.c", "test_vectors.csv"}
     assert not [p for p in (tmp_path / "new").iterdir() if p.name.startswith(".export")]
     _, data = vectors.read_csv(str(out / "test_vectors.csv"))
     c = case("fuzzy-pid")

@@ -21,6 +21,7 @@ from chassistune.export.source import ExportedController
 
 HEADER = "controller.h"
 SOURCE = "controller.c"
+CHECK = "ct_check.c"
 BITWISE_FLAGS = ("-std=c99", "-O2", "-ffp-contract=off")
 SWITCHING = ("threshold",)
 """Laws with discrete decisions: a build with FMA contraction may flip a phase; only the bitwise
@@ -325,3 +326,47 @@ def source(ec: ExportedController) -> str:
         step = step.replace("{" + str(k) + "}", o)
     parts.append(step)
     return "\n".join(parts)
+
+
+CHECK_PROGRAM = """\
+/* ct_check.c: replay test_vectors.csv through ct_step and compare bit for bit (==).
+ * Build and run on the target toolchain:
+ *   cc -std=c99 -O2 -ffp-contract=off controller.c ct_check.c -o ct_check && ./ct_check
+ * Exit status 0 when every command matches. Uses stdio (controller.c itself does not). */
+#include <stdio.h>
+#include <stdlib.h>
+#include "controller.h"
+
+int main(int argc, char **argv)
+{
+    const char *path = argc > 1 ? argv[1] : "test_vectors.csv";
+    static char line[65536];
+    double in[CT_N_INPUTS], u, got;
+    long row = 0, bad = 0;
+    ct_state s;
+    FILE *f = fopen(path, "r");
+    if (!f || !fgets(line, sizeof line, f)) {
+        fprintf(stderr, "ct_check: cannot read %s\\n", path);
+        return 2;
+    }
+    ct_init(&s);
+    while (fgets(line, sizeof line, f)) {
+        char *p = line;
+        int j;
+        for (j = 0; j < CT_N_INPUTS; j++) {
+            in[j] = strtod(p, &p);
+            p++; /* the comma */
+        }
+        u = strtod(p, NULL);
+        got = ct_step(&s, in);
+        if (!(got == u)) {
+            if (bad < 10) printf("row %ld: u = %.17g, expected %.17g\\n", row + 1, got, u);
+            bad++;
+        }
+        row++;
+    }
+    fclose(f);
+    printf("%ld rows, %ld mismatches\\n", row, bad);
+    return bad != 0 || row == 0;
+}
+"""

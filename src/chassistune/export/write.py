@@ -47,6 +47,7 @@ def files(ec: ExportedController, fmt: str) -> dict[str, bytes]:
     if fmt == "c":
         out[c99.HEADER] = c99.header(ec).encode()
         out[c99.SOURCE] = c99.source(ec).encode()
+        out[c99.CHECK] = c99.CHECK_PROGRAM.encode()
     elif fmt == "fmu":
         out[f"{ec.model_name}.fmu"] = fmu.fmu_bytes(ec)
     elif fmt == "mat":
