@@ -149,3 +149,15 @@ def test_loop_inputs_are_what_an_ideal_ecu_sees() -> None:
     assert set(np.unique(s["pressure_at_max"])) <= {0.0, 1.0}
     assert s["pressure_at_min"][0] == 1.0  # the brake starts released
     assert np.all(np.diff(s["wheel_speed_rad_s"][:5]) < 0.0)  # braking from the start
+
+
+def test_immune_loop_converges_to_the_kernel_as_the_table_is_refined() -> None:
+    """Both sample the same incremental law every ts; only the table differs (the kernel reads
+    its adaptive surface, within 2e-4 of exact): the stop converges to the kernel's."""
+    gaps = []
+    for points in (25, 49, 97):
+        ec = source.resolve(None, None, "fuzzy-immune-pid", {}, {"fuzzy_table_points": points})
+        kernel = ec.scenario.metrics(np.array([list(ec.gains.values())]))["stop_distance_m"][0]
+        gaps.append(abs(vectors.stop(ec).stop_distance_m / kernel - 1.0))
+    assert gaps[0] > gaps[1] > gaps[2]
+    assert gaps[2] < 2e-5
