@@ -5,13 +5,14 @@ from __future__ import annotations
 
 import re
 import subprocess
+import zlib
 from pathlib import Path
 
 import numpy as np
 import pytest
 from helpers import CC, CONTINUOUS, LAWS, CLaw, case, needs_cc, write_c
 
-from chassistune.export import c99, closed_loop, vectors
+from chassistune.export import c99, closed_loop, source, vectors
 from chassistune.export.write import files
 
 pytestmark = needs_cc
@@ -129,3 +130,49 @@ def test_shipped_check_program_replays_the_vectors_and_catches_a_change(tmp_path
     bad = subprocess.run([str(exe), "bad.csv"], cwd=tmp_path, capture_output=True, text=True,
                          check=False)
     assert bad.returncode == 1 and " 1 mismatches" in bad.stdout
+
+
+@pytest.mark.parametrize(("controller", "road", "params"), [
+    ("fuzzy-pid", "ice", {"rulebase": "classic", "fuzzy_table_points": 33}),
+    ("fuzzy-immune-pid", "dirt-0.2", {"ts_s": 0.002}),
+    ("pid", "wet-asphalt", {"ecu_ts_s": 0.01, "dt_s": 5e-4}),
+    ("threshold", "ice", {"ts_s": 0.005}),
+])
+def test_bitwise_on_other_roads_presets_rule_bases_and_random_gains(
+        controller: str, road: str, params: dict[str, object], tmp_path: Path) -> None:
+    preset = "paper-fuzzy-immune" if road == "dirt-0.2" else None
+    ec = source.resolve(None, None, controller, {}, params, preset, road)
+    rng = np.random.default_rng(zlib.crc32(controller.encode()))
+    spec = ec.scenario.controller
+    gains = {g.name: str(rng.uniform(g.lo, g.hi)) for g in spec.gains}
+    for chosen in ({}, gains):
+        ec = source.resolve(None, None, controller, chosen, params, preset, road)
+        inputs, u = vectors.record(ec)
+        folder = write_c(ec, tmp_path / str(len(chosen)))
+        assert np.array_equal(CLaw(folder, c99.BITWISE_FLAGS).run(inputs), u)
+
+
+@pytest.mark.parametrize("controller", LAWS)
+def test_bitwise_on_arbitrary_inputs_nan_and_infinities(controller: str, tmp_path: Path) -> None:
+    """Any input sequence, not only recorded ones: out-of-range slip, exact grid nodes, the
+    clipping edges, NaN and infinities (which then stay in the state of both)."""
+    ec = case(controller).ec
+    rng = np.random.default_rng(zlib.crc32(b"fuzz" + controller.encode()))
+    m = 4000
+    cols = []
+    for name in ec.law.inputs:
+        if name == "slip":
+            col = rng.uniform(-0.5, 1.5, m)
+            col[::7] = np.round(col[::7], 2)  # many exact steps of the grid once scaled
+        elif name == "wheel_speed_rad_s":
+            col = np.cumsum(rng.normal(0.0, 0.5, m)) + 60.0
+        else:
+            col = (rng.uniform(size=m) < 0.3).astype(float)
+        cols.append(col)
+    finite = np.column_stack(cols)
+    special = finite[:200].copy()
+    special[50:, 0] = [np.inf, -np.inf, np.nan, 0.0, -0.0, 1.0] * 25
+    lib = CLaw(write_c(ec, tmp_path), c99.BITWISE_FLAGS)
+    for rows in (finite, special):
+        expected = vectors.replay(ec, rows)
+        assert np.array_equal(lib.run(rows), expected, equal_nan=True)

@@ -69,6 +69,12 @@ def test_export_from_a_tune_result_uses_its_gains_road_and_params(cli: Callable[
     assert doc["scenario"]["params"]["dt_s"] == 2e-3
     assert doc["sample_time_s"] == 0.01
     assert {k: doc["params"][k] for k in result.best_gains} == result.best_gains
+    res = cli("export", str(source), "--road", "wet-asphalt", "--format", "json", "--out",
+              str(tmp_path / "wet"))
+    assert res.code == 0, res.err
+    doc = json.loads((tmp_path / "wet" / "chassistune_pid.json").read_text())
+    # the default 5 ms, rounded to whole steps of dt = 2 ms (as the kernel rounds ts_s)
+    assert doc["scenario"]["road"] == "wet-asphalt" and doc["sample_time_s"] == 0.004
 
 
 def test_export_from_a_study_run(cli: Callable[..., object], tmp_path: Path) -> None:

@@ -13,6 +13,8 @@ from chassistune.params import parse_assignments
 @click.option("--plant", help="Plant when no SOURCE is given (default abs-wheel).")
 @click.option("--controller", help="Controller when no SOURCE is given (registry defaults for the "
               "gains not given).")
+@click.option("--preset", help="Preset (default: the source's, else the plant's paper preset).")
+@click.option("--road", help="Road (default: the source's first road, else the preset's first).")
 @click.option("--gains", "gains", multiple=True, metavar="NAME=VALUE,...",
               help="Gains overriding the source's or the registry's.")
 @click.option("--param", "params", multiple=True, metavar="NAME=VALUE",
@@ -23,8 +25,8 @@ from chassistune.params import parse_assignments
               "json: schema-versioned data. Each adds test_vectors.csv.")
 @click.option("--out", "out_dir", required=True, metavar="DIR", help="Folder to write into.")
 def export_command(source: str | None, plant: str | None, controller: str | None,
-                   gains: tuple[str, ...], params: tuple[str, ...], fmt: str,
-                   out_dir: str) -> None:
+                   preset: str | None, road: str | None, gains: tuple[str, ...],
+                   params: tuple[str, ...], fmt: str, out_dir: str) -> None:
     """Export the discrete form of a tuned ABS controller (pid, fuzzy-pid, fuzzy-immune-pid,
     threshold) with test vectors recorded from a closed-loop stop of its scenario.
 
@@ -37,7 +39,7 @@ def export_command(source: str | None, plant: str | None, controller: str | None
 
     check_folder(out_dir)
     ec = export_source.resolve(source, plant, controller, parse_assignments(gains, "--gains"),
-                               parse_assignments(params, "--param"))
+                               parse_assignments(params, "--param"), preset, road)
     for path in write(ec, fmt, out_dir):
         click.echo(f"wrote {path}")
 

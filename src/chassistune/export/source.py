@@ -142,12 +142,16 @@ def resolve(
     controller: str | None,
     gains: Mapping[str, object],
     params: Mapping[str, object],
+    preset: str | None = None,
+    road: str | None = None,
 ) -> ExportedController:
-    """The exported controller of a source (module docstring); bad input raises InputError."""
+    """The exported controller of a source (module docstring); bad input raises InputError.
+
+    `preset` and `road` override the source's (a tune over several roads exports its first)."""
     overrides = dict(params)
     export_values = {k: overrides.pop(k) for k in EXPORT_PARAMS if k in overrides}
-    preset: str | None = None
-    road: str | None = None
+    source_preset: str | None = None
+    source_road: str | None = None
     base_gains: dict[str, Any] = {}
     base_params: dict[str, Any] = {}
     if source is None:
@@ -161,10 +165,11 @@ def resolve(
                              "drop --plant/--controller")
         study, sep, key = source.partition("#")
         if sep:
-            plant, preset, road, controller, base_gains, base_params = _from_study_run(study, key)
+            (plant, source_preset, source_road, controller, base_gains,
+             base_params) = _from_study_run(study, key)
         elif Path(source).is_file():
-            plant, preset, road, controller, base_gains, base_params = _from_tune_json(
-                Path(source))
+            (plant, source_preset, source_road, controller, base_gains,
+             base_params) = _from_tune_json(Path(source))
         else:
             raise InputError("SOURCE", f"{source!r} is neither a tune.json file nor DIR#RUN")
         origin = f"{source}"
@@ -175,7 +180,8 @@ def resolve(
     if law is None:
         raise InputError("--controller", f"{controller!r} has no discrete form to export "
                          f"(exportable: {', '.join(discrete.LAWS)})")
-    sc = get_plant(plant).scenario(preset, road, controller, {**base_params, **overrides})
+    sc = get_plant(plant).scenario(preset or source_preset, road or source_road, controller,
+                                   {**base_params, **overrides})
     if not isinstance(sc, AbsWheelScenario):  # pragma: no cover - PLANTS holds abs-wheel only
         raise InputError("--plant", f"cannot export from plant {plant!r}")
     g = sc.gains_array({**base_gains, **{k: to_float(v, f"--gains {k}") for k, v in
