@@ -116,7 +116,7 @@ def test_bad_input_is_one_line_exit_2_and_nothing_written(
     assert res.code == 2
     assert len(res.err.strip().splitlines()) == 1 and field in res.err
     assert not out.exists()
-    assert _files(tmp_path) == {"emptystudy"}
+    assert _files(tmp_path) == {"emptystudy"} and not any(study.iterdir())
 
 
 def test_unwritable_folder_is_refused_before_any_work(cli: Callable[..., object],
