@@ -104,6 +104,8 @@ def test_export_from_a_study_run(cli: Callable[..., object], tmp_path: Path) -> 
     (["--controller", "pid", "--gains", "kq=3"], "--gains"),
     (["--controller", "fuzzy-pid", "--param", "fuzzy_table_points=1"], "fuzzy_table_points"),
     (["--controller", "pid", "--param", "ecu_ts_s=-1"], "ecu_ts_s"),
+    (["--controller", "pid", "--param", "fuzzy_table_points=33"], "fuzzy_table_points"),
+    (["--controller", "pid", "--road", "mars"], "road"),
     ([], "--controller"),
 ])
 def test_bad_input_is_one_line_exit_2_and_nothing_written(

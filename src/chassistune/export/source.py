@@ -96,13 +96,26 @@ class ExportedController:
         return None
 
 
-def _from_tune_json(path: Path) -> tuple[str, str, str, str, dict[str, Any], dict[str, Any]]:
+@dataclass(frozen=True)
+class _Origin:
+    """What a source names: the scenario (first road), the tuned gains and the parameters."""
+
+    plant: str
+    preset: str | None
+    road: str | None
+    controller: str
+    gains: dict[str, Any]
+    params: dict[str, Any]
+    label: str
+
+
+def _from_tune_json(path: Path) -> _Origin:
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
         params = dict(data["params"])
         params.pop("seed", None)
-        return (data["plant"], data["preset"], data["roads"][0], data["controller"],
-                dict(data["best_gains"]), params)
+        return _Origin(data["plant"], data["preset"], data["roads"][0], data["controller"],
+                       dict(data["best_gains"]), params, str(path))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise InputError("SOURCE", f"cannot read {str(path)!r} as a tune result: {exc}") from None
     except (KeyError, IndexError, TypeError):
@@ -110,8 +123,7 @@ def _from_tune_json(path: Path) -> tuple[str, str, str, str, dict[str, Any], dic
                          "roads, controller, best_gains, params)") from None
 
 
-def _from_study_run(study_dir: str, key: str) -> tuple[str, str, str, str, dict[str, Any],
-                                                        dict[str, Any]]:
+def _from_study_run(study_dir: str, key: str) -> _Origin:
     from chassistune.studies.store import open_study
 
     with open_study(study_dir, "SOURCE") as store:
@@ -121,8 +133,26 @@ def _from_study_run(study_dir: str, key: str) -> tuple[str, str, str, str, dict[
                     raise InputError("SOURCE", f"run {key!r} of {study_dir!r} failed: "
                                      f"{rec.error}")
                 s = rec.spec
-                return s.plant, s.preset, s.roads[0], s.controller, rec.best_gains, dict(s.params)
+                return _Origin(s.plant, s.preset, s.roads[0], s.controller, rec.best_gains,
+                               dict(s.params), f"{study_dir}#{key}")
     raise InputError("SOURCE", f"no finished run {key!r} in {study_dir!r}")
+
+
+def _origin(source: str | None, plant: str | None, controller: str | None) -> _Origin:
+    if source is None:
+        if controller is None:
+            raise InputError("--controller", "give a SOURCE or a --controller")
+        return _Origin(plant or "abs-wheel", None, None, controller, {}, {},
+                       f"registry defaults of {controller}")
+    if plant is not None or controller is not None:
+        raise InputError("--controller", "a SOURCE names its plant and controller; "
+                         "drop --plant/--controller")
+    study, sep, key = source.partition("#")
+    if sep:
+        return _from_study_run(study, key)
+    if Path(source).is_file():
+        return _from_tune_json(Path(source))
+    raise InputError("SOURCE", f"{source!r} is neither a tune.json file nor DIR#RUN")
 
 
 def _law_params(law: discrete.DiscreteLaw, sc: AbsWheelScenario, gains: NDArray[np.float64],
@@ -150,47 +180,27 @@ def resolve(
     `preset` and `road` override the source's (a tune over several roads exports its first)."""
     overrides = dict(params)
     export_values = {k: overrides.pop(k) for k in EXPORT_PARAMS if k in overrides}
-    source_preset: str | None = None
-    source_road: str | None = None
-    base_gains: dict[str, Any] = {}
-    base_params: dict[str, Any] = {}
-    if source is None:
-        if controller is None:
-            raise InputError("--controller", "give a SOURCE or a --controller")
-        plant = plant or "abs-wheel"
-        origin = f"registry defaults of {controller}"
-    else:
-        if plant is not None or controller is not None:
-            raise InputError("--controller", "a SOURCE names its plant and controller; "
-                             "drop --plant/--controller")
-        study, sep, key = source.partition("#")
-        if sep:
-            (plant, source_preset, source_road, controller, base_gains,
-             base_params) = _from_study_run(study, key)
-        elif Path(source).is_file():
-            (plant, source_preset, source_road, controller, base_gains,
-             base_params) = _from_tune_json(Path(source))
-        else:
-            raise InputError("SOURCE", f"{source!r} is neither a tune.json file nor DIR#RUN")
-        origin = f"{source}"
-    if plant not in PLANTS:
-        raise InputError("--plant", f"no discrete controllers for plant {plant!r} "
+    origin = _origin(source, plant, controller)
+    if origin.plant not in PLANTS:
+        raise InputError("--plant", f"no discrete controllers for plant {origin.plant!r} "
                          f"(exportable: {', '.join(PLANTS)})")
-    law = discrete.law(controller)
+    law = discrete.law(origin.controller)
     if law is None:
-        raise InputError("--controller", f"{controller!r} has no discrete form to export "
+        raise InputError("--controller", f"{origin.controller!r} has no discrete form to export "
                          f"(exportable: {', '.join(discrete.LAWS)})")
-    sc = get_plant(plant).scenario(preset or source_preset, road or source_road, controller,
-                                   {**base_params, **overrides})
+    sc = get_plant(origin.plant).scenario(preset or origin.preset, road or origin.road,
+                                          origin.controller, {**origin.params, **overrides})
     if not isinstance(sc, AbsWheelScenario):  # pragma: no cover - PLANTS holds abs-wheel only
-        raise InputError("--plant", f"cannot export from plant {plant!r}")
-    g = sc.gains_array({**base_gains, **{k: to_float(v, f"--gains {k}") for k, v in
-                                         gains.items()}})
+        raise InputError("--plant", f"cannot export from plant {origin.plant!r}")
+    g = sc.gains_array({**origin.gains, **{k: to_float(v, f"--gains {k}") for k, v in
+                                           gains.items()}})
     if not np.all(np.isfinite(g)):
         raise InputError("--gains", "every gain must be finite")
     dt = sc.plant_params.dt_s
     ts = _sample_time(export_values, sc.controller_params, dt)
     rulebase = str(sc.controller_params["rulebase"]) if law.table_outputs else None
+    if rulebase is None and "fuzzy_table_points" in export_values:
+        raise InputError("--param fuzzy_table_points", f"{law.controller} reads no lookup table")
     table, grid = discrete.no_table()
     bp: tuple[NDArray[np.float64], ...] = ()
     table_inputs: tuple[str, ...] = ()
@@ -205,7 +215,7 @@ def resolve(
         law=law, scenario=sc, gains=dict(zip(sc.gain_names, g.tolist(), strict=True)),
         params=_law_params(law, sc, g, ts), table=table, grid=grid, breakpoints=bp,
         table_inputs=table_inputs, table_outputs=table_outputs, rulebase=rulebase,
-        source=origin,
+        source=origin.label,
     )
 
 
