@@ -18,8 +18,9 @@ from chassistune.fuzzy.loader import load_rulebase
 def _lookup_all(table, grid, x0, x1):
     out = np.empty((x0.size, table.shape[0]))
     for p in range(x0.size):
+        cell = discrete.table_cell(table, grid, x0[p], x1[p])
         for k in range(table.shape[0]):
-            out[p, k] = discrete.table_value(table, grid, k, x0[p], x1[p])
+            out[p, k] = discrete.table_value(table, k, cell)
     return out
 
 

@@ -170,12 +170,21 @@ def _locate(lo, step, n, x):
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def table_value(table, grid, k, x0, x1):
-    """Output k of the ECU table at (x0, x1), bilinear (module docstring); NaN in, NaN out."""
+def table_cell(table, grid, x0, x1):
+    """(i, j, f0, f1): the cell of (x0, x1) and the fractions in it; i = -1 for a NaN input."""
     if x0 != x0 or x1 != x1:
-        return np.nan
+        return -1, 0, np.nan, np.nan
     i, f0 = _locate(grid[0], grid[1], table.shape[1], x0)
     j, f1 = _locate(grid[2], grid[3], table.shape[2], x1)
+    return i, j, f0, f1
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def table_value(table, k, cell):
+    """Output k of the ECU table in a `table_cell`, bilinear (module docstring); NaN for NaN."""
+    i, j, f0, f1 = cell
+    if i < 0:
+        return np.nan
     return ((table[k, i, j] * (1.0 - f1) + table[k, i, j + 1] * f1) * (1.0 - f0)
             + (table[k, i + 1, j] * (1.0 - f1) + table[k, i + 1, j + 1] * f1) * f0)
 
@@ -217,11 +226,10 @@ def fuzzy_pid_step(state, inputs, params, table, grid):
     """Discrete fuzzy self-tuning PID (module docstring, `fuzzy-pid`)."""
     e = params[FP_TARGET] - inputs[IN_SLIP]
     d = _filtered_derivative(state, e, params[FP_N], params[FP_TS])
-    x0 = params[FP_KE] * e
-    x1 = params[FP_KEC] * d
-    kp = params[FP_KP0] + params[FP_KUP] * table_value(table, grid, 0, x0, x1)
-    ki = params[FP_KI0] + params[FP_KUI] * table_value(table, grid, 1, x0, x1)
-    kd = params[FP_KD0] + params[FP_KUD] * table_value(table, grid, 2, x0, x1)
+    cell = table_cell(table, grid, params[FP_KE] * e, params[FP_KEC] * d)
+    kp = params[FP_KP0] + params[FP_KUP] * table_value(table, 0, cell)
+    ki = params[FP_KI0] + params[FP_KUI] * table_value(table, 1, cell)
+    kd = params[FP_KD0] + params[FP_KUD] * table_value(table, 2, cell)
     return _pid_output(state, inputs, e, d, kp, ki, kd, params[FP_TS])
 
 
@@ -232,7 +240,7 @@ def immune_step(state, inputs, params, table, grid):
     e = params[IM_TARGET] - inputs[IN_SLIP]
     first = state[ST_STARTED] == 0.0
     ec = 0.0 if first else (e - state[IS_E1]) / ts
-    f = table_value(table, grid, 0, params[IM_KE] * e, params[IM_KEC] * ec)
+    f = table_value(table, 0, table_cell(table, grid, params[IM_KE] * e, params[IM_KEC] * ec))
     kp1 = params[IM_K] * (1.0 - params[IM_ETA] * f)
     if first:
         u = state[IS_U] + incremental_pid_du(kp1, params[IM_KI], 0.0, ts, e, 0.0, 0.0)

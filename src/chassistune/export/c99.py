@@ -70,11 +70,10 @@ double ct_step(ct_state *s, const double *in)
 {
     double e = s->p.target_slip - in[CT_IN_SLIP];
     double d = ct_filtered_derivative(s, e, s->p.n_filter, s->p.ts_s);
-    double x0 = s->p.ke * e;
-    double x1 = s->p.kec * d;
-    double kp = s->p.kp0 + s->p.ku_p * ct_lookup(ct_table_{0}, x0, x1);
-    double ki = s->p.ki0 + s->p.ku_i * ct_lookup(ct_table_{1}, x0, x1);
-    double kd = s->p.kd0 + s->p.ku_d * ct_lookup(ct_table_{2}, x0, x1);
+    ct_cell c = ct_table_cell(s->p.ke * e, s->p.kec * d);
+    double kp = s->p.kp0 + s->p.ku_p * ct_lookup(ct_table_{0}, c);
+    double ki = s->p.ki0 + s->p.ku_i * ct_lookup(ct_table_{1}, c);
+    double kd = s->p.kd0 + s->p.ku_d * ct_lookup(ct_table_{2}, c);
     return ct_pid_output(s, in, e, d, kp, ki, kd, s->p.ts_s);
 }
 """,
@@ -92,7 +91,7 @@ double ct_step(ct_state *s, const double *in)
     double e = s->p.target_slip - in[CT_IN_SLIP];
     int first = s->started == 0.0;
     double ec = first ? 0.0 : (e - s->e_prev) / ts;
-    double f = ct_lookup(ct_table_{0}, s->p.ke * e, s->p.kec * ec);
+    double f = ct_lookup(ct_table_{0}, ct_table_cell(s->p.ke * e, s->p.kec * ec));
     double kp1 = s->p.k_immune * (1.0 - s->p.eta * f);
     double u;
     if (first) {
@@ -192,16 +191,31 @@ static int ct_locate(double lo, double step, int n, double x, double *f)
     return i;
 }
 
-/* bilinear interpolation in a table of CT_TABLE_ROWS x CT_TABLE_COLS nodes */
-static double ct_lookup(const double tab[CT_TABLE_ROWS][CT_TABLE_COLS], double x0, double x1)
+/* the cell of (x0, x1) in the tables' grid and the fractions in it; i = -1 for a NaN input */
+typedef struct { int i, j; double f0, f1; } ct_cell;
+
+static ct_cell ct_table_cell(double x0, double x1)
 {
-    double f0, f1;
-    int i, j;
-    if (x0 != x0 || x1 != x1) return NAN;
-    i = ct_locate(CT_TABLE_ROW_LO, CT_TABLE_ROW_STEP, CT_TABLE_ROWS, x0, &f0);
-    j = ct_locate(CT_TABLE_COL_LO, CT_TABLE_COL_STEP, CT_TABLE_COLS, x1, &f1);
-    return (tab[i][j] * (1.0 - f1) + tab[i][j + 1] * f1) * (1.0 - f0)
-           + (tab[i + 1][j] * (1.0 - f1) + tab[i + 1][j + 1] * f1) * f0;
+    ct_cell c;
+    if (x0 != x0 || x1 != x1) {
+        c.i = -1;
+        c.j = 0;
+        c.f0 = NAN;
+        c.f1 = NAN;
+        return c;
+    }
+    c.i = ct_locate(CT_TABLE_ROW_LO, CT_TABLE_ROW_STEP, CT_TABLE_ROWS, x0, &c.f0);
+    c.j = ct_locate(CT_TABLE_COL_LO, CT_TABLE_COL_STEP, CT_TABLE_COLS, x1, &c.f1);
+    return c;
+}
+
+/* bilinear interpolation of a table in a cell */
+static double ct_lookup(const double tab[CT_TABLE_ROWS][CT_TABLE_COLS], ct_cell c)
+{
+    int i = c.i, j = c.j;
+    if (i < 0) return NAN;
+    return (tab[i][j] * (1.0 - c.f1) + tab[i][j + 1] * c.f1) * (1.0 - c.f0)
+           + (tab[i + 1][j] * (1.0 - c.f1) + tab[i + 1][j + 1] * c.f1) * c.f0;
 }
 """
 
