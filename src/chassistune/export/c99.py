@@ -343,44 +343,69 @@ def source(ec: ExportedController) -> str:
 
 
 CHECK_PROGRAM = """\
-/* ct_check.c: replay test_vectors.csv through ct_step and compare bit for bit (==).
+/* ct_check.c: replay test_vectors.csv through ct_step and compare bit for bit (==); with a
+ * repeat count, also time ct_step over the rows (CPU time per call, C clock()).
  * Build and run on the target toolchain:
- *   cc -std=c99 -O2 -ffp-contract=off controller.c ct_check.c -o ct_check && ./ct_check
- * Exit status 0 when every command matches. Uses stdio (controller.c itself does not). */
+ *   cc -std=c99 -O2 -ffp-contract=off controller.c ct_check.c -o ct_check
+ *   ./ct_check [test_vectors.csv [repeats]]
+ * Exit status 0 when every command matches. Uses stdio and malloc (controller.c does not). */
 #include <stdio.h>
 #include <stdlib.h>
+#include <time.h>
 #include "controller.h"
 
 int main(int argc, char **argv)
 {
     const char *path = argc > 1 ? argv[1] : "test_vectors.csv";
+    long repeats = argc > 2 ? atol(argv[2]) : 0;
     static char line[65536];
-    double in[CT_N_INPUTS], u, got;
-    long row = 0, bad = 0;
+    double *rows = NULL, got, sink = 0.0;
+    long n = 0, cap = 0, k, r, bad = 0;
     ct_state s;
+    clock_t t0;
     FILE *f = fopen(path, "r");
     if (!f || !fgets(line, sizeof line, f)) {
         fprintf(stderr, "ct_check: cannot read %s\\n", path);
         return 2;
     }
-    ct_init(&s);
     while (fgets(line, sizeof line, f)) {
         char *p = line;
         int j;
-        for (j = 0; j < CT_N_INPUTS; j++) {
-            in[j] = strtod(p, &p);
+        if (n == cap) {
+            cap = cap ? 2 * cap : 4096;
+            rows = (double *)realloc(rows, (size_t)cap * (CT_N_INPUTS + 1) * sizeof(double));
+            if (!rows) return 2;
+        }
+        for (j = 0; j <= CT_N_INPUTS; j++) {
+            rows[n * (CT_N_INPUTS + 1) + j] = strtod(p, &p);
             p++; /* the comma */
         }
-        u = strtod(p, NULL);
-        got = ct_step(&s, in);
-        if (!(got == u)) {
-            if (bad < 10) printf("row %ld: u = %.17g, expected %.17g\\n", row + 1, got, u);
-            bad++;
-        }
-        row++;
+        n++;
     }
     fclose(f);
-    printf("%ld rows, %ld mismatches\\n", row, bad);
-    return bad != 0 || row == 0;
+    ct_init(&s);
+    for (k = 0; k < n; k++) {
+        double *row = rows + k * (CT_N_INPUTS + 1);
+        got = ct_step(&s, row);
+        if (!(got == row[CT_N_INPUTS])) {
+            if (bad < 10) {
+                printf("row %ld: u = %.17g, expected %.17g\\n", k + 1, got, row[CT_N_INPUTS]);
+            }
+            bad++;
+        }
+    }
+    printf("%ld rows, %ld mismatches\\n", n, bad);
+    if (repeats > 0 && n > 0) {
+        t0 = clock();
+        for (r = 0; r < repeats; r++) {
+            ct_init(&s);
+            for (k = 0; k < n; k++) sink += ct_step(&s, rows + k * (CT_N_INPUTS + 1));
+        }
+        printf("%.1f ns per ct_step (%ld calls; checksum %g)\\n",
+               1e9 * (double)(clock() - t0) / CLOCKS_PER_SEC / ((double)repeats * n),
+               repeats * n, sink);
+    }
+    free(rows);
+    return bad != 0 || n == 0;
 }
 """
