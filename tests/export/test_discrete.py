@@ -12,6 +12,7 @@ from chassistune.controllers import discrete
 from chassistune.export import closed_loop, source, vectors
 from chassistune.fuzzy.engine import evaluate
 from chassistune.fuzzy.loader import load_rulebase
+from chassistune.plants.registry import get_plant
 
 
 @njit(cache=True)
@@ -162,3 +163,43 @@ def test_immune_loop_converges_to_the_kernel_as_the_table_is_refined() -> None:
         gaps.append(abs(vectors.stop(ec).stop_distance_m / kernel - 1.0))
     assert gaps[0] > gaps[1] > gaps[2]
     assert gaps[2] < 2e-5
+
+
+def test_slot_constants_match_the_declared_names() -> None:
+    """The numba slots (module integers) and the names the exports print agree."""
+    d = discrete
+    params = {
+        "pid": {"kp": d.PID_KP, "ki": d.PID_KI, "kd": d.PID_KD, "n_filter": d.PID_N,
+                "target_slip": d.PID_TARGET, "ts_s": d.PID_TS},
+        "fuzzy-pid": {"ke": d.FP_KE, "kec": d.FP_KEC, "ku_p": d.FP_KUP, "ku_i": d.FP_KUI,
+                      "ku_d": d.FP_KUD, "kp0": d.FP_KP0, "ki0": d.FP_KI0, "kd0": d.FP_KD0,
+                      "n_filter": d.FP_N, "target_slip": d.FP_TARGET, "ts_s": d.FP_TS},
+        "fuzzy-immune-pid": {"k_immune": d.IM_K, "eta": d.IM_ETA, "ki": d.IM_KI, "kd": d.IM_KD,
+                             "ke": d.IM_KE, "kec": d.IM_KEC, "target_slip": d.IM_TARGET,
+                             "ts_s": d.IM_TS},
+        "threshold": {"amplitude": d.TH_AMP, "decel_threshold_m_s2": d.TH_DECEL,
+                      "accel_threshold_m_s2": d.TH_ACCEL, "slip_margin": d.TH_MARGIN,
+                      "slow_fraction": d.TH_SLOW, "target_slip": d.TH_TARGET, "ts_s": d.TH_TS,
+                      "wheel_radius_m": d.TH_RADIUS},
+    }
+    state = {"pid": {"started": d.ST_STARTED, "integral": d.PS_INTEGRAL, "filter": d.PS_FILTER},
+             "fuzzy-immune-pid": {"started": d.ST_STARTED, "u_prev": d.IS_U, "e_prev": d.IS_E1,
+                                  "e_prev2": d.IS_E2},
+             "threshold": {"started": d.ST_STARTED, "phase": d.TS_PHASE,
+                           "wheel_speed_prev": d.TS_W_PREV, "wheel_accel": d.TS_AW}}
+    state["fuzzy-pid"] = state["pid"]
+    inputs = {"pid": {"slip": d.IN_SLIP, "pressure_at_max": d.IN_AT_MAX,
+                      "pressure_at_min": d.IN_AT_MIN},
+              "fuzzy-immune-pid": {"slip": d.IN_SLIP},
+              "threshold": {"slip": d.IN_SLIP, "wheel_speed_rad_s": d.IN_WHEEL_SPEED}}
+    inputs["fuzzy-pid"] = inputs["pid"]
+    for name, law in d.LAWS.items():
+        assert {n: law.params.index(n) for n in law.params} == params[name]
+        assert {n: law.state.index(n) for n in law.state} == state[name]
+        assert {n: law.inputs.index(n) for n in law.inputs} == inputs[name]
+        assert len(law.state) <= d.N_STATE
+        assert law.params[: len(spec_gains(name))] == spec_gains(name)
+
+
+def spec_gains(controller: str) -> tuple[str, ...]:
+    return get_plant("abs-wheel").scenario(None, None, controller).gain_names
