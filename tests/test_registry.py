@@ -1,4 +1,4 @@
-"""The one registry shape: duplicates refused, lazy entries imported on first use, errors list names."""
+"""The one registry shape: duplicates refused, lazy entries imported on first use."""
 
 from __future__ import annotations
 
