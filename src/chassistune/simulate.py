@@ -7,8 +7,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from chassistune.params import to_float
-from chassistune.plants.base import Scenario, Trace
-from chassistune.plants.registry import get_plant
+from chassistune.scenarios.base import Scenario, Trace
+from chassistune.scenarios.registry import get_plant
 
 
 @dataclass

@@ -11,9 +11,10 @@ import pytest
 
 from chassistune.controllers.registry import for_plant
 from chassistune.errors import InputError
-from chassistune.plants.base import PENALTY
 from chassistune.plants.quarter_car import PLANT, QuarterCarTrace
-from chassistune.plants.registry import get_plant
+from chassistune.plots.registry import plot_trace
+from chassistune.scenarios.base import PENALTY
+from chassistune.scenarios.registry import get_plant
 
 METRICS = {
     "body_acc_rms", "susp_travel_rms", "tire_defl_rms", "objective", "passive_body_acc_rms",
@@ -208,5 +209,5 @@ def test_bad_objective_and_gain_shape() -> None:
 def test_plot_writes_a_png(tmp_path: Path, controller: str, gains: list[float]) -> None:
     sc = PLANT.scenario("paper-iabc", controller=controller, params={"duration_s": 8})
     path = tmp_path / "qc.png"
-    PLANT.plot(sc, sc.trace(np.array(gains)), str(path))
+    plot_trace(sc, sc.trace(np.array(gains)), str(path))
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -22,8 +22,8 @@ from chassistune.errors import InputError
 def demo_command(out_dir: str, as_json: bool) -> None:
     """No ABS against a PID ABS on seed 000's three roads: table and plots."""
     from chassistune.controllers import abs_registry
-    from chassistune.plants.abs_wheel import PLANT
     from chassistune.plots.abs_wheel import plot_comparison
+    from chassistune.scenarios.abs_wheel import PLANT
 
     parent = os.path.dirname(os.path.abspath(out_dir))
     if not os.path.isdir(parent):

@@ -7,7 +7,7 @@ import json
 import click
 
 from chassistune.cli.main import cli
-from chassistune.plants.registry import get_plant, plant_names
+from chassistune.scenarios.registry import get_plant, plant_names
 
 KINDS = ["plants", "presets", "roads", "controllers", "optimizers", "functions"]
 

@@ -21,7 +21,7 @@ from chassistune.controllers.registry import ControllerSpec
 from chassistune.errors import InputError
 from chassistune.params import as_dict, override, validate
 from chassistune.plants import iso_roads
-from chassistune.plants.base import (
+from chassistune.scenarios.base import (
     PENALTY,
     Plant,
     PresetInfo,
@@ -30,6 +30,7 @@ from chassistune.plants.base import (
     json_scalar,
     pick_preset,
 )
+from chassistune.scenarios.registry import QUARTER_CAR
 from chassistune.sim import lyapunov
 from chassistune.sim import quarter_car_kernel as kernel
 from chassistune.sim import quarter_car_model as model
@@ -329,9 +330,7 @@ _UNITS = {"s": "s", "m": "m", "s2": "m/s^2", "n": "N"}
 class QuarterCarPlant(Plant):
     """The quarter-car active suspension plant."""
 
-    name = "quarter-car"
-    description = "2-DOF quarter-car active suspension on an ISO 8608 random road (seed 001)"
-    default_preset = "paper-iabc"
+    spec = QUARTER_CAR
 
     def presets(self) -> dict[str, PresetInfo]:
         return {n: p.info for n, p in PRESETS.items()}
@@ -347,7 +346,7 @@ class QuarterCarPlant(Plant):
         params: Mapping[str, object] | None = None,
         seed: int = 0,
     ) -> QuarterCarScenario:
-        preset = pick_preset("quarter-car", preset, self.default_preset, PRESETS)
+        preset = pick_preset(self.name, preset, self.default_preset, PRESETS)
         pre = PRESETS[preset]
         road = road or pre.info.roads[0]
         gq = iso_roads.road_class(road)
@@ -378,11 +377,6 @@ class QuarterCarPlant(Plant):
         _check_solver(solver)
         return QuarterCarScenario(preset, road, spec, validate(vehicle, "--param "),
                                   road_params, solver, ctrl, int(seed))
-
-    def plot(self, scenario: Scenario, trace: Trace, path: str) -> None:
-        from chassistune.plots.quarter_car import plot_trace
-
-        plot_trace(scenario, trace, path)
 
 
 def _check_solver(solver: SolverParams) -> None:

@@ -330,7 +330,7 @@ def _cells(sc: ScenarioConfig, default_road: str) -> Iterator[_Cell]:
 
 def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int) -> list[dict[str, Any]]:
     """Build every scenario the runs will build; the run-spec fields of each cell."""
-    from chassistune.plants.registry import get_plant
+    from chassistune.scenarios.registry import get_plant
     from chassistune.tuning.problem import build_problem
 
     try:

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from chassistune.errors import InputError
-from chassistune.plants.base import PENALTY, Scenario
-from chassistune.plants.registry import get_plant
+from chassistune.scenarios.base import PENALTY, Scenario
+from chassistune.scenarios.registry import get_plant
 
 AGGREGATES = ("mean", "max")
 

@@ -1,9 +1,10 @@
-"""What every plant offers the simulation, tuning and CLI layers.
+"""What every plant offers the tuning, study, report and CLI layers.
 
-A *plant* (registered by name in `chassistune.plants.registry`) knows its presets and roads and
+A *plant* (registered by name in `chassistune.scenarios.registry`) knows its presets and roads and
 builds a *scenario*: plant + preset + road + controller + parameter overrides, fully resolved and
 validated. A scenario evaluates a whole population of gain vectors at once (`metrics`, `cost`)
-and traces one candidate for plots (`trace`).
+and traces one candidate for plots (`trace`). What the upper layers need to know about a plant
+without building anything (version, default preset, key metrics, plot function) is its `PlantSpec`.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ import numpy as np
 
 from chassistune.controllers.registry import ControllerSpec
 from chassistune.errors import InputError
+from chassistune.plants.presets import PresetInfo
 
 PENALTY = 1e9
 """Cost of a run that cannot be scored (diverged, NaN, unstable, hopeless, not stopped)."""
@@ -43,12 +45,20 @@ def pick_preset(plant: str, name: str | None, default: str, known: Mapping[str, 
 
 
 @dataclass(frozen=True)
-class PresetInfo:
-    """A named parameter set of a plant, with the roads of its paper (first = default)."""
+class PlantSpec:
+    """A plant's identity and what reports need of it.
+
+    `key_metrics` are its lower-is-better metrics summarized in reports (each a metric name of
+    its scenarios); `plot` names the function drawing a trace, lazily as "module:attr"
+    (signature `plot(scenario, trace, path)`), so that no computation module imports matplotlib.
+    """
 
     name: str
+    version: int
     description: str
-    roads: tuple[str, ...]
+    default_preset: str
+    key_metrics: tuple[str, ...]
+    plot: str
 
 
 @dataclass
@@ -104,11 +114,21 @@ class Scenario(ABC):
 
 
 class Plant(ABC):
-    """A registered plant: its presets, roads and how to build a scenario."""
+    """A registered plant: its spec, presets, roads and how to build a scenario."""
 
-    name: str
-    description: str
-    default_preset: str
+    spec: PlantSpec
+
+    @property
+    def name(self) -> str:
+        return self.spec.name
+
+    @property
+    def description(self) -> str:
+        return self.spec.description
+
+    @property
+    def default_preset(self) -> str:
+        return self.spec.default_preset
 
     @abstractmethod
     def presets(self) -> dict[str, PresetInfo]:
@@ -128,11 +148,3 @@ class Plant(ABC):
         seed: int = 0,
     ) -> Scenario:
         """Resolve and validate; unknown names or bad values raise InputError."""
-
-    @abstractmethod
-    def plot(self, scenario: Scenario, trace: Trace, path: str) -> None:
-        """Draw the figure of `simulate --plot` for this trace into `path` (PNG).
-
-        Implementations import matplotlib lazily (physics imports no plotting) from
-        `chassistune.plots.<plant module>`.
-        """
