@@ -11,9 +11,9 @@ import pytest
 
 from chassistune.controllers.registry import for_plant
 from chassistune.errors import InputError
-from chassistune.plants.quarter_car import PLANT, QuarterCarTrace
 from chassistune.plots.registry import plot_trace
 from chassistune.scenarios.base import PENALTY
+from chassistune.scenarios.quarter_car import PLANT, QuarterCarTrace
 from chassistune.scenarios.registry import get_plant
 
 METRICS = {

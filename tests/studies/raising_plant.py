@@ -13,8 +13,8 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from chassistune.plants.quarter_car import QuarterCarPlant, QuarterCarScenario
 from chassistune.scenarios import registry
+from chassistune.scenarios.quarter_car import QuarterCarPlant, QuarterCarScenario
 
 NAME = "raising-quarter-car"
 MESSAGE = "test objective raised on purpose"

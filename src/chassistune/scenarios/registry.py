@@ -49,7 +49,7 @@ def unregister(name: str) -> None:
 
 
 register(ABS_WHEEL, "chassistune.scenarios.abs_wheel:PLANT")
-register(QUARTER_CAR, "chassistune.plants.quarter_car:PLANT")
+register(QUARTER_CAR, "chassistune.scenarios.quarter_car:PLANT")
 
 
 def plant_names() -> list[str]:

@@ -19,7 +19,7 @@ import numpy as np
 from numba import njit
 
 from chassistune.plants.iso_roads import NOISE_INTENSITY
-from chassistune.sim.quarter_car_model import (
+from chassistune.plants.quarter_car import (
     MAX_STATES,
     N_OUT,
     OUT_ACC,
