@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from chassistune.controllers.registry import for_plant
+from chassistune.controllers.catalogue import for_plant
 from chassistune.errors import InputError
 from chassistune.plots.registry import plot_trace
 from chassistune.scenarios.base import PENALTY

@@ -1,4 +1,4 @@
-"""Single-wheel ABS plant (DESIGN 3.1; Mi et al. 2023 `derlsp-ao-abs` eqs. 1-12, Zhang et al. 2021
+"""Single-wheel ABS plant (DESIGN 3.1; Tian et al. `derlsp-ao-abs` eqs. 1-12, Ding 2023
 `fuzzy-immune-abs`, MathWorks sldemo_absbrake): parameters and presets.
 
 The equations of motion (DESIGN 3.1) are integrated by the compiled kernel
@@ -70,7 +70,7 @@ PRESETS: dict[str, Preset] = {
     "paper-derlsp-ao": Preset(
         PresetInfo(
             "paper-derlsp-ao",
-            "Mi et al. 2023 (derlsp-ao-abs): M = 100 kg quarter mass, I = 12 kg m^2, R = 0.5 m, "
+            "Tian et al. (derlsp-ao-abs): M = 100 kg quarter mass, I = 12 kg m^2, R = 0.5 m, "
             "v0 = 30 m/s, K/(s(Ts+1))",
             ("dry-concrete", "wet-asphalt", "ice"),
         ),
@@ -79,7 +79,7 @@ PRESETS: dict[str, Preset] = {
     "paper-fuzzy-immune": Preset(
         PresetInfo(
             "paper-fuzzy-immune",
-            "Zhang et al. 2021 (fuzzy-immune-abs): R = 0.28 m, J = 25 kg m^2 (as printed), "
+            "Ding 2023 (fuzzy-immune-abs): R = 0.28 m, J = 25 kg m^2 (as printed), "
             "q in kPa, kq = 25 N m/kPa, M = 300 kg (our assumption)",
             ("asphalt-0.8", "dirt-0.2"),
         ),

@@ -1,8 +1,8 @@
 """Every road surface by name (DESIGN 3.2, 3.4): tire-road friction curves for the wheel plants and
 ISO 8608 roughness classes for the suspension.
 
-Friction roads: the bilinear curves of Mi et al.'s Table 1 (`derlsp-ao-abs`) and the peaks of
-Zhang et al. (`fuzzy-immune-abs`), Burckhardt's seven surfaces (`burckhardt-<surface>`) and
+Friction roads: the bilinear curves of Tian et al.'s Table 1 (`derlsp-ao-abs`) and the peaks of
+Ding 2023 (`fuzzy-immune-abs`), Burckhardt's seven surfaces (`burckhardt-<surface>`) and
 MathWorks' sldemo table (`sldemo-table`). Roughness roads: `iso-a` ... `iso-h`.
 """
 

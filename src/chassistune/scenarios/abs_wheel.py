@@ -14,8 +14,8 @@ from typing import Any
 
 import numpy as np
 
-from chassistune.controllers import abs_registry
-from chassistune.controllers.registry import ControllerSpec
+from chassistune.controllers import catalogue
+from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
 from chassistune.params import as_dict, override, to_float, validate
 from chassistune.plants.abs_wheel import PRESETS, AbsWheelParams, check_consistency
@@ -266,7 +266,7 @@ class AbsWheelPlant(Plant):
         preset = pick_preset(self.name, preset, self.default_preset, PRESETS)
         pre = PRESETS[preset]
         road = road or pre.info.roads[0]
-        spec = abs_registry.get(controller)
+        spec = catalogue.get(ABS_WHEEL.name, controller)
         values = dict(params or {})
         plant_params, used = override(pre.params, values)
         tire, used_tire = tire_for_road(road, values)

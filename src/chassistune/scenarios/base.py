@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from chassistune.controllers.registry import ControllerSpec
+from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
 from chassistune.plants.presets import PresetInfo
 

@@ -16,8 +16,8 @@ from typing import Any
 
 import numpy as np
 
-from chassistune.controllers import quarter_car_registry as registry
-from chassistune.controllers.registry import ControllerSpec
+from chassistune.controllers import catalogue
+from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
 from chassistune.params import as_dict, override, validate
 from chassistune.plants import iso_roads
@@ -304,7 +304,7 @@ class QuarterCarPlant(Plant):
         pre = PRESETS[preset]
         road = road or pre.info.roads[0]
         gq = roughness_class(road)
-        spec = registry.get(controller)
+        spec = catalogue.get(QUARTER_CAR.name, "passive" if controller == "none" else controller)
         if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
             raise InputError("--seed", f"must be a non-negative integer, got {seed!r}")
         values = dict(params or {})
