@@ -88,9 +88,21 @@ PRESETS: dict[str, Preset] = {
     ),
 }
 
-# plant vector layout
-P_MS, P_MU, P_KS, P_CS, P_KT, P_LAM, P_B = range(7)
-N_PLANT = 7
+PLANT_SLOTS: tuple[tuple[str, str, str], ...] = (
+    ("sprung_mass_kg", "kg", "ms"),
+    ("unsprung_mass_kg", "kg", "mu"),
+    ("spring_n_m", "N/m", "ks"),
+    ("damper_n_s_m", "N s/m", "cs"),
+    ("tire_stiffness_n_m", "N/m", "kt"),
+    ("road_pole_rad_s", "rad/s", "2 pi f0 of the road filter"),
+    ("road_gain", "m/s^0.5", "b of the road filter"),
+)
+"""The plant vector read by `closed_loop`: (name, unit, meaning), in order (the kernels' Layout)."""
+_P = {name: i for i, (name, _, _) in enumerate(PLANT_SLOTS)}
+P_MS, P_MU, P_KS, P_CS = (_P[n] for n in ("sprung_mass_kg", "unsprung_mass_kg", "spring_n_m",
+                                           "damper_n_s_m"))
+P_KT, P_LAM, P_B = (_P[n] for n in ("tire_stiffness_n_m", "road_pole_rad_s", "road_gain"))
+N_PLANT = len(PLANT_SLOTS)
 
 # feedback signal codes
 FB_DISPLACEMENT, FB_VELOCITY, FB_ACCELERATION, FB_TRAVEL = range(4)
@@ -106,10 +118,21 @@ S_ZS, S_VS, S_ZU, S_VU, S_Z0 = range(5)
 N_PLANT_STATES = 5
 MAX_STATES = 7
 
-# output rows of C
-OUT_ACC, OUT_TRAVEL, OUT_TIRE, OUT_FORCE, OUT_ROAD, OUT_ZS = range(6)
-N_OUT = 6
-OUTPUT_NAMES = ("body_acc", "susp_travel", "tire_defl", "force", "road", "body_disp")
+OUTPUT_SLOTS: tuple[tuple[str, str, str], ...] = (
+    ("body_acc", "m/s^2", "body vertical acceleration zs''"),
+    ("susp_travel", "m", "suspension travel zs - zu"),
+    ("tire_defl", "m", "tire deflection zu - z0"),
+    ("force", "N", "actuator force u"),
+    ("road", "m", "road displacement z0"),
+    ("body_disp", "m", "body displacement zs"),
+)
+"""The rows of C (outputs y = C x): (name, unit, meaning), in order (the kernels' Layout)."""
+OUTPUT_NAMES = tuple(name for name, _, _ in OUTPUT_SLOTS)
+OUT_ACC, OUT_TRAVEL, OUT_TIRE, OUT_FORCE, OUT_ROAD, OUT_ZS = (
+    OUTPUT_NAMES.index(n)
+    for n in ("body_acc", "susp_travel", "tire_defl", "force", "road", "body_disp")
+)
+N_OUT = len(OUTPUT_SLOTS)
 
 # closed_loop() status
 SINGULAR_LOOP = -1

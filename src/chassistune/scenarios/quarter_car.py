@@ -102,16 +102,11 @@ class QuarterCarScenario(Scenario):
         self.solver = solver
         self.controller_params = controller_params
         self.seed = seed
-        v = vehicle
-        p = np.zeros(model.N_PLANT)
-        p[model.P_MS] = v.sprung_mass_kg
-        p[model.P_MU] = v.unsprung_mass_kg
-        p[model.P_KS] = v.spring_n_m
-        p[model.P_CS] = v.damper_n_s_m
-        p[model.P_KT] = v.tire_stiffness_n_m
-        p[model.P_LAM] = road_params.pole_rad_s
-        p[model.P_B] = road_params.gain
-        self.plant_vector = p
+        self.plant_vector = kernel.PLANT.pack({
+            **as_dict(vehicle),
+            "road_pole_rad_s": road_params.pole_rad_s,
+            "road_gain": road_params.gain,
+        })
         self.feedback_code = model.FEEDBACK_CODES[controller_params.feedback]
 
     # -- parameters -------------------------------------------------------------------------
@@ -171,7 +166,7 @@ class QuarterCarScenario(Scenario):
         """(n, kernel.N_RESULT): simulated RMS (acc, travel, tire, force) and diverged flag."""
         p, fb, nf = self.plant_vector, self._feedback, self.controller_params.n_filter
         noise, dt = self.noise, self.solver.dt_s
-        no_trace = np.zeros((model.N_OUT, 0))
+        no_trace = np.zeros((len(kernel.OUTPUTS), 0))
 
         def call(g: np.ndarray, out: np.ndarray) -> None:
             kernel.simulate_batch(p, fb, nf, g, noise, dt, no_trace, 1, out)
@@ -182,8 +177,9 @@ class QuarterCarScenario(Scenario):
     def passive_sim(self) -> np.ndarray:
         """Simulated RMS of the passive suspension on this run's road (acc, travel, tire)."""
         out = np.empty((1, kernel.N_RESULT))
+        no_trace = np.zeros((len(kernel.OUTPUTS), 0))
         kernel.simulate_batch(self.plant_vector, model.FB_VELOCITY, 1.0, np.zeros((1, 3)),
-                              self.noise, self.solver.dt_s, np.zeros((model.N_OUT, 0)), 1, out)
+                              self.noise, self.solver.dt_s, no_trace, 1, out)
         return out[0, :3]
 
     # -- metrics and costs ----------------------------------------------------------------------
@@ -192,23 +188,24 @@ class QuarterCarScenario(Scenario):
         exact = self.exact(gains)
         sim = self.simulate(gains)
         stable = exact[:, lyapunov.E_STABLE] == 1.0
-        diverged = sim[:, kernel.R_DIVERGED] == 1.0
+        rms = kernel.RESULT.decode(sim)
+        diverged = rms.pop("diverged") == 1.0
         n = sim.shape[0]
         ps = self.passive_sim
         v = self.vehicle
         return {
-            "body_acc_rms": sim[:, kernel.R_ACC],
-            "susp_travel_rms": sim[:, kernel.R_TRAVEL],
-            "tire_defl_rms": sim[:, kernel.R_TIRE],
+            "body_acc_rms": rms["body_acc_rms"],
+            "susp_travel_rms": rms["susp_travel_rms"],
+            "tire_defl_rms": rms["tire_defl_rms"],
             "objective": lyapunov.rms_ratio(sim, ps, stable & ~diverged, PENALTY),
             "objective_exact": lyapunov.rms_ratio(exact, self.passive_exact, stable, PENALTY),
             "passive_body_acc_rms": np.full(n, ps[0]),
             "passive_susp_travel_rms": np.full(n, ps[1]),
             "passive_tire_defl_rms": np.full(n, ps[2]),
-            "force_rms": sim[:, kernel.R_FORCE],
+            "force_rms": rms["force_rms"],
             "damping_ratio": np.full(n, v.damping_ratio),
-            "travel_3sigma_m": 3.0 * sim[:, kernel.R_TRAVEL],
-            "dynamic_tire_load_ratio": (v.tire_stiffness_n_m * sim[:, kernel.R_TIRE]
+            "travel_3sigma_m": 3.0 * rms["susp_travel_rms"],
+            "dynamic_tire_load_ratio": (v.tire_stiffness_n_m * rms["tire_defl_rms"]
                                         / v.static_tire_load_n),
             "stable": stable,
             "diverged": diverged,
@@ -227,13 +224,13 @@ class QuarterCarScenario(Scenario):
         if objective == "rms-ratio-exact":
             return lyapunov.rms_ratio(exact, self.passive_exact, stable, PENALTY)
         sim = self.simulate(gains, workers)
-        usable = stable & (sim[:, kernel.R_DIVERGED] == 0.0)
+        usable = stable & (sim[:, kernel.RESULT["diverged"]] == 0.0)
         return lyapunov.rms_ratio(sim, self.passive_sim, usable, PENALTY)
 
     # -- traces and frequency responses ---------------------------------------------------------
 
     def _trace_run(self, pid: np.ndarray, feedback: int, stride: int, n_rec: int) -> np.ndarray:
-        rec = np.zeros((model.N_OUT, n_rec))
+        rec = np.zeros((len(kernel.OUTPUTS), n_rec))
         out = np.empty((1, kernel.N_RESULT))
         kernel.simulate_batch(self.plant_vector, feedback, self.controller_params.n_filter,
                               pid.reshape(1, 3), self.noise, self.solver.dt_s, rec, stride, out)
@@ -247,20 +244,14 @@ class QuarterCarScenario(Scenario):
         n_rec = n_steps // stride + 1
         active = self._trace_run(pid, self._feedback, stride, n_rec)
         passive = self._trace_run(np.zeros(3), model.FB_VELOCITY, stride, n_rec)
-        names = dict(zip(model.OUTPUT_NAMES, range(model.N_OUT), strict=True))
-        signals = {
-            "time_s": np.arange(n_rec) * stride * self.solver.dt_s,
-            "road_m": active[names["road"]],
-            "body_acc_m_s2": active[names["body_acc"]],
-            "susp_travel_m": active[names["susp_travel"]],
-            "tire_defl_m": active[names["tire_defl"]],
-            "force_n": active[names["force"]],
-            "body_disp_m": active[names["body_disp"]],
-            "passive_body_acc_m_s2": passive[names["body_acc"]],
-            "passive_susp_travel_m": passive[names["susp_travel"]],
-            "passive_tire_defl_m": passive[names["tire_defl"]],
-        }
-        units = {k: _UNITS[k.rsplit("_", 1)[-1]] for k in signals}
+        out = kernel.OUTPUTS
+        signals = {"time_s": np.arange(n_rec) * stride * self.solver.dt_s}
+        units = {"time_s": "s"}
+        for prefix, rows, names in (("", active, TRACE_SIGNALS),
+                                    ("passive_", passive, PASSIVE_SIGNALS)):
+            for name in names:
+                signals[prefix + name] = rows[out[TRACE_SIGNALS[name]]]
+                units[prefix + name] = out.units[TRACE_SIGNALS[name]]
         metrics = {k: json_scalar(v[0]) for k, v in self.metrics(g.reshape(1, -1)).items()}
         return QuarterCarTrace(signals, metrics, units, gains=g.copy())
 
@@ -277,7 +268,11 @@ class QuarterCarScenario(Scenario):
                 "passive": np.abs(passive)}
 
 
-_UNITS = {"s": "s", "m": "m", "s2": "m/s^2", "n": "N"}
+TRACE_SIGNALS = {"road_m": "road", "body_acc_m_s2": "body_acc", "susp_travel_m": "susp_travel",
+                 "tire_defl_m": "tire_defl", "force_n": "force", "body_disp_m": "body_disp"}
+"""Trace signal name -> output row of the kernel's trace (`kernel.OUTPUTS`)."""
+PASSIVE_SIGNALS = ("body_acc_m_s2", "susp_travel_m", "tire_defl_m")
+"""Signals also traced for the passive suspension on the same road (as passive_<name>)."""
 
 
 
