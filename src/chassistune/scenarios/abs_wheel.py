@@ -255,6 +255,9 @@ class AbsWheelPlant(Plant):
     def roads(self) -> dict[str, str]:
         return friction_roads()
 
+    def controllers(self) -> list[ControllerSpec]:
+        return catalogue.for_plant(ABS_WHEEL.name)
+
     def scenario(
         self,
         preset: str | None = None,

@@ -139,6 +139,10 @@ class Plant(ABC):
         """Road name -> one-line description."""
 
     @abstractmethod
+    def controllers(self) -> list[ControllerSpec]:
+        """The controllers a scenario of this plant accepts, in catalogue order."""
+
+    @abstractmethod
     def scenario(
         self,
         preset: str | None = None,

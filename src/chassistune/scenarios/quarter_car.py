@@ -287,6 +287,9 @@ class QuarterCarPlant(Plant):
     def roads(self) -> dict[str, str]:
         return roughness_roads()
 
+    def controllers(self) -> list[ControllerSpec]:
+        return catalogue.for_plant(QUARTER_CAR.name)
+
     def scenario(
         self,
         preset: str | None = None,
