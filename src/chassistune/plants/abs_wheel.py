@@ -103,12 +103,12 @@ PRESETS: dict[str, Preset] = {
 def check_consistency(pp: AbsWheelParams) -> None:
     """Checks across fields: a stop speed below v0 and an RK4 step the plant tolerates."""
     if pp.v0_m_s <= pp.v_stop_m_s:
-        raise InputError("--param v0_m_s", f"must exceed v_stop_m_s = {pp.v_stop_m_s:g}, "
+        raise InputError("params.v0_m_s", f"must exceed v_stop_m_s = {pp.v_stop_m_s:g}, "
                          f"got {pp.v0_m_s:g}")
     if pp.dt_s > 0.01:
-        raise InputError("--param dt_s", f"must be at most 0.01 s for a stable RK4 step, got "
+        raise InputError("params.dt_s", f"must be at most 0.01 s for a stable RK4 step, got "
                          f"{pp.dt_s:g}")
     if pp.t_max_s < 10 * pp.dt_s:
-        raise InputError("--param t_max_s", f"must be at least 10 steps, got {pp.t_max_s:g}")
+        raise InputError("params.t_max_s", f"must be at least 10 steps, got {pp.t_max_s:g}")
     if pp.t_max_s / pp.dt_s > 5e7:
-        raise InputError("--param dt_s", "too many steps (t_max_s / dt_s above 5e7)")
+        raise InputError("params.dt_s", "too many steps (t_max_s / dt_s above 5e7)")

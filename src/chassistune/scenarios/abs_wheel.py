@@ -65,10 +65,10 @@ def fuzzy_table(controller: str, rulebase: str) -> tuple[Any, ...]:
     from chassistune.fuzzy.loader import load_rulebase
     from chassistune.fuzzy.surface import compiled
 
-    rb = load_rulebase(rulebase, "--param rulebase")
+    rb = load_rulebase(rulebase, "params.rulebase")
     need = FUZZY_OUTPUTS[controller]
     if len(rb.inputs) != 2 or len(rb.outputs) != need:
-        raise InputError("--param rulebase", f"{controller} needs a rule base with inputs (e, ec) "
+        raise InputError("params.rulebase", f"{controller} needs a rule base with inputs (e, ec) "
                          f"and {need} output(s); {rulebase!r} has {len(rb.inputs)} inputs and "
                          f"{len(rb.outputs)} outputs")
     return compiled(rb).table
@@ -282,23 +282,23 @@ class AbsWheelPlant(Plant):
                 used.add(ps.name)
                 continue
             if ps.name in values:
-                ctrl_values[ps.name] = to_float(values[ps.name], f"--param {ps.name}")
+                ctrl_values[ps.name] = to_float(values[ps.name], f"params.{ps.name}")
                 used.add(ps.name)
             elif ps.name in pre.controller_defaults:
                 ctrl_values[ps.name] = pre.controller_defaults[ps.name]
             elif isinstance(ps.default, float):
                 ctrl_values[ps.name] = ps.default
             if ps.positive and ps.name in ctrl_values and not ctrl_values[ps.name] > 0:
-                raise InputError(f"--param {ps.name}", f"must be positive, got "
+                raise InputError(f"params.{ps.name}", f"must be positive, got "
                                  f"{ctrl_values[ps.name]:g}")
         if "amplitude" in spec.param_names and "amplitude" not in ctrl_values:
             # default command: reaches q_max in 0.15 s through the integrating actuator
             ctrl_values["amplitude"] = plant_params.q_max / (0.15 * plant_params.actuator_gain)
         target = tire.peak()[2]
         if "target_slip" in values:
-            target = to_float(values["target_slip"], "--param target_slip")
+            target = to_float(values["target_slip"], "params.target_slip")
             if not 0.0 < target < 1.0:
-                raise InputError("--param target_slip", f"must be in (0, 1), got {target:g}")
+                raise InputError("params.target_slip", f"must be in (0, 1), got {target:g}")
             used.add("target_slip")
         unknown = sorted(set(values) - used)
         if unknown:
@@ -308,10 +308,10 @@ class AbsWheelPlant(Plant):
                 | {f.name for f in dataclasses.fields(Scoring)}
                 | set(spec.param_names) | {"target_slip"}
             )
-            raise InputError(f"--param {unknown[0]}", f"unknown parameter for abs-wheel with "
+            raise InputError(f"params.{unknown[0]}", f"unknown parameter for abs-wheel with "
                              f"{spec.name} on {road} (known: {', '.join(known)})")
         check_consistency(plant_params)
-        return AbsWheelScenario(preset, road, spec, validate(plant_params, "--param "), tire,
+        return AbsWheelScenario(preset, road, spec, validate(plant_params, "params."), tire,
                                 ctrl_values, target, scoring, seed)
 
 

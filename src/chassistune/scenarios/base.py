@@ -107,7 +107,7 @@ class Scenario(ABC):
             if name not in values:
                 known = ", ".join(self.gain_names) or "none"
                 raise InputError(
-                    "--gains", f"unknown gain {name!r} for {self.controller.name} (known: {known})"
+                    "gains", f"unknown gain {name!r} for {self.controller.name} (known: {known})"
                 )
             values[name] = float(value)
         return np.array([values[n] for n in self.gain_names], dtype=np.float64)

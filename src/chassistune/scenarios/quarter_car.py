@@ -304,7 +304,7 @@ class QuarterCarPlant(Plant):
         gq = roughness_class(road)
         spec = catalogue.get(QUARTER_CAR.name, "passive" if controller == "none" else controller)
         if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
-            raise InputError("--seed", f"must be a non-negative integer, got {seed!r}")
+            raise InputError("seed", f"must be a non-negative integer, got {seed!r}")
         values = dict(params or {})
         vehicle, used = override(pre.vehicle, values)
         road_params, used_road = override(iso_roads.RoadParams(gq_m3=gq), values)
@@ -320,26 +320,26 @@ class QuarterCarPlant(Plant):
                 | {f.name for f in dataclasses.fields(SolverParams)}
                 | set(spec.param_names)
             )
-            raise InputError(f"--param {unknown[0]}", f"unknown parameter for quarter-car with "
+            raise InputError(f"params.{unknown[0]}", f"unknown parameter for quarter-car with "
                              f"{spec.name} (known: {', '.join(known)})")
         if ctrl.feedback not in model.FEEDBACK_CODES:
-            raise InputError("--param feedback", f"unknown feedback {ctrl.feedback!r} (known: "
+            raise InputError("params.feedback", f"unknown feedback {ctrl.feedback!r} (known: "
                              f"{', '.join(model.FEEDBACK_CODES)})")
         iso_roads.validate_road(road_params)
         _check_solver(solver)
-        return QuarterCarScenario(preset, road, spec, validate(vehicle, "--param "),
+        return QuarterCarScenario(preset, road, spec, validate(vehicle, "params."),
                                   road_params, solver, ctrl, int(seed))
 
 
 def _check_solver(solver: SolverParams) -> None:
     if solver.dt_s > 0.01:
-        raise InputError("--param dt_s", f"must be at most 0.01 s (the road noise is held over "
+        raise InputError("params.dt_s", f"must be at most 0.01 s (the road noise is held over "
                          f"the step), got {solver.dt_s:g}")
     if solver.duration_s < solver.dt_s:
-        raise InputError("--param duration_s", f"must be at least one step dt_s = "
+        raise InputError("params.duration_s", f"must be at least one step dt_s = "
                          f"{solver.dt_s:g}, got {solver.duration_s:g}")
     if solver.n_steps > MAX_STEPS:
-        raise InputError("--param duration_s", f"too many steps: duration_s / dt_s = "
+        raise InputError("params.duration_s", f"too many steps: duration_s / dt_s = "
                          f"{solver.n_steps} exceeds {MAX_STEPS}")
 
 
