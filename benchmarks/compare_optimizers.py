@@ -26,9 +26,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import sys
-import tempfile
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -36,7 +34,8 @@ from typing import Any
 
 import numpy as np
 
-from chassistune import benchmarks, stats
+from chassistune import _io, benchmarks, stats
+from chassistune._rng import child_seed, int_seed, make_rng
 from chassistune.optimizers import registry
 from chassistune.optimizers.minimize import minimize
 
@@ -67,7 +66,7 @@ GRID = np.unique(np.geomspace(POP, EVALS, 40).astype(int))
 def _objective(
     fn: benchmarks.BenchmarkFunction, seed: np.random.SeedSequence
 ) -> Callable[..., Any]:
-    noise = np.random.default_rng(seed.spawn(1)[0]) if fn.noisy else None
+    noise = make_rng(child_seed(seed, 0)) if fn.noisy else None
     return lambda x: fn(x, noise)
 
 
@@ -144,7 +143,7 @@ def run_mealpy(
     term = {"max_fe": EVALS} if protocol == "evals" else None
     model = classes[method]()
     t0 = time.perf_counter()
-    best = model.solve(problem, termination=term, seed=int(seed.generate_state(1)[0]))
+    best = model.solve(problem, termination=term, seed=int_seed(seed))
     wall = time.perf_counter() - t0
     return {
         "best_f": float(best.target.fitness),
@@ -160,7 +159,7 @@ def run_scipy_de(
     from scipy.optimize import differential_evolution
 
     b = fn.bounds()
-    rng = np.random.default_rng(seed)
+    rng = make_rng(seed)
     init = b[:, 0] + rng.random((POP, b.shape[0])) * (b[:, 1] - b[:, 0])
     maxiter = (EVALS - POP) // POP if protocol == "evals" else ITERS
     objective = _objective(fn, seed)
@@ -215,19 +214,6 @@ def cell_path(out: Path, protocol: str, function: str, method: str) -> Path:
     return out / protocol / function / f"{method.replace(':', '_')}.json"
 
 
-def write_atomically(path: Path, data: dict[str, Any]) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-", suffix=".json")
-    try:
-        with os.fdopen(fd, "w") as fh:
-            json.dump(data, fh)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-
-
 def load_cell(path: Path) -> dict[str, Any] | None:
     try:
         with open(path) as fh:
@@ -246,7 +232,7 @@ def run_cell(out: Path, protocol: str, function: str, method: str, runs: int) ->
     fn = benchmarks.get(function)
     results = []
     for r in range(runs):
-        res = run_one(method, fn, protocol, np.random.SeedSequence(ROOT, spawn_key=(r,)))
+        res = run_one(method, fn, protocol, child_seed(ROOT, r))
         results.append(res)
     data: dict[str, Any] = {
         "protocol": protocol,
@@ -268,7 +254,8 @@ def run_cell(out: Path, protocol: str, function: str, method: str, runs: int) ->
             k: [None if not math.isfinite(v) else float(v) for v in vals]
             for k, vals in band.items()
         }
-    write_atomically(path, data)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    _io.write_json(path, data, indent=None)
     return True
 
 
@@ -441,7 +428,8 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     if args.report:
         text = report(args.out)
-        write_atomically_text(args.report_to, text)
+        args.report_to.parent.mkdir(parents=True, exist_ok=True)
+        _io.write_text(args.report_to, text)
         print(f"wrote {args.report_to}")
         return 0
     k, n = (int(v) for v in args.part.split("/"))
@@ -459,14 +447,6 @@ def main(argv: list[str] | None = None) -> int:
         state = f"{time.perf_counter() - t0:.1f} s" if ran else "done before"
         print(f"[{i}/{len(cells)}] {p} {f} {m}: {state}", flush=True)
     return 0
-
-
-def write_atomically_text(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-", suffix=".md")
-    with os.fdopen(fd, "w") as fh:
-        fh.write(text)
-    os.replace(tmp, path)
 
 
 if __name__ == "__main__":

@@ -25,9 +25,7 @@ import argparse
 import csv
 import io
 import json
-import os
 import sys
-import tempfile
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
@@ -39,7 +37,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import minimize
 
-from chassistune import stats
+from chassistune import _io, stats
+from chassistune._rng import child_seed
 from chassistune.controllers.quarter_car_registry import PAPER_BOX
 from chassistune.optimizers.registry import make
 from chassistune.plants.quarter_car import PLANT, QuarterCarScenario
@@ -103,7 +102,7 @@ class Config:
 
 def seed_sequence(index: int) -> np.random.SeedSequence:
     """Run seed `index`: child `index` of SeedSequence(ROOT_ENTROPY)."""
-    return np.random.SeedSequence(ROOT_ENTROPY, spawn_key=(index,))
+    return child_seed(ROOT_ENTROPY, index)
 
 
 def box_bounds(box: str) -> dict[str, tuple[float, float]] | None:
@@ -154,22 +153,10 @@ def tune_once(prob: TuningProblem, algorithm: str, pop: int, iters: int, seed: i
     }
 
 
-def write_atomic(path: Path, text: str) -> None:
-    """Write `text` to `path` through a temporary file renamed into place."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-", suffix=path.suffix)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-
-
 def write_json(path: Path, obj: Any) -> None:
-    """Atomic JSON file."""
-    write_atomic(path, json.dumps(obj, indent=1) + "\n")
+    """Atomic JSON file (its folder created if missing)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    _io.write_json(path, obj)
 
 
 def check_manifest(cfg: Config) -> None:
@@ -560,7 +547,7 @@ def write_csv(path: Path, rows: Sequence[Row]) -> None:
     for r in rows:
         writer.writerow({k: " ".join(f"{x:.10g}" for x in v) if isinstance(v, list) else v
                          for k, v in r.items()})
-    write_atomic(path, buf.getvalue())
+    _io.write_text(path, buf.getvalue())
 
 
 # -- markdown ----------------------------------------------------------------------------------
@@ -698,7 +685,7 @@ def report(cfg: Config, log: Callable[[str], None] = print) -> dict[str, Any]:
                  "ten_s_summary"):
         write_csv(cfg.out / f"{name}.csv", res[name])
     write_json(cfg.out / "results.json", res)
-    write_atomic(cfg.out / "tables.md", md_report(res, paper))
+    _io.write_text(cfg.out / "tables.md", md_report(res, paper))
     for path in plot_cells(runs, cfg.out):
         log(f"wrote {path}")
     return res

@@ -37,8 +37,7 @@ def run_optimize(
     seed: int,
 ) -> dict[str, Any]:
     """Run one optimizer on one benchmark function; the `optimize --json` object (DESIGN 7)."""
-    import numpy as np
-
+    from chassistune._rng import child_seed, make_rng
     from chassistune.benchmarks.functions import get as get_function
     from chassistune.optimizers.minimize import minimize
 
@@ -50,9 +49,7 @@ def run_optimize(
         fn = get_function(function)
         bounds = fn.bounds(dim)
         # F7's noise has its own stream, derived from the seed
-        noise = (
-            np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0]) if fn.noisy else None
-        )
+        noise = make_rng(child_seed(seed, 0)) if fn.noisy else None
 
         def objective(x: Any) -> Any:
             return fn(x, noise)

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import csv
-import os
-import tempfile
 
 import click
 import numpy as np
 
+from chassistune._io import atomic_path
 from chassistune.cli.common import check_output_file, echo_json, fmt
 from chassistune.cli.main import cli
 from chassistune.params import parse_assignments
@@ -20,18 +19,11 @@ def write_csv(result: SimulationResult, path: str) -> None:
     """The trace as CSV, one row per step, written atomically."""
     sig = result.trace.signals
     names = list(sig)
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(suffix=".csv", dir=folder)
-    try:
-        with os.fdopen(fd, "w", newline="") as fh:
-            w = csv.writer(fh)
-            units = result.trace.units
-            w.writerow([f"{n} [{units[n]}]" if n in units else n for n in names])
-            w.writerows(np.column_stack([sig[n] for n in names]).tolist())
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
+    with atomic_path(path) as tmp, open(tmp, "w", newline="", encoding="utf-8") as fh:
+        w = csv.writer(fh)
+        units = result.trace.units
+        w.writerow([f"{n} [{units[n]}]" if n in units else n for n in names])
+        w.writerows(np.column_stack([sig[n] for n in names]).tolist())
 
 
 def _print_metrics(metrics: dict[str, object]) -> None:

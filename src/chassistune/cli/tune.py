@@ -2,31 +2,19 @@
 
 from __future__ import annotations
 
-import json
 import os
-import tempfile
 from collections.abc import Callable
 
 import click
 import numpy as np
 
-from chassistune.cli.common import echo_json, fmt, jsonable
+from chassistune._io import write_json, write_text
+from chassistune.cli.common import echo_json, fmt
 from chassistune.cli.main import cli
 from chassistune.errors import InputError
 from chassistune.params import parse_assignments
 from chassistune.tuning.problem import build_problem
 from chassistune.tuning.tune import TuneResult, run_optimizer
-
-
-def _write_atomic(path: str, text: str) -> None:
-    fd, tmp = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)))
-    try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
 
 
 def write_outputs(result: TuneResult, out_dir: str) -> list[str]:
@@ -37,15 +25,15 @@ def write_outputs(result: TuneResult, out_dir: str) -> list[str]:
     os.makedirs(out_dir, exist_ok=True)
     written = []
     path = os.path.join(out_dir, "best_gains.json")
-    _write_atomic(path, json.dumps(jsonable(result.best_gains), indent=1) + "\n")
+    write_json(path, result.best_gains)
     written.append(path)
     path = os.path.join(out_dir, "tune.json")
-    _write_atomic(path, json.dumps(jsonable(result.as_dict()), indent=1) + "\n")
+    write_json(path, result.as_dict())
     written.append(path)
     path = os.path.join(out_dir, "history.csv")
     rows = "\n".join(f"{i + 1},{n},{c!r}" for i, (n, c) in
                      enumerate(zip(result.history_nfev, result.history, strict=True)))
-    _write_atomic(path, "iteration,nfev,best_cost\n" + rows + "\n")
+    write_text(path, "iteration,nfev,best_cost\n" + rows + "\n")
     written.append(path)
     path = os.path.join(out_dir, "convergence.png")
     first = result.problem.scenarios[0]

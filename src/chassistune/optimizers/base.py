@@ -13,7 +13,7 @@ and receives their costs::
 The base class drives that coroutine from `ask()` / `tell()` and owns everything the algorithms
 share:
 
-- the `numpy.random.Generator` (`self.rng`, seeded from an int, a `SeedSequence` or a Generator);
+- the `numpy.random.Generator` (`self.rng`, from `chassistune._rng.make_rng(seed)`);
 - bounds repair: every yielded batch is repaired *in place* (clip by default, or reflect) before it
   is handed out, so the algorithm sees exactly the points that are evaluated (a NaN coordinate,
   which has no nearest bound, is redrawn uniformly: the only draw the base makes after start-up);
@@ -40,11 +40,11 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from chassistune._rng import SeedLike, make_rng
 from chassistune.errors import InputError
 
 FloatArray = NDArray[np.float64]
 Steps = Generator[FloatArray, FloatArray, None]
-SeedLike = int | np.random.SeedSequence | np.random.Generator | None
 Repair = Literal["clip", "reflect"]
 
 
@@ -63,17 +63,6 @@ class Hyperparameters:
     def as_dict(self) -> dict[str, Any]:
         """The hyperparameters as a plain dict (JSON-ready)."""
         return dataclasses.asdict(self)
-
-
-def make_rng(seed: SeedLike) -> np.random.Generator:
-    """The one seeding helper: an int >= 0, a SeedSequence, None, or a Generator (used as is)."""
-    if isinstance(seed, np.random.Generator):
-        return seed
-    if seed is None or isinstance(seed, np.random.SeedSequence):
-        return np.random.default_rng(seed)
-    if isinstance(seed, int | np.integer) and not isinstance(seed, bool) and seed >= 0:
-        return np.random.default_rng(int(seed))
-    raise InputError("seed", f"expected a non-negative integer, got {seed!r}")
 
 
 def as_bounds(bounds: ArrayLike) -> tuple[FloatArray, FloatArray]:

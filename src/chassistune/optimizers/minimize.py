@@ -9,8 +9,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from chassistune._rng import SeedLike
 from chassistune.errors import InputError
-from chassistune.optimizers.base import SeedLike
 from chassistune.optimizers.registry import make
 
 

@@ -35,6 +35,7 @@ from pydantic import (
     model_validator,
 )
 
+from chassistune._rng import child_seed, int_seed, make_rng
 from chassistune.errors import InputError
 
 MAX_SEEDS = 100_000
@@ -202,16 +203,17 @@ class RunSpec(_Model):
         return hashlib.sha256(text.encode()).hexdigest()
 
     def seed_sequence(self) -> np.random.SeedSequence:
-        return np.random.SeedSequence(self.root_seed, spawn_key=(self.seed,))
+        """Child `seed` of the study's root seed."""
+        return child_seed(self.root_seed, self.seed)
 
     def optimizer_rng(self) -> np.random.Generator:
-        """The optimizer's generator: `default_rng(SeedSequence(root, spawn_key=(seed,)))`."""
-        return np.random.default_rng(self.seed_sequence())
+        """The optimizer's generator, from `seed_sequence()`."""
+        return make_rng(self.seed_sequence())
 
     @property
     def scenario_seed(self) -> int:
         """The scenario's seed (the quarter car's road realization), from the same sequence."""
-        return int(self.seed_sequence().generate_state(1, np.uint32)[0])
+        return int_seed(self.seed_sequence())
 
 
 @dataclass(frozen=True)

@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from chassistune._io import jsonable
 from chassistune.studies.spec import RunSpec
 
 COMPLETED = "completed"
@@ -33,21 +34,6 @@ def versions() -> dict[str, str]:
         except PackageNotFoundError:  # pragma: no cover - source checkout without metadata
             out[pkg] = "unknown"
     return out
-
-
-def plain(x: Any) -> Any:
-    """JSON-ready Python values (numpy scalars and arrays converted; NaN kept as float)."""
-    if isinstance(x, dict):
-        return {str(k): plain(v) for k, v in x.items()}
-    if isinstance(x, list | tuple | np.ndarray):
-        return [plain(v) for v in (x.tolist() if isinstance(x, np.ndarray) else x)]
-    if isinstance(x, bool | np.bool_):
-        return bool(x)
-    if isinstance(x, int | np.integer):
-        return int(x)
-    if isinstance(x, float | np.floating):
-        return float(x)
-    return x if x is None or isinstance(x, str) else str(x)
 
 
 def _run(spec: RunSpec) -> dict[str, Any]:
@@ -86,7 +72,7 @@ def execute_run(spec: RunSpec) -> dict[str, Any]:
     t0 = time.perf_counter()
     out: dict[str, Any] = {"key": spec.key, "spec_hash": spec.spec_hash}
     try:
-        out.update(plain(_run(spec)))
+        out.update(jsonable(_run(spec)))
         if not math.isfinite(out["best_cost"]):
             raise FloatingPointError(f"best cost is {out['best_cost']}")
         out["status"], out["error"] = COMPLETED, None

@@ -9,8 +9,8 @@ from typing import Any
 
 import numpy as np
 
+from chassistune._rng import SeedLike
 from chassistune.errors import InputError
-from chassistune.optimizers.base import SeedLike
 from chassistune.optimizers.registry import make
 from chassistune.tuning.problem import TuningProblem, build_problem
 
