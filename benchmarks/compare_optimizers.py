@@ -84,7 +84,6 @@ def run_ours(
     method: str, fn: benchmarks.BenchmarkFunction, protocol: str, seed: np.random.SeedSequence
 ) -> dict[str, Any]:
     name, hyper = ("derlsp-ao", {"de_step": False}) if method == "ao+2" else (method, {})
-    t0 = time.perf_counter()
     res = minimize(
         _objective(fn, seed),
         fn.bounds(),
@@ -94,12 +93,11 @@ def run_ours(
         **_budget(protocol),
         **hyper,
     )
-    wall = time.perf_counter() - t0
     return {
         "best_f": res.fun,
         "nfev": res.nfev,
         "nit": res.nit,
-        "wall_s": wall,
+        "wall_s": res.wall_time_s,
         "history": res.history.tolist(),
         "history_nfev": res.history_nfev.tolist(),
     }

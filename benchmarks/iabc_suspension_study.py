@@ -40,6 +40,7 @@ from scipy.optimize import minimize
 from chassistune import _io, stats
 from chassistune._rng import child_seed
 from chassistune.controllers.quarter_car_registry import PAPER_BOX
+from chassistune.optimizers.driver import drive
 from chassistune.optimizers.registry import make
 from chassistune.plants.quarter_car import PLANT, QuarterCarScenario
 from chassistune.sim import lyapunov
@@ -125,12 +126,9 @@ def run_path(out: Path, preset: str, box: str, algorithm: str, seed: int) -> Pat
 
 def tune_once(prob: TuningProblem, algorithm: str, pop: int, iters: int, seed: int,
               road_seed: int = 0) -> Row:
-    """One ask/tell run (our loop rather than `run_optimizer`: it keeps the scout count)."""
-    opt = make(algorithm, prob.bounds, pop, seed_sequence(seed), max_iter=iters, **HYPER)
-    t0 = time.perf_counter()
-    while not opt.done:
-        x = opt.ask()
-        opt.tell(x, prob(np.asarray(x)))
+    """One run through the package's ask/tell driver (its diagnostics hold the scout count)."""
+    run = drive(make(algorithm, prob.bounds, pop, seed_sequence(seed), max_iter=iters, **HYPER),
+                prob)
     return {
         "algorithm": algorithm,
         "seed_index": seed,
@@ -141,15 +139,15 @@ def tune_once(prob: TuningProblem, algorithm: str, pop: int, iters: int, seed: i
         "objective": prob.objective,
         "road_seed": road_seed,
         "bounds": [list(b) for b in prob.bounds],
-        "hyperparameters": opt.hyper.as_dict(),
-        "best_gains": dict(zip(GAINS, np.asarray(opt.best_x, dtype=float).tolist(), strict=True)),
-        "best_cost": float(opt.best_f),
-        "nfev": int(opt.nfev),
-        "nit": int(opt.nit),
-        "scouts": int(getattr(opt, "scouts", 0)),
-        "wall_time_s": time.perf_counter() - t0,
-        "history": opt.history.tolist(),
-        "history_nfev": opt.history_nfev.tolist(),
+        "hyperparameters": run.hyperparameters,
+        "best_gains": dict(zip(GAINS, run.x.tolist(), strict=True)),
+        "best_cost": run.fun,
+        "nfev": run.nfev,
+        "nit": run.nit,
+        "scouts": int(run.diagnostics["scouts"]),
+        "wall_time_s": run.wall_time_s,
+        "history": run.history.tolist(),
+        "history_nfev": run.history_nfev.tolist(),
     }
 
 

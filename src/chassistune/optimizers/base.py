@@ -22,7 +22,9 @@ share:
   not evaluated get cost +inf, so they lose every greedy comparison and are never the best;
 - cost hygiene: NaN, +inf and -inf costs become +inf;
 - the best-so-far point and cost, the convergence history (best-so-far after every iteration)
-  and `history_nfev` (evaluations spent at each of those points).
+  and `history_nfev` (evaluations spent at each of those points);
+- `diagnostics`, a dict in which an algorithm reports on its run (ABC's scout count), carried
+  into the run's result by `optimizers.driver.drive`.
 
 The schedule horizon `T` that the algorithms use (AO's 2T/3 switch, GWO's a, ...) is `max_iter`,
 or `floor(max_evals / evals_per_iteration)` when only `max_evals` is given, or the smaller of the
@@ -160,6 +162,8 @@ class Optimizer:
         self._gen: Steps | None = None
         self._pending: FloatArray | None = None
         self._finished = False
+        self.diagnostics: dict[str, Any] = {}
+        """What the algorithm reports about its run (counters such as IABC's `scouts`)."""
 
     # -- to be provided by subclasses ------------------------------------------------------------
     def required_pop(self) -> int:
