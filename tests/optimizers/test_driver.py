@@ -1,4 +1,4 @@
-"""optimizers.driver: the one ask/tell loop, its result, its callback and the diagnostics channel."""
+"""optimizers.driver: the one ask/tell loop, its result, its callback, the diagnostics channel."""
 
 from __future__ import annotations
 

@@ -86,8 +86,18 @@ def store_path(study_dir: str | Path) -> Path:
 
 
 def _connect(path: Path, read_only: bool) -> sqlite3.Connection:
+    """A connection to an existing store (`read_only`: no statement may write) or a new one.
+
+    A reader opens the file read-write (never creating it) with `query_only` on: a `mode=ro`
+    connection to a WAL database creates -wal and -shm files that it cannot remove, whereas the
+    last connection that can write checkpoints and removes them on close. A file or folder that
+    is not writable falls back to `mode=ro`.
+    """
     if read_only:
-        conn = sqlite3.connect(f"{path.resolve().as_uri()}?mode=ro", uri=True)
+        uri = path.resolve().as_uri()
+        mode = "rw" if os.access(path, os.W_OK) and os.access(path.parent, os.W_OK) else "ro"
+        conn = sqlite3.connect(f"{uri}?mode={mode}", uri=True)
+        conn.execute("PRAGMA query_only=ON")
     else:
         conn = sqlite3.connect(path)
         conn.execute("PRAGMA journal_mode=WAL")
