@@ -1,4 +1,7 @@
-"""Helpers shared by the commands: output checks, JSON printing, number formatting."""
+"""Helpers shared by the commands: output checks, JSON printing, number formatting.
+
+Light on purpose (no numpy at import): every command module imports it at start-up.
+"""
 
 from __future__ import annotations
 
@@ -7,9 +10,7 @@ import os
 from typing import Any
 
 import click
-import numpy as np
 
-from chassistune._io import dumps
 from chassistune.errors import InputError
 
 
@@ -25,12 +26,16 @@ def check_output_file(path: str | None, option: str, suffix: str | None = None) 
 
 
 def echo_json(obj: dict[str, Any]) -> None:
-    """Print exactly one JSON object on stdout."""
+    """Print exactly one JSON object on stdout (normalized by `_io.jsonable`)."""
+    from chassistune._io import dumps
+
     click.echo(dumps(obj, indent=1))
 
 
 def fmt(x: Any) -> str:
     """A short human rendering of a metric value."""
+    import numpy as np
+
     if x is None:
         return "-"
     if isinstance(x, bool | np.bool_):

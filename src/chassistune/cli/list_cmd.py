@@ -6,15 +6,13 @@ import json
 
 import click
 
-from chassistune.cli.main import cli
-from chassistune.plants.registry import get_plant, plant_names
-
 KINDS = ["plants", "presets", "roads", "controllers", "optimizers", "functions"]
 
 
 def catalogue(kind: str) -> object:
     """The JSON-ready listing of one kind (grouped by plant where it applies)."""
     from chassistune.controllers.registry import for_plant
+    from chassistune.plants.registry import get_plant, plant_names
 
     if kind == "plants":
         return [
@@ -72,7 +70,7 @@ def _print_human(kind: str, data: object) -> None:
             click.echo(f"{item['name']:<14} {item.get('description', '')}")
 
 
-@cli.command("list")
+@click.command("list")
 @click.argument("kind", type=click.Choice(KINDS))
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
 def list_command(kind: str, as_json: bool) -> None:

@@ -9,7 +9,6 @@ from typing import Any
 
 import click
 
-from chassistune.cli.main import cli
 from chassistune.errors import InputError
 
 _OPTION_NAMES = {
@@ -78,7 +77,7 @@ def run_optimize(
     }
 
 
-@cli.command("optimize")
+@click.command("optimize")
 @click.argument("function")
 @click.option(
     "--dim", type=int, default=None, help="Dimension (default: the function's usual one)."
