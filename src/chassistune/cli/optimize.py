@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import json
-import math
 from typing import Any
 
 import click
@@ -22,10 +21,6 @@ _OPTION_NAMES = {
 }
 
 
-def _finite(v: float) -> float | None:
-    return v if math.isfinite(v) else None
-
-
 def run_optimize(
     function: str,
     dim: int | None,
@@ -36,6 +31,7 @@ def run_optimize(
     seed: int,
 ) -> dict[str, Any]:
     """Run one optimizer on one benchmark function; the `optimize --json` object (DESIGN 7)."""
+    from chassistune._io import jsonable
     from chassistune._rng import child_seed, make_rng
     from chassistune.benchmarks.functions import get as get_function
     from chassistune.optimizers.minimize import minimize
@@ -68,12 +64,12 @@ def run_optimize(
         "function": fn.name,
         "dim": int(bounds.shape[0]),
         "optimizer": optimizer.lower(),
-        "best_f": _finite(res.fun),
-        "best_x": [float(v) for v in res.x],
+        "best_f": jsonable(res.fun),
+        "best_x": jsonable(res.x),
         "nfev": res.nfev,
         "nit": res.nit,
-        "history": [_finite(float(v)) for v in res.history],
-        "history_nfev": [int(v) for v in res.history_nfev],
+        "history": jsonable(res.history),
+        "history_nfev": jsonable(res.history_nfev),
     }
 
 
