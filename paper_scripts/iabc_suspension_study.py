@@ -39,10 +39,10 @@ from scipy.optimize import minimize
 
 from chassistune import _io, stats
 from chassistune._rng import child_seed
-from chassistune.controllers.quarter_car_registry import PAPER_BOX
+from chassistune.controllers.catalogue import PAPER_BOX
 from chassistune.optimizers.driver import drive
 from chassistune.optimizers.registry import make
-from chassistune.plants.quarter_car import PLANT, QuarterCarScenario
+from chassistune.scenarios.quarter_car import PLANT, QuarterCarScenario
 from chassistune.sim import lyapunov
 from chassistune.sim import quarter_car_kernel as kernel
 from chassistune.tuning.problem import TuningProblem, build_problem

@@ -11,13 +11,12 @@ KINDS = ["plants", "presets", "roads", "controllers", "optimizers", "functions"]
 
 def catalogue(kind: str) -> object:
     """The JSON-ready listing of one kind (grouped by plant where it applies)."""
-    from chassistune.controllers.registry import for_plant
-    from chassistune.plants.registry import get_plant, plant_names
+    from chassistune.scenarios.registry import get_plant, plant_names, plant_spec
 
     if kind == "plants":
         return [
-            {"name": n, "description": get_plant(n).description,
-             "default_preset": get_plant(n).default_preset}
+            {"name": n, "description": plant_spec(n).description,
+             "default_preset": plant_spec(n).default_preset}
             for n in plant_names()
         ]
     if kind == "presets":
@@ -34,9 +33,10 @@ def catalogue(kind: str) -> object:
             for n in plant_names()
         }
     if kind == "controllers":
+        from chassistune.controllers.catalogue import for_plant
+
         out = {}
         for n in plant_names():
-            get_plant(n)  # importing the plant registers its controllers
             out[n] = [c.as_dict() for c in for_plant(n)]
         return out
     if kind == "optimizers":

@@ -68,7 +68,8 @@ def simulate_command(plant: str, preset: str | None, road: str | None, controlle
     Example: chassistune simulate abs-wheel --road wet-asphalt --gains kp=5000,kd=230 --plot out.png
     """
     from chassistune.params import parse_assignments
-    from chassistune.plants.registry import get_plant, plant_names
+    from chassistune.plots.registry import plot_trace
+    from chassistune.scenarios.registry import get_plant, plant_names
     from chassistune.simulate import simulate
 
     if plant not in plant_names():
@@ -79,7 +80,7 @@ def simulate_command(plant: str, preset: str | None, road: str | None, controlle
                       params=parse_assignments(params, "--param"),
                       gains=parse_assignments(gains, "--gains"), seed=seed)
     if plot_path:
-        get_plant(plant).plot(result.scenario, result.trace, plot_path)
+        plot_trace(result.scenario, result.trace, plot_path)
     if csv_path:
         write_csv(result, csv_path)
     if as_json:

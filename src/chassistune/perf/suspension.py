@@ -12,7 +12,7 @@ import numpy as np
 
 from chassistune._rng import make_rng
 from chassistune.perf.timing import best_time
-from chassistune.plants.quarter_car import PLANT
+from chassistune.scenarios.quarter_car import PLANT
 
 
 def bench_population(n: int) -> np.ndarray:

@@ -24,8 +24,8 @@ DEMO_METRICS = ("stop_time_s", "stop_distance_m", "bound_distance_m", "distance_
 def write_tune_outputs(result: TuneResult, out_dir: str) -> list[str]:
     """best_gains.json, tune.json, history.csv, convergence.png and one response plot per road
     into `out_dir` (created if missing); the paths written, in that order."""
-    from chassistune.plants.registry import get_plant
     from chassistune.plots.convergence import plot_convergence
+    from chassistune.plots.registry import plot_trace
 
     os.makedirs(out_dir, exist_ok=True)
     written = []
@@ -46,11 +46,10 @@ def write_tune_outputs(result: TuneResult, out_dir: str) -> list[str]:
                      title=f"{first.plant} {first.controller.name} on "
                      f"{', '.join(result.problem.roads)}: {result.problem.objective}")
     written.append(path)
-    plant = get_plant(first.plant)
     gains = np.array([result.best_gains[n] for n in result.problem.gain_names])
     for sc in result.problem.scenarios:
         path = os.path.join(out_dir, f"response-{sc.road}.png")
-        plant.plot(sc, sc.trace(gains), path)
+        plot_trace(sc, sc.trace(gains), path)
         written.append(path)
     return written
 
@@ -67,12 +66,12 @@ class DemoResult:
 def write_demo(out_dir: str) -> DemoResult:
     """No ABS against the registry's hand-set PID on the derlsp-ao paper's three roads: the
     table's rows, and one comparison plot per road in `out_dir` (created if missing)."""
-    from chassistune.controllers import abs_registry
-    from chassistune.plants.abs_wheel import PLANT
+    from chassistune.controllers import catalogue
     from chassistune.plots.abs_wheel import plot_comparison
+    from chassistune.scenarios.abs_wheel import PLANT
 
     os.makedirs(out_dir, exist_ok=True)
-    pid = abs_registry.get("pid").default_gains()
+    pid = catalogue.get("abs-wheel", "pid").default_gains()
     rows, plots = [], []
     for road in PLANT.presets()[DEMO_PRESET].roads:
         runs = []

@@ -35,7 +35,7 @@ def versions() -> dict[str, str]:
 
 
 def _run(spec: RunSpec) -> dict[str, Any]:
-    from chassistune.plants.registry import get_plant
+    from chassistune.scenarios.registry import get_plant
     from chassistune.studies.problems import problem_for
     from chassistune.tuning.tune import run_optimizer
 
