@@ -44,7 +44,9 @@ def test_no_arguments_prints_the_multi_line_help(cli) -> None:  # type: ignore[n
     assert len(res.out.splitlines()) > 10 and "Commands:" in res.out
 
 
-@pytest.mark.parametrize("args", [("--help",), ("--version",), ("study", "--help")])
+@pytest.mark.parametrize("args", [("--help",), ("--version",), ("study", "--help"),
+                                  ("list", "plants"), ("list", "plants", "--json"),
+                                  ("list", "controllers")])
 def test_fast_paths_import_no_numba(args: tuple[str, ...]) -> None:
     out, heavy = _probe(*args)
     assert out and heavy == "-"
