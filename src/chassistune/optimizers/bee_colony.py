@@ -15,10 +15,11 @@ onlooker phase (SN evaluations) and at most one scout (one evaluation), so about
   send an onlooker to source i when rand < p_i, until SN onlookers are sent.
 - Scout: at most one per cycle, the source with the largest trial count if it exceeds `limit`
   (default SN * D) is replaced by a uniform random point (eq. 5), evaluated, unconditionally.
-  `scouts` counts them. With iabc-suspension's setting (100 sources, 3 gains, 100 cycles, limit 300)
-  IABC practically never sends one (every p_i >= 0.9, so a source gets one or two onlookers per
-  cycle: about 2 to 3 trials per cycle at most); ABC's roulette can pile onlookers on a dominant
-  source, and then a scout can fire (3 on F5, d = 3, seed 0; none on F1, F9, F19).
+  `diagnostics["scouts"]` counts them. With iabc-suspension's setting (100 sources, 3 gains, 100
+  cycles, limit 300) IABC practically never sends one (every p_i >= 0.9, so a source gets one or
+  two onlookers per cycle: about 2 to 3 trials per cycle at most); ABC's roulette can pile
+  onlookers on a dominant source, and then a scout can fire (3 on F5, d = 3, seed 0; none on F1,
+  F9, F19).
 - IABC's nudge (eq. 8): where the new coordinate equals the old one (x_ij == x_kj), it is moved by
   epsilon * (hi_j - lo_j) * phi (`epsilon` > 0; 0 switches the nudge off, as in ABC).
 
@@ -134,7 +135,7 @@ class BeeColony(Optimizer):
         x = self.uniform(sn)  # eq. 5
         f = (yield x).copy()
         trial = np.zeros(sn, dtype=np.int64)
-        self.scouts = 0  # scouts sent so far (reported: iabc-suspension's setting sends none)
+        self.diagnostics["scouts"] = 0  # scouts sent (iabc-suspension's setting sends none)
         for _ in self.iterations():
             # employed bees
             v = self._neighbour_moves(x, all_rows)
@@ -159,7 +160,7 @@ class BeeColony(Optimizer):
             # scout: at most one per cycle
             i = int(np.argmax(trial))
             if trial[i] > limit:
-                self.scouts += 1
+                self.diagnostics["scouts"] += 1
                 fresh = self.uniform(1)
                 f_fresh = yield fresh
                 x[i], f[i], trial[i] = fresh[0], f_fresh[0], 0

@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from chassistune._rng import make_rng
 from chassistune.errors import InputError
 
 N0_CYCLES_PER_M = 0.1
@@ -64,8 +65,8 @@ def filter_psd(n: np.ndarray, road: RoadParams) -> np.ndarray:
 
 
 def white_noise(seed: int, n_steps: int, dt_s: float) -> np.ndarray:
-    """w_k ~ N(0, W/dt), W = 1/2, from numpy.random.default_rng(seed): the run's noise."""
-    rng = np.random.default_rng(seed)
+    """w_k ~ N(0, W/dt), W = 1/2, from `make_rng(seed)`: the run's noise."""
+    rng = make_rng(seed)
     return rng.standard_normal(n_steps) * math.sqrt(NOISE_INTENSITY / dt_s)
 
 

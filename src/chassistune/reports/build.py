@@ -14,9 +14,9 @@ from typing import Any
 
 import pandas as pd
 
+from chassistune._io import atomic_path
 from chassistune.errors import InputError
 from chassistune.reports import figures, tables
-from chassistune.reports.files import atomic_path, make_readable
 from chassistune.reports.html import FigureView, Section, TableView, render
 from chassistune.studies.store import open_study
 
@@ -73,7 +73,6 @@ class _Writer:
         return path
 
     def figure(self, path: Path, title: str, caption: str) -> FigureView:
-        make_readable(path)
         return FigureView.from_png(path, self.next_id("figure"), title, caption, self.rel(path))
 
     def table(self, df: pd.DataFrame, title: str, caption: str = "",

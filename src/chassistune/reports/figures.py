@@ -7,6 +7,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from chassistune import stats
+from chassistune._rng import make_rng
 from chassistune.plots.style import pyplot, save
 from chassistune.studies.store import RunRecord
 
@@ -53,7 +54,7 @@ def boxplot_figure(costs: Mapping[str, np.ndarray], path: str, title: str) -> No
     data = [np.asarray(costs[k], dtype=float) for k in labels]
     ax.boxplot(data, showfliers=False, widths=0.5)
     ax.set_xticks(range(1, len(labels) + 1), labels)
-    jitter = np.random.default_rng(0)
+    jitter = make_rng(0)
     for i, v in enumerate(data, start=1):
         ax.plot(i + jitter.uniform(-0.12, 0.12, v.size), v, "o", ms=3.5, alpha=0.6, color="C0")
     if _log_scale_suits(data):
