@@ -1,8 +1,8 @@
 """`chassistune demo`: the README's main job until the paper reproduction replaces it.
 
-Simulates the three roads of Tian et al. (derlsp-ao-abs: dry concrete, wet asphalt, ice) without ABS and with a
-well-set PID, prints a table (stop time, distance, bound, ratio to bound) and writes the plots
-(`reports.outputs.write_demo`).
+Simulates the three roads of Tian et al. (derlsp-ao-abs: dry concrete, wet asphalt, ice)
+without ABS and with a well-set PID, prints a table (stop time, distance, bound, ratio to
+bound) and writes the plots (`reports.outputs.write_demo`).
 """
 
 from __future__ import annotations
