@@ -1,0 +1,115 @@
+"""n candidates x K scenarios (x R roads): the robust tuning cost and the validation (issue 17).
+
+`robust_problem` takes the nominal problem (the plain `build_problem`: controller box, objective,
+roads), draws the run's training set once (common random numbers) and builds its K R
+scenarios before any evaluation, so a bad draw is refused before work starts. The cost of a
+population is the (n, K, R) matrix of per-scenario costs, aggregated per candidate.
+
+Evaluation today is one kernel call of n rows per scenario (K R calls): the compiled kernels take
+the plant parameters as one vector hoisted for the whole batch. With per-row plant parameters it
+would be one call of n K R rows (see `perf.robust` for what that saves).
+
+A `RobustProblem` is a `TuningProblem` (its `scenarios` are the nominal ones, one per road, used
+for the tuned controller's metrics), so the optimizer loop drives it unchanged.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from chassistune.plants.base import PENALTY, Scenario
+from chassistune.tuning.problem import TuningProblem
+from chassistune.tuning.robust.plant_params import known_ranges, scenario_builder
+from chassistune.tuning.robust.sampling import (
+    ScenarioSet,
+    monte_carlo_set,
+    scenario_streams,
+    training_set,
+)
+from chassistune.tuning.robust.spec import ParamRange, UncertaintySpec
+from chassistune.tuning.robust.validation import ValidationResult, validate_draws
+
+Builder = Callable[[Mapping[str, float]], Scenario]
+
+
+def build_grid(builders: Sequence[Builder], draws: ScenarioSet) -> list[list[Scenario]]:
+    """grid[j][r]: scenario j of the set on road r."""
+    return [[build(row) for build in builders] for row in draws.rows()]
+
+
+def cost_matrix(grid: Sequence[Sequence[Scenario]], gains: np.ndarray,
+                objective: str) -> np.ndarray:
+    """Costs (n, K, R) of n gain rows on every scenario of the grid: one kernel call each."""
+    g = np.asarray(gains, dtype=np.float64)
+    out = np.empty((g.shape[0], len(grid), len(grid[0])))
+    for j, row in enumerate(grid):
+        for r, sc in enumerate(row):
+            out[:, j, r] = sc.cost(g, objective)
+    return out
+
+
+@dataclass
+class RobustProblem(TuningProblem):
+    """The nominal problem's box and objective, scored over the run's K training scenarios."""
+
+    spec: UncertaintySpec
+    builders: list[Builder]
+    training: ScenarioSet
+    grid: list[list[Scenario]]
+    validation_rng: np.random.Generator
+
+    def costs(self, gains: np.ndarray) -> np.ndarray:
+        """Per-scenario costs (n, K, R)."""
+        return cost_matrix(self.grid, gains, self.objective)
+
+    def __call__(self, gains: np.ndarray) -> np.ndarray:
+        """Aggregate over the K R scenarios of each row, shape (n,), at most PENALTY."""
+        return np.minimum(self.spec.aggregate(self.costs(gains)), PENALTY)
+
+    def validate(self, gains: np.ndarray, n: int | None = None) -> ValidationResult:
+        """Validate one gain vector on N fresh Monte Carlo draws (the run's validation stream).
+
+        A draw passes when it passes on every road; the distance ratio is the worst over roads.
+        """
+        draws = monte_carlo_set(self.spec.params, self.spec.validate if n is None else n,
+                                self.validation_rng)
+        row = np.asarray(gains, dtype=np.float64).reshape(1, -1)
+        per_road = []
+        for build in self.builders:
+            metrics: dict[str, list[np.ndarray]] = {}
+            costs = []
+            for draw in draws.rows():
+                sc = build(draw)
+                for name, value in sc.metrics(row).items():
+                    metrics.setdefault(name, []).append(value)
+                costs.append(sc.cost(row, self.objective))
+            per_road.append(({k: np.concatenate(v) for k, v in metrics.items()},
+                             np.concatenate(costs)))
+        results = [validate_draws(m, c, self.spec.criterion, self.spec.beta) for m, c in per_road]
+        passed = np.logical_and.reduce([res.passed for res in results])
+        ratios = [res.distance_ratio for res in results if res.distance_ratio is not None]
+        worst = np.max(ratios, axis=0) if ratios else None
+        return ValidationResult(passed, self.spec.beta, worst)
+
+
+def known_for(nominal: TuningProblem) -> dict[str, ParamRange]:
+    """Parameters that may vary in every scenario of the nominal problem (all its roads), with
+    their valid ranges: what `--vary` and `[uncertainty]` are validated against."""
+    per_road = [known_ranges(sc) for sc in nominal.scenarios]
+    return {name: rng for name, rng in per_road[0].items() if all(name in k for k in per_road)}
+
+
+def robust_problem(nominal: TuningProblem, spec: UncertaintySpec,
+                   params: Mapping[str, object] | None = None, seed: int = 0) -> RobustProblem:
+    """The nominal problem (built with the same `params`) scored over the run's training set,
+    drawn from `seed`'s training stream; every scenario is built here, before any evaluation."""
+    base = dict(params or {})
+    train_rng, valid_rng = scenario_streams(seed)
+    draws = training_set(spec.params, spec.scenarios, spec.sampler, train_rng)
+    builders = [scenario_builder(sc, base) for sc in nominal.scenarios]
+    return RobustProblem(nominal.scenarios, nominal.objective, str(spec.aggregate),
+                         nominal.bounds, spec, builders, draws, build_grid(builders, draws),
+                         valid_rng)
