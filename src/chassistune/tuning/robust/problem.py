@@ -59,7 +59,7 @@ class RobustProblem(TuningProblem):
     builders: list[Builder]
     training: ScenarioSet
     grid: list[list[Scenario]]
-    validation_rng: np.random.Generator
+    seed: int
 
     def costs(self, gains: np.ndarray) -> np.ndarray:
         """Per-scenario costs (n, K, R)."""
@@ -69,30 +69,38 @@ class RobustProblem(TuningProblem):
         """Aggregate over the K R scenarios of each row, shape (n,), at most PENALTY."""
         return np.minimum(self.spec.aggregate(self.costs(gains)), PENALTY)
 
-    def validate(self, gains: np.ndarray, n: int | None = None) -> ValidationResult:
-        """Validate one gain vector on N fresh Monte Carlo draws (the run's validation stream).
+    def validate(self, gains: np.ndarray, draws: ScenarioSet | None = None) -> ValidationResult:
+        """Validate one gain vector on `draws` (default: the run's own validation set)."""
+        if draws is None:
+            draws = validation_set(self.spec, self.seed)
+        return validate_gains(self.builders, self.objective, gains, draws, self.spec)
 
-        A draw passes when it passes on every road; the distance ratio is the worst over roads.
-        """
-        draws = monte_carlo_set(self.spec.params, self.spec.validate if n is None else n,
-                                self.validation_rng)
-        row = np.asarray(gains, dtype=np.float64).reshape(1, -1)
-        per_road = []
-        for build in self.builders:
-            metrics: dict[str, list[np.ndarray]] = {}
-            costs = []
-            for draw in draws.rows():
-                sc = build(draw)
-                for name, value in sc.metrics(row).items():
-                    metrics.setdefault(name, []).append(value)
-                costs.append(sc.cost(row, self.objective))
-            per_road.append(({k: np.concatenate(v) for k, v in metrics.items()},
-                             np.concatenate(costs)))
-        results = [validate_draws(m, c, self.spec.criterion, self.spec.beta) for m, c in per_road]
-        passed = np.logical_and.reduce([res.passed for res in results])
-        ratios = [res.distance_ratio for res in results if res.distance_ratio is not None]
-        worst = np.max(ratios, axis=0) if ratios else None
-        return ValidationResult(passed, self.spec.beta, worst)
+
+def validation_set(spec: UncertaintySpec, seed: int) -> ScenarioSet:
+    """The N = spec.validate fresh Monte Carlo draws of the run `seed` (its validation stream:
+    independent of the training set; the same for every controller validated with that seed)."""
+    return monte_carlo_set(spec.params, spec.validate, scenario_streams(seed)[1])
+
+
+def validate_gains(builders: Sequence[Builder], objective: str, gains: np.ndarray,
+                   draws: ScenarioSet, spec: UncertaintySpec) -> ValidationResult:
+    """Pass/fail of one gain vector on every draw: a draw passes when it passes on every road
+    (`builders`, one per road); its distance ratio is the worst over the roads."""
+    row = np.asarray(gains, dtype=np.float64).reshape(1, -1)
+    results = []
+    for build in builders:
+        metrics: dict[str, list[np.ndarray]] = {}
+        costs = []
+        for draw in draws.rows():
+            sc = build(draw)
+            for name, value in sc.metrics(row).items():
+                metrics.setdefault(name, []).append(value)
+            costs.append(sc.cost(row, objective))
+        results.append(validate_draws({k: np.concatenate(v) for k, v in metrics.items()},
+                                      np.concatenate(costs), spec.criterion, spec.beta))
+    passed = np.logical_and.reduce([res.passed for res in results])
+    ratios = [res.distance_ratio for res in results if res.distance_ratio is not None]
+    return ValidationResult(passed, spec.beta, np.max(ratios, axis=0) if ratios else None)
 
 
 def known_for(nominal: TuningProblem) -> dict[str, ParamRange]:
@@ -107,9 +115,8 @@ def robust_problem(nominal: TuningProblem, spec: UncertaintySpec,
     """The nominal problem (built with the same `params`) scored over the run's training set,
     drawn from `seed`'s training stream; every scenario is built here, before any evaluation."""
     base = dict(params or {})
-    train_rng, valid_rng = scenario_streams(seed)
-    draws = training_set(spec.params, spec.scenarios, spec.sampler, train_rng)
+    draws = training_set(spec.params, spec.scenarios, spec.sampler, scenario_streams(seed)[0])
     builders = [scenario_builder(sc, base) for sc in nominal.scenarios]
     return RobustProblem(nominal.scenarios, nominal.objective, str(spec.aggregate),
                          nominal.bounds, spec, builders, draws, build_grid(builders, draws),
-                         valid_rng)
+                         seed)
