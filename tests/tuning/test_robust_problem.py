@@ -11,6 +11,7 @@ from chassistune.tuning.problem import build_problem
 from chassistune.tuning.robust.aggregate import Aggregate, parse_aggregate
 from chassistune.tuning.robust.plant_params import draw_params
 from chassistune.tuning.robust.problem import (
+    distance_ratio_sensitivity,
     known_for,
     robust_problem,
     validation_set,
@@ -124,3 +125,16 @@ def test_the_quarter_car_varies_its_sprung_mass_and_tire_stiffness():
     np.testing.assert_allclose(costs[0], 3.0, rtol=1e-9)  # zero gains: the passive car, Q = 3
     assert np.all(costs[1] < 3.0)
     assert [sc.vehicle.sprung_mass_kg for (sc,) in rp.grid] == list(rp.training.values[:, 0])
+
+
+def test_a_pid_holding_the_peak_slip_is_insensitive_to_the_locked_wheel_friction():
+    # the PID keeps the slip at the peak: the falling branch (mu_lock) is hardly visited, so its
+    # Sobol indices vanish; the initial speed carries nearly all the variance of the distance
+    # ratio (the pressure build-up costs about a fixed distance: a larger share of a short stop)
+    nominal = build_problem("abs-wheel", "pid")
+    s = UncertaintySpec(parse_vary(["v0_m_s=20:35", "mu_lock=0.6:0.8"], known_for(nominal)), 4)
+    rp = robust_problem(nominal, s)
+    res = distance_ratio_sensitivity(rp.builders[0], s, GAINS[0], n=64, seed=0)
+    assert res.names == ("v0_m_s", "mu_lock")
+    assert res.total[0] > 0.9 and res.first_order[0] > 0.9
+    assert abs(res.total[1]) < 0.02 and abs(res.first_order[1]) < 0.02

@@ -8,8 +8,10 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 
 from chassistune.tuning.robust.sampling import (
+    TRAINING,
+    VALIDATION,
     monte_carlo_set,
-    scenario_streams,
+    scenario_stream,
     training_set,
 )
 from chassistune.tuning.robust.spec import ParamRange, UncertainParam
@@ -23,7 +25,7 @@ PARAMS = (
 
 
 def draw(seed: int, sampler: str = "sobol", k: int = 16) -> np.ndarray:
-    return training_set(PARAMS, k, sampler, scenario_streams(seed)[0]).values
+    return training_set(PARAMS, k, sampler, scenario_stream(seed, TRAINING)).values
 
 
 def test_the_training_set_is_fixed_by_the_seed_in_this_and_other_processes():
@@ -36,15 +38,17 @@ def test_the_training_set_is_fixed_by_the_seed_in_this_and_other_processes():
 
 
 def test_the_streams_are_independent_and_accept_every_seed_form():
-    train, valid = scenario_streams(3)
-    assert train.random() != valid.random()
-    ss = np.random.SeedSequence(3)
-    np.testing.assert_array_equal(scenario_streams(ss)[0].random(4),
-                                  scenario_streams(3)[0].random(4))
+    assert scenario_stream(3, TRAINING).random() != scenario_stream(3, VALIDATION).random()
+    first = scenario_stream(3, TRAINING).random(4)
+    np.testing.assert_array_equal(scenario_stream(np.random.SeedSequence(3), TRAINING).random(4),
+                                  first)
+    # the run's Generator (seeded from the same seed) gives the same sets
+    np.testing.assert_array_equal(scenario_stream(np.random.default_rng(3), TRAINING).random(4),
+                                  first)
+    # and the optimizer's own stream is not one of them
+    assert np.random.default_rng(3).random() != first[0]
     child = np.random.SeedSequence(3, spawn_key=(2,))  # a study's run seed
-    assert scenario_streams(child)[0].random() != scenario_streams(3)[0].random()
-    g1, g2 = scenario_streams(np.random.default_rng(5)), scenario_streams(np.random.default_rng(5))
-    assert g1[0].random() == g2[0].random()
+    assert scenario_stream(child, TRAINING).random() != first[0]
 
 
 def test_uniform_draws_are_stratified_and_normal_draws_clipped_to_the_valid_range():

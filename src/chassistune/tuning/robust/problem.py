@@ -24,11 +24,15 @@ from chassistune.plants.base import PENALTY, Scenario
 from chassistune.tuning.problem import TuningProblem
 from chassistune.tuning.robust.plant_params import known_ranges, scenario_builder
 from chassistune.tuning.robust.sampling import (
+    SENSITIVITY,
+    TRAINING,
+    VALIDATION,
     ScenarioSet,
     monte_carlo_set,
-    scenario_streams,
+    scenario_stream,
     training_set,
 )
+from chassistune.tuning.robust.sensitivity import SensitivityResult, sobol_sensitivity
 from chassistune.tuning.robust.spec import ParamRange, UncertaintySpec
 from chassistune.tuning.robust.validation import ValidationResult, validate_draws
 
@@ -79,7 +83,7 @@ class RobustProblem(TuningProblem):
 def validation_set(spec: UncertaintySpec, seed: int) -> ScenarioSet:
     """The N = spec.validate fresh Monte Carlo draws of the run `seed` (its validation stream:
     independent of the training set; the same for every controller validated with that seed)."""
-    return monte_carlo_set(spec.params, spec.validate, scenario_streams(seed)[1])
+    return monte_carlo_set(spec.params, spec.validate, scenario_stream(seed, VALIDATION))
 
 
 def validate_gains(builders: Sequence[Builder], objective: str, gains: np.ndarray,
@@ -95,12 +99,29 @@ def validate_gains(builders: Sequence[Builder], objective: str, gains: np.ndarra
             sc = build(draw)
             for name, value in sc.metrics(row).items():
                 metrics.setdefault(name, []).append(value)
-            costs.append(sc.cost(row, objective))
-        results.append(validate_draws({k: np.concatenate(v) for k, v in metrics.items()},
-                                      np.concatenate(costs), spec.criterion, spec.beta))
+            if spec.criterion.max_cost > 0.0:  # a second simulation: only when the test asks
+                costs.append(sc.cost(row, objective))
+        cost = np.concatenate(costs) if costs else np.zeros(len(draws))
+        results.append(validate_draws({k: np.concatenate(v) for k, v in metrics.items()}, cost,
+                                      spec.criterion, spec.beta))
     passed = np.logical_and.reduce([res.passed for res in results])
     ratios = [res.distance_ratio for res in results if res.distance_ratio is not None]
     return ValidationResult(passed, spec.beta, np.max(ratios, axis=0) if ratios else None)
+
+
+def distance_ratio_sensitivity(build: Builder, spec: UncertaintySpec, gains: np.ndarray,
+                               n: int = 256, seed: int = 0,
+                               metric: str = "distance_ratio") -> SensitivityResult:
+    """First-order and total Sobol indices of one controller's `metric` (default the stop
+    distance over the adhesion bound) with respect to each uncertain parameter; n (d + 2)
+    simulations, one scenario built per point, drawn from the run's sensitivity stream."""
+    row = np.asarray(gains, dtype=np.float64).reshape(1, -1)
+
+    def metric_at(values: np.ndarray) -> np.ndarray:
+        draws = ScenarioSet(spec.names, values)
+        return np.array([float(build(draw).metrics(row)[metric][0]) for draw in draws.rows()])
+
+    return sobol_sensitivity(metric_at, spec.params, n, scenario_stream(seed, SENSITIVITY))
 
 
 def known_for(nominal: TuningProblem) -> dict[str, ParamRange]:
@@ -115,7 +136,7 @@ def robust_problem(nominal: TuningProblem, spec: UncertaintySpec,
     """The nominal problem (built with the same `params`) scored over the run's training set,
     drawn from `seed`'s training stream; every scenario is built here, before any evaluation."""
     base = dict(params or {})
-    draws = training_set(spec.params, spec.scenarios, spec.sampler, scenario_streams(seed)[0])
+    draws = training_set(spec.params, spec.scenarios, spec.sampler, scenario_stream(seed, TRAINING))
     builders = [scenario_builder(sc, base) for sc in nominal.scenarios]
     return RobustProblem(nominal.scenarios, nominal.objective, str(spec.aggregate),
                          nominal.bounds, spec, builders, draws, build_grid(builders, draws),

@@ -5,9 +5,10 @@ lo + u (hi - lo); normal by the inverse CDF, mean + sd Phi^-1(u), clipped to the
 Common random numbers: a run draws its training set once, from its own stream, and every
 candidate of the run is scored on those same K scenarios.
 
-Streams: `scenario_streams(seed)` gives the training and validation Generators as children of
-the run's seed (SeedSequence spawn keys), independent of each other and of the optimizer's
-stream (which stays `default_rng(seed)`, so a nominal run is unchanged).
+Streams: `scenario_stream(seed, TRAINING | VALIDATION | SENSITIVITY)` gives each purpose its own
+Generator, a child of the run's seed (a SeedSequence spawn key), independent of the others and of
+the optimizer's stream (which stays `default_rng(seed)`, so a nominal run is unchanged). The same
+seed gives the same sets in any process, on any executor.
 """
 
 from __future__ import annotations
@@ -22,8 +23,8 @@ from scipy.stats import qmc
 from chassistune.tuning.robust.spec import UncertainParam, check_sampler
 
 SeedLike = int | np.random.SeedSequence | np.random.Generator
-TRAINING, VALIDATION = 0, 1
-"""Spawn keys of the two scenario streams below the run's seed."""
+TRAINING, VALIDATION, SENSITIVITY = 0, 1, 2
+"""Spawn keys of the scenario streams below the run's seed."""
 
 
 @dataclass(frozen=True)
@@ -41,16 +42,17 @@ class ScenarioSet:
         return [dict(zip(self.names, map(float, row), strict=True)) for row in self.values]
 
 
-def scenario_streams(seed: SeedLike) -> tuple[np.random.Generator, np.random.Generator]:
-    """(training, validation) Generators, children of the run's seed."""
+def scenario_stream(seed: SeedLike, key: int) -> np.random.Generator:
+    """The Generator of one purpose (TRAINING, VALIDATION, SENSITIVITY): a child of the run's
+    seed (spawn key appended), independent of the other purposes and of the optimizer's stream."""
     if isinstance(seed, np.random.Generator):
-        train, valid = seed.spawn(2)
-        return train, valid
-    ss = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(int(seed))
-    return tuple(  # type: ignore[return-value]
-        np.random.default_rng(np.random.SeedSequence(ss.entropy, spawn_key=(*ss.spawn_key, k)))
-        for k in (TRAINING, VALIDATION)
-    )
+        parent = seed.bit_generator.seed_seq
+        if not isinstance(parent, np.random.SeedSequence):
+            raise TypeError("the run's Generator must be seeded from a SeedSequence")
+        ss = parent
+    else:
+        ss = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(int(seed))
+    return np.random.default_rng(np.random.SeedSequence(ss.entropy, spawn_key=(*ss.spawn_key, key)))
 
 
 def from_unit(params: Sequence[UncertainParam], u: np.ndarray) -> np.ndarray:
