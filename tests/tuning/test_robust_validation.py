@@ -79,3 +79,4 @@ def test_the_cost_test_serves_plants_without_a_stop():
                          max_cost=1.0)
     res = validate_draws({}, np.array([0.9, 0.99, 1.01, 1e9]), crit, 0.05)
     assert res.failures == 2
+    assert res.as_dict()["worst_cost"] == 1e9 and "worst_distance_ratio" not in res.as_dict()

@@ -89,7 +89,7 @@ def validation_set(spec: UncertaintySpec, seed: int) -> ScenarioSet:
 def validate_gains(builders: Sequence[Builder], objective: str, gains: np.ndarray,
                    draws: ScenarioSet, spec: UncertaintySpec) -> ValidationResult:
     """Pass/fail of one gain vector on every draw: a draw passes when it passes on every road
-    (`builders`, one per road); its distance ratio is the worst over the roads."""
+    (`builders`, one per road); its distance ratio and cost are the worst over the roads."""
     row = np.asarray(gains, dtype=np.float64).reshape(1, -1)
     results = []
     for build in builders:
@@ -106,7 +106,9 @@ def validate_gains(builders: Sequence[Builder], objective: str, gains: np.ndarra
                                       spec.criterion, spec.beta))
     passed = np.logical_and.reduce([res.passed for res in results])
     ratios = [res.distance_ratio for res in results if res.distance_ratio is not None]
-    return ValidationResult(passed, spec.beta, np.max(ratios, axis=0) if ratios else None)
+    costs = [res.cost for res in results if res.cost is not None]
+    return ValidationResult(passed, spec.beta, np.max(ratios, axis=0) if ratios else None,
+                            np.max(costs, axis=0) if costs else None)
 
 
 def distance_ratio_sensitivity(build: Builder, spec: UncertaintySpec, gains: np.ndarray,

@@ -68,6 +68,8 @@ class ValidationResult:
     passed: np.ndarray
     beta: float
     distance_ratio: np.ndarray | None = None
+    cost: np.ndarray | None = None
+    """The objective of each draw, when the criterion tests it (`max_cost`)."""
 
     @property
     def n(self) -> int:
@@ -101,6 +103,9 @@ class ValidationResult:
         if self.distance_ratio is not None:
             out["worst_distance_ratio"] = float(np.max(self.distance_ratio))
             out["mean_distance_ratio"] = float(np.mean(self.distance_ratio))
+        if self.cost is not None:
+            out["worst_cost"] = float(np.max(self.cost))
+            out["mean_cost"] = float(np.mean(self.cost))
         return out
 
 
@@ -132,4 +137,5 @@ def validate_draws(metrics: Mapping[str, np.ndarray], cost: np.ndarray,
     """The validation result of N draws of one controller."""
     ratio = metrics.get("distance_ratio")
     return ValidationResult(passes(metrics, cost, criterion), beta,
-                            None if ratio is None else np.asarray(ratio, dtype=float))
+                            None if ratio is None else np.asarray(ratio, dtype=float),
+                            np.asarray(cost, dtype=float) if criterion.max_cost > 0 else None)
