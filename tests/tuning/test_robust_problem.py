@@ -14,9 +14,10 @@ from chassistune.tuning.robust.problem import (
     distance_ratio_sensitivity,
     known_for,
     robust_problem,
+    validate_gains,
     validation_set,
 )
-from chassistune.tuning.robust.spec import UncertaintySpec, parse_vary
+from chassistune.tuning.robust.spec import PassCriterion, UncertaintySpec, parse_vary
 
 VARY = ["mass_kg=80:120", "mu_scale=0.85:1.15", "v0_m_s=20:35", "actuator_tau_s=0.007:0.013"]
 GAINS = np.array([[5000.0, 0.0, 230.0], [1000.0, 0.0, 100.0], [2000.0, 10.0, 50.0],
@@ -125,6 +126,22 @@ def test_the_quarter_car_varies_its_sprung_mass_and_tire_stiffness():
     np.testing.assert_allclose(costs[0], 3.0, rtol=1e-9)  # zero gains: the passive car, Q = 3
     assert np.all(costs[1] < 3.0)
     assert [sc.vehicle.sprung_mass_kg for (sc,) in rp.grid] == list(rp.training.values[:, 0])
+    # no stop in a suspension: validated on its objective, "no worse than passive" (Q <= 3)
+    s = UncertaintySpec(s.params, 8, "lhs", Aggregate("max"), 16,
+                        criterion=PassCriterion(False, True, 0.0, 3.0))
+    draws = validation_set(s, 0)
+    good = validate_gains(rp.builders, rp.objective, gains[1], draws, s)
+    assert good.failures == 0 and good.as_dict()["worst_cost"] < 3.0
+    # a negative kp removes damping: worse than passive on every draw
+    worse = validate_gains(rp.builders, rp.objective, np.array([-2000.0, 0.0, 0.0]), draws, s)
+    assert worse.failures == 16 and worse.as_dict()["worst_cost"] > 3.0
+
+
+def test_the_known_parameters_of_several_roads_are_those_every_road_has():
+    both = known_for(build_problem("abs-wheel", "pid", roads=["dry-concrete",
+                                                              "burckhardt-snow"]))
+    assert "mu_scale" in both and "mass_kg" in both
+    assert "mu_peak" not in both and "c1" not in both
 
 
 def test_a_pid_holding_the_peak_slip_is_insensitive_to_the_locked_wheel_friction():
