@@ -40,6 +40,7 @@ def main() -> None:
     ap.add_argument("--controller", default="pid")
     ap.add_argument("--vary", action="append", default=[])
     ap.add_argument("--metric", default="distance_ratio")
+    ap.add_argument("--objective", default=None)
     ap.add_argument("--max-cost", type=float, default=0.0,
                     help="pass test on the objective instead of stop/lock/distance (quarter car)")
     ap.add_argument("--optimizer", default="derlsp-ao")
@@ -54,7 +55,7 @@ def main() -> None:
     ap.add_argument("--plot", default="")
     a = ap.parse_args()
 
-    nominal = build_problem(a.plant, a.controller)
+    nominal = build_problem(a.plant, a.controller, objective=a.objective)
     criterion = (PassCriterion(False, True, 0.0, a.max_cost) if a.max_cost > 0
                  else PassCriterion())
     spec = UncertaintySpec(parse_vary(a.vary or VARY, known_for(nominal)), a.scenarios, "sobol",

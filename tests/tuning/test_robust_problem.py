@@ -155,3 +155,13 @@ def test_a_pid_holding_the_peak_slip_is_insensitive_to_the_locked_wheel_friction
     assert res.names == ("v0_m_s", "mu_lock")
     assert res.total[0] > 0.9 and res.first_order[0] > 0.9
     assert abs(res.total[1]) < 0.02 and abs(res.first_order[1]) < 0.02
+
+
+def test_a_draw_the_plant_refuses_is_reported_under_the_varied_name():
+    nominal = build_problem("abs-wheel", "pid")
+    s = UncertaintySpec(parse_vary(["v0_m_s=0.1:0.6"], known_for(nominal)), 4)
+    with pytest.raises(InputError, match=r"^--vary v0_m_s: a draw the plant refuses: must "
+                                         r"exceed v_stop_m_s = 0.5"):
+        robust_problem(nominal, s)
+    with pytest.raises(InputError, match=r"^uncertainty\.vary\.v0_m_s: "):
+        robust_problem(nominal, s, where="uncertainty.vary")

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from chassistune.errors import InputError
 from chassistune.plants.base import PENALTY, Scenario
 from chassistune.tuning.problem import TuningProblem
 from chassistune.tuning.robust.plant_params import known_ranges, scenario_builder
@@ -28,6 +29,7 @@ from chassistune.tuning.robust.sampling import (
     TRAINING,
     VALIDATION,
     ScenarioSet,
+    SeedLike,
     monte_carlo_set,
     scenario_stream,
     training_set,
@@ -39,9 +41,18 @@ from chassistune.tuning.robust.validation import ValidationResult, validate_draw
 Builder = Callable[[Mapping[str, float]], Scenario]
 
 
-def build_grid(builders: Sequence[Builder], draws: ScenarioSet) -> list[list[Scenario]]:
-    """grid[j][r]: scenario j of the set on road r."""
-    return [[build(row) for build in builders] for row in draws.rows()]
+def build_grid(builders: Sequence[Builder], draws: ScenarioSet,
+               where: str = "--vary") -> list[list[Scenario]]:
+    """grid[j][r]: scenario j of the set on road r. A draw the plant refuses (v0 below v_stop,
+    say) is reported under `where` and the varied parameter's name."""
+    try:
+        return [[build(row) for build in builders] for row in draws.rows()]
+    except InputError as exc:
+        name = exc.field.split()[-1].split(".")[-1]
+        if name not in draws.names:
+            raise
+        field = f"{where} {name}" if where.startswith("--") else f"{where}.{name}"
+        raise InputError(field, f"a draw the plant refuses: {exc.problem}") from None
 
 
 def cost_matrix(grid: Sequence[Sequence[Scenario]], gains: np.ndarray,
@@ -63,7 +74,7 @@ class RobustProblem(TuningProblem):
     builders: list[Builder]
     training: ScenarioSet
     grid: list[list[Scenario]]
-    seed: int
+    seed: SeedLike
 
     def costs(self, gains: np.ndarray) -> np.ndarray:
         """Per-scenario costs (n, K, R)."""
@@ -80,7 +91,7 @@ class RobustProblem(TuningProblem):
         return validate_gains(self.builders, self.objective, gains, draws, self.spec)
 
 
-def validation_set(spec: UncertaintySpec, seed: int) -> ScenarioSet:
+def validation_set(spec: UncertaintySpec, seed: SeedLike) -> ScenarioSet:
     """The N = spec.validate fresh Monte Carlo draws of the run `seed` (its validation stream:
     independent of the training set; the same for every controller validated with that seed)."""
     return monte_carlo_set(spec.params, spec.validate, scenario_stream(seed, VALIDATION))
@@ -112,7 +123,7 @@ def validate_gains(builders: Sequence[Builder], objective: str, gains: np.ndarra
 
 
 def distance_ratio_sensitivity(build: Builder, spec: UncertaintySpec, gains: np.ndarray,
-                               n: int = 256, seed: int = 0,
+                               n: int = 256, seed: SeedLike = 0,
                                metric: str = "distance_ratio") -> SensitivityResult:
     """First-order and total Sobol indices of one controller's `metric` (default the stop
     distance over the adhesion bound) with respect to each uncertain parameter; n (d + 2)
@@ -134,12 +145,15 @@ def known_for(nominal: TuningProblem) -> dict[str, ParamRange]:
 
 
 def robust_problem(nominal: TuningProblem, spec: UncertaintySpec,
-                   params: Mapping[str, object] | None = None, seed: int = 0) -> RobustProblem:
+                   params: Mapping[str, object] | None = None, seed: SeedLike = 0,
+                   where: str = "--vary") -> RobustProblem:
     """The nominal problem (built with the same `params`) scored over the run's training set,
-    drawn from `seed`'s training stream; every scenario is built here, before any evaluation."""
+    drawn from `seed`'s training stream (an int, or a study run's SeedSequence: every optimizer
+    at that seed index then sees the same K scenarios); every scenario is built here, before any
+    evaluation (a draw the plant refuses is an InputError under `where`)."""
     base = dict(params or {})
     draws = training_set(spec.params, spec.scenarios, spec.sampler, scenario_stream(seed, TRAINING))
     builders = [scenario_builder(sc, base) for sc in nominal.scenarios]
     return RobustProblem(nominal.scenarios, nominal.objective, str(spec.aggregate),
-                         nominal.bounds, spec, builders, draws, build_grid(builders, draws),
+                         nominal.bounds, spec, builders, draws, build_grid(builders, draws, where),
                          seed)
