@@ -14,6 +14,7 @@ from chassistune.tuning.robust.spec import (
     check_sampler,
     parse_table,
     parse_vary,
+    spec_from_options,
 )
 
 KNOWN = {
@@ -119,3 +120,20 @@ def test_bad_tables_name_the_config_field(table, field):
     with pytest.raises(InputError) as exc:
         parse_table(table, KNOWN)
     assert exc.value.field == field
+
+
+def test_the_cli_options_build_a_spec_and_name_themselves_in_errors():
+    spec = spec_from_options(KNOWN, ["mass_kg=80:120"], 8, "lhs", "cvar:0.5", 300, 0.1)
+    assert (spec.names, spec.scenarios, spec.sampler, spec.validate, spec.beta) == (
+        ("mass_kg",), 8, "lhs", 300, 0.1)
+    assert spec.aggregate == Aggregate("cvar", 0.5)
+    for kwargs, field in (({"vary": ["m=1:2"]}, "--vary m"),
+                          ({"scenarios": 12}, "--scenarios"),
+                          ({"sampler": "grid"}, "--sampler"),
+                          ({"aggregate": "worst"}, "--aggregate"),
+                          ({"validate": -3}, "--validate"),
+                          ({"beta": 0.0}, "--beta")):
+        args = {"vary": ["mass_kg=80:120"], **kwargs}
+        with pytest.raises(InputError) as exc:
+            spec_from_options(KNOWN, **args)
+        assert exc.value.field == field

@@ -168,6 +168,17 @@ def check_validation(n: int, beta: float, where: str = "") -> None:
         raise InputError(f"{where}beta", f"must be in (0, 1), got {beta:g}")
 
 
+def spec_from_options(known: Mapping[str, ParamRange], vary: Sequence[str], scenarios: int = 16,
+                      sampler: str = "sobol", aggregate: str = "mean", validate: int = 0,
+                      beta: float = 0.05) -> UncertaintySpec:
+    """The spec of `tune --vary ... --scenarios K --sampler S --aggregate A --validate N --beta B`
+    (errors name those options), all checked before any work."""
+    params = parse_vary(vary, known)
+    check_sampler(sampler, scenarios, "--")
+    check_validation(validate, beta, "--")
+    return UncertaintySpec(params, scenarios, sampler, parse_aggregate(aggregate), validate, beta)
+
+
 _TABLE_KEYS = ("vary", "scenarios", "sampler", "aggregate", "validate", "beta", "pass")
 _PASS_KEYS = ("require_stop", "allow_lock", "max_distance_ratio", "max_cost")
 
