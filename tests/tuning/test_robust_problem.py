@@ -18,7 +18,12 @@ from chassistune.tuning.robust.problem import (
     validation_set,
 )
 from chassistune.tuning.robust.run import tune_robust
-from chassistune.tuning.robust.spec import PassCriterion, UncertaintySpec, parse_vary
+from chassistune.tuning.robust.spec import (
+    PassCriterion,
+    UncertaintySpec,
+    parse_vary,
+    spec_from_options,
+)
 
 VARY = ["mass_kg=80:120", "mu_scale=0.85:1.15", "v0_m_s=20:35", "actuator_tau_s=0.007:0.013"]
 GAINS = np.array([[5000.0, 0.0, 230.0], [1000.0, 0.0, 100.0], [2000.0, 10.0, 50.0],
@@ -168,9 +173,10 @@ def test_a_draw_the_plant_refuses_is_reported_under_the_varied_name():
         robust_problem(nominal, s, where="uncertainty.vary")
 
 
-def test_tune_robust_reports_training_and_validation_and_refuses_bad_options_first():
-    res = tune_robust("abs-wheel", "pid", VARY, "pso", scenarios=4, aggregate="max",
-                      validate=60, pop_size=6, max_iter=3, seed=3)
+def test_tune_robust_reports_training_and_validation():
+    nominal = build_problem("abs-wheel", "pid", seed=3)
+    s = spec_from_options(known_for(nominal), VARY, 4, "sobol", "max", 60)
+    res = tune_robust(nominal, s, "pso", pop_size=6, max_iter=3, seed=3)
     d = res.as_dict()
     assert d["aggregate"] == "max" and d["uncertainty"]["scenarios"] == 4
     assert d["uncertainty"]["vary"][0] == "mass_kg uniform on [80, 120]"
@@ -179,11 +185,7 @@ def test_tune_robust_reports_training_and_validation_and_refuses_bad_options_fir
     v = d["validation"]
     assert v["n"] == 60 and v["failures"] + round(v["pass_rate"] * 60) == 60
     assert (v["certificate"] is None) == (v["failures"] > 0)
-    again = tune_robust("abs-wheel", "pid", VARY, "pso", scenarios=4, aggregate="max",
-                        validate=60, pop_size=6, max_iter=3, seed=3)
+    again = tune_robust(build_problem("abs-wheel", "pid", seed=3), s, "pso", pop_size=6,
+                        max_iter=3, seed=3)
     assert again.result.best_gains == res.result.best_gains
     np.testing.assert_array_equal(again.training_costs, res.training_costs)
-    with pytest.raises(InputError, match=r"^--scenarios: must be a power of two"):
-        tune_robust("abs-wheel", "pid", VARY, scenarios=6)
-    with pytest.raises(InputError, match=r"^--vary mass: unknown uncertain parameter"):
-        tune_robust("abs-wheel", "pid", ["mass=1:2"])

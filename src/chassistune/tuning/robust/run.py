@@ -1,23 +1,23 @@
 """`tune_robust(...)`: tune over a training set of K scenarios, then validate (issue 17).
 
-What `tune --vary ... --scenarios K --sampler S --aggregate A --validate N --beta B` does, as one
-call: every option checked first (nothing runs on bad input), the nominal problem built as `tune`
-builds it, the K training scenarios drawn from the run seed, any optimizer driven over the robust
-cost, and the winner validated on N fresh Monte Carlo draws. `as_dict()` is the `tune --json`
-object plus `uncertainty`, `training` and `validation`.
+What `tune --vary ... --scenarios K --sampler S --aggregate A --validate N --beta B` does once
+its options are checked (`spec.spec_from_options` over `problem.known_for(nominal)`, before any
+work): the K training scenarios drawn from the run seed, any optimizer driven over the robust
+cost, the winner validated on N fresh Monte Carlo draws. `as_dict()` is the `tune --json` object
+plus `uncertainty`, `training` and `validation`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from chassistune.tuning.problem import build_problem
-from chassistune.tuning.robust.problem import RobustProblem, known_for, robust_problem
-from chassistune.tuning.robust.spec import spec_from_options
+from chassistune.tuning.problem import TuningProblem
+from chassistune.tuning.robust.problem import RobustProblem, robust_problem
+from chassistune.tuning.robust.spec import UncertaintySpec
 from chassistune.tuning.robust.validation import ValidationResult
 from chassistune.tuning.tune import TuneResult, run_optimizer
 
@@ -51,39 +51,23 @@ class RobustTuneResult:
 
 
 def tune_robust(
-    plant: str,
-    controller: str,
-    vary: Sequence[str],
+    nominal: TuningProblem,
+    spec: UncertaintySpec,
     optimizer: str = "derlsp-ao",
-    scenarios: int = 16,
-    sampler: str = "sobol",
-    aggregate: str = "mean",
-    validate: int = 0,
-    beta: float = 0.05,
-    preset: str | None = None,
-    roads: Sequence[str] | str | None = None,
-    objective: str | None = None,
     pop_size: int = 30,
-    max_iter: int | None = None,
+    max_iter: int | None = 100,
     max_evals: int | None = None,
     seed: int = 0,
     params: Mapping[str, object] | None = None,
-    bounds: Mapping[str, tuple[float, float]] | None = None,
     progress: Callable[[int, int, float], None] | None = None,
     **hyper: Any,
 ) -> RobustTuneResult:
-    """Tune `controller` of `plant` for the uncertainty `vary` (see `spec.parse_vary`)."""
-    if max_iter is None and max_evals is None:
-        max_iter = 100
-    road_list = [roads] if isinstance(roads, str) else roads
-    nominal = build_problem(plant, controller, preset, road_list, objective, "mean", params,
-                            bounds, seed)
-    spec = spec_from_options(known_for(nominal), vary, scenarios, sampler, aggregate, validate,
-                             beta)
+    """Tune the nominal problem's controller (built with the same `params` and `seed`) over the
+    training set of `spec`, then validate the winner on spec.validate fresh draws."""
     problem = robust_problem(nominal, spec, params, seed)
     result = run_optimizer(problem, optimizer, pop_size, max_iter, max_evals, seed, progress,
                            **hyper)
     best = np.array([result.best_gains[n] for n in problem.gain_names])
     training_costs = problem.costs(best[None, :])[0]
-    validation = problem.validate(best) if validate else None
+    validation = problem.validate(best) if spec.validate else None
     return RobustTuneResult(result, problem, training_costs, validation)
