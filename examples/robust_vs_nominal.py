@@ -27,7 +27,7 @@ from chassistune.tuning.problem import TuningProblem, build_problem
 from chassistune.tuning.robust.aggregate import parse_aggregate
 from chassistune.tuning.robust.problem import (
     RobustProblem,
-    distance_ratio_sensitivity,
+    controller_sensitivity,
     known_for,
     robust_problem,
     validation_set,
@@ -97,8 +97,8 @@ def main() -> None:
         gains = np.array(list(res.best_gains.values()))
         train = robust.costs(gains[None, :])[0, :, 0]
         val = robust.validate(gains, draws)
-        sens = distance_ratio_sensitivity(robust.builders[0], spec, gains, a.sobol_n, a.seed,
-                                          a.metric)
+        sens = controller_sensitivity(robust.builders[0], spec, gains, a.sobol_n, a.seed,
+                                      a.metric)
         train_metrics = [sc.metrics(gains[None, :]) for (sc,) in robust.grid]
         out[label] = {
             "best_gains": res.best_gains,

@@ -11,7 +11,7 @@ from chassistune.tuning.problem import build_problem
 from chassistune.tuning.robust.aggregate import Aggregate, parse_aggregate
 from chassistune.tuning.robust.plant_params import draw_params
 from chassistune.tuning.robust.problem import (
-    distance_ratio_sensitivity,
+    controller_sensitivity,
     known_for,
     robust_problem,
     validate_gains,
@@ -157,7 +157,7 @@ def test_a_pid_holding_the_peak_slip_is_insensitive_to_the_locked_wheel_friction
     nominal = build_problem("abs-wheel", "pid")
     s = UncertaintySpec(parse_vary(["v0_m_s=20:35", "mu_lock=0.6:0.8"], known_for(nominal)), 4)
     rp = robust_problem(nominal, s)
-    res = distance_ratio_sensitivity(rp.builders[0], s, GAINS[0], n=64, seed=0)
+    res = controller_sensitivity(rp.builders[0], s, GAINS[0], n=64, seed=0)
     assert res.names == ("v0_m_s", "mu_lock")
     assert res.total[0] > 0.9 and res.first_order[0] > 0.9
     assert abs(res.total[1]) < 0.02 and abs(res.first_order[1]) < 0.02

@@ -122,9 +122,9 @@ def validate_gains(builders: Sequence[Builder], objective: str, gains: np.ndarra
                             np.max(costs, axis=0) if costs else None)
 
 
-def distance_ratio_sensitivity(build: Builder, spec: UncertaintySpec, gains: np.ndarray,
-                               n: int = 256, seed: SeedLike = 0,
-                               metric: str = "distance_ratio") -> SensitivityResult:
+def controller_sensitivity(build: Builder, spec: UncertaintySpec, gains: np.ndarray,
+                           n: int = 256, seed: SeedLike = 0,
+                           metric: str = "distance_ratio") -> SensitivityResult:
     """First-order and total Sobol indices of one controller's `metric` (default the stop
     distance over the adhesion bound) with respect to each uncertain parameter; n (d + 2)
     simulations, one scenario built per point, drawn from the run's sensitivity stream."""
