@@ -189,3 +189,16 @@ def test_tune_robust_reports_training_and_validation():
                         max_iter=3, seed=3)
     assert again.result.best_gains == res.result.best_gains
     np.testing.assert_array_equal(again.training_costs, res.training_costs)
+
+
+def test_no_training_scenarios_is_nominal_tuning_validated_on_the_same_draws():
+    nominal = build_problem("abs-wheel", "pid")
+    s = spec_from_options(known_for(nominal), VARY, 0, "sobol", "max", 20)
+    rp = robust_problem(nominal, s, seed=0)
+    assert len(rp.training) == 0 and rp.grid == [nominal.scenarios]
+    np.testing.assert_array_equal(rp(GAINS), nominal(GAINS))
+    robust = robust_problem(nominal, spec_from_options(known_for(nominal), VARY, 4, "sobol",
+                                                       "max", 20), seed=0)
+    np.testing.assert_array_equal(validation_set(rp.spec, 0).values,
+                                  validation_set(robust.spec, 0).values)
+    assert rp.validate(GAINS[0]).passed.tolist() == robust.validate(GAINS[0]).passed.tolist()

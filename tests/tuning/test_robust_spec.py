@@ -67,8 +67,9 @@ def test_sobol_needs_a_power_of_two_and_lhs_does_not():
         check_sampler("sobol", 12, "--")
     with pytest.raises(InputError, match="--sampler: must be sobol or lhs"):
         check_sampler("halton", 16, "--")
-    with pytest.raises(InputError, match="scenarios: must be a positive integer"):
+    with pytest.raises(InputError, match=r"scenarios: must be an integer >= 1, got 0"):
         check_sampler("lhs", 0)
+    check_sampler("sobol", 0, minimum=0)  # a training set of none: the nominal plant
 
 
 def test_aggregate_parsing():

@@ -150,10 +150,11 @@ def robust_problem(nominal: TuningProblem, spec: UncertaintySpec,
     """The nominal problem (built with the same `params`) scored over the run's training set,
     drawn from `seed`'s training stream (an int, or a study run's SeedSequence: every optimizer
     at that seed index then sees the same K scenarios); every scenario is built here, before any
-    evaluation (a draw the plant refuses is an InputError under `where`)."""
+    evaluation (a draw the plant refuses is an InputError under `where`). With K = 0 the grid
+    is the nominal scenarios alone: nominal tuning, validated on the same distribution."""
     base = dict(params or {})
     draws = training_set(spec.params, spec.scenarios, spec.sampler, scenario_stream(seed, TRAINING))
     builders = [scenario_builder(sc, base) for sc in nominal.scenarios]
+    grid = build_grid(builders, draws, where) if len(draws) else [list(nominal.scenarios)]
     return RobustProblem(nominal.scenarios, nominal.objective, str(spec.aggregate),
-                         nominal.bounds, spec, builders, draws, build_grid(builders, draws, where),
-                         seed)
+                         nominal.bounds, spec, builders, draws, grid, seed)

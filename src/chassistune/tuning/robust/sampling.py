@@ -78,8 +78,9 @@ def unit_points(d: int, k: int, sampler: str, rng: np.random.Generator) -> np.nd
 
 def training_set(params: Sequence[UncertainParam], k: int, sampler: str,
                  rng: np.random.Generator) -> ScenarioSet:
-    """The K training scenarios of a run (drawn once; every candidate sees them all)."""
-    u = unit_points(len(params), k, sampler, rng)
+    """The K training scenarios of a run (drawn once; every candidate sees them all); K = 0 is
+    an empty set (tuning on the nominal plant)."""
+    u = unit_points(len(params), k, sampler, rng) if k else np.zeros((0, len(params)))
     return ScenarioSet(tuple(p.name for p in params), from_unit(params, u))
 
 

@@ -82,8 +82,9 @@ class PassCriterion:
 
 @dataclass(frozen=True)
 class UncertaintySpec:
-    """Varied parameters, the training set (K scenarios, sampler), the aggregate over them, and
-    validation (N fresh Monte Carlo draws, confidence 1 - beta, pass criterion)."""
+    """Varied parameters, the training set (K scenarios, sampler; K = 0: the nominal plant
+    alone), the aggregate over them, and validation (N fresh Monte Carlo draws, confidence
+    1 - beta, pass criterion)."""
 
     params: tuple[UncertainParam, ...]
     scenarios: int = 16
@@ -149,13 +150,16 @@ def parse_vary(items: Sequence[str], known: Mapping[str, ParamRange],
     return tuple(out.values())
 
 
-def check_sampler(sampler: str, scenarios: int, where: str = "") -> None:
-    """A known sampler; K >= 1, and for Sobol a power of two (its balance properties need it)."""
+def check_sampler(sampler: str, scenarios: int, where: str = "", minimum: int = 1) -> None:
+    """A known sampler; K >= minimum (a training set may be 0: tune on the nominal plant, the
+    uncertainty serving validation and sensitivity only), and for Sobol a power of two (its
+    balance properties need it)."""
     if sampler not in SAMPLERS:
         raise InputError(f"{where}sampler", f"must be sobol or lhs, got {sampler!r}")
-    if isinstance(scenarios, bool) or not isinstance(scenarios, int) or scenarios < 1:
-        raise InputError(f"{where}scenarios", f"must be a positive integer, got {scenarios!r}")
-    if sampler == "sobol" and scenarios & (scenarios - 1):
+    if isinstance(scenarios, bool) or not isinstance(scenarios, int) or scenarios < minimum:
+        raise InputError(f"{where}scenarios", f"must be an integer >= {minimum}, got "
+                         f"{scenarios!r}")
+    if sampler == "sobol" and scenarios > 0 and scenarios & (scenarios - 1):
         raise InputError(f"{where}scenarios", f"must be a power of two for the sobol sampler, "
                          f"got {scenarios}")
 
@@ -174,7 +178,7 @@ def spec_from_options(known: Mapping[str, ParamRange], vary: Sequence[str], scen
     """The spec of `tune --vary ... --scenarios K --sampler S --aggregate A --validate N --beta B`
     (errors name those options), all checked before any work."""
     params = parse_vary(vary, known)
-    check_sampler(sampler, scenarios, "--")
+    check_sampler(sampler, scenarios, "--", minimum=0)
     check_validation(validate, beta, "--")
     return UncertaintySpec(params, scenarios, sampler, parse_aggregate(aggregate), validate, beta)
 
@@ -220,7 +224,7 @@ def parse_table(table: Mapping[str, Any], known: Mapping[str, ParamRange],
     params = tuple(parse_one(str(n), s, known, f"{where}.vary.{n}") for n, s in vary.items())
     scenarios = table.get("scenarios", UncertaintySpec.scenarios)
     sampler = table.get("sampler", UncertaintySpec.sampler)
-    check_sampler(sampler, scenarios, f"{where}.")
+    check_sampler(sampler, scenarios, f"{where}.", minimum=0)
     aggregate = parse_aggregate(str(table.get("aggregate", "mean")), f"{where}.aggregate")
     n_validate = table.get("validate", 0)
     beta = to_float(table.get("beta", UncertaintySpec.beta), f"{where}.beta")
