@@ -37,7 +37,7 @@ def test_uniform_and_normal_specs_parse_in_order():
     ("mass=80:120", "--vary mass", "unknown uncertain parameter 'mass'"),
     ("mass_kg=120:80", "--vary mass_kg", "LO < HI"),
     ("mass_kg=80:80", "--vary mass_kg", "LO < HI"),
-    ("mass_kg=0:120", "--vary mass_kg", "outside the valid range (0, inf]"),
+    ("mass_kg=0:120", "--vary mass_kg", "outside the valid range (0, inf)"),
     ("lock_ratio=0.5:1.5", "--vary lock_ratio", "outside the valid range [0, 1]"),
     ("mu_scale=normal:-1:0.1", "--vary mu_scale", "mean -1 outside the valid range"),
     ("mu_scale=normal:1:0", "--vary mu_scale", "standard deviation must be positive"),
