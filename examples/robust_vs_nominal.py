@@ -22,7 +22,7 @@ from dataclasses import fields
 
 import numpy as np
 
-from chassistune.plants.base import PENALTY
+from chassistune.scenarios.base import PENALTY
 from chassistune.tuning.problem import TuningProblem, build_problem
 from chassistune.tuning.robust.aggregate import parse_aggregate
 from chassistune.tuning.robust.problem import (

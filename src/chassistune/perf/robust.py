@@ -18,7 +18,7 @@ import numpy as np
 
 from chassistune.perf.abs import bench_population
 from chassistune.perf.timing import best_time
-from chassistune.plants.abs_wheel import PLANT
+from chassistune.scenarios.abs_wheel import PLANT
 from chassistune.sim.batch import default_workers
 from chassistune.tuning.problem import build_problem
 from chassistune.tuning.robust.aggregate import Aggregate

@@ -49,7 +49,7 @@ class Aggregate:
         return np.asarray(np.sort(c, axis=1)[:, c.shape[1] - m:].mean(axis=1))
 
 
-def parse_aggregate(text: str, field: str = "--aggregate") -> Aggregate:
+def parse_aggregate(text: str, field: str = "aggregate") -> Aggregate:
     """'mean', 'max' or 'cvar:ALPHA' with 0 < ALPHA <= 1."""
     kind, sep, rest = text.strip().partition(":")
     kind = kind.lower()

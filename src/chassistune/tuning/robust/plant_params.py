@@ -19,8 +19,8 @@ import math
 from collections.abc import Callable, Mapping
 from typing import Any
 
-from chassistune.plants.base import Scenario
-from chassistune.plants.registry import get_plant
+from chassistune.scenarios.base import Scenario
+from chassistune.scenarios.registry import get_plant
 from chassistune.tuning.robust.spec import ParamRange
 
 NOT_UNCERTAIN = frozenset({"dt_s", "t_max_s", "v_stop_m_s", "lock_ratio", "load_fraction",

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from chassistune.errors import InputError
-from chassistune.plants.base import PENALTY, Scenario
+from chassistune.scenarios.base import PENALTY, Scenario
 from chassistune.tuning.problem import TuningProblem
 from chassistune.tuning.robust.plant_params import known_ranges, scenario_builder
 from chassistune.tuning.robust.sampling import (
@@ -41,18 +41,16 @@ from chassistune.tuning.robust.validation import ValidationResult, validate_draw
 Builder = Callable[[Mapping[str, float]], Scenario]
 
 
-def build_grid(builders: Sequence[Builder], draws: ScenarioSet,
-               where: str = "--vary") -> list[list[Scenario]]:
+def build_grid(builders: Sequence[Builder], draws: ScenarioSet) -> list[list[Scenario]]:
     """grid[j][r]: scenario j of the set on road r. A draw the plant refuses (v0 below v_stop,
-    say) is reported under `where` and the varied parameter's name."""
+    say) is an InputError of the varied parameter (`vary.NAME`)."""
     try:
         return [[build(row) for build in builders] for row in draws.rows()]
     except InputError as exc:
         name = exc.field.split()[-1].split(".")[-1]
         if name not in draws.names:
             raise
-        field = f"{where} {name}" if where.startswith("--") else f"{where}.{name}"
-        raise InputError(field, f"a draw the plant refuses: {exc.problem}") from None
+        raise InputError(f"vary.{name}", f"a draw the plant refuses: {exc.problem}") from None
 
 
 def cost_matrix(grid: Sequence[Sequence[Scenario]], gains: np.ndarray,
@@ -145,16 +143,15 @@ def known_for(nominal: TuningProblem) -> dict[str, ParamRange]:
 
 
 def robust_problem(nominal: TuningProblem, spec: UncertaintySpec,
-                   params: Mapping[str, object] | None = None, seed: SeedLike = 0,
-                   where: str = "--vary") -> RobustProblem:
+                   params: Mapping[str, object] | None = None, seed: SeedLike = 0) -> RobustProblem:
     """The nominal problem (built with the same `params`) scored over the run's training set,
     drawn from `seed`'s training stream (an int, or a study run's SeedSequence: every optimizer
     at that seed index then sees the same K scenarios); every scenario is built here, before any
-    evaluation (a draw the plant refuses is an InputError under `where`). With K = 0 the grid
+    evaluation (a draw the plant refuses is an InputError of `vary.NAME`). With K = 0 the grid
     is the nominal scenarios alone: nominal tuning, validated on the same distribution."""
     base = dict(params or {})
     draws = training_set(spec.params, spec.scenarios, spec.sampler, scenario_stream(seed, TRAINING))
     builders = [scenario_builder(sc, base) for sc in nominal.scenarios]
-    grid = build_grid(builders, draws, where) if len(draws) else [list(nominal.scenarios)]
+    grid = build_grid(builders, draws) if len(draws) else [list(nominal.scenarios)]
     return RobustProblem(nominal.scenarios, nominal.objective, str(spec.aggregate),
                          nominal.bounds, spec, builders, draws, grid, seed)

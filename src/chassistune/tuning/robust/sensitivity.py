@@ -16,8 +16,9 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
+from chassistune.errors import InputError
 from chassistune.tuning.robust.sampling import from_unit
-from chassistune.tuning.robust.spec import UncertainParam, check_sampler
+from chassistune.tuning.robust.spec import UncertainParam
 
 
 @dataclass(frozen=True)
@@ -46,7 +47,8 @@ def sobol_sensitivity(
     rng: np.random.Generator,
 ) -> SensitivityResult:
     """Indices of `func(values) -> (m,)`, values (m, d) in parameter units, over `params`."""
-    check_sampler("sobol", n, "sensitivity ")
+    if isinstance(n, bool) or not isinstance(n, int) or n < 1 or n & (n - 1):
+        raise InputError("sobol_n", f"must be a power of two, got {n!r}")
     unit = stats.uniform(0.0, 1.0)
 
     def on_unit_cube(u: np.ndarray) -> np.ndarray:

@@ -7,7 +7,9 @@ Grammar of one spec (CLI `--vary`, or a value of the table's `vary` sub-table):
 In the table a uniform range may also be written as a two-element list `[LO, HI]`.
 
 Every name is checked against the caller's `known` ranges (which parameters of the plant, road
-and actuator may vary, and where each is valid); bad input raises `InputError` naming the field.
+and actuator may vary, and where each is valid); bad input raises `InputError` naming the domain
+field (`vary.mass_kg`, `scenarios`, `pass.max_distance_ratio`): the CLI maps it to its flag
+(`--vary mass_kg`), a study to its config path (`scenarios[0].uncertainty.vary.mass_kg`).
 """
 
 from __future__ import annotations
@@ -135,52 +137,52 @@ def parse_one(name: str, text: str | Sequence[Any], known: Mapping[str, ParamRan
     return UncertainParam(name, "uniform", lo=a, hi=b, valid=valid)
 
 
-def parse_vary(items: Sequence[str], known: Mapping[str, ParamRange],
-               option: str = "--vary") -> tuple[UncertainParam, ...]:
+def parse_vary(items: Sequence[str], known: Mapping[str, ParamRange]) -> tuple[UncertainParam, ...]:
     """Repeated `--vary NAME=SPEC` options, in the order given; a name given twice is an error."""
     out: dict[str, UncertainParam] = {}
     for item in items:
         name, sep, text = item.partition("=")
         name = name.strip()
         if not sep or not name or not text.strip():
-            raise InputError(option, f"expected NAME=LO:HI or NAME=normal:MEAN:SD, got {item!r}")
-        where = f"{option} {name}"
+            raise InputError("vary", f"expected NAME=LO:HI or NAME=normal:MEAN:SD, got {item!r}")
+        where = f"vary.{name}"
         if name in out:
             raise InputError(where, "listed twice")
         out[name] = parse_one(name, text, known, where)
     return tuple(out.values())
 
 
-def check_sampler(sampler: str, scenarios: int, where: str = "", minimum: int = 1) -> None:
+def check_sampler(sampler: str, scenarios: int, minimum: int = 1) -> None:
     """A known sampler; K >= minimum (a training set may be 0: tune on the nominal plant, the
     uncertainty serving validation and sensitivity only), and for Sobol a power of two (its
     balance properties need it)."""
     if sampler not in SAMPLERS:
-        raise InputError(f"{where}sampler", f"must be sobol or lhs, got {sampler!r}")
+        raise InputError("sampler", f"must be sobol or lhs, got {sampler!r}")
     if isinstance(scenarios, bool) or not isinstance(scenarios, int) or scenarios < minimum:
-        raise InputError(f"{where}scenarios", f"must be an integer >= {minimum}, got "
+        raise InputError("scenarios", f"must be an integer >= {minimum}, got "
                          f"{scenarios!r}")
     if sampler == "sobol" and scenarios > 0 and scenarios & (scenarios - 1):
-        raise InputError(f"{where}scenarios", f"must be a power of two for the sobol sampler, "
+        raise InputError("scenarios", f"must be a power of two for the sobol sampler, "
                          f"got {scenarios}")
 
 
-def check_validation(n: int, beta: float, where: str = "") -> None:
+def check_validation(n: int, beta: float) -> None:
     """N >= 0 draws (0: no validation), 0 < beta < 1."""
     if isinstance(n, bool) or not isinstance(n, int) or n < 0:
-        raise InputError(f"{where}validate", f"must be a non-negative integer, got {n!r}")
+        raise InputError("validate", f"must be a non-negative integer, got {n!r}")
     if not 0.0 < beta < 1.0:
-        raise InputError(f"{where}beta", f"must be in (0, 1), got {beta:g}")
+        raise InputError("beta", f"must be in (0, 1), got {beta:g}")
 
 
 def spec_from_options(known: Mapping[str, ParamRange], vary: Sequence[str], scenarios: int = 16,
                       sampler: str = "sobol", aggregate: str = "mean", validate: int = 0,
                       beta: float = 0.05) -> UncertaintySpec:
-    """The spec of `tune --vary ... --scenarios K --sampler S --aggregate A --validate N --beta B`
-    (errors name those options), all checked before any work."""
+    """The spec of `tune --vary ... --scenarios K --sampler S --aggregate A --validate N --beta B`,
+    all checked before any work (errors name the fields vary.NAME, scenarios, sampler, aggregate,
+    validate, beta)."""
     params = parse_vary(vary, known)
-    check_sampler(sampler, scenarios, "--", minimum=0)
-    check_validation(validate, beta, "--")
+    check_sampler(sampler, scenarios, minimum=0)
+    check_validation(validate, beta)
     return UncertaintySpec(params, scenarios, sampler, parse_aggregate(aggregate), validate, beta)
 
 
@@ -188,47 +190,47 @@ _TABLE_KEYS = ("vary", "scenarios", "sampler", "aggregate", "validate", "beta", 
 _PASS_KEYS = ("require_stop", "allow_lock", "max_distance_ratio", "max_cost")
 
 
-def _criterion(table: Any, where: str) -> PassCriterion:
+def _criterion(table: Any) -> PassCriterion:
     if not isinstance(table, Mapping):
-        raise InputError(where, "expected a table")
+        raise InputError("pass", "expected a table")
     for key in table:
         if key not in _PASS_KEYS:
-            raise InputError(f"{where}.{key}", f"unknown key (known: {', '.join(_PASS_KEYS)})")
+            raise InputError(f"pass.{key}", f"unknown key (known: {', '.join(_PASS_KEYS)})")
     flags = {}
     for key in ("require_stop", "allow_lock"):
         if key in table:
             if not isinstance(table[key], bool):
-                raise InputError(f"{where}.{key}", f"must be true or false, got {table[key]!r}")
+                raise InputError(f"pass.{key}", f"must be true or false, got {table[key]!r}")
             flags[key] = table[key]
     ratio = PassCriterion.max_distance_ratio
     if "max_distance_ratio" in table:
-        ratio = to_float(table["max_distance_ratio"], f"{where}.max_distance_ratio")
+        ratio = to_float(table["max_distance_ratio"], "pass.max_distance_ratio")
         if ratio != 0.0 and not ratio >= 1.0:
-            raise InputError(f"{where}.max_distance_ratio", f"must be at least 1 (no run beats "
-                             f"the bound) or 0 for no distance test, got {ratio:g}")
-    max_cost = to_float(table.get("max_cost", 0.0), f"{where}.max_cost")
+            raise InputError("pass.max_distance_ratio", f"must be at least 1 (no run beats the "
+                             f"bound) or 0 for no distance test, got {ratio:g}")
+    max_cost = to_float(table.get("max_cost", 0.0), "pass.max_cost")
     if max_cost < 0.0:
-        raise InputError(f"{where}.max_cost", f"must be positive, or 0 for no cost test, got "
+        raise InputError("pass.max_cost", f"must be positive, or 0 for no cost test, got "
                          f"{max_cost:g}")
     return PassCriterion(max_distance_ratio=ratio, max_cost=max_cost, **flags)
 
 
-def parse_table(table: Mapping[str, Any], known: Mapping[str, ParamRange],
-                where: str = "uncertainty") -> UncertaintySpec:
-    """A study's `[uncertainty]` table (as tomllib reads it) into an `UncertaintySpec`."""
+def parse_table(table: Mapping[str, Any], known: Mapping[str, ParamRange]) -> UncertaintySpec:
+    """A study's `[uncertainty]` table (as tomllib reads it) into an `UncertaintySpec`; errors
+    name the field inside the table (vary.NAME, scenarios, pass.KEY, ...)."""
     for key in table:
         if key not in _TABLE_KEYS:
-            raise InputError(f"{where}.{key}", f"unknown key (known: {', '.join(_TABLE_KEYS)})")
+            raise InputError(str(key), f"unknown key (known: {', '.join(_TABLE_KEYS)})")
     vary = table.get("vary")
     if not isinstance(vary, Mapping) or not vary:
-        raise InputError(f"{where}.vary", "expected a non-empty table NAME = \"LO:HI\" | ...")
-    params = tuple(parse_one(str(n), s, known, f"{where}.vary.{n}") for n, s in vary.items())
+        raise InputError("vary", "expected a non-empty table NAME = \"LO:HI\" | ...")
+    params = tuple(parse_one(str(n), s, known, f"vary.{n}") for n, s in vary.items())
     scenarios = table.get("scenarios", UncertaintySpec.scenarios)
     sampler = table.get("sampler", UncertaintySpec.sampler)
-    check_sampler(sampler, scenarios, f"{where}.", minimum=0)
-    aggregate = parse_aggregate(str(table.get("aggregate", "mean")), f"{where}.aggregate")
+    check_sampler(sampler, scenarios, minimum=0)
+    aggregate = parse_aggregate(str(table.get("aggregate", "mean")))
     n_validate = table.get("validate", 0)
-    beta = to_float(table.get("beta", UncertaintySpec.beta), f"{where}.beta")
-    check_validation(n_validate, beta, f"{where}.")
-    criterion = _criterion(table.get("pass", {}), f"{where}.pass")
+    beta = to_float(table.get("beta", UncertaintySpec.beta), "beta")
+    check_validation(n_validate, beta)
+    criterion = _criterion(table.get("pass", {}))
     return UncertaintySpec(params, scenarios, sampler, aggregate, n_validate, beta, criterion)
