@@ -1,0 +1,227 @@
+"""Compiled ECU parts between plant and controller (issue 15; parameters in `ecu_params.py`).
+
+Scalar-in, scalar-out step functions with their state passed in and returned, so that the
+single-wheel kernel and a four-wheel vehicle kernel can call them per lane or per wheel. They
+allocate nothing and draw nothing (random inputs arrive as pre-drawn arrays).
+
+- Toothed-wheel sensor: edge k sits at wheel angle k 2 pi / N + d[k mod len(d)]; the kernel
+  integrates the wheel angle, and `sensor_step` finds the edge times inside an integration step
+  on the cubic Hermite interpolant of the angle (values and rates at both ends: the dense output
+  consistent with the step's own order), floors them to the capture timer and estimates the
+  speed from the last edge period, w_est = (2 pi / N) / (t_k - t_k-1). No edge: hold.
+- Reference speed: slew-limited vref_k = max(v_wheel, vref_k-1 - a_max ts) (select-high of
+  the wheels on a vehicle), or an integrated accelerometer (bias, noise) re-anchored to the
+  wheel speed when they agree.
+- Three-state modulator: build / hold / dump with orifice rates dp/dt = k_b sqrt(p_s - p) and
+  -k_d sqrt(p - p_r), integrated exactly (sqrt(p_s - p) falls linearly in time), so the
+  pressure never leaves [p_r, p_s]. The controller issues one pulse per period: a state held for
+  `on` seconds from `start` (command time + dead time), then hold; `duty_pulse` turns a pressure
+  rate into such a pulse, quantized so that every valve state lasts at least the minimum on-time.
+- Low-speed cut-out (latched) and the speed schedule of the gains (kp, kd ~ v / v0).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+
+VALVE_DUMP = -1
+VALVE_HOLD = 0
+VALVE_BUILD = 1
+
+_BISECTIONS = 52
+"""Halvings of the step in the edge-time search (2^-52 of the step: float resolution)."""
+
+_JIT = {"cache": True, "nogil": True, "error_model": "numpy", "inline": "always"}
+
+
+@numba.njit(**_JIT)
+def edge_angle(k, teeth, spacing):
+    """Wheel angle (rad) of edge k: k 2 pi / teeth + spacing[k mod len(spacing)]."""
+    return k * (2.0 * math.pi / teeth) + spacing[k % spacing.shape[0]]
+
+
+@numba.njit(**_JIT)
+def hermite_angle(s, theta0, theta1, w0, w1, dt):
+    """Cubic Hermite interpolant of the angle at s in [0, 1] of a step of length dt."""
+    s2 = s * s
+    s3 = s2 * s
+    return ((2.0 * s3 - 3.0 * s2 + 1.0) * theta0 + (s3 - 2.0 * s2 + s) * dt * w0
+            + (-2.0 * s3 + 3.0 * s2) * theta1 + (s3 - s2) * dt * w1)
+
+
+@numba.njit(**_JIT)
+def crossing_fraction(target, theta0, theta1, w0, w1, dt):
+    """Fraction s of the step where the interpolated angle reaches `target` (bisection).
+
+    theta0 < target <= theta1; the first crossing of a monotone interpolant (w0, w1 >= 0 and
+    the angle increment between their bounds keep it monotone)."""
+    lo = 0.0
+    hi = 1.0
+    for _ in range(_BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        if hermite_angle(mid, theta0, theta1, w0, w1, dt) < target:
+            lo = mid
+        else:
+            hi = mid
+    return hi
+
+
+@numba.njit(**_JIT)
+def sensor_first_edge(theta0, teeth, spacing):
+    """Index of the first edge strictly ahead of the wheel angle theta0."""
+    k = math.floor(theta0 * teeth / (2.0 * math.pi))
+    while edge_angle(k, teeth, spacing) > theta0:
+        k -= 1
+    while edge_angle(k, teeth, spacing) <= theta0:
+        k += 1
+    return k
+
+
+@numba.njit(**_JIT)
+def sensor_step(theta0, theta1, w0, w1, t0, dt, k_next, t_last, t_prev, w_est, teeth,
+                timer_s, spacing, jitter):
+    """Advance the toothed-wheel sensor over one integration step [t0, t0 + dt].
+
+    State: k_next (next edge index), t_last and t_prev (captured times of the last two edges,
+    -1 before the first ones), w_est (speed estimate, rad/s). Only the last two edges inside the
+    step matter (a fine wheel passes many per step): their exact times are found on the angle's
+    interpolant, jittered by jitter[k mod len], floored to the timer, and the estimate becomes
+    the nominal pitch over their captured period. No edge in the step, or a non-positive
+    captured period: the estimate holds. Returns (k_next, t_last, t_prev, w_est).
+    """
+    if edge_angle(k_next, teeth, spacing) > theta1:
+        return k_next, t_last, t_prev, w_est
+    k_end = math.floor(theta1 * teeth / (2.0 * math.pi))
+    while edge_angle(k_end + 1, teeth, spacing) <= theta1:
+        k_end += 1
+    while edge_angle(k_end, teeth, spacing) > theta1:
+        k_end -= 1
+    k = max(k_next, k_end - 1)
+    while k <= k_end:
+        s = crossing_fraction(edge_angle(k, teeth, spacing), theta0, theta1, w0, w1, dt)
+        t_edge = t0 + s * dt + jitter[k % jitter.shape[0]]
+        t_prev = t_last
+        t_last = math.floor(t_edge / timer_s) * timer_s
+        k += 1
+    period = t_last - t_prev
+    if t_prev >= 0.0 and period > 0.0:
+        w_est = (2.0 * math.pi / teeth) / period
+    return k_end + 1, t_last, t_prev, w_est
+
+
+@numba.njit(**_JIT)
+def sensor_read(w_est, t_last, t_now, teeth, bound):
+    """The estimate the controller reads at t_now: held, or (bound) capped by the speed at
+    which the next edge would already have arrived, pitch / (t_now - t_last)."""
+    if bound and t_last >= 0.0 and t_now > t_last:
+        return min(w_est, (2.0 * math.pi / teeth) / (t_now - t_last))
+    return w_est
+
+
+@numba.njit(**_JIT)
+def select_high4(a, b, c, d):
+    """Largest of four wheel speeds (the vehicle is never slower than its fastest braked
+    wheel)."""
+    return max(max(a, b), max(c, d))
+
+
+@numba.njit(**_JIT)
+def vref_slew(vref_prev, v_wheel, a_max, ts):
+    """Slew-limited reference: vref_k = max(v_wheel, vref_k-1 - a_max ts)."""
+    return max(v_wheel, vref_prev - a_max * ts)
+
+
+@numba.njit(**_JIT)
+def vref_accel(vref_prev, v_wheel, a_true, bias, noise, ts, agree):
+    """Accelerometer reference: integrate a_meas = a_true + bias + noise over ts, never below
+    the wheel speed, and re-anchored to the wheel when the two agree within `agree` (m/s)."""
+    v = max(vref_prev + (a_true + bias + noise) * ts, v_wheel)
+    if v - v_wheel <= agree:
+        return v_wheel
+    return v
+
+
+@numba.njit(**_JIT)
+def orifice_advance(p, mode, h, kb, kd, p_supply, p_return):
+    """Pressure after h seconds in a fixed valve state, exact for dp/dt = k_b sqrt(p_s - p)
+    (build), -k_d sqrt(p - p_r) (dump), 0 (hold); clamped into [p_r, p_s] at the start."""
+    p = min(max(p, p_return), p_supply)
+    if mode == VALVE_BUILD:
+        r = math.sqrt(p_supply - p) - 0.5 * kb * h
+        return p_supply - r * r if r > 0.0 else p_supply
+    if mode == VALVE_DUMP:
+        r = math.sqrt(p - p_return) - 0.5 * kd * h
+        return p_return + r * r if r > 0.0 else p_return
+    return p
+
+
+@numba.njit(**_JIT)
+def valve_mode_at(t, prev_mode, prev_start, prev_on, mode, start, on):
+    """Valve state at time t given the previous and the current pulse (state, start, length):
+    the current pulse rules from its start, the previous one before; after a pulse: hold."""
+    if t >= start:
+        return mode if t < start + on else VALVE_HOLD
+    if t >= prev_start and t < prev_start + prev_on:
+        return prev_mode
+    return VALVE_HOLD
+
+
+@numba.njit(**_JIT)
+def modulator_advance(p, t0, h, prev_mode, prev_start, prev_on, mode, start, on, kb, kd,
+                      p_supply, p_return):
+    """Pressure at t0 + h from p at t0, exact through every valve switch inside the interval
+    (the pulse boundaries prev_start + prev_on, start, start + on)."""
+    t = t0
+    t_end = t0 + h
+    while t < t_end:
+        nxt = t_end
+        for b in (prev_start + prev_on, start, start + on):
+            if t < b < nxt:
+                nxt = b
+        m = valve_mode_at(t, prev_mode, prev_start, prev_on, mode, start, on)
+        p = orifice_advance(p, m, nxt - t, kb, kd, p_supply, p_return)
+        t = nxt
+    return p
+
+
+@numba.njit(**_JIT)
+def duty_pulse(rate, p, ts, kb, kd, p_supply, p_return, min_on):
+    """Pulse (state, on-time) realizing the pressure change rate * ts within one period.
+
+    The exact on-time of the orifice law is rounded to the nearest admissible value: 0 (hold),
+    [min_on, ts - min_on], or ts (the whole period), so that every valve state lasts at least
+    min_on. A change beyond the reachable pressure saturates at the whole period.
+    """
+    p = min(max(p, p_return), p_supply)
+    dp = rate * ts
+    if dp > 0.0:
+        mode = VALVE_BUILD
+        target = min(p + dp, p_supply)
+        on = 2.0 * (math.sqrt(p_supply - p) - math.sqrt(p_supply - target)) / kb
+    elif dp < 0.0:
+        mode = VALVE_DUMP
+        target = max(p + dp, p_return)
+        on = 2.0 * (math.sqrt(p - p_return) - math.sqrt(target - p_return)) / kd
+    else:
+        return VALVE_HOLD, 0.0
+    if on >= ts - 0.5 * min_on:
+        return mode, ts
+    if on > ts - min_on:
+        on = ts - min_on
+    if on < 0.5 * min_on:
+        return VALVE_HOLD, 0.0
+    return mode, max(on, min_on)
+
+
+@numba.njit(**_JIT)
+def cutout_latch(latched, v_ref, cutout_m_s):
+    """ABS off for the rest of the stop once the reference speed falls below the cut-out."""
+    return latched or v_ref < cutout_m_s
+
+
+@numba.njit(**_JIT)
+def speed_schedule(v_ref, v0, floor):
+    """Gain factor of the speed schedule: kp, kd times max(v_ref / v0, floor)."""
+    return max(v_ref / v0, floor)
