@@ -16,7 +16,8 @@ allocate nothing and draw nothing (random inputs arrive as pre-drawn arrays).
   -k_d sqrt(p - p_r), integrated exactly (sqrt(p_s - p) falls linearly in time), so the
   pressure never leaves [p_r, p_s]. The controller issues one pulse per period: a state held for
   `on` seconds from `start` (command time + dead time), then hold; `duty_pulse` turns a pressure
-  rate into such a pulse, quantized so that every valve state lasts at least the minimum on-time.
+  rate into such a pulse, quantized so that every valve state lasts at least the minimum on-time,
+  carrying what the rounding missed into the next period.
 - Low-speed cut-out (latched) and the speed schedule of the gains (kp, kd ~ v / v0).
 """
 
@@ -33,16 +34,16 @@ VALVE_BUILD = 1
 _BISECTIONS = 52
 """Halvings of the step in the edge-time search (2^-52 of the step: float resolution)."""
 
-_JIT = {"cache": True, "nogil": True, "error_model": "numpy", "inline": "always"}
+_jit = numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 
 
-@numba.njit(**_JIT)
+@_jit
 def edge_angle(k, teeth, spacing):
     """Wheel angle (rad) of edge k: k 2 pi / teeth + spacing[k mod len(spacing)]."""
     return k * (2.0 * math.pi / teeth) + spacing[k % spacing.shape[0]]
 
 
-@numba.njit(**_JIT)
+@_jit
 def hermite_angle(s, theta0, theta1, w0, w1, dt):
     """Cubic Hermite interpolant of the angle at s in [0, 1] of a step of length dt."""
     s2 = s * s
@@ -51,7 +52,7 @@ def hermite_angle(s, theta0, theta1, w0, w1, dt):
             + (-2.0 * s3 + 3.0 * s2) * theta1 + (s3 - s2) * dt * w1)
 
 
-@numba.njit(**_JIT)
+@_jit
 def crossing_fraction(target, theta0, theta1, w0, w1, dt):
     """Fraction s of the step where the interpolated angle reaches `target` (bisection).
 
@@ -68,7 +69,7 @@ def crossing_fraction(target, theta0, theta1, w0, w1, dt):
     return hi
 
 
-@numba.njit(**_JIT)
+@_jit
 def sensor_first_edge(theta0, teeth, spacing):
     """Index of the first edge strictly ahead of the wheel angle theta0."""
     k = math.floor(theta0 * teeth / (2.0 * math.pi))
@@ -79,7 +80,7 @@ def sensor_first_edge(theta0, teeth, spacing):
     return k
 
 
-@numba.njit(**_JIT)
+@_jit
 def sensor_step(theta0, theta1, w0, w1, t0, dt, k_next, t_last, t_prev, w_est, teeth,
                 timer_s, spacing, jitter):
     """Advance the toothed-wheel sensor over one integration step [t0, t0 + dt].
@@ -111,7 +112,7 @@ def sensor_step(theta0, theta1, w0, w1, t0, dt, k_next, t_last, t_prev, w_est, t
     return k_end + 1, t_last, t_prev, w_est
 
 
-@numba.njit(**_JIT)
+@_jit
 def sensor_read(w_est, t_last, t_now, teeth, bound):
     """The estimate the controller reads at t_now: held, or (bound) capped by the speed at
     which the next edge would already have arrived, pitch / (t_now - t_last)."""
@@ -120,20 +121,20 @@ def sensor_read(w_est, t_last, t_now, teeth, bound):
     return w_est
 
 
-@numba.njit(**_JIT)
+@_jit
 def select_high4(a, b, c, d):
     """Largest of four wheel speeds (the vehicle is never slower than its fastest braked
     wheel)."""
     return max(max(a, b), max(c, d))
 
 
-@numba.njit(**_JIT)
+@_jit
 def vref_slew(vref_prev, v_wheel, a_max, ts):
     """Slew-limited reference: vref_k = max(v_wheel, vref_k-1 - a_max ts)."""
     return max(v_wheel, vref_prev - a_max * ts)
 
 
-@numba.njit(**_JIT)
+@_jit
 def vref_accel(vref_prev, v_wheel, a_true, bias, noise, ts, agree):
     """Accelerometer reference: integrate a_meas = a_true + bias + noise over ts, never below
     the wheel speed, and re-anchored to the wheel when the two agree within `agree` (m/s)."""
@@ -143,7 +144,7 @@ def vref_accel(vref_prev, v_wheel, a_true, bias, noise, ts, agree):
     return v
 
 
-@numba.njit(**_JIT)
+@_jit
 def orifice_advance(p, mode, h, kb, kd, p_supply, p_return):
     """Pressure after h seconds in a fixed valve state, exact for dp/dt = k_b sqrt(p_s - p)
     (build), -k_d sqrt(p - p_r) (dump), 0 (hold); clamped into [p_r, p_s] at the start."""
@@ -157,7 +158,7 @@ def orifice_advance(p, mode, h, kb, kd, p_supply, p_return):
     return p
 
 
-@numba.njit(**_JIT)
+@_jit
 def valve_mode_at(t, prev_mode, prev_start, prev_on, mode, start, on):
     """Valve state at time t given the previous and the current pulse (state, start, length):
     the current pulse rules from its start, the previous one before; after a pulse: hold."""
@@ -168,7 +169,7 @@ def valve_mode_at(t, prev_mode, prev_start, prev_on, mode, start, on):
     return VALVE_HOLD
 
 
-@numba.njit(**_JIT)
+@_jit
 def modulator_advance(p, t0, h, prev_mode, prev_start, prev_on, mode, start, on, kb, kd,
                       p_supply, p_return):
     """Pressure at t0 + h from p at t0, exact through every valve switch inside the interval
@@ -186,16 +187,18 @@ def modulator_advance(p, t0, h, prev_mode, prev_start, prev_on, mode, start, on,
     return p
 
 
-@numba.njit(**_JIT)
-def duty_pulse(rate, p, ts, kb, kd, p_supply, p_return, min_on):
-    """Pulse (state, on-time) realizing the pressure change rate * ts within one period.
+@_jit
+def duty_pulse(rate, residual, p, ts, kb, kd, p_supply, p_return, min_on):
+    """Pulse (state, on-time, new residual) realizing the pressure change rate ts + residual
+    within one period (a sigma-delta quantizer: what one pulse misses, the next one adds).
 
     The exact on-time of the orifice law is rounded to the nearest admissible value: 0 (hold),
     [min_on, ts - min_on], or ts (the whole period), so that every valve state lasts at least
-    min_on. A change beyond the reachable pressure saturates at the whole period.
+    min_on. The residual is the requested minus the realized change; a request beyond one
+    period's reach saturates at the whole period and clears the residual (no wind-up).
     """
     p = min(max(p, p_return), p_supply)
-    dp = rate * ts
+    dp = rate * ts + residual
     if dp > 0.0:
         mode = VALVE_BUILD
         target = min(p + dp, p_supply)
@@ -205,23 +208,24 @@ def duty_pulse(rate, p, ts, kb, kd, p_supply, p_return, min_on):
         target = max(p + dp, p_return)
         on = 2.0 * (math.sqrt(p - p_return) - math.sqrt(target - p_return)) / kd
     else:
-        return VALVE_HOLD, 0.0
+        return VALVE_HOLD, 0.0, 0.0
     if on >= ts - 0.5 * min_on:
-        return mode, ts
+        return mode, ts, 0.0
     if on > ts - min_on:
         on = ts - min_on
     if on < 0.5 * min_on:
-        return VALVE_HOLD, 0.0
-    return mode, max(on, min_on)
+        return VALVE_HOLD, 0.0, dp
+    on = max(on, min_on)
+    return mode, on, dp - (orifice_advance(p, mode, on, kb, kd, p_supply, p_return) - p)
 
 
-@numba.njit(**_JIT)
+@_jit
 def cutout_latch(latched, v_ref, cutout_m_s):
     """ABS off for the rest of the stop once the reference speed falls below the cut-out."""
     return latched or v_ref < cutout_m_s
 
 
-@numba.njit(**_JIT)
+@_jit
 def speed_schedule(v_ref, v0, floor):
     """Gain factor of the speed schedule: kp, kd times max(v_ref / v0, floor)."""
     return max(v_ref / v0, floor)
