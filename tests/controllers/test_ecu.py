@@ -302,3 +302,81 @@ def test_modulator_and_vref_never_produce_nan(rate: float, p: float, ts: float, 
     assert math.isfinite(E.vref_slew(v, 0.5 * v, abs(a), ts))
     assert math.isfinite(E.vref_accel(v, 0.5 * v, a, 0.1, noise, ts, 0.3))
     assert math.isfinite(E.speed_schedule(v, 30.0, 0.05))
+
+
+def _edge_time_errors(dt: float) -> np.ndarray:
+    """Captured minus exact edge times on a wheel whose speed oscillates,
+    w = 20 + 5 sin(2 pi 10 t) rad/s (timer 1e-15 s: the interpolation error alone)."""
+    from scipy.optimize import brentq
+
+    teeth, w0, amp, om = 48, 20.0, 5.0, 2.0 * math.pi * 10.0
+    pitch = 2.0 * math.pi / teeth
+
+    def theta(t: float) -> float:
+        return w0 * t + amp * (1.0 - math.cos(om * t)) / om
+
+    def speed(t: float) -> float:
+        return w0 + amp * math.sin(om * t)
+
+    k_next = E.sensor_first_edge(0.0, teeth, ZERO)
+    t_last, t_prev, w_est = -1.0, -1.0, w0
+    errs = []
+    for i in range(round(0.3 / dt)):
+        ta, tb = i * dt, (i + 1) * dt
+        k_old = k_next
+        k_next, t_last, t_prev, w_est = E.sensor_step(
+            theta(ta), theta(tb), speed(ta), speed(tb), ta, dt, k_next, t_last, t_prev, w_est,
+            teeth, 1e-15, ZERO, ZERO)
+        if k_next > k_old:
+            k = k_next - 1
+            exact = brentq(lambda t, k=k: theta(t) - k * pitch, ta, tb, xtol=1e-16, rtol=1e-15)
+            errs.append(t_last - exact)
+    return np.abs(np.array(errs))
+
+
+def test_edge_times_are_fourth_order_in_the_step() -> None:
+    """Cubic Hermite on the angle and its rate: time error <= max|theta''''| dt^4 / (384 w_min)
+    and falling 16x per halving of the step."""
+    coarse, fine = _edge_time_errors(2e-3), _edge_time_errors(1e-3)
+    d4 = 5.0 * (2.0 * math.pi * 10.0) ** 3
+    assert coarse.max() <= d4 * 2e-3**4 / (384.0 * 15.0) + 2e-15
+    assert coarse.max() / fine.max() > 10.0
+
+
+def test_jitter_spreads_the_captured_period() -> None:
+    """Edge jitter of std sigma makes the captured period err by about sqrt(2) sigma."""
+    teeth, w, sigma = 48, 50.0, 2e-6
+    jitter = draw_noise(EcuParams(sensor_jitter_s=sigma), seed=5).jitter_s
+    dt = 1e-4
+    k_next = E.sensor_first_edge(0.0, teeth, ZERO)
+    t_last, t_prev, w_est = -1.0, -1.0, w
+    periods = []
+    for i in range(round(4.0 / dt)):
+        ta = i * dt
+        k_old = k_next
+        k_next, t_last, t_prev, w_est = E.sensor_step(
+            w * ta, w * (ta + dt), w, w, ta, dt, k_next, t_last, t_prev, w_est, teeth, 1e-12,
+            ZERO, jitter)
+        if k_next > k_old and t_prev >= 0.0:
+            periods.append(t_last - t_prev)
+    dev = np.array(periods) - 2.0 * math.pi / teeth / w
+    assert dev.std() == pytest.approx(math.sqrt(2.0) * sigma, rel=0.15)
+
+
+def test_bounded_read_sees_a_locked_wheel() -> None:
+    """A wheel that stops shows no edge: the held estimate stays, the bounded read falls as
+    pitch / (time since the last edge)."""
+    teeth, w_est, t_last = 48, 40.0, 1.0
+    pitch = 2.0 * math.pi / teeth
+    assert E.sensor_read(w_est, t_last, 1.5, teeth, False) == w_est
+    assert E.sensor_read(w_est, t_last, 1.5, teeth, True) == pytest.approx(pitch / 0.5)
+    assert E.sensor_read(w_est, t_last, 1.001, teeth, True) == w_est  # edge not yet overdue
+
+
+def test_switching_laws_command_the_valves_directly() -> None:
+    ts, min_on = 5e-3, 2e-3
+    assert E.switching_pulse(10.0, 10.0, ts, min_on) == (E.VALVE_BUILD, ts)
+    assert E.switching_pulse(-10.0, 10.0, ts, min_on) == (E.VALVE_DUMP, ts)
+    assert E.switching_pulse(0.0, 10.0, ts, min_on) == (E.VALVE_HOLD, 0.0)
+    assert E.switching_pulse(2.5, 10.0, ts, min_on) == (E.VALVE_BUILD, min_on)  # slow build
+    assert E.switching_pulse(1.0, 10.0, ts, min_on) == (E.VALVE_HOLD, 0.0)  # below min_on / 2

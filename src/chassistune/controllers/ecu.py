@@ -17,7 +17,8 @@ allocate nothing and draw nothing (random inputs arrive as pre-drawn arrays).
   pressure never leaves [p_r, p_s]. The controller issues one pulse per period: a state held for
   `on` seconds from `start` (command time + dead time), then hold; `duty_pulse` turns a pressure
   rate into such a pulse, quantized so that every valve state lasts at least the minimum on-time,
-  carrying what the rounding missed into the next period.
+  carrying what the rounding missed into the next period; `switching_pulse` maps the held
+  command of a switching law (threshold ABS: build, hold, dump, slow build) to a pulse.
 - Low-speed cut-out (latched) and the speed schedule of the gains (kp, kd ~ v / v0).
 """
 
@@ -188,14 +189,26 @@ def modulator_advance(p, t0, h, prev_mode, prev_start, prev_on, mode, start, on,
 
 
 @_jit
+def quantize_on_time(on, ts, min_on):
+    """On-time rounded to the nearest admissible value: 0, [min_on, ts - min_on] or ts, so that
+    the pulse and the hold after it each last at least min_on (or do not happen)."""
+    if on >= ts - 0.5 * min_on:
+        return ts
+    if on > ts - min_on:
+        return ts - min_on
+    if on < 0.5 * min_on:
+        return 0.0
+    return max(on, min_on)
+
+
+@_jit
 def duty_pulse(rate, residual, p, ts, kb, kd, p_supply, p_return, min_on):
     """Pulse (state, on-time, new residual) realizing the pressure change rate ts + residual
     within one period (a sigma-delta quantizer: what one pulse misses, the next one adds).
 
-    The exact on-time of the orifice law is rounded to the nearest admissible value: 0 (hold),
-    [min_on, ts - min_on], or ts (the whole period), so that every valve state lasts at least
-    min_on. The residual is the requested minus the realized change; a request beyond one
-    period's reach saturates at the whole period and clears the residual (no wind-up).
+    The exact on-time of the orifice law goes through `quantize_on_time`. The residual is the
+    requested minus the realized change; a request beyond one period's reach saturates at the
+    whole period and clears the residual (no wind-up).
     """
     p = min(max(p, p_return), p_supply)
     dp = rate * ts + residual
@@ -209,14 +222,25 @@ def duty_pulse(rate, residual, p, ts, kb, kd, p_supply, p_return, min_on):
         on = 2.0 * (math.sqrt(p - p_return) - math.sqrt(target - p_return)) / kd
     else:
         return VALVE_HOLD, 0.0, 0.0
-    if on >= ts - 0.5 * min_on:
+    on_q = quantize_on_time(on, ts, min_on)
+    if on_q == ts:
         return mode, ts, 0.0
-    if on > ts - min_on:
-        on = ts - min_on
-    if on < 0.5 * min_on:
+    if on_q == 0.0:
         return VALVE_HOLD, 0.0, dp
-    on = max(on, min_on)
-    return mode, on, dp - (orifice_advance(p, mode, on, kb, kd, p_supply, p_return) - p)
+    return mode, on_q, dp - (orifice_advance(p, mode, on_q, kb, kd, p_supply, p_return) - p)
+
+
+@_jit
+def switching_pulse(u0, amplitude, ts, min_on):
+    """Pulse of a switching law that commands valve states directly (threshold ABS, bang-bang):
+    the sign of its held command u0 picks build / hold / dump, and a fraction |u0| / amplitude
+    of the full command (the threshold law's slow build) becomes a pulse of that fraction of
+    the period."""
+    if u0 == 0.0 or amplitude <= 0.0:
+        return VALVE_HOLD, 0.0
+    mode = VALVE_BUILD if u0 > 0.0 else VALVE_DUMP
+    on = quantize_on_time(min(abs(u0) / amplitude, 1.0) * ts, ts, min_on)
+    return (mode, on) if on > 0.0 else (VALVE_HOLD, 0.0)
 
 
 @_jit
