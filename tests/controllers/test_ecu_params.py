@@ -73,3 +73,11 @@ def test_draws_are_seeded_and_keep_edges_in_order() -> None:
     off = draw_noise(EcuParams(accel_noise_m_s2=0.0), 7)
     assert off.spacing_rad.tolist() == [0.0] and off.jitter_s.tolist() == [0.0]
     assert off.accel_noise_m_s2.tolist() == [0.0]
+
+
+def test_docs_list_every_parameter() -> None:
+    from pathlib import Path
+
+    text = (Path(__file__).parents[2] / "docs" / "ecu.md").read_text()
+    for row in field_table():
+        assert f"| `{row['name']}` |" in text, row["name"]
