@@ -254,10 +254,39 @@ def test_select_high_and_accelerometer_reference() -> None:
     v_true, vref = 20.0, 20.0
     for _ in range(400):  # 2 s at -5 m/s^2, the wheel far below (slipping): no anchoring
         v_true -= 5.0 * ts
-        vref = E.vref_accel(vref, 0.5 * v_true, -5.0, bias, 0.0, ts, 0.3)
+        a_meas = E.accelerometer(-5.0, bias, 0.0)
+        vref = E.vref_accel(vref, 0.5 * v_true, -5.0, a_meas, ts, 0.3, 0.5, False)
     assert vref - v_true == pytest.approx(bias * 2.0, rel=1e-9)
-    vref = E.vref_accel(vref, v_true, -5.0, bias, 0.0, ts, 0.3)  # the wheel agrees: anchor
+    vref = E.vref_accel(vref, v_true, -5.0, a_meas, ts, 0.3, 0.5, False)  # agrees: anchor
     assert vref == v_true
+
+
+def test_accelerometer_reference_ignores_a_wheel_slowing_down() -> None:
+    """A wheel decelerating at 15 m/s^2 while the vehicle does 8 m/s^2 stays within 0.3 m/s of
+    the estimate for a sample at a time; it must not drag the estimate down with it."""
+    ts = 5e-3
+    v_true, wheel, vref = 30.0, 30.0, 30.0
+    for _ in range(100):
+        v_true -= 8.0 * ts
+        wheel -= 15.0 * ts
+        vref = E.vref_accel(vref, wheel, -15.0, -8.0, ts, 0.3, 0.5, False)
+    assert vref == pytest.approx(v_true, abs=1e-9)
+    assert v_true - wheel > 3.0
+
+
+def test_accelerometer_reference_reanchors_on_a_released_wheel() -> None:
+    """A +0.1 m/s^2 bias has lifted the estimate 0.4 m/s above the truth while the wheel
+    slipped; the brake is released (coasting, a_true = 0): speed agreement alone never brings
+    it back (it keeps climbing at the bias rate), a released stable wheel re-anchors it, a
+    released wheel still spinning up does not."""
+    ts, v = 5e-3, 20.0
+    a_meas = E.accelerometer(0.0, 0.1, 0.0)
+    vref = v + 0.4
+    for _ in range(1000):  # 5 s
+        vref = E.vref_accel(vref, v, 0.0, a_meas, ts, 0.3, 0.5, False)
+    assert vref - v == pytest.approx(0.9, rel=1e-9)
+    assert E.vref_accel(vref, v, 20.0, a_meas, ts, 0.3, 0.5, True) > v  # spinning up
+    assert E.vref_accel(vref, v, 0.0, a_meas, ts, 0.3, 0.5, True) == v
 
 
 def test_cutout_latches_and_schedule_scales() -> None:
@@ -300,7 +329,8 @@ def test_modulator_and_vref_never_produce_nan(rate: float, p: float, ts: float, 
     q = E.modulator_advance(p, 0.0, ts, mode, 0.0, on, -mode, 0.5 * ts, on, KB, KD, P_S, P_R)
     assert P_R <= q <= P_S
     assert math.isfinite(E.vref_slew(v, 0.5 * v, abs(a), ts))
-    assert math.isfinite(E.vref_accel(v, 0.5 * v, a, 0.1, noise, ts, 0.3))
+    assert math.isfinite(E.vref_accel(v, 0.5 * v, a, E.accelerometer(a, 0.1, noise), ts, 0.3,
+                                      0.5, frac > 0.25))
     assert math.isfinite(E.speed_schedule(v, 30.0, 0.05))
 
 

@@ -11,7 +11,7 @@ allocate nothing and draw nothing (random inputs arrive as pre-drawn arrays).
   speed from the last edge period, w_est = (2 pi / N) / (t_k - t_k-1). No edge: hold.
 - Reference speed: slew-limited vref_k = max(v_wheel, vref_k-1 - a_max ts) (select-high of
   the wheels on a vehicle), or an integrated accelerometer (bias, noise) re-anchored to the
-  wheel speed when they agree.
+  wheel speed when the wheel is stable and either agrees or has its brake released.
 - Three-state modulator: build / hold / dump with orifice rates dp/dt = k_b sqrt(p_s - p) and
   -k_d sqrt(p - p_r), integrated exactly (sqrt(p_s - p) falls linearly in time), so the
   pressure never leaves [p_r, p_s]. The controller issues one pulse per period: a state held for
@@ -136,11 +136,24 @@ def vref_slew(vref_prev, v_wheel, a_max, ts):
 
 
 @_jit
-def vref_accel(vref_prev, v_wheel, a_true, bias, noise, ts, agree):
-    """Accelerometer reference: integrate a_meas = a_true + bias + noise over ts, never below
-    the wheel speed, and re-anchored to the wheel when the two agree within `agree` (m/s)."""
-    v = max(vref_prev + (a_true + bias + noise) * ts, v_wheel)
-    if v - v_wheel <= agree:
+def accelerometer(a_true, bias, noise):
+    """Measured longitudinal acceleration: the true one plus bias and this sample's noise."""
+    return a_true + bias + noise
+
+
+@_jit
+def vref_accel(vref_prev, v_wheel, a_wheel, a_meas, ts, agree, agree_accel, released):
+    """Accelerometer reference: vref integrates a_meas over ts, never below the wheel speed.
+
+    It re-anchors to the wheel when the wheel is stable, its acceleration a_wheel (over the last
+    sample) within agree_accel of a_meas, and either the speeds agree within `agree` or the
+    wheel's brake is released (`released`: the ECU's pressure model near zero). Without the
+    stability test, a wheel slowing down a little faster than the vehicle would drag the
+    estimate down one sample at a time; without the release test, a bias that lifted the
+    estimate above a free wheel by more than `agree` would never be corrected.
+    """
+    v = max(vref_prev + a_meas * ts, v_wheel)
+    if abs(a_wheel - a_meas) <= agree_accel and (released or v - v_wheel <= agree):
         return v_wheel
     return v
 

@@ -83,6 +83,13 @@ class EcuParams:
     vref_agree_m_s: float = field(default=0.3, metadata=_meta("m/s", SRC_ASSUMED,
                                                                nonnegative=True))
     """The `accel` estimate re-anchors to the wheel speed when they agree within this."""
+    vref_free_pressure: float = field(default=0.01, metadata=_meta(
+        "supply", SRC_ASSUMED, unit_interval=True))
+    """A wheel counts as free (re-anchors the `accel` estimate) while the ECU's pressure model
+    is at most this fraction of the supply pressure ..."""
+    vref_agree_m_s2: float = field(default=0.5, metadata=_meta("m/s^2", SRC_ASSUMED,
+                                                                nonnegative=True))
+    """... and its acceleration is within this of the measured vehicle acceleration."""
     valves: str = field(default="three-state", metadata=_meta("-", "issue 15"))
     """Modulator: `continuous` (the K/(s(Ts+1)) actuator) or `three-state` (build/hold/dump)."""
     valve_build_time_s: float = field(default=0.15, metadata=_meta(
