@@ -39,6 +39,7 @@ def test_override_by_name() -> None:
     ({"ecu_ts_s": "-1"}, "--param ecu_ts_s"),
     ({"ecu_ts_s": "nan"}, "--param ecu_ts_s"),
     ({"ecu_delay_samples": "-1"}, "--param ecu_delay_samples"),
+    ({"ecu_delay_samples": "9"}, "--param ecu_delay_samples"),
     ({"valves": "two-state"}, "--param valves"),
     ({"vref": "magic"}, "--param vref"),
     ({"sensor": "radar"}, "--param sensor"),

@@ -27,6 +27,8 @@ VREFS = ("true", "slew-limited", "accel")
 VALVES = ("continuous", "three-state")
 GAIN_SCHEDULES = ("off", "speed")
 
+MAX_DELAY_SAMPLES = 8
+"""Longest computation delay (the kernels reserve this many command slots per candidate)."""
 MAX_SPACING_ERROR = 0.2
 """Largest accepted spacing-error std (fraction of the pitch); draws are clipped at 0.45 pitch so
 that the edges stay in order."""
@@ -132,8 +134,8 @@ def check_ecu(p: EcuParams, where: str = "--param ") -> EcuParams:
                              f"{value!r}")
     if p.sensor_teeth < 1 or p.sensor_teeth > 10_000_000:
         raise InputError(f"{where}sensor_teeth", f"must be in 1..1e7, got {p.sensor_teeth}")
-    if p.ecu_delay_samples > 100:
-        raise InputError(f"{where}ecu_delay_samples", f"must be at most 100, got "
+    if p.ecu_delay_samples > MAX_DELAY_SAMPLES:
+        raise InputError(f"{where}ecu_delay_samples", f"must be at most {MAX_DELAY_SAMPLES}, got "
                          f"{p.ecu_delay_samples}")
     if p.sensor_spacing_error > MAX_SPACING_ERROR:
         raise InputError(f"{where}sensor_spacing_error", f"must be at most {MAX_SPACING_ERROR} "
