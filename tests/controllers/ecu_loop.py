@@ -17,9 +17,9 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+import chassistune as ct
 from chassistune.controllers import ecu as E
 from chassistune.controllers.ecu_params import EcuParams, draw_noise, orifice_gains
-from chassistune.plants.abs_wheel import BILINEAR_ROADS
 
 # paper-derlsp-ao (DESIGN 3.1): M, I, R, g, K, T, kq, q_max, v0, v_stop, dt, t_max
 PLANT = np.array([100.0, 12.0, 0.5, 9.81, 100.0, 0.01, 1.0, 1500.0, 30.0, 0.5, 1e-3, 120.0])
@@ -147,6 +147,12 @@ def _run(road, gains, plant, modes, ecu, spacing, jitter, accel_noise):
     return dist, -1.0, gap, q_lo, q_hi
 
 
+def bilinear_road(road: str) -> tuple[float, float, float]:
+    """(S_T, mu_h, mu_g) of a bilinear road, from the public parameter echo."""
+    p = ct.simulate("abs-wheel", road=road, controller="none").scenario.params()
+    return p["slip_opt"], p["mu_peak"], p["mu_lock"]
+
+
 @dataclass(frozen=True)
 class Stop:
     distance_m: float
@@ -163,7 +169,7 @@ def ecu_stop(road: str, params: EcuParams, *, sensor: int = SENSOR_IDEAL,
              scheduled: bool = False, cutout: bool = False, seed: int = 0,
              gains: tuple[float, float, float] = (5000.0, 0.0, 230.0)) -> Stop:
     """One stop of the oracle loop on a bilinear road with the PID `gains` (kp, ki, kd)."""
-    st, mh, mg, _ = BILINEAR_ROADS[road]
+    st, mh, mg = bilinear_road(road)
     kb, kdv = orifice_gains(params, PLANT[7], 0.0)
     noise = draw_noise(params, seed)
     dead = round(params.valve_dead_time_s / PLANT[10]) * PLANT[10]

@@ -6,11 +6,10 @@ import itertools
 import math
 
 import pytest
-from ecu_loop import SENSOR_TOOTHED, VREF_ACCEL, VREF_SLEW, ecu_stop
+from ecu_loop import SENSOR_TOOTHED, VREF_ACCEL, VREF_SLEW, bilinear_road, ecu_stop
 
 import chassistune as ct
 from chassistune.controllers.ecu_params import EcuParams
-from chassistune.plants.abs_wheel import BILINEAR_ROADS
 
 ROADS = ("dry-concrete", "wet-asphalt", "ice")
 
@@ -61,7 +60,7 @@ def test_realistic_ecu_stays_physical(road: str, vref: int) -> None:
     stops, never beats the adhesion bound, and the pressure stays in [0, q_max]."""
     s = ecu_stop(road, EcuParams(), sensor=SENSOR_TOOTHED, vref=vref, three_state=True, m=5,
                  delay=1, cutout=True)
-    mu_peak = BILINEAR_ROADS[road][1]
+    mu_peak = bilinear_road(road)[1]
     bound = (30.0**2 - 0.5**2) / (2.0 * mu_peak * 9.81)
     assert s.time_s > 0.0 and math.isfinite(s.distance_m)
     assert s.distance_m >= bound

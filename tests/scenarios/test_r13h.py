@@ -6,11 +6,15 @@ import numpy as np
 import pytest
 
 from chassistune.errors import InputError
-from chassistune.plants.abs_wheel import BILINEAR_ROADS
 from chassistune.scenarios import r13h
+from chassistune.simulate import simulate
 
 G = 9.81  # the preset's g, the regulation's constants' g
 ABS_CONTROLLERS = ("threshold", "pid", "bang-bang", "fuzzy-pid", "fuzzy-immune-pid")
+
+
+def _mu_peak(road: str) -> float:
+    return float(simulate("abs-wheel", road=road, controller="none").scenario.params()["mu_peak"])
 
 
 def test_window_time_on_a_linear_record() -> None:
@@ -36,7 +40,7 @@ def test_adhesion_coefficient_nearly_reaches_the_peak(
         road: str, adhesion: dict[str, r13h.AdhesionCoefficient]) -> None:
     """A constant pressure cannot hold the peak (past the static limit the wheel slides over
     it), but the best cap comes within 1 % of mu_peak and never above it."""
-    mu_peak = BILINEAR_ROADS[road][1]
+    mu_peak = _mu_peak(road)
     a = adhesion[road]
     k_limit = mu_peak * r13h.Z_M_COEF / (20 / 3.6 / G)  # z of a stop at exactly mu_peak g
     assert 0.99 * k_limit <= a.k_m <= k_limit
@@ -59,7 +63,7 @@ def test_no_controller_beats_the_adhesion_limit(
     controller holding the peak gets within that margin of it and can score epsilon slightly
     above 1 (docs/ecu.md: measured 1.0002-1.0023): the regulation's own case for measuring k
     again, with a 10 % tolerance."""
-    mu_peak = BILINEAR_ROADS[road][1]
+    mu_peak = _mu_peak(road)
     z_limit = mu_peak * r13h.Z_AL_COEF / (30 / 3.6 / G)
     a = adhesion[road]
     for name in ABS_CONTROLLERS:
