@@ -151,11 +151,12 @@ def check_ecu(p: EcuParams, where: str = "--param ") -> EcuParams:
     return p
 
 
-def ecu_params(values: Mapping[str, object], base: EcuParams | None = None
-               ) -> tuple[EcuParams, set[str]]:
-    """`base` (defaults) with the fields named in `values` replaced and checked; names used."""
-    p, used = override(base or EcuParams(), values)
-    return check_ecu(p), used
+def ecu_params(values: Mapping[str, object], base: EcuParams | None = None,
+               where: str = "--param ") -> tuple[EcuParams, set[str]]:
+    """`base` (defaults) with the fields named in `values` replaced and checked; names used.
+    Errors name the field as `where` + field name."""
+    p, used = override(base or EcuParams(), values, where)
+    return check_ecu(p, where), used
 
 
 def field_table() -> list[dict[str, Any]]:
