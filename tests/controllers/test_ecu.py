@@ -95,22 +95,28 @@ def test_fine_sensor_converges_to_the_true_speed() -> None:
     assert (err48 / speed48)[crawl].max() > 1.0
 
 
-def _constant_speed_estimates(w: float, teeth: int, spacing: np.ndarray, revs: int
-                              ) -> np.ndarray:
-    """The estimate after each captured edge at constant speed (timer 1 ps)."""
+def _constant_speed_edges(w: float, teeth: int, spacing: np.ndarray, seconds: float,
+                          jitter: np.ndarray = ZERO) -> tuple[np.ndarray, np.ndarray]:
+    """(estimate, captured period) after each captured edge at constant speed (timer 1 ps)."""
     dt = 1e-4
     k_next = E.sensor_first_edge(0.0, teeth, spacing)
     t_last, t_prev, w_est = -1.0, -1.0, w
-    out = []
-    for i in range(int(revs * 2.0 * math.pi / w / dt)):
+    est, periods = [], []
+    for i in range(round(seconds / dt)):
         ta = i * dt
         k_old = k_next
         k_next, t_last, t_prev, w_est = E.sensor_step(
             w * ta, w * (ta + dt), w, w, ta, dt, k_next, t_last, t_prev, w_est, teeth, 1e-12,
-            spacing, ZERO)
+            spacing, jitter)
         if k_next > k_old and t_prev >= 0.0:
-            out.append(w_est)
-    return np.array(out)
+            est.append(w_est)
+            periods.append(t_last - t_prev)
+    return np.array(est), np.array(periods)
+
+
+def _constant_speed_estimates(w: float, teeth: int, spacing: np.ndarray, revs: int
+                              ) -> np.ndarray:
+    return _constant_speed_edges(w, teeth, spacing, revs * 2.0 * math.pi / w)[0]
 
 
 def test_spacing_error_shows_as_lines_at_the_rotation_harmonics() -> None:
@@ -377,19 +383,8 @@ def test_jitter_spreads_the_captured_period() -> None:
     """Edge jitter of std sigma makes the captured period err by about sqrt(2) sigma."""
     teeth, w, sigma = 48, 50.0, 2e-6
     jitter = draw_noise(EcuParams(sensor_jitter_s=sigma), seed=5).jitter_s
-    dt = 1e-4
-    k_next = E.sensor_first_edge(0.0, teeth, ZERO)
-    t_last, t_prev, w_est = -1.0, -1.0, w
-    periods = []
-    for i in range(round(4.0 / dt)):
-        ta = i * dt
-        k_old = k_next
-        k_next, t_last, t_prev, w_est = E.sensor_step(
-            w * ta, w * (ta + dt), w, w, ta, dt, k_next, t_last, t_prev, w_est, teeth, 1e-12,
-            ZERO, jitter)
-        if k_next > k_old and t_prev >= 0.0:
-            periods.append(t_last - t_prev)
-    dev = np.array(periods) - 2.0 * math.pi / teeth / w
+    _, periods = _constant_speed_edges(w, teeth, ZERO, 4.0, jitter)
+    dev = periods - 2.0 * math.pi / teeth / w
     assert dev.std() == pytest.approx(math.sqrt(2.0) * sigma, rel=0.15)
 
 
