@@ -41,8 +41,9 @@ def _meta(unit: str, source: str, **checks: bool) -> dict[str, Any]:
 
 SRC_SERVICE = ("service manuals: 'up to 10 activation cycles per second' (Saab 900 ABS, WIS "
                "5-brakes/abs-2e); 5-12 control cycles/s and 5-10 ms loops (issue 15)")
-SRC_TONE = ("tone wheels of 43-100 teeth; e.g. 44 teeth, 1-2000 Hz sensor range (Hyundai "
-            "Tiburon 2007 service manual, wheel speed sensor specification); 48 as issue 15")
+SRC_TONE = ("48 pulses per wheel turn from the ABS ring of BMW E36/E46 (MSS54 calibration "
+            "notes, github.com/saildot4k/MSS54-XDFs wiki 'Gearing and Gear Detection'); 44 teeth "
+            "and a 1-2000 Hz sensor range (Hyundai Tiburon 2007 service manual)")
 SRC_ASSUMED = "our assumption (no primary source found); stated in docs/ecu.md"
 
 
