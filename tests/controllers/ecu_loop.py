@@ -25,6 +25,8 @@ from chassistune.controllers.ecu_params import EcuParams, draw_noise, orifice_ga
 PLANT = np.array([100.0, 12.0, 0.5, 9.81, 100.0, 0.01, 1.0, 1500.0, 30.0, 0.5, 1e-3, 120.0])
 SENSOR_IDEAL, SENSOR_TOOTHED = 0, 1
 VREF_TRUE, VREF_SLEW, VREF_ACCEL = 0, 1, 2
+LOW_SPEED_M_S = (1.0, 9.0)
+"""Speed band of the low-speed slip error (DESIGN/issue 15: fixed gains fail below ~9 m/s)."""
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
@@ -38,7 +40,8 @@ def _run(road, gains, plant, modes, ecu, spacing, jitter, accel_noise):
     """One stop. modes: (sensor, vref, three-state, m, delay, scheduled, stale bound);
     ecu: (teeth, timer, a_max, bias, agree, agree_accel, p_free, kb, kd, dead, min_on, cutout).
 
-    Returns (distance, stop time, largest |v - vref| above 5 m/s, lowest and highest pressure).
+    Returns (distance, stop time, largest |v - vref| above 5 m/s, lowest and highest pressure,
+    largest true slip error |S_target - S| at step ends in the LOW_SPEED_M_S band).
     """
     st, mh, mg = road[0], road[1], road[2]
     kp, ki, kd, nf = gains[0], gains[1], gains[2], gains[3]
@@ -57,7 +60,8 @@ def _run(road, gains, plant, modes, ecu, spacing, jitter, accel_noise):
     z, xf, u0, resid = 0.0, st, 0.0, 0.0
     line = np.zeros(max(delay, 1))
     pulses = np.zeros(6)  # previous and current pulse: mode, start, on-time
-    dist, gap, q_lo, q_hi = 0.0, 0.0, q, q
+    dist, gap, q_lo, q_hi, e_low = 0.0, 0.0, q, q, 0.0
+    v_lo, v_hi = LOW_SPEED_M_S
     kv, kw, kqd, krd = np.zeros(4), np.zeros(4), np.zeros(4), np.zeros(4)
     ws = np.zeros(4)
     n_steps = math.ceil(t_max / dt)
@@ -137,14 +141,16 @@ def _run(road, gains, plant, modes, ecu, spacing, jitter, accel_noise):
             k_next, t_last, t_prev, w_est = E.sensor_step(
                 theta, theta_n, w, wn, t, dt, k_next, t_last, t_prev, w_est, teeth, timer,
                 spacing, jitter)
+        if v_lo < vn < v_hi:
+            e_low = max(e_low, abs(st - min(max((vn - wn * r_w) / vn, 0.0), 1.0)))
         q_lo = min(q_lo, qn)
         q_hi = max(q_hi, qn)
         if vn <= v_stop:
             frac = (v - v_stop) / (v - vn)
-            return dist + 0.5 * frac * dt * (v + v_stop), t + frac * dt, gap, q_lo, q_hi
+            return dist + 0.5 * frac * dt * (v + v_stop), t + frac * dt, gap, q_lo, q_hi, e_low
         dist += 0.5 * dt * (v + vn)
         v, w, theta, q = vn, wn, theta_n, qn
-    return dist, -1.0, gap, q_lo, q_hi
+    return dist, -1.0, gap, q_lo, q_hi, e_low
 
 
 def bilinear_road(road: str) -> tuple[float, float, float]:
@@ -162,6 +168,8 @@ class Stop:
     """Largest |true speed - reference| at the ticks above 5 m/s."""
     pressure_min: float
     pressure_max: float
+    low_speed_slip_error: float
+    """Largest |S_target - S| (true slip) between 1 and 9 m/s."""
 
 
 def ecu_stop(road: str, params: EcuParams, *, sensor: int = SENSOR_IDEAL,
