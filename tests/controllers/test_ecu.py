@@ -299,6 +299,7 @@ def test_cutout_latches_and_schedule_scales() -> None:
     assert not E.cutout_latch(False, 2.5, 2.0)
     assert E.cutout_latch(False, 1.9, 2.0)
     assert E.cutout_latch(True, 30.0, 2.0)
+    assert E.cutout_latch(1.0, 30.0, 2.0) and not E.cutout_latch(0.0, 30.0, 2.0)  # float rows
     assert E.speed_schedule(15.0, 30.0, 0.05) == 0.5
     assert E.speed_schedule(0.0, 30.0, 0.05) == 0.05
 
@@ -405,3 +406,16 @@ def test_switching_laws_command_the_valves_directly() -> None:
     assert E.switching_pulse(0.0, 10.0, ts, min_on) == (E.VALVE_HOLD, 0.0)
     assert E.switching_pulse(2.5, 10.0, ts, min_on) == (E.VALVE_BUILD, min_on)  # slow build
     assert E.switching_pulse(1.0, 10.0, ts, min_on) == (E.VALVE_HOLD, 0.0)  # below min_on / 2
+
+
+def test_state_read_from_float_rows() -> None:
+    """Lane kernels keep every state in float rows: a whole float edge index or valve state
+    gives the same step as an integer."""
+    args = (0.0, 1.0, 20.0, 20.0, 0.0, 0.05)
+    tail = (-1.0, -1.0, 20.0, 48, 1e-6, ZERO, ZERO)
+    assert E.sensor_step(*args, 1.0, *tail) == E.sensor_step(*args, 1, *tail)
+    assert E.orifice_advance(100.0, 1.0, 1e-3, KB, KD, P_S, P_R) == \
+        E.orifice_advance(100.0, E.VALVE_BUILD, 1e-3, KB, KD, P_S, P_R)
+    assert E.modulator_advance(100.0, 0.0, 5e-3, 0.0, 0.0, 0.0, -1.0, 1e-3, 2e-3, KB, KD, P_S,
+                               P_R) == E.modulator_advance(100.0, 0.0, 5e-3, 0, 0.0, 0.0, -1,
+                                                           1e-3, 2e-3, KB, KD, P_S, P_R)

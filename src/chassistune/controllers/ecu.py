@@ -40,8 +40,9 @@ _jit = numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 
 @_jit
 def edge_angle(k, teeth, spacing):
-    """Wheel angle (rad) of edge k: k 2 pi / teeth + spacing[k mod len(spacing)]."""
-    return k * (2.0 * math.pi / teeth) + spacing[k % spacing.shape[0]]
+    """Wheel angle (rad) of edge k: k 2 pi / teeth + spacing[k mod len(spacing)] (k may be a
+    whole float, as a kernel's state rows hold it)."""
+    return k * (2.0 * math.pi / teeth) + spacing[int(k) % spacing.shape[0]]
 
 
 @_jit
@@ -93,14 +94,15 @@ def sensor_step(theta0, theta1, w0, w1, t0, dt, k_next, t_last, t_prev, w_est, t
     the nominal pitch over their captured period. No edge in the step, or a non-positive
     captured period: the estimate holds. Returns (k_next, t_last, t_prev, w_est).
     """
-    if edge_angle(k_next, teeth, spacing) > theta1:
-        return k_next, t_last, t_prev, w_est
+    k_first = int(k_next)
+    if edge_angle(k_first, teeth, spacing) > theta1:
+        return k_first, t_last, t_prev, w_est
     k_end = math.floor(theta1 * teeth / (2.0 * math.pi))
     while edge_angle(k_end + 1, teeth, spacing) <= theta1:
         k_end += 1
     while edge_angle(k_end, teeth, spacing) > theta1:
         k_end -= 1
-    k = max(k_next, k_end - 1)
+    k = max(k_first, k_end - 1)
     while k <= k_end:
         s = crossing_fraction(edge_angle(k, teeth, spacing), theta0, theta1, w0, w1, dt)
         t_edge = t0 + s * dt + jitter[k % jitter.shape[0]]
@@ -258,8 +260,9 @@ def switching_pulse(u0, amplitude, ts, min_on):
 
 @_jit
 def cutout_latch(latched, v_ref, cutout_m_s):
-    """ABS off for the rest of the stop once the reference speed falls below the cut-out."""
-    return latched or v_ref < cutout_m_s
+    """ABS off for the rest of the stop once the reference speed falls below the cut-out
+    (`latched` a bool, or 0.0 / 1.0 from a kernel's float state row)."""
+    return bool(latched) or v_ref < cutout_m_s
 
 
 @_jit
