@@ -34,19 +34,19 @@ def test_override_by_name() -> None:
 
 
 @pytest.mark.parametrize(("values", "field"), [
-    ({"sensor_teeth": "0"}, "--param sensor_teeth"),
-    ({"sensor_teeth": "4.5"}, "--param sensor_teeth"),
-    ({"ecu_ts_s": "-1"}, "--param ecu_ts_s"),
-    ({"ecu_ts_s": "nan"}, "--param ecu_ts_s"),
-    ({"ecu_delay_samples": "-1"}, "--param ecu_delay_samples"),
-    ({"ecu_delay_samples": "9"}, "--param ecu_delay_samples"),
-    ({"valves": "two-state"}, "--param valves"),
-    ({"vref": "magic"}, "--param vref"),
-    ({"sensor": "radar"}, "--param sensor"),
-    ({"valve_dead_time_s": "0.005"}, "--param valve_dead_time_s"),
-    ({"valve_min_on_s": "0.003"}, "--param valve_min_on_s"),
-    ({"sensor_spacing_error": "0.3"}, "--param sensor_spacing_error"),
-    ({"gain_schedule_floor": "2"}, "--param gain_schedule_floor"),
+    ({"sensor_teeth": "0"}, "params.sensor_teeth"),
+    ({"sensor_teeth": "4.5"}, "params.sensor_teeth"),
+    ({"ecu_ts_s": "-1"}, "params.ecu_ts_s"),
+    ({"ecu_ts_s": "nan"}, "params.ecu_ts_s"),
+    ({"ecu_delay_samples": "-1"}, "params.ecu_delay_samples"),
+    ({"ecu_delay_samples": "9"}, "params.ecu_delay_samples"),
+    ({"valves": "two-state"}, "params.valves"),
+    ({"vref": "magic"}, "params.vref"),
+    ({"sensor": "radar"}, "params.sensor"),
+    ({"valve_dead_time_s": "0.005"}, "params.valve_dead_time_s"),
+    ({"valve_min_on_s": "0.003"}, "params.valve_min_on_s"),
+    ({"sensor_spacing_error": "0.3"}, "params.sensor_spacing_error"),
+    ({"gain_schedule_floor": "2"}, "params.gain_schedule_floor"),
 ])
 def test_bad_values_name_the_field(values: dict[str, str], field: str) -> None:
     with pytest.raises(InputError) as exc:

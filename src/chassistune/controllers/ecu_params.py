@@ -2,7 +2,8 @@
 
 One frozen dataclass, `EcuParams`; every field carries its unit, default and source in its
 metadata (`unit`, `source`) and its docstring. `ecu_params(values)` overrides fields by name
-(`--param NAME=VALUE`) and validates them, raising `InputError` naming the field. The random
+(`--param NAME=VALUE`) and validates them, raising `InputError` naming the field
+(`params.NAME`, the domain's field path). The random
 parts (tooth-spacing error, edge jitter, accelerometer noise) are drawn here, once per run from
 the run's seed, and handed to the compiled step functions of `chassistune.controllers.ecu` as
 arrays: the kernels draw nothing.
@@ -126,7 +127,7 @@ _CHOICES: dict[str, tuple[str, ...]] = {
 }
 
 
-def check_ecu(p: EcuParams, where: str = "--param ") -> EcuParams:
+def check_ecu(p: EcuParams, where: str = "params.") -> EcuParams:
     """Choices, integer ranges and the cross-checks of `p` (ranges of floats: `validate`)."""
     for name, choices in _CHOICES.items():
         value = getattr(p, name)
@@ -153,7 +154,7 @@ def check_ecu(p: EcuParams, where: str = "--param ") -> EcuParams:
 
 
 def ecu_params(values: Mapping[str, object], base: EcuParams | None = None,
-               where: str = "--param ") -> tuple[EcuParams, set[str]]:
+               where: str = "params.") -> tuple[EcuParams, set[str]]:
     """`base` (defaults) with the fields named in `values` replaced and checked; names used.
     Errors name the field as `where` + field name."""
     p, used = override(base or EcuParams(), values, where)

@@ -19,8 +19,8 @@ no pitch: k = z_m directly, without 1.1.4-1.1.5's rolling resistance and load-tr
 and a simulated stop is deterministic, so the three repeats coincide and t_m = t_min. A constant
 input force is the `none` controller with the pressure capped (`q_max`): the brake ramps to the
 cap in 0.15 s (DESIGN 3.1) and holds it. The pressure search evaluates a grid of caps per round
-(one kernel call each through the public API: a batched search needs the kernel change described
-in docs/ecu.md) and refines between the best cap that does not lock and the next one.
+(one kernel call each through the scenario API: a batched search needs the kernel change
+described in docs/ecu.md) and refines between the best cap that does not lock and the next one.
 """
 
 from __future__ import annotations
@@ -31,7 +31,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from chassistune.errors import InputError
-from chassistune.simulate import simulate
+from chassistune.params import to_float
+from chassistune.scenarios.base import Scenario, Trace
+from chassistune.scenarios.registry import get_plant
 
 KMH = 1.0 / 3.6
 Z_AL_COEF = 0.849
@@ -76,6 +78,15 @@ class R13hResult:
         return self.epsilon >= EPSILON_REQUIRED
 
 
+def _trace(preset: str | None, road: str | None, controller: str,
+           params: Mapping[str, object], gains: Mapping[str, object] | None = None,
+           seed: int = 0) -> tuple[Scenario, Trace]:
+    """One abs-wheel run through the scenario API: (scenario, trace)."""
+    sc = get_plant("abs-wheel").scenario(preset, road, controller, params, seed)
+    g = sc.gains_array({k: to_float(v, f"gains.{k}") for k, v in (gains or {}).items()})
+    return sc, sc.trace(g)
+
+
 def window_time_s(time_s: np.ndarray, speed_m_s: np.ndarray, v_hi: float, v_lo: float) -> float:
     """Time between the first crossings of v_hi and v_lo downwards (linear interpolation of the
     trace); inf when the speed never falls to v_lo."""
@@ -107,7 +118,7 @@ def _constant_pressure_run(preset: str | None, road: str | None, params: Mapping
     """(t from 40 to 20 km/h, locked above 20 km/h) for one constant pressure cap."""
     run_params = {**params, **_NO_HOPELESS, "v0_m_s": K_START_M_S,
                   "v_stop_m_s": K_LO_M_S - _END_MARGIN_M_S, "q_max": cap}
-    tr = simulate("abs-wheel", preset, road, "none", run_params).trace
+    _, tr = _trace(preset, road, "none", run_params)
     locked = _locked_above(tr.signals, K_LO_M_S, lock_ratio)
     return window_time_s(tr.signals["time_s"], tr.signals["vehicle_speed_m_s"], K_HI_M_S,
                          K_LO_M_S), locked
@@ -124,7 +135,7 @@ def adhesion_coefficient(preset: str | None = None, road: str | None = None,
     if grid < 2 or rounds < 0:
         raise InputError("grid", f"need grid >= 2 and rounds >= 0, got {grid}, {rounds}")
     base = dict(params or {})
-    sc = simulate("abs-wheel", preset, road, "none", {**base, **_NO_HOPELESS}).scenario
+    sc = get_plant("abs-wheel").scenario(preset, road, "none", {**base, **_NO_HOPELESS})
     q_max = float(sc.params()["q_max"])
     lock_ratio = float(sc.params()["lock_ratio"])
     lo, hi = 0.0, q_max
@@ -162,12 +173,11 @@ def r13h_epsilon(controller: str, preset: str | None = None, road: str | None = 
     """
     base = dict(params or {})
     adhesion = adhesion or adhesion_coefficient(preset, road, base)
-    run = simulate("abs-wheel", preset, road, controller,
-                   {**base, **_NO_HOPELESS, "v0_m_s": ABS_START_M_S,
-                    "v_stop_m_s": ABS_LO_M_S - _END_MARGIN_M_S}, gains, seed)
-    lock_ratio = float(run.scenario.params()["lock_ratio"])
-    locked = _locked_above(run.trace.signals, ABS_LO_M_S, lock_ratio)
-    t_abs = window_time_s(run.trace.signals["time_s"], run.trace.signals["vehicle_speed_m_s"],
-                          ABS_HI_M_S, ABS_LO_M_S)
+    sc, tr = _trace(preset, road, controller,
+                    {**base, **_NO_HOPELESS, "v0_m_s": ABS_START_M_S,
+                     "v_stop_m_s": ABS_LO_M_S - _END_MARGIN_M_S}, gains, seed)
+    locked = _locked_above(tr.signals, ABS_LO_M_S, float(sc.params()["lock_ratio"]))
+    t_abs = window_time_s(tr.signals["time_s"], tr.signals["vehicle_speed_m_s"], ABS_HI_M_S,
+                          ABS_LO_M_S)
     z_al = 0.0 if locked else Z_AL_COEF / t_abs
     return R13hResult(z_al / adhesion.k_m, z_al, t_abs, locked, adhesion)
