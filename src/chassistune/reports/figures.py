@@ -1,13 +1,20 @@
-"""Figures of a study report: convergence bands, final-cost box plots, best responses (PNG)."""
+"""PNG figures of the static report: convergence bands, final-cost box plots, and the best
+responses of every optimizer over the baseline (`PngFigures`, the static `sections.Figures`)."""
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from pathlib import Path
 
 import numpy as np
 
 from chassistune import stats
+from chassistune.plots.overlay import plot_overlay
 from chassistune.plots.style import pyplot, save
+from chassistune.reports.files import make_readable
+from chassistune.reports.html import FigureView
+from chassistune.reports.responses import ResponseSet
+from chassistune.reports.sections import ASSETS, Assets
 from chassistune.studies.store import RunRecord
 
 
@@ -64,17 +71,43 @@ def boxplot_figure(costs: Mapping[str, np.ndarray], path: str, title: str) -> No
     save(fig, path)
 
 
-def response_figures(record: RunRecord, path_for_road: Mapping[str, str]) -> list[str]:
-    """The plant's own response plot of a run's best gains on each tuned road (re-simulated
-    with the run's scenario seed); the paths written."""
-    from chassistune.plants.registry import get_plant
+class PngFigures:
+    """Draws each figure into DIR/report/figures/NAME.png and embeds it in the page."""
 
-    s = record.spec
-    plant = get_plant(s.plant)
-    written = []
-    for road in s.roads:
-        sc = plant.scenario(s.preset, road, s.controller, s.params, s.scenario_seed)
-        gains = np.array([record.best_gains[n] for n in sc.gain_names], dtype=float)
-        plant.plot(sc, sc.trace(gains), path_for_road[road])
-        written.append(path_for_road[road])
-    return written
+    def __init__(self, assets: Assets) -> None:
+        self.assets = assets
+        self.folder = assets.root / ASSETS / "figures"
+        self.folder.mkdir(parents=True, exist_ok=True)
+        for old in self.folder.glob("*.png"):  # a previous report's figures
+            old.unlink()
+        self.written: list[Path] = []
+
+    def _view(self, path: Path, title: str, caption: str) -> FigureView:
+        make_readable(path)
+        self.written.append(path)
+        return FigureView.from_png(path, self.assets.next_id("figure"), title, caption,
+                                   path.relative_to(self.assets.root).as_posix())
+
+    def convergence(self, scenario: str, runs: Mapping[str, Sequence[RunRecord]],
+                    name: str) -> FigureView:
+        path = self.folder / f"{name}.png"
+        convergence_figure(runs, str(path), scenario)
+        return self._view(path, f"Convergence, {scenario}",
+                          "Best cost so far against evaluations: median over seeds (line) and "
+                          "interquartile band.")
+
+    def final_costs(self, scenario: str, costs: Mapping[str, np.ndarray],
+                    name: str) -> FigureView:
+        path = self.folder / f"{name}.png"
+        boxplot_figure(costs, str(path), f"{scenario}: final best cost")
+        return self._view(path, f"Final cost distribution, {scenario}",
+                          "Box plot of the final best cost per optimizer; points are runs.")
+
+    def responses(self, rs: ResponseSet, name: str) -> FigureView:
+        path = self.folder / f"{name}.png"
+        plot_overlay([(p.signal, p.label) for p in rs.panels], rs.curves, str(path),
+                     f"{rs.scenario} on {rs.road}: each optimizer's best run")
+        base = next((c.label for c in rs.curves if c.baseline), "")
+        return self._view(path, f"Best controllers against {base}, {rs.scenario}, on {rs.road}",
+                          f"Each optimizer's lowest-cost run re-simulated on {rs.road} "
+                          f"(colours), over the {base} baseline (grey, dashed).")
