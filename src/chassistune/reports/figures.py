@@ -8,9 +8,9 @@ from pathlib import Path
 
 import numpy as np
 
-from chassistune import stats
 from chassistune.plots.overlay import plot_overlay
 from chassistune.plots.style import pyplot, save
+from chassistune.reports.bands import convergence_bands, log_scale_suits
 from chassistune.reports.files import make_readable
 from chassistune.reports.html import FigureView
 from chassistune.reports.responses import ResponseSet
@@ -18,30 +18,18 @@ from chassistune.reports.sections import ASSETS, Assets
 from chassistune.studies.store import RunRecord
 
 
-def _log_scale_suits(values: Sequence[np.ndarray]) -> bool:
-    v = np.concatenate([np.ravel(a) for a in values]) if values else np.zeros(0)
-    v = v[np.isfinite(v)]
-    return bool(v.size) and bool(np.all(v > 0)) and float(v.max() / v.min()) > 30.0
-
-
 def convergence_figure(runs: Mapping[str, Sequence[RunRecord]], path: str, title: str) -> None:
     """Best cost so far against evaluations per optimizer: median line, interquartile band."""
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.2))
     drawn = []
-    for label, recs in runs.items():
-        recs = [r for r in recs if r.history]
-        if not recs:
-            continue
-        grid = np.unique(np.concatenate([np.asarray(r.history_nfev, dtype=float) for r in recs]))
-        band = stats.convergence_band([r.history for r in recs], [r.history_nfev for r in recs],
-                                      grid)
+    for label, (n, band) in convergence_bands(runs).items():
         line = ax.plot(band["nfev"], band["median"], drawstyle="steps-post",
-                       label=f"{label} (median of {len(recs)})")[0]
+                       label=f"{label} (median of {n})")[0]
         ax.fill_between(band["nfev"], band["q25"], band["q75"], step="post",
                         color=line.get_color(), alpha=0.2, lw=0)
         drawn.extend([band["q25"], band["q75"]])
-    if _log_scale_suits(drawn):
+    if log_scale_suits(drawn):
         ax.set_yscale("log")
     ax.set_xlabel("evaluations")
     ax.set_ylabel("best cost so far")
@@ -63,7 +51,7 @@ def boxplot_figure(costs: Mapping[str, np.ndarray], path: str, title: str) -> No
     jitter = np.random.default_rng(0)
     for i, v in enumerate(data, start=1):
         ax.plot(i + jitter.uniform(-0.12, 0.12, v.size), v, "o", ms=3.5, alpha=0.6, color="C0")
-    if _log_scale_suits(data):
+    if log_scale_suits(data):
         ax.set_yscale("log")
     ax.set_ylabel("final best cost")
     ax.set_title(title, fontsize=9)

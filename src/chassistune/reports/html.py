@@ -119,7 +119,19 @@ class CodeView:
     kind: str = "code"
 
 
-Item = TableView | FigureView | CodeView
+@dataclass(frozen=True)
+class PlotView:
+    """A plotly figure on the interactive page: its JSON (data, layout) and trace count."""
+
+    id: str
+    title: str
+    figure_json: str
+    traces: int
+    caption: str = ""
+    kind: str = "plot"
+
+
+Item = TableView | FigureView | CodeView | PlotView
 
 
 @dataclass
@@ -247,13 +259,14 @@ TEMPLATE = TABLE_MACRO + """<!DOCTYPE html>
 def number(sections: list[Section]) -> dict[str, str]:
     """'Table 3', 'Figure 2', 'Listing 1' by item id, in page order; gives sections ids."""
     labels: dict[str, str] = {}
-    counts = {"table": 0, "figure": 0, "code": 0}
-    names = {"table": "Table", "figure": "Figure", "code": "Listing"}
+    names = {"table": "Table", "figure": "Figure", "plot": "Figure", "code": "Listing"}
+    counts = dict.fromkeys(names.values(), 0)
     for i, section in enumerate(sections, start=1):
         section.id = section.id or f"section-{i}"
         for item in section.items:
-            counts[item.kind] += 1
-            labels[item.id] = f"{names[item.kind]} {counts[item.kind]}"
+            name = names[item.kind]
+            counts[name] += 1
+            labels[item.id] = f"{name} {counts[name]}"
     return labels
 
 
