@@ -42,6 +42,11 @@ def cell_class(text: str) -> str:
     return next((cls for mark, cls in _CELL_CLASSES if mark in text), "")
 
 
+def td_class(numeric: bool, text: str) -> str:
+    """A cell's classes: 'num' for a numeric column, then its verdict or flag class."""
+    return " ".join(c for c in ("num" if numeric else "", cell_class(text)) if c)
+
+
 @dataclass(frozen=True)
 class Download:
     """A CSV file embedded in the page (data URI) under its file name."""
@@ -57,22 +62,22 @@ class Download:
 
 @dataclass(frozen=True)
 class TableView:
-    """A table on the page; `source` is the CSV it shows (or a part of), `groups` an optional
-    header row above the columns as (title, span) pairs."""
+    """A table on the page; `sources` are the CSVs it shows (or a part of), `groups` an
+    optional header row above the columns as (title, span) pairs."""
 
     id: str
     title: str
     columns: list[str]
     rows: list[list[str]]
     caption: str = ""
-    source: Download | None = None
+    sources: tuple[Download, ...] = ()
     numeric: list[bool] = field(default_factory=list)
     groups: list[tuple[str, int]] = field(default_factory=list)
     kind: str = "table"
 
     @classmethod
     def from_frame(cls, df: pd.DataFrame, id: str, title: str, caption: str = "",
-                   source: Download | None = None) -> TableView:
+                   sources: tuple[Download, ...] = ()) -> TableView:
         """Two-level columns (a MultiIndex) give the header groups."""
         rows = [[format_cell(v) for v in rec] for rec in df.astype(object).itertuples(index=False)]
         numeric = [pd.api.types.is_numeric_dtype(df.iloc[:, i])
@@ -87,7 +92,7 @@ class TableView:
                     groups[-1] = (top, groups[-1][1] + 1)
                 else:
                     groups.append((str(top), 1))
-        return cls(id, title, columns, rows, caption, source, numeric, groups)
+        return cls(id, title, columns, rows, caption, sources, numeric, groups)
 
 
 @dataclass(frozen=True)
@@ -189,15 +194,15 @@ TABLE_MACRO = """
 <tr>{% for c in item.columns %}<th scope="col"{% if item.numeric[loop.index0] %}
  class="num"{% endif %}>{{ c }}</th>{% endfor %}</tr></thead>
 <tbody>
-{% for row in item.rows %}<tr>{% for v in row %}{% set cls = cell_class(v) %}<td
-{% if item.numeric[loop.index0] or cls %} class="{{ 'num' if item.numeric[loop.index0] else '' }}
-{{ cls }}"{% endif %}>{{ v }}</td>{% endfor %}</tr>
+{% for row in item.rows %}<tr>{% for v in row %}{% set cls = td_class(
+item.numeric[loop.index0], v) %}<td{% if cls %} class="{{ cls }}"{% endif %}>{{ v }}</td>
+{% endfor %}</tr>
 {% endfor %}</tbody>
 </table>
 </div>
-{% if item.source %}<p class="source">data: <a download="{{ item.source.name }}"
-href="{{ item.source.uri }}">{{ item.source.name }}</a> (embedded in this page; also in
-report/tables/)</p>{% endif %}
+{% if item.sources %}<p class="source">data: {% for s in item.sources %}<a
+download="{{ s.name }}" href="{{ s.uri }}">{{ s.name }}</a>{{ ", " if not loop.last }}
+{% endfor %} (embedded in this page; also in report/tables/)</p>{% endif %}
 {% endmacro %}
 {% macro code(item) %}
 <h3>{{ labels[item.id] }}: {{ item.title }}</h3>
@@ -273,7 +278,7 @@ def number(sections: list[Section]) -> dict[str, str]:
 def environment() -> jinja2.Environment:
     env = jinja2.Environment(autoescape=True, undefined=jinja2.StrictUndefined,
                              trim_blocks=True, lstrip_blocks=True)
-    env.globals.update(cell_class=cell_class, style=STYLE)
+    env.globals.update(td_class=td_class, style=STYLE)
     return env
 
 

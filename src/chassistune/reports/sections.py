@@ -55,8 +55,8 @@ class Assets:
         return Download.from_csv(path)
 
     def table(self, df: pd.DataFrame, title: str, caption: str = "",
-              source: Download | None = None) -> TableView:
-        return TableView.from_frame(df, self.next_id("table"), title, caption, source)
+              *sources: Download) -> TableView:
+        return TableView.from_frame(df, self.next_id("table"), title, caption, sources)
 
 
 class Figures(Protocol):
@@ -148,7 +148,7 @@ def scenario_section(data: tables.StudyData, sc: str, index: int, reference: str
     section.items.append(a.table(
         cost, f"Final cost, {sc}",
         f"Best cost found per run over the completed runs; reference {reference}. "
-        f"{VERDICT_NOTE}", sources["summary"]))
+        f"{VERDICT_NOTE}", sources["summary"], sources["rank_sum"]))
     name = f"{index:02d}-{slug(sc)}"
     for rs_ in response_sets(data, sc):
         section.items.append(figures.responses(rs_, f"responses-{name}-{slug(rs_.road)}"))
