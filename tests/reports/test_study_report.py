@@ -216,3 +216,21 @@ def test_report_and_export_bad_input(cli, study, tmp_path):
     r = cli("study", "export", str(study), "--format", "csv", "--output",
             str(tmp_path / "no" / "x.csv"))
     assert r.code == 2 and "--output" in r.err
+
+
+def test_quarter_car_overlay_runs_every_best_on_one_road_over_the_passive(study):
+    from chassistune.reports.responses import response_sets
+
+    with open_study(study) as store:
+        data = load_study(store)
+    (rs,) = response_sets(data, "qc/iso-b")
+    best = min(data.runs("qc/iso-b"), key=lambda r: (r.best_cost, r.spec.seed))
+    assert rs.seed == best.spec.seed  # one road realization for every curve
+    base, *curves = rs.curves
+    assert base.baseline and base.label == "passive" and len(curves) == 3
+    assert [p.signal for p in rs.panels] == ["body_acc_m_s2", "susp_travel_m", "tire_defl_m"]
+    for c in rs.curves:
+        assert c.time_s[-1] <= 5.0 and c.time_s.size <= 2500
+    rms = {c.label: float(np.sqrt(np.mean(c.values["body_acc_m_s2"] ** 2))) for c in rs.curves}
+    # tuned for the RMS ratio: the best PID eases the body (on the shown window too)
+    assert min(v for k, v in rms.items() if k != "passive") < rms["passive"]

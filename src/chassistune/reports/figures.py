@@ -97,5 +97,6 @@ class PngFigures:
                      f"{rs.scenario} on {rs.road}: each optimizer's best run")
         base = next((c.label for c in rs.curves if c.baseline), "")
         return self._view(path, f"Best controllers against {base}, {rs.scenario}, on {rs.road}",
-                          f"Each optimizer's lowest-cost run re-simulated on {rs.road} "
-                          f"(colours), over the {base} baseline (grey, dashed).")
+                          f"Each optimizer's lowest-cost gains (label: the seed that found them) "
+                          f"re-simulated on {rs.road}, all on the road realization of seed "
+                          f"{rs.seed}, over the {base} baseline (grey, dashed).")

@@ -141,9 +141,10 @@ class PlotlyFigures:
         fig.update_layout(legend={"orientation": "h", "y": 1.0, "yanchor": "bottom",
                                   "x": 0.0})
         return self._view(fig, f"Best controllers against {base}, {rs.scenario}, on {rs.road}",
-                          f"Each optimizer's lowest-cost run re-simulated on {rs.road}, over "
-                          f"the {base} baseline (grey, dashed). The panels share the time axis: "
-                          "zoom one and all follow.")
+                          f"Each optimizer's lowest-cost gains (label: the seed that found them) "
+                          f"re-simulated on {rs.road}, all on the road realization of seed "
+                          f"{rs.seed}, over the {base} baseline (grey, dashed). The panels share "
+                          "the time axis: zoom one and all follow.")
 
 
 SORT_SCRIPT = """

@@ -1,7 +1,8 @@
 """Time responses of each optimizer's best controller and the plant's baseline, for overlays.
 
-Each best run is re-simulated from its stored spec and gains with the run's own scenario seed;
-the baseline (no ABS, passive suspension: `plant_view(...).baseline`) on the same road and seed.
+Each optimizer's best gains are re-simulated from the stored spec, all on the scenario seed of
+the overall best run; the baseline (no ABS, passive suspension: `plant_view(...).baseline`) on
+the same road and seed.
 """
 
 from __future__ import annotations
@@ -13,19 +14,21 @@ import numpy as np
 
 from chassistune.plants.base import Plant
 from chassistune.plots.overlay import Line
-from chassistune.reports.plant_view import Panel, plant_view
+from chassistune.reports.plant_view import Panel, PlantView, plant_view
 from chassistune.reports.tables import StudyData
 from chassistune.studies.store import RunRecord
 
 
 @dataclass(frozen=True)
 class ResponseSet:
-    """Every optimizer's best on one road of one scenario, with the baseline first."""
+    """Every optimizer's best on one road of one scenario, with the baseline first, all on the
+    road realization of seed index `seed`."""
 
     scenario: str
     road: str
     panels: tuple[Panel, ...]
     curves: tuple[Line, ...]
+    seed: int
 
 
 def best_by_optimizer(data: StudyData, scenario: str) -> dict[str, RunRecord]:
@@ -60,48 +63,53 @@ def _window(time_s: np.ndarray, window_s: float | None) -> np.ndarray:
 
 
 def response_sets(data: StudyData, scenario: str) -> list[ResponseSet]:
-    """One ResponseSet per tuned road of `scenario` (empty when no run completed)."""
+    """One ResponseSet per tuned road of `scenario` (empty when no run completed).
+
+    Every optimizer's best gains run on one and the same road realization, that of the overall
+    best run's seed (the quarter car's road profile depends on the seed; the ABS's does not), so
+    the curves differ only by their gains.
+    """
     from chassistune.plants.registry import get_plant
 
     best = best_by_optimizer(data, scenario)
     if not best:
         return []
-    first = next(iter(best.values())).spec
-    view = plant_view(first.plant)
+    overall = min(best.values(), key=lambda r: (r.best_cost, r.spec.seed))
+    common = overall.spec.scenario_seed
+    view = plant_view(overall.spec.plant)
     if not view.panels:
         return []
-    plant = get_plant(first.plant)
+    plant = get_plant(overall.spec.plant)
     out = []
-    for road in first.roads:
+    for road in overall.spec.roads:
         curves: list[Line] = []
         for opt, rec in best.items():
             s = rec.spec
-            sc = plant.scenario(s.preset, road, s.controller, s.params, s.scenario_seed)
+            sc = plant.scenario(s.preset, road, s.controller, s.params, common)
             trace = sc.trace(np.array([rec.best_gains[n] for n in sc.gain_names], dtype=float))
             t = trace.signals["time_s"]
             keep = _window(t, view.window_s)
             if not curves:
-                curves.append(_baseline(plant, rec, road, view.panels, trace.signals,
-                                        view.baseline_label, view.window_s))
+                curves.append(_baseline(plant, rec, road, common, trace.signals, view))
             curves.append(Line(f"{opt} (seed {s.seed})", t[keep],
-                                {p.signal: trace.signals[p.signal][keep] for p in view.panels}))
-        out.append(ResponseSet(scenario, road, view.panels, tuple(curves)))
+                               {p.signal: trace.signals[p.signal][keep] for p in view.panels}))
+        out.append(ResponseSet(scenario, road, view.panels, tuple(curves), overall.spec.seed))
     return out
 
 
-def _baseline(plant: Plant, rec: RunRecord, road: str, panels: tuple[Panel, ...],
-              signals: Mapping[str, np.ndarray], label: str, window_s: float | None) -> Line:
-    """The baseline: the trace's own passive_* signals, or a run with the baseline controller."""
-    if all(p.baseline_signal for p in panels):
+def _baseline(plant: Plant, rec: RunRecord, road: str, seed: int,
+              signals: Mapping[str, np.ndarray], view: PlantView) -> Line:
+    """The baseline: the trace's own passive_* signals, or a run with the baseline controller
+    (the run's parameters less its controller's) on the same road and scenario seed."""
+    if all(p.baseline_signal for p in view.panels):
         t = signals["time_s"]
-        keep = _window(t, window_s)
-        return Line(label, t[keep], {p.signal: signals[p.baseline_signal][keep]
-                                      for p in panels}, baseline=True)
+        keep = _window(t, view.window_s)
+        return Line(view.baseline_label, t[keep], {p.signal: signals[p.baseline_signal][keep]
+                                                   for p in view.panels}, baseline=True)
     s = rec.spec
-    view = plant_view(s.plant)
-    sc = plant.scenario(s.preset, road, view.baseline, _baseline_params(rec), s.scenario_seed)
+    sc = plant.scenario(s.preset, road, view.baseline, _baseline_params(rec), seed)
     tr = sc.trace(np.zeros(len(sc.gain_names)))
     t = tr.signals["time_s"]
-    keep = _window(t, window_s)
-    return Line(label, t[keep], {p.signal: tr.signals[p.signal][keep] for p in panels},
-                 baseline=True)
+    keep = _window(t, view.window_s)
+    return Line(view.baseline_label, t[keep], {p.signal: tr.signals[p.signal][keep]
+                                               for p in view.panels}, baseline=True)
