@@ -230,12 +230,14 @@ TEMPLATE = TABLE_MACRO + """<!DOCTYPE html>
 <meta charset="utf-8">
 <meta name="viewport" content="width=device-width, initial-scale=1">
 <meta name="generator" content="chassistune {{ version }}">
-<title>Study {{ name }}: chassistune report</title>
-<style>{{ style }}</style>
+<title>Study {{ name }}: chassistune {{ "interactive " if interactive else "" }}report</title>
+<style>{{ style | safe }}{{ extra_style | safe }}</style>
+{% if interactive %}<script>{{ interactive.plotly_js | safe }}</script>{% endif %}
 </head>
 <body>
 <h1>Study {{ name }}</h1>
-<p class="meta">{{ summary }}</p>
+<p class="meta">{{ summary }}{% if interactive %} Interactive version: sort a table by clicking
+its header; zoom, hover and hide curves in the figures.{% endif %}</p>
 {% if description %}<p>{{ description }}</p>{% endif %}
 {{ contents(sections) }}
 {% for section in sections %}
@@ -243,8 +245,14 @@ TEMPLATE = TABLE_MACRO + """<!DOCTYPE html>
 <h2>{{ section.title }}</h2>
 {% if section.intro %}<p>{{ section.intro }}</p>{% endif %}
 {% for item in section.items %}
-{% if item.kind == "table" %}{{ table(item) }}
+{% if item.kind == "table" %}{{ table(item, sortable=interactive is not none) }}
 {% elif item.kind == "code" %}{{ code(item) }}
+{% elif item.kind == "plot" %}
+<figure>
+<h3>{{ labels[item.id] }}: {{ item.title }}</h3>
+<div id="{{ item.id }}" class="plot" data-traces="{{ item.traces }}"></div>
+<figcaption>{{ item.caption }}</figcaption>
+</figure>
 {% else %}
 <figure id="{{ item.id }}">
 <h3>{{ labels[item.id] }}: {{ item.title }}</h3>
@@ -256,9 +264,24 @@ TEMPLATE = TABLE_MACRO + """<!DOCTYPE html>
 {% endfor %}
 </section>
 {% endfor %}
+{% if interactive %}
+<script type="application/json" id="figure-data">{{ interactive.figures | safe }}</script>
+<script>{{ interactive.script | safe }}</script>
+{% endif %}
 </body>
 </html>
 """
+
+
+@dataclass(frozen=True)
+class Interactive:
+    """What makes the page interactive: plotly.js, the figures' JSON (an object by plot id,
+    safe inside <script>), the script drawing them and sorting tables, extra style."""
+
+    plotly_js: str
+    figures: str
+    script: str
+    style: str
 
 
 def number(sections: list[Section]) -> dict[str, str]:
@@ -283,8 +306,9 @@ def environment() -> jinja2.Environment:
 
 
 def render(name: str, summary: str, description: str, sections: list[Section],
-           version: str) -> str:
+           version: str, interactive: Interactive | None = None) -> str:
     """The page's HTML text (autoescaped); tables and figures numbered in page order."""
     return environment().from_string(TEMPLATE).render(
         name=name, summary=summary, description=description, sections=sections,
-        version=version, labels=number(sections))
+        version=version, labels=number(sections), interactive=interactive,
+        extra_style=interactive.style if interactive else "")

@@ -20,7 +20,7 @@ from chassistune.errors import InputError
 from chassistune.reports import sections
 from chassistune.reports.bands import convergence_bands, log_scale_suits
 from chassistune.reports.build import ReportFiles, read_study, write_page
-from chassistune.reports.html import TABLE_MACRO, PlotView, environment, number
+from chassistune.reports.html import Interactive, PlotView, render
 from chassistune.reports.responses import ResponseSet
 from chassistune.studies.store import RunRecord
 
@@ -184,52 +184,11 @@ Object.keys(FIGURES).forEach(function (id) {
 });
 """
 
-TEMPLATE = TABLE_MACRO + """<!DOCTYPE html>
-<html lang="en">
-<head>
-<meta charset="utf-8">
-<meta name="viewport" content="width=device-width, initial-scale=1">
-<meta name="generator" content="chassistune {{ version }}">
-<title>Study {{ name }}: chassistune interactive report</title>
-<style>{{ style }}
+STYLE = """
 th[title] { cursor: pointer; }
 th[aria-sort=ascending]::after { content: " \\25B2"; }
 th[aria-sort=descending]::after { content: " \\25BC"; }
 .plot { width: 100%; border: 1px solid #eee; margin: 0.3em 0; }
-</style>
-<script>{{ plotly_js | safe }}</script>
-</head>
-<body>
-<h1>Study {{ name }}</h1>
-<p class="meta">{{ summary }} Interactive version: sort a table by clicking its header; zoom,
-hover and hide curves in the figures.</p>
-{% if description %}<p>{{ description }}</p>{% endif %}
-{{ contents(sections) }}
-{% for section in sections %}
-<section id="{{ section.id }}">
-<h2>{{ section.title }}</h2>
-{% if section.intro %}<p>{{ section.intro }}</p>{% endif %}
-{% for item in section.items %}
-{% if item.kind == "table" %}{{ table(item, sortable=True) }}
-{% elif item.kind == "code" %}{{ code(item) }}
-{% else %}
-<figure>
-<h3>{{ labels[item.id] }}: {{ item.title }}</h3>
-<div id="{{ item.id }}" class="plot" data-traces="{{ item.traces }}"></div>
-<figcaption>{{ item.caption }}</figcaption>
-</figure>
-{% endif %}
-{% endfor %}
-</section>
-{% endfor %}
-<script type="application/json" id="figure-data">{{ figures | safe }}</script>
-<script>
-var PLOT_CONFIG = {{ config | safe }};
-{{ plot_script | safe }}
-{{ sort_script | safe }}
-</script>
-</body>
-</html>
 """
 
 
@@ -248,16 +207,12 @@ def build_interactive(study_dir: str | Path, reference: str | None = None) -> Re
     study = read_study(study_dir, reference)
     assets = sections.Assets(study.root)
     page_sections = study.sections(assets, PlotlyFigures(assets))
-    labels = number(page_sections)
-    plots = {item.id: item for s in page_sections for item in s.items
-             if isinstance(item, PlotView)}
-    figures = "{" + ",".join(f"{json.dumps(pid)}:{_safe(p.figure_json)}"
-                             for pid, p in plots.items()) + "}"
-    page = environment().from_string(TEMPLATE).render(
-        name=study.data.name, summary=study.summary, description=study.description,
-        sections=page_sections, version=version("chassistune"), labels=labels,
-        plotly_js=get_plotlyjs().replace("</script", "<\\/script"), figures=figures,
-        config=json.dumps(PLOT_CONFIG), plot_script=PLOT_SCRIPT, sort_script=SORT_SCRIPT)
+    plots = [item for s in page_sections for item in s.items if isinstance(item, PlotView)]
+    figures = "{" + ",".join(f"{json.dumps(p.id)}:{_safe(p.figure_json)}" for p in plots) + "}"
+    script = f"var PLOT_CONFIG = {json.dumps(PLOT_CONFIG)};\n{PLOT_SCRIPT}\n{SORT_SCRIPT}"
+    page = render(study.data.name, study.summary, study.description, page_sections,
+                  version("chassistune"), Interactive(
+                      get_plotlyjs().replace("</script", "<\\/script"), figures, script, STYLE))
     html = study.root / INTERACTIVE_NAME
     write_page(html, page)
     return ReportFiles(html, study.root / sections.ASSETS, assets.tables, [])
