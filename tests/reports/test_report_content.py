@@ -103,6 +103,7 @@ def test_setup_holds_the_config_every_parameter_and_what_was_spent(reported) -> 
         assert str(max(nfev)) in str(opts.loc[opt, "evaluations spent"])
     html = reported.static.read_text(encoding="utf-8")
     for text in ("report written", "versions of the runs", "numpy", "root seed", "gain bounds",
+                 "report made with", "matplotlib",
                  "kp in [0, 10000]"):
         assert text in html
 

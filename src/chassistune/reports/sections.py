@@ -142,7 +142,7 @@ def scenario_section(data: tables.StudyData, sc: str, index: int, reference: str
     mine = summary[(summary["scenario"] == sc) & (summary["quantity"] == "best_cost")]
     cost = mine.drop(columns=["scenario", "quantity"])
     rs = ranks[ranks["scenario"] == sc][["optimizer", "sign", "p_value"]]
-    cost = cost.merge(rs.rename(columns={"p_value": "p"}), on="optimizer", how="left")
+    cost = cost.merge(rs.rename(columns={"p_value": "rank-sum p"}), on="optimizer", how="left")
     cost.insert(len(cost.columns) - 1, "vs reference", cost.pop("sign").map(verdict_of_sign))
     cost.loc[cost["optimizer"] == reference, "vs reference"] = "reference"
     section.items.append(a.table(

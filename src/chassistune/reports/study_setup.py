@@ -47,6 +47,23 @@ def _span(seeds: list[int]) -> str:
     return ", ".join(map(str, seeds))
 
 
+REPORT_PACKAGES = ("chassistune", "numpy", "scipy", "pandas", "matplotlib", "jinja2", "plotly")
+
+
+def report_versions() -> str:
+    """Python and the versions of the packages that make the report (those installed)."""
+    import platform
+    from importlib.metadata import PackageNotFoundError, version
+
+    out = [f"python {platform.python_version()}"]
+    for pkg in REPORT_PACKAGES:
+        try:
+            out.append(f"{pkg} {version(pkg)}")
+        except PackageNotFoundError:
+            continue
+    return ", ".join(out)
+
+
 def study_table(data: StudyData, config: Mapping[str, Any], store_file: Path) -> pd.DataFrame:
     """Runs, seeds, dates and versions."""
     study = config.get("study", {})
@@ -65,6 +82,7 @@ def study_table(data: StudyData, config: Mapping[str, Any], store_file: Path) ->
         ("report written", _utc(dt.datetime.now(dt.UTC).timestamp())),
         ("versions of the runs", ", ".join(f"{k} {' / '.join(sorted(v))}"
                                            for k, v in sorted(versions.items()))),
+        ("report made with", report_versions()),
     ]
     return pd.DataFrame(rows, columns=["item", "value"])
 
