@@ -175,3 +175,15 @@ def test_every_table_link_embeds_its_csv(reported) -> None:
                                            .glob("*.csv")}
     for name, data in links:
         assert base64.b64decode(data) == (reported.dir / "report" / "tables" / name).read_bytes()
+
+
+def test_config_toml_round_trips_awkward_values() -> None:
+    from chassistune.reports.toml_text import to_toml
+
+    config = {"study": {"name": 'a "quoted" name', "description": "tabs\tand ünïcode",
+                        "seeds": [0, 2, 5], "seed": 7},
+              "scenarios": [{"name": "x", "params": {"mu peak": 0.9, "mode": "a\\b"},
+                             "bounds": {"kp": [0.0, 1e4]}, "preset": None},
+                            {"name": "y", "params": {}, "flag": True}],
+              "budget": {"pop_size": 6, "iterations": None, "evaluations": 120}}
+    assert tomllib.loads(to_toml(config)) == _drop_none(config)

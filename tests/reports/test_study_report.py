@@ -234,3 +234,16 @@ def test_quarter_car_overlay_runs_every_best_on_one_road_over_the_passive(study)
     rms = {c.label: float(np.sqrt(np.mean(c.values["body_acc_m_s2"] ** 2))) for c in rs.curves}
     # tuned for the RMS ratio: the best PID eases the body (on the shown window too)
     assert min(v for k, v in rms.items() if k != "passive") < rms["passive"]
+
+
+def test_interactive_without_plotly_says_which_extra_in_one_line(cli, study, monkeypatch):
+    import sys
+
+    page = study / "report.html"
+    before = page.stat().st_mtime_ns if page.exists() else None
+    monkeypatch.setitem(sys.modules, "plotly.graph_objects", None)  # import fails
+    r = cli("study", "report", str(study), "--interactive")
+    assert r.code == 2 and len(r.err.strip().splitlines()) == 1
+    assert "chassistune[interactive]" in r.err and r.err.startswith("chassistune: error:")
+    assert (page.stat().st_mtime_ns if page.exists() else None) == before  # nothing written
+    assert not (study / "report_interactive.html").exists()

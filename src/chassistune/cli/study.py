@@ -63,12 +63,14 @@ def report_command(study_dir: str, reference: str | None, interactive: bool) -> 
     """Statistics, tables and figures of a study: DIR/report.html, CSV and PNG files."""
     from chassistune.reports.build import build_report
 
+    if interactive:
+        from chassistune.reports.interactive import build_interactive, require_plotly
+
+        require_plotly()  # refused before anything is written
     written = build_report(study_dir, reference)
     click.echo(f"wrote {written.html} ({len(written.tables)} tables, {len(written.figures)} "
                f"figures in {written.folder})")
     if interactive:
-        from chassistune.reports.interactive import build_interactive
-
         click.echo(f"wrote {build_interactive(study_dir, reference).html}")
 
 

@@ -31,7 +31,8 @@ BASELINE_COLOR = "#777777"
 PLOT_CONFIG = {"displaylogo": False, "responsive": True, "scrollZoom": False}
 
 
-def _plotly() -> Any:
+def require_plotly() -> Any:
+    """plotly.graph_objects, or InputError naming the extra that installs it."""
     try:
         import plotly.graph_objects as go
     except ImportError:
@@ -62,7 +63,7 @@ class PlotlyFigures:
 
     def __init__(self, assets: sections.Assets) -> None:
         self.assets = assets
-        self.go = _plotly()
+        self.go = require_plotly()
 
     def _view(self, fig: Any, title: str, caption: str) -> PlotView:
         compact = json.dumps(json.loads(fig.to_json()), separators=(",", ":"))
@@ -201,7 +202,7 @@ def build_interactive(study_dir: str | Path, reference: str | None = None) -> Re
     """Write DIR/report_interactive.html (and refresh the CSV tables beside it)."""
     from importlib.metadata import version
 
-    _plotly()  # InputError naming the extra when plotly is missing
+    require_plotly()
     from plotly.offline import get_plotlyjs
 
     study = read_study(study_dir, reference)
