@@ -77,7 +77,7 @@ def _drop_none(x: Any) -> Any:
 
 def test_setup_holds_the_config_every_parameter_and_what_was_spent(reported) -> None:
     from chassistune.optimizers.registry import hyperparameters
-    from chassistune.plants.registry import get_plant
+    from chassistune.scenarios.registry import get_plant
 
     for page in (reported.static, reported.interactive):
         toml = tomllib.loads(_pre(page.read_text(encoding="utf-8")))

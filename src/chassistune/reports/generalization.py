@@ -18,7 +18,7 @@ COLUMNS = ["group", "optimizer", "tuned_on", "tested_on", "n", "median_cost", "m
 
 def _test_metrics(run: RunRecord, road: str, names: list[str]) -> dict[str, float]:
     """The named metrics of the run's best gains on `road` (same preset, params and seed)."""
-    from chassistune.plants.registry import get_plant
+    from chassistune.scenarios.registry import get_plant
 
     s = run.spec
     sc = get_plant(s.plant).scenario(s.preset, road, s.controller, s.params, s.scenario_seed)

@@ -1,7 +1,6 @@
-"""What a report shows of each plant: its key metrics, its baseline controller, the signals of
-its response overlays and the metrics of its generalization matrices.
-
-`plant_view` is the one place the reports ask a plant for these; everything is lower-is-better.
+"""How the reports present each plant beyond its PlantSpec (whose `key_metrics` the tables
+read): its baseline controller, the signals of its response overlays and the metrics of its
+generalization matrices (lower-is-better). `plant_view` is the one place the reports ask for them.
 """
 
 from __future__ import annotations
@@ -23,7 +22,6 @@ class Panel:
 class PlantView:
     """How the reports present one plant."""
 
-    key_metrics: tuple[str, ...]
     baseline: str
     baseline_label: str
     panels: tuple[Panel, ...]
@@ -33,8 +31,6 @@ class PlantView:
 
 _VIEWS: dict[str, PlantView] = {
     "abs-wheel": PlantView(
-        key_metrics=("stop_distance_m", "distance_ratio", "stop_time_s", "slip_itae",
-                     "locked_time_s"),
         baseline="none", baseline_label="no ABS",
         panels=(Panel("slip", "slip S [-]"),
                 Panel("vehicle_speed_m_s", "vehicle speed v [m/s]"),
@@ -44,8 +40,6 @@ _VIEWS: dict[str, PlantView] = {
                                 ("locked_time_s", "locked time [s]")),
     ),
     "quarter-car": PlantView(
-        key_metrics=("objective_exact", "body_acc_rms", "susp_travel_rms", "tire_defl_rms",
-                     "force_rms"),
         baseline="passive", baseline_label="passive",
         panels=(Panel("body_acc_m_s2", "body acceleration [m/s^2]", "passive_body_acc_m_s2"),
                 Panel("susp_travel_m", "suspension travel [m]", "passive_susp_travel_m"),
@@ -56,7 +50,7 @@ _VIEWS: dict[str, PlantView] = {
     ),
 }
 
-_NONE = PlantView((), "", "", (), ())
+_NONE = PlantView("", "", (), ())
 
 
 def plant_view(plant: str) -> PlantView:

@@ -12,10 +12,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from chassistune.plants.base import Plant
 from chassistune.plots.overlay import Line
 from chassistune.reports.plant_view import Panel, PlantView, plant_view
 from chassistune.reports.tables import StudyData
+from chassistune.scenarios.base import Plant
 from chassistune.studies.store import RunRecord
 
 
@@ -43,7 +43,7 @@ def best_by_optimizer(data: StudyData, scenario: str) -> dict[str, RunRecord]:
 
 def _baseline_params(record: RunRecord) -> dict[str, object]:
     """The run's parameter overrides less those of its controller (the baseline has others)."""
-    from chassistune.controllers.registry import get
+    from chassistune.controllers.catalogue import get
 
     own = set(get(record.spec.plant, record.spec.controller).param_names)
     return {k: v for k, v in record.spec.params.items() if k not in own}
@@ -69,7 +69,7 @@ def response_sets(data: StudyData, scenario: str) -> list[ResponseSet]:
     best run's seed (the quarter car's road profile depends on the seed; the ABS's does not), so
     the curves differ only by their gains.
     """
-    from chassistune.plants.registry import get_plant
+    from chassistune.scenarios.registry import get_plant
 
     best = best_by_optimizer(data, scenario)
     if not best:

@@ -148,7 +148,7 @@ def scenario_table(data: StudyData, group: str) -> pd.DataFrame:
 
 def parameter_table(spec: RunSpec) -> pd.DataFrame:
     """Every parameter value of the scenario, one column per road (test roads included)."""
-    from chassistune.plants.registry import get_plant
+    from chassistune.scenarios.registry import get_plant
 
     plant = get_plant(spec.plant)
     roads = list(dict.fromkeys([*spec.roads, *spec.test_roads]))

@@ -1,8 +1,8 @@
 """Tables of a study, as pandas DataFrames: the run export and the report's statistics.
 
 All statistics come from `chassistune.stats` (the one statistics module). Costs are minimized:
-"best" is the lowest. Key metrics are the plant's lower-is-better figures (`plant_view`), so their
-best and worst are their minimum and maximum too.
+"best" is the lowest. Key metrics are the plant's lower-is-better figures (its PlantSpec's), so
+their best and worst are their minimum and maximum too.
 """
 
 from __future__ import annotations
@@ -19,8 +19,14 @@ import pandas as pd
 from chassistune import stats
 from chassistune.errors import InputError
 from chassistune.reports.files import atomic_path
-from chassistune.reports.plant_view import plant_view
+from chassistune.scenarios.registry import plant_names, plant_spec
 from chassistune.studies.store import RunRecord, Store
+
+
+def key_metrics(plant: str) -> tuple[str, ...]:
+    """The plant's lower-is-better metrics summarized in the report (its PlantSpec's)."""
+    return plant_spec(plant).key_metrics if plant in plant_names() else ()
+
 
 SUMMARY_COLUMNS = ("n", "mean", "std", "best", "worst", "median")
 
@@ -128,7 +134,7 @@ def quantities(data: StudyData, scenario: str) -> list[str]:
     runs = data.runs(scenario)
     out = ["best_cost"]
     for r in runs[:1]:
-        keys = plant_view(r.spec.plant).key_metrics
+        keys = key_metrics(r.spec.plant)
         for road in r.spec.roads:
             for k in keys:
                 if k in r.metrics.get(road, {}):
