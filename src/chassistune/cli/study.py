@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import click
 
-from chassistune.cli.main import cli
 from chassistune.errors import InputError
 
 
-@cli.group("study")
+@click.group("study")
 def study_group() -> None:
     """Run a study from a TOML config, report on it, export its runs (docs/studies.md)."""
 

@@ -12,9 +12,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from chassistune._io import write_text
 from chassistune.errors import InputError
 from chassistune.reports import sections, tables
-from chassistune.reports.files import atomic_path
 from chassistune.reports.html import Section
 from chassistune.studies.store import open_study, store_path
 
@@ -64,11 +64,6 @@ def read_study(study_dir: str | Path, reference: str | None) -> StudyReport:
     return StudyReport(root, data, config, tables.check_reference(data, reference))
 
 
-def write_page(path: Path, text: str) -> None:
-    with atomic_path(path) as tmp:
-        Path(tmp).write_text(text, encoding="utf-8")
-
-
 def build_report(study_dir: str | Path, reference: str | None = None) -> ReportFiles:
     """Write DIR/report.html, its CSV tables and PNG figures; InputError for a bad DIR."""
     from importlib.metadata import version
@@ -82,5 +77,5 @@ def build_report(study_dir: str | Path, reference: str | None = None) -> ReportF
     page = render(study.data.name, study.summary, study.description,
                   study.sections(assets, figures), version("chassistune"))
     html = study.root / REPORT_NAME
-    write_page(html, page)
+    write_text(html, page)
     return ReportFiles(html, study.root / sections.ASSETS, assets.tables, figures.written)

@@ -8,10 +8,10 @@ from pathlib import Path
 
 import numpy as np
 
+from chassistune._rng import make_rng
 from chassistune.plots.overlay import plot_overlay
 from chassistune.plots.style import pyplot, save
 from chassistune.reports.bands import convergence_bands, log_scale_suits
-from chassistune.reports.files import make_readable
 from chassistune.reports.html import FigureView
 from chassistune.reports.responses import ResponseSet
 from chassistune.reports.sections import ASSETS, Assets
@@ -48,7 +48,7 @@ def boxplot_figure(costs: Mapping[str, np.ndarray], path: str, title: str) -> No
     data = [np.asarray(costs[k], dtype=float) for k in labels]
     ax.boxplot(data, showfliers=False, widths=0.5)
     ax.set_xticks(range(1, len(labels) + 1), labels)
-    jitter = np.random.default_rng(0)
+    jitter = make_rng(0)
     for i, v in enumerate(data, start=1):
         ax.plot(i + jitter.uniform(-0.12, 0.12, v.size), v, "o", ms=3.5, alpha=0.6, color="C0")
     if log_scale_suits(data):
@@ -71,7 +71,6 @@ class PngFigures:
         self.written: list[Path] = []
 
     def _view(self, path: Path, title: str, caption: str) -> FigureView:
-        make_readable(path)
         self.written.append(path)
         return FigureView.from_png(path, self.assets.next_id("figure"), title, caption,
                                    path.relative_to(self.assets.root).as_posix())

@@ -16,10 +16,11 @@ from typing import Any
 
 import numpy as np
 
+from chassistune._io import write_text
 from chassistune.errors import InputError
 from chassistune.reports import sections
 from chassistune.reports.bands import convergence_bands, log_scale_suits
-from chassistune.reports.build import ReportFiles, read_study, write_page
+from chassistune.reports.build import ReportFiles, read_study
 from chassistune.reports.html import Interactive, PlotView, render
 from chassistune.reports.responses import ResponseSet
 from chassistune.studies.store import RunRecord
@@ -215,5 +216,5 @@ def build_interactive(study_dir: str | Path, reference: str | None = None) -> Re
                   version("chassistune"), Interactive(
                       get_plotlyjs().replace("</script", "<\\/script"), figures, script, STYLE))
     html = study.root / INTERACTIVE_NAME
-    write_page(html, page)
+    write_text(html, page)
     return ReportFiles(html, study.root / sections.ASSETS, assets.tables, [])

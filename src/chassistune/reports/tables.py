@@ -17,8 +17,8 @@ import numpy as np
 import pandas as pd
 
 from chassistune import stats
+from chassistune._io import atomic_path
 from chassistune.errors import InputError
-from chassistune.reports.files import atomic_path
 from chassistune.scenarios.registry import plant_names, plant_spec
 from chassistune.studies.store import RunRecord, Store
 

@@ -10,7 +10,7 @@ system in the m (m + 1) / 2 unknowns of the symmetric P (21 for m = 6) by Gaussi
 partial pivoting, inside one compiled loop over the candidates. The same factorization solves
 A X + X A^T + I = 0, whose solution is positive definite if and only if A is Hurwitz (Lyapunov's
 theorem): that is the stability test, so unstable loops get the penalty without an eigenvalue
-solver. `rms-ratio-exact` is seed 001's eq. 10 on these RMS values.
+solver. `rms-ratio-exact` is the iabc-suspension paper's eq. 10 on these RMS values.
 """
 
 from __future__ import annotations
@@ -209,7 +209,7 @@ def exact_rms(
 def rms_ratio(
     active: np.ndarray, passive: np.ndarray, usable: np.ndarray, penalty: float
 ) -> np.ndarray:
-    """Seed 001 eq. 10: Q = sum of active/passive RMS of acc, travel, tire; penalty if unusable.
+    """iabc-suspension eq. 10: Q = sum of active/passive RMS (acc, travel, tire), or the penalty.
 
     active: (n, >= 3), passive: (3,), usable: (n,) bool. Finite values are clipped below penalty.
     """
