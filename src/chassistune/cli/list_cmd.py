@@ -6,20 +6,17 @@ import json
 
 import click
 
-from chassistune.cli.main import cli
-from chassistune.plants.registry import get_plant, plant_names
-
 KINDS = ["plants", "presets", "roads", "controllers", "optimizers", "functions"]
 
 
 def catalogue(kind: str) -> object:
     """The JSON-ready listing of one kind (grouped by plant where it applies)."""
-    from chassistune.controllers.registry import for_plant
+    from chassistune.scenarios.registry import get_plant, plant_names, plant_spec
 
     if kind == "plants":
         return [
-            {"name": n, "description": get_plant(n).description,
-             "default_preset": get_plant(n).default_preset}
+            {"name": n, "description": plant_spec(n).description,
+             "default_preset": plant_spec(n).default_preset}
             for n in plant_names()
         ]
     if kind == "presets":
@@ -36,9 +33,10 @@ def catalogue(kind: str) -> object:
             for n in plant_names()
         }
     if kind == "controllers":
+        from chassistune.controllers.catalogue import for_plant
+
         out = {}
         for n in plant_names():
-            get_plant(n)  # importing the plant registers its controllers
             out[n] = [c.as_dict() for c in for_plant(n)]
         return out
     if kind == "optimizers":
@@ -72,7 +70,7 @@ def _print_human(kind: str, data: object) -> None:
             click.echo(f"{item['name']:<14} {item.get('description', '')}")
 
 
-@cli.command("list")
+@click.command("list")
 @click.argument("kind", type=click.Choice(KINDS))
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
 def list_command(kind: str, as_json: bool) -> None:

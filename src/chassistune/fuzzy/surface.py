@@ -38,7 +38,6 @@ import hashlib
 import json
 import math
 import os
-import tempfile
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import lru_cache
@@ -48,6 +47,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
+from chassistune._io import atomic_path
 from chassistune.errors import InputError
 from chassistune.fuzzy.engine import evaluate
 from chassistune.fuzzy.rulebase import RuleBase, Variable
@@ -302,10 +302,8 @@ def _store(path: Path, surface: CompiledSurface) -> None:
     """Write atomically; a cache that cannot be written is only slower, never an error."""
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(suffix=".npz", dir=path.parent)
-        with os.fdopen(fd, "wb") as fh:
+        with atomic_path(path) as tmp, open(tmp, "wb") as fh:
             np.savez(fh, **{k: getattr(surface, k) for k in _ARRAYS})
-        os.replace(tmp, path)
     except OSError:
         return
 

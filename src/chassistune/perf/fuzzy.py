@@ -22,6 +22,7 @@ from numba import njit
 from numpy.typing import NDArray
 from skfuzzy import control as ctrl
 
+from chassistune._rng import make_rng
 from chassistune.fuzzy.gains import fuzzy_pid_gains
 from chassistune.fuzzy.loader import load_rulebase
 from chassistune.fuzzy.surface import SurfaceTable, compile_rulebase
@@ -95,7 +96,7 @@ def _gain_loop(
 def figures(quick: bool) -> dict[str, float]:
     """`fuzzy_speedup_vs_skfuzzy` with the two rates it divides and the surface compile time."""
     rb = load_rulebase("deffao")
-    rng = np.random.default_rng(12345)
+    rng = make_rng(12345)
     n_fast, n_slow = (200_000, 5) if quick else (2_000_000, 30)
     e = rng.uniform(-0.3, 0.3, n_fast)
     de = rng.uniform(-60.0, 60.0, n_fast)

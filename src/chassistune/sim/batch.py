@@ -26,7 +26,8 @@ def _pool(workers: int) -> ThreadPoolExecutor:
 
 
 def default_workers() -> int:
-    """Threads to use: CHASSISTUNE_THREADS if set, else the cores this process may use."""
+    """Parallel workers to use (kernel threads here, study worker processes in
+    `studies.executors`): CHASSISTUNE_THREADS if set, else the cores this process may use."""
     env = os.environ.get("CHASSISTUNE_THREADS")
     if env:
         return max(1, int(env))

@@ -1,10 +1,10 @@
 """Study configs (TOML, validated by pydantic) and their expansion into run specs (DESIGN 2, 9).
 
 A config is data: nothing in it is evaluated. `load_config` parses and validates the file,
-`plan_study` resolves every name against the registries (building every scenario, as the runs
-will) and expands the grid scenarios x roads x optimizers x seeds into `RunSpec`s. Both raise
-`InputError` naming the field (`scenarios[0].roads`, `optimizers[1].hyperparameters`, ...), so a
-bad config is refused before anything is written.
+`plan_study` resolves every name against the registries (building each distinct problem once,
+kept for the runs of this process) and expands the grid scenarios x roads x optimizers x seeds
+into `RunSpec`s. Both raise `InputError` naming the field (`scenarios[0].roads`,
+`optimizers[1].hyperparameters`, ...), so a bad config is refused before anything is written.
 
 Seeds: each run's randomness comes from `SeedSequence(study.seed, spawn_key=(seed_index,))`, the
 same for every scenario and optimizer at that index (common random numbers) and unchanged when
@@ -35,6 +35,7 @@ from pydantic import (
     model_validator,
 )
 
+from chassistune._rng import child_seed, int_seed, make_rng
 from chassistune.errors import InputError
 
 MAX_SEEDS = 100_000
@@ -202,16 +203,17 @@ class RunSpec(_Model):
         return hashlib.sha256(text.encode()).hexdigest()
 
     def seed_sequence(self) -> np.random.SeedSequence:
-        return np.random.SeedSequence(self.root_seed, spawn_key=(self.seed,))
+        """Child `seed` of the study's root seed."""
+        return child_seed(self.root_seed, self.seed)
 
     def optimizer_rng(self) -> np.random.Generator:
-        """The optimizer's generator: `default_rng(SeedSequence(root, spawn_key=(seed,)))`."""
-        return np.random.default_rng(self.seed_sequence())
+        """The optimizer's generator, from `seed_sequence()`."""
+        return make_rng(self.seed_sequence())
 
     @property
     def scenario_seed(self) -> int:
         """The scenario's seed (the quarter car's road realization), from the same sequence."""
-        return int(self.seed_sequence().generate_state(1, np.uint32)[0])
+        return int_seed(self.seed_sequence())
 
 
 @dataclass(frozen=True)
@@ -294,20 +296,20 @@ def load_config(path: str | Path) -> StudyConfig:
 
 # -- planning ------------------------------------------------------------------------------------
 
-_FIELD_NAMES = {
-    "--road": "roads", "road": "roads", "--controller": "controller", "--objective": "objective",
-    "objective": "objective", "--aggregate": "aggregate", "bounds": "bounds",
-    "preset": "preset", "plant": "plant", "controller": "controller", "--seed": "seed",
+_CONFIG_KEYS = {
+    "road": "roads", "pop_size": "budget.pop_size", "max_iter": "budget.iterations",
+    "max_evals": "budget.evaluations",
 }
+"""Domain field heads whose config key differs (budget keys live in the top-level table)."""
 
 
-def _scenario_field(index: int, field: str) -> str:
-    """`--param mass_kg` -> `scenarios[0].params.mass_kg`, `--road` -> `scenarios[0].roads`."""
-    base = f"scenarios[{index}]"
-    for prefix, name in (("--param ", "params"), ("bounds ", "bounds")):
-        if field.startswith(prefix):
-            return f"{base}.{name}.{field[len(prefix):]}"
-    return f"{base}.{_FIELD_NAMES.get(field, field.lstrip('-'))}"
+def config_path(field: str, table: str) -> str:
+    """Where a domain field path lives in the config (the one mapping): `params.mass_kg` of
+    `scenarios[0]` -> `scenarios[0].params.mass_kg`, `road` -> `scenarios[0].roads`,
+    `pop_size` -> `budget.pop_size`."""
+    head, dot, rest = field.partition(".")
+    key = _CONFIG_KEYS.get(head, head)
+    return key if key.startswith("budget.") else f"{table}.{key}{dot}{rest}"
 
 
 @dataclass(frozen=True)
@@ -329,8 +331,10 @@ def _cells(sc: ScenarioConfig, default_road: str) -> Iterator[_Cell]:
 
 
 def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int) -> list[dict[str, Any]]:
-    """Build every scenario the runs will build; the run-spec fields of each cell."""
-    from chassistune.plants.registry import get_plant
+    """Build each cell's problem once (kept for the runs: `studies.problems`); the run-spec
+    fields of each cell. `seed` is the scenario seed of the study's first seed index."""
+    from chassistune.scenarios.registry import get_plant
+    from chassistune.studies.problems import problem_key, remember
     from chassistune.tuning.problem import build_problem
 
     try:
@@ -344,15 +348,17 @@ def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int) -> list[dict[st
         for cell in cells:
             problem = build_problem(sc.plant, sc.controller, preset, list(cell.roads),
                                     sc.objective, sc.aggregate, sc.params, sc.bounds, seed)
-            out.append({
+            fields = {
                 "group": cell.group, "scenario": cell.name, "plant": sc.plant,
                 "preset": problem.scenarios[0].preset,
                 "controller": sc.controller, "objective": problem.objective, "roads": cell.roads,
                 "aggregate": sc.aggregate, "test_roads": test_roads, "params": dict(sc.params),
                 "bounds": dict(zip(problem.gain_names, problem.bounds, strict=True)),
-            })
+            }
+            remember(problem_key(fields, seed), problem)
+            out.append(fields)
     except InputError as exc:
-        raise InputError(_scenario_field(index, exc.field), exc.problem) from None
+        raise InputError(config_path(exc.field, f"scenarios[{index}]"), exc.problem) from None
     for road in test_roads:
         if road not in every_road:
             try:
@@ -377,10 +383,12 @@ def _resolve_optimizer(index: int, opt: OptimizerConfig, budget: BudgetConfig,
         make(opt.name, bounds, budget.pop_size, 0, max_iter=budget.iterations,
              max_evals=budget.evaluations, **hyper)
     except InputError as exc:
-        field = {"pop_size": "budget.pop_size", "max_iter": "budget.iterations",
-                 "max_evals": "budget.evaluations"}.get(exc.field, f"{where}.hyperparameters")
-        if field == f"{where}.hyperparameters" and exc.field in opt.hyperparameters:
-            field = f"{field}.{exc.field}"
+        if exc.field in _CONFIG_KEYS:
+            field = config_path(exc.field, where)
+        elif exc.field in opt.hyperparameters:
+            field = config_path(f"hyperparameters.{exc.field}", where)
+        else:
+            field = config_path("hyperparameters", where)
         raise InputError(field, exc.problem) from None
     except (TypeError, ValueError) as exc:
         raise InputError(f"{where}.hyperparameters", str(exc)) from None
@@ -389,8 +397,9 @@ def _resolve_optimizer(index: int, opt: OptimizerConfig, budget: BudgetConfig,
 def plan_study(config: StudyConfig) -> StudyPlan:
     """Resolve every name and expand the grid into run specs (InputError on the first problem)."""
     cells: list[dict[str, Any]] = []
+    first_seed = int_seed(child_seed(config.study.seed, config.study.seeds[0]))
     for i, sc in enumerate(config.scenarios):
-        resolved = _resolve_scenario(i, sc, 0)
+        resolved = _resolve_scenario(i, sc, first_seed)
         if any(c["group"] == resolved[0]["group"] for c in cells):
             raise InputError(f"scenarios[{i}].name", f"another scenario is also named "
                              f"{resolved[0]['group']!r}: give each scenario a distinct `name`")
