@@ -12,7 +12,7 @@ from chassistune.controllers import discrete
 from chassistune.export import closed_loop, source, vectors
 from chassistune.fuzzy.engine import evaluate
 from chassistune.fuzzy.loader import load_rulebase
-from chassistune.plants.registry import get_plant
+from chassistune.scenarios.registry import get_plant
 
 
 @njit(cache=True)

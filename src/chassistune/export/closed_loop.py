@@ -2,13 +2,17 @@
 or the exported C through ctypes. The test vectors are recorded here.
 
 The plant is integrated exactly as `chassistune.sim.abs_wheel_kernel` integrates it for its sampled
-laws: the kernel's own RK4 stage function at the step dt with the command u held (zero-order hold)
-over each sample period ts = m dt, the same step-end update (wheel speed >= 0, pressure clipped to
-[0, q_max], clipped slip) and the same stop at v_stop located inside the last step. At each sample
-the controller sees the ECU inputs of an ideal sensor set: the clipped slip at the sample, the
-wheel speed (rad/s) and whether the pressure sits at q_max or 0. Driving the kernel's own sampled
-threshold law, this loop gives the kernel's stop distance bit for bit (tests/export); for the
-continuous laws it is the sampled loop that the kernel's realistic ECU mode (issue 15) will run.
+laws: classic RK4 at the step dt on (v, w, q, r) with the command u held (zero-order hold) over
+each sample period ts = m dt, the kernel's own right-hand side (`plant_rates`), the same step-end
+update (wheel speed >= 0, pressure clipped to [0, q_max], clipped slip) and the same stop at v_stop
+located inside the last step. At each sample the controller sees the ECU inputs of an ideal
+sensor set: the clipped slip at the sample, the wheel speed (rad/s) and whether the pressure sits
+at q_max or 0. Driving the kernel's own sampled threshold law, this loop gives the kernel's stop
+distance bit for bit (tests/export); for the continuous laws it is the sampled loop that the
+kernel's realistic ECU mode (issue 15) will run.
+
+The kernel's internals are read in `kernel_plant` and `plant_rates` only (its packed plant vector,
+tire data and right-hand side); besides them only its status codes are used.
 """
 
 from __future__ import annotations
@@ -16,12 +20,13 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from chassistune.plants.abs_wheel import AbsWheelScenario
+from chassistune.scenarios.abs_wheel import AbsWheelScenario
 from chassistune.sim import abs_wheel_kernel as K
 
 Controller = Callable[[NDArray[np.float64]], float]
@@ -30,65 +35,86 @@ Controller = Callable[[NDArray[np.float64]], float]
 SIGNALS = ("slip", "wheel_speed_rad_s", "pressure_at_max", "pressure_at_min")
 """What the loop offers a controller at each sample; each law picks its inputs by name."""
 
-A_STEP, A_DIST, A_SLIP, A_STATUS, A_TIME = 0, 1, 2, 3, 4
+# loop constants (L_*), plant state (X_*) and accumulators (A_*) of `advance`
+L_DT, L_RADIUS, L_VSTOP, L_QMAX, L_HOPELESS_M, L_STEPS = range(6)
+X_V, X_W, X_Q, X_R = range(4)
+A_STEP, A_DIST, A_SLIP, A_STATUS, A_TIME = range(5)
 RUNNING = -1.0
+STOPPED, HOPELESS, TIMEOUT, DIVERGED = (float(c) for c in (
+    K.STATUS_STOPPED, K.STATUS_HOPELESS, K.STATUS_TIMEOUT, K.STATUS_DIVERGED))
+"""Run status: the kernel's codes, RUNNING until the run ends."""
+
+
+# -- the kernel's internals: the one place that reads them -----------------------------------
+
+def kernel_plant(scenario: AbsWheelScenario) -> tuple[NDArray[np.float64], tuple[Any, ...]]:
+    """The kernel's packed plant vector and tire data of `scenario` (for `plant_rates`)."""
+    p, kind, coef, xs, ys = scenario._kernel_args[:5]
+    return p, (kind, coef, xs, ys)
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
-def advance(x, k4, acc, u0, n, p, kind, coef, xs, ys):
-    """Advance the plant n RK4 steps of dt with the command u0 held; acc keeps step, distance,
-    slip, status and end time. Returns whether the run ended (stop, divergence, hopeless)."""
-    dt = p[K.P_DT]
+def plant_rates(v, w, q, r, u, p, tire):
+    """(dv, dw, dq, dr) of the wheel under the command u (DESIGN 3.1): the kernel's own right-hand
+    side with its continuous PID off (kp = ki = kd = 0: its command is the held u)."""
+    kind, coef, xs, ys = tire
+    dv, dw, dq, dr, _, _, _ = K._rhs(
+        v, w, q, r, 0.0, 0.0, u, 0.0, 0.0, 0.0, p[K.P_RADIUS], p[K.P_TARGET],
+        p[K.P_LOAD] * p[K.P_MASS] * p[K.P_G], 1.0 / p[K.P_MASS], 1.0 / p[K.P_INERTIA], p[K.P_KQ],
+        p[K.P_K], 1.0 / p[K.P_TAU], p[K.P_QMAX], p[K.P_NFILTER], kind, coef, xs, ys)
+    return dv, dw, dq, dr
+
+
+# ---------------------------------------------------------------------------------------------
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def advance(x, acc, u, n, lc, p, tire):
+    """Advance the plant x = (v, w, q, r) n RK4 steps of dt with the command u held; acc keeps
+    step, distance, slip, status and end time. Returns whether the run ended (stop, divergence,
+    hopeless, timeout)."""
+    dt = lc[L_DT]
     hs = 0.5 * dt
     h6 = dt / 6.0
-    r_w = p[K.P_RADIUS]
-    v_stop = p[K.P_VSTOP]
-    q_max = p[K.P_QMAX]
-    active = np.zeros(1, dtype=np.int64)
-    zero = np.zeros(1)
-    u_arr = np.full(1, u0)
-    u_tmp = np.zeros(1)
-    k1 = np.zeros_like(x)
-    k2 = np.zeros_like(x)
-    k3 = np.zeros_like(x)
-    n_steps = math.ceil(p[K.P_TMAX] / dt - 1e-9)
+    r_w = lc[L_RADIUS]
+    v_stop = lc[L_VSTOP]
+    q_max = lc[L_QMAX]
     for _ in range(n):
-        k = int(acc[A_STEP])
-        if k >= n_steps:
-            acc[A_STATUS] = K.STATUS_TIMEOUT
-            acc[A_TIME] = n_steps * dt
+        k = acc[A_STEP]
+        if k >= lc[L_STEPS]:
+            acc[A_STATUS] = TIMEOUT
+            acc[A_TIME] = lc[L_STEPS] * dt
             return True
         t = k * dt
-        K._stage(1, active, x, k4, 0.0, k1, u_tmp, u_arr, zero, zero, zero, p, kind, coef, xs, ys)
-        K._stage(1, active, x, k1, hs, k2, u_tmp, u_arr, zero, zero, zero, p, kind, coef, xs, ys)
-        K._stage(1, active, x, k2, hs, k3, u_tmp, u_arr, zero, zero, zero, p, kind, coef, xs, ys)
-        K._stage(1, active, x, k3, dt, k4, u_tmp, u_arr, zero, zero, zero, p, kind, coef, xs, ys)
-        new = np.empty(K.N_STATE)
-        for s in range(K.N_STATE):
-            new[s] = x[s, 0] + h6 * (k1[s, 0] + 2.0 * k2[s, 0] + 2.0 * k3[s, 0] + k4[s, 0])
-        vi = x[K.S_V, 0]
-        vn = new[K.S_V]
-        new[K.S_W] = max(new[K.S_W], 0.0)
-        new[K.S_Q] = min(max(new[K.S_Q], 0.0), q_max)
-        s_new = min(max((vn - new[K.S_W] * r_w) / vn, 0.0), 1.0)
+        v, w, q, r = x[X_V], x[X_W], x[X_Q], x[X_R]
+        k1v, k1w, k1q, k1r = plant_rates(v, w, q, r, u, p, tire)
+        k2v, k2w, k2q, k2r = plant_rates(v + hs * k1v, w + hs * k1w, q + hs * k1q, r + hs * k1r,
+                                         u, p, tire)
+        k3v, k3w, k3q, k3r = plant_rates(v + hs * k2v, w + hs * k2w, q + hs * k2q, r + hs * k2r,
+                                         u, p, tire)
+        k4v, k4w, k4q, k4r = plant_rates(v + dt * k3v, w + dt * k3w, q + dt * k3q, r + dt * k3r,
+                                         u, p, tire)
+        vn = v + h6 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v)
+        wn = max(w + h6 * (k1w + 2.0 * k2w + 2.0 * k3w + k4w), 0.0)
+        qn = min(max(q + h6 * (k1q + 2.0 * k2q + 2.0 * k3q + k4q), 0.0), q_max)
+        rn = r + h6 * (k1r + 2.0 * k2r + 2.0 * k3r + k4r)
         stop = vn <= v_stop
-        frac = (vi - v_stop) / (vi - vn) if stop else 1.0
+        frac = (v - v_stop) / (v - vn) if stop else 1.0
         h = frac * dt
-        acc[A_DIST] += 0.5 * h * (vi + (v_stop if stop else vn))
-        x[:, 0] = new
-        acc[A_SLIP] = s_new
-        acc[A_STEP] = k + 1
-        check = vn + new[K.S_W] + new[K.S_R]
+        acc[A_DIST] += 0.5 * h * (v + (v_stop if stop else vn))
+        x[X_V], x[X_W], x[X_Q], x[X_R] = vn, wn, qn, rn
+        acc[A_SLIP] = min(max((vn - wn * r_w) / vn, 0.0), 1.0)
+        acc[A_STEP] = k + 1.0
+        check = vn + wn + rn
         if check - check != 0.0:
-            acc[A_STATUS] = K.STATUS_DIVERGED
+            acc[A_STATUS] = DIVERGED
             acc[A_TIME] = t
             return True
         if stop:
-            acc[A_STATUS] = K.STATUS_STOPPED
+            acc[A_STATUS] = STOPPED
             acc[A_TIME] = t + h
             return True
-        if acc[A_DIST] > p[K.P_HOPELESS_M]:
-            acc[A_STATUS] = K.STATUS_HOPELESS
+        if acc[A_DIST] > lc[L_HOPELESS_M]:
+            acc[A_STATUS] = HOPELESS
             acc[A_TIME] = t + dt
             return True
     return False
@@ -102,11 +128,25 @@ class LoopResult:
     u: NDArray[np.float64]  # command per sample
     stop_distance_m: float
     stop_time_s: float
-    status: int  # abs_wheel_kernel.STATUS_*
+    status: int  # the kernel's status code (STATUS_NAMES)
 
     def inputs(self, names: tuple[str, ...]) -> NDArray[np.float64]:
         """The input rows (samples, len(names)) of a law."""
         return np.column_stack([self.signals[n] for n in names])
+
+
+def _loop_constants(scenario: AbsWheelScenario) -> NDArray[np.float64]:
+    """dt, wheel radius, stop speed, q_max, the hopeless distance and the step budget (L_*), from
+    the same numbers the kernel receives."""
+    pp = scenario.plant_params
+    lc = np.zeros(6)
+    lc[L_DT] = pp.dt_s
+    lc[L_RADIUS] = pp.wheel_radius_m
+    lc[L_VSTOP] = pp.v_stop_m_s
+    lc[L_QMAX] = pp.q_max
+    lc[L_HOPELESS_M] = scenario.scoring.hopeless_factor * scenario.bound_distance_m
+    lc[L_STEPS] = math.ceil(pp.t_max_s / pp.dt_s - 1e-9)
+    return lc
 
 
 def run(scenario: AbsWheelScenario, ts_s: float, controller: Controller,
@@ -114,25 +154,22 @@ def run(scenario: AbsWheelScenario, ts_s: float, controller: Controller,
     """Run the closed loop of `scenario` with `controller` called every ts_s (whole steps of dt).
 
     `input_names` (from SIGNALS) select and order the inputs handed to the controller."""
-    p, kind, coef, xs, ys, _, _, _ = scenario._kernel_args
-    dt = scenario.plant_params.dt_s
-    m = max(1, round(ts_s / dt))
-    x = np.zeros((K.N_STATE, 1))
-    x[K.S_V, 0] = p[K.P_V0]
-    x[K.S_W, 0] = p[K.P_V0] / p[K.P_RADIUS]
-    x[K.S_XF, 0] = p[K.P_TARGET]
-    k4 = np.zeros_like(x)
+    p, tire = kernel_plant(scenario)
+    lc = _loop_constants(scenario)
+    pp = scenario.plant_params
+    m = max(1, round(ts_s / pp.dt_s))
+    x = np.array([pp.v0_m_s, pp.v0_m_s / pp.wheel_radius_m, 0.0, 0.0])
     acc = np.array([0.0, 0.0, 0.0, RUNNING, 0.0])
     rows: list[list[float]] = []
     commands: list[float] = []
     pick = [SIGNALS.index(n) for n in input_names]
     while True:
-        q = x[K.S_Q, 0]
-        sample = [acc[A_SLIP], x[K.S_W, 0], float(q >= p[K.P_QMAX]), float(q <= 0.0)]
+        q = x[X_Q]
+        sample = [acc[A_SLIP], x[X_W], float(q >= pp.q_max), float(q <= 0.0)]
         rows.append(sample)
         u = float(controller(np.array([sample[i] for i in pick])))
         commands.append(u)
-        if advance(x, k4, acc, u, m, p, kind, coef, xs, ys):
+        if advance(x, acc, u, m, lc, p, tire):
             break
     data = np.array(rows)
     return LoopResult({n: data[:, i].copy() for i, n in enumerate(SIGNALS)}, np.array(commands),

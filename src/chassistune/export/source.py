@@ -29,8 +29,8 @@ from chassistune.controllers import discrete
 from chassistune.errors import InputError
 from chassistune.fuzzy.loader import load_rulebase
 from chassistune.params import to_float
-from chassistune.plants.abs_wheel import AbsWheelScenario
-from chassistune.plants.registry import get_plant
+from chassistune.scenarios.abs_wheel import AbsWheelScenario
+from chassistune.scenarios.registry import get_plant
 
 DEFAULT_ECU_TS_S = 5e-3
 """Sample time of a continuous controller's discrete form (issue 15: 5 ms loops are typical)."""
@@ -117,42 +117,42 @@ def _from_tune_json(path: Path) -> _Origin:
         return _Origin(data["plant"], data["preset"], data["roads"][0], data["controller"],
                        dict(data["best_gains"]), params, str(path))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError("SOURCE", f"cannot read {str(path)!r} as a tune result: {exc}") from None
+        raise InputError("source", f"cannot read {str(path)!r} as a tune result: {exc}") from None
     except (KeyError, IndexError, TypeError):
-        raise InputError("SOURCE", f"{str(path)!r} is not a tune.json (needs plant, preset, "
+        raise InputError("source", f"{str(path)!r} is not a tune.json (needs plant, preset, "
                          "roads, controller, best_gains, params)") from None
 
 
 def _from_study_run(study_dir: str, key: str) -> _Origin:
     from chassistune.studies.store import open_study
 
-    with open_study(study_dir, "SOURCE") as store:
+    with open_study(study_dir, "source") as store:
         for rec in store.records():
             if rec.spec.key == key:
                 if not rec.completed:
-                    raise InputError("SOURCE", f"run {key!r} of {study_dir!r} failed: "
+                    raise InputError("source", f"run {key!r} of {study_dir!r} failed: "
                                      f"{rec.error}")
                 s = rec.spec
                 return _Origin(s.plant, s.preset, s.roads[0], s.controller, rec.best_gains,
                                dict(s.params), f"{study_dir}#{key}")
-    raise InputError("SOURCE", f"no finished run {key!r} in {study_dir!r}")
+    raise InputError("source", f"no finished run {key!r} in {study_dir!r}")
 
 
 def _origin(source: str | None, plant: str | None, controller: str | None) -> _Origin:
     if source is None:
         if controller is None:
-            raise InputError("--controller", "give a SOURCE or a --controller")
+            raise InputError("controller", "give a SOURCE or a --controller")
         return _Origin(plant or "abs-wheel", None, None, controller, {}, {},
                        f"registry defaults of {controller}")
     if plant is not None or controller is not None:
-        raise InputError("--controller", "a SOURCE names its plant and controller; "
+        raise InputError("controller", "a SOURCE names its plant and controller; "
                          "drop --plant/--controller")
     study, sep, key = source.partition("#")
     if sep:
         return _from_study_run(study, key)
     if Path(source).is_file():
         return _from_tune_json(Path(source))
-    raise InputError("SOURCE", f"{source!r} is neither a tune.json file nor DIR#RUN")
+    raise InputError("source", f"{source!r} is neither a tune.json file nor DIR#RUN")
 
 
 def _law_params(law: discrete.DiscreteLaw, sc: AbsWheelScenario, gains: NDArray[np.float64],
@@ -182,31 +182,33 @@ def resolve(
     export_values = {k: overrides.pop(k) for k in EXPORT_PARAMS if k in overrides}
     origin = _origin(source, plant, controller)
     if origin.plant not in PLANTS:
-        raise InputError("--plant", f"no discrete controllers for plant {origin.plant!r} "
+        raise InputError("plant" if source is None else "source",
+                         f"no discrete controllers for plant {origin.plant!r} "
                          f"(exportable: {', '.join(PLANTS)})")
     law = discrete.law(origin.controller)
     if law is None:
-        raise InputError("--controller", f"{origin.controller!r} has no discrete form to export "
+        raise InputError("controller" if source is None else "source",
+                         f"{origin.controller!r} has no discrete form to export "
                          f"(exportable: {', '.join(discrete.LAWS)})")
     sc = get_plant(origin.plant).scenario(preset or origin.preset, road or origin.road,
                                           origin.controller, {**origin.params, **overrides})
     if not isinstance(sc, AbsWheelScenario):  # pragma: no cover - PLANTS holds abs-wheel only
-        raise InputError("--plant", f"cannot export from plant {origin.plant!r}")
-    g = sc.gains_array({**origin.gains, **{k: to_float(v, f"--gains {k}") for k, v in
+        raise InputError("plant", f"cannot export from plant {origin.plant!r}")
+    g = sc.gains_array({**origin.gains, **{k: to_float(v, f"gains.{k}") for k, v in
                                            gains.items()}})
     if not np.all(np.isfinite(g)):
-        raise InputError("--gains", "every gain must be finite")
+        raise InputError("gains", "every gain must be finite")
     dt = sc.plant_params.dt_s
     ts = _sample_time(export_values, sc.controller_params, dt)
     rulebase = str(sc.controller_params["rulebase"]) if law.table_outputs else None
     if rulebase is None and "fuzzy_table_points" in export_values:
-        raise InputError("--param fuzzy_table_points", f"{law.controller} reads no lookup table")
+        raise InputError("params.fuzzy_table_points", f"{law.controller} reads no lookup table")
     table, grid = discrete.no_table()
     bp: tuple[NDArray[np.float64], ...] = ()
     table_inputs: tuple[str, ...] = ()
     table_outputs: tuple[str, ...] = ()
     if rulebase is not None:
-        rb = load_rulebase(rulebase, "--param rulebase")
+        rb = load_rulebase(rulebase, "params.rulebase")
         points = _table_points(export_values)
         table, grid, bp = discrete.ecu_table(rb, points)
         table_inputs = tuple(v.name for v in rb.inputs)
@@ -222,9 +224,9 @@ def resolve(
 def _sample_time(values: Mapping[str, object], ctrl: Mapping[str, Any], dt: float) -> float:
     """The sample time: ecu_ts_s, else the controller's ts_s, else the default; whole steps."""
     if "ecu_ts_s" in values:
-        ts = to_float(values["ecu_ts_s"], "--param ecu_ts_s")
+        ts = to_float(values["ecu_ts_s"], "params.ecu_ts_s")
         if not ts > 0:
-            raise InputError("--param ecu_ts_s", f"must be positive, got {ts:g}")
+            raise InputError("params.ecu_ts_s", f"must be positive, got {ts:g}")
     else:
         ts = float(ctrl.get("ts_s", DEFAULT_ECU_TS_S))
     return max(1, round(ts / dt)) * dt
@@ -233,8 +235,8 @@ def _sample_time(values: Mapping[str, object], ctrl: Mapping[str, Any], dt: floa
 def _table_points(values: Mapping[str, object]) -> int:
     if "fuzzy_table_points" not in values:
         return discrete.DEFAULT_TABLE_POINTS
-    n = to_float(values["fuzzy_table_points"], "--param fuzzy_table_points")
+    n = to_float(values["fuzzy_table_points"], "params.fuzzy_table_points")
     if not (n == math.floor(n) and 2 <= n <= 1025):
-        raise InputError("--param fuzzy_table_points", f"must be a whole number from 2 to 1025, "
+        raise InputError("params.fuzzy_table_points", f"must be a whole number from 2 to 1025, "
                          f"got {n:g}")
     return int(n)
