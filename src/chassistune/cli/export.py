@@ -1,5 +1,5 @@
 """`chassistune export [SOURCE] ...`: a tuned controller as C99, an FMI 2.0 source FMU, MATLAB or
-JSON (issue 16). Defined as a plain click command; `cli/commands.py` adds it to the group."""
+JSON (issue 16). A plain click command; `cli/main.py` adds it to the group."""
 
 from __future__ import annotations
 
@@ -43,12 +43,3 @@ def export_command(source: str | None, plant: str | None, controller: str | None
     for path in write(ec, fmt, out_dir):
         click.echo(f"wrote {path}")
 
-
-def _register() -> None:
-    """Add the command to today's group (to be replaced by cli/main.py adding it)."""
-    from chassistune.cli.main import cli
-
-    cli.add_command(export_command)
-
-
-_register()
