@@ -11,8 +11,8 @@ import pytest
 from helpers import case
 
 import chassistune
-from chassistune.cli.common import jsonable
-from chassistune.export import vectors
+from chassistune._io import write_json
+from chassistune.export import vectors, write
 from chassistune.studies.executors import SerialExecutor
 from chassistune.studies.runner import run_study
 from chassistune.studies.spec import load_plan
@@ -49,7 +49,7 @@ def test_export_from_registry_defaults_writes_c_and_vectors(cli: Callable[..., o
     res = cli("export", "--controller", "fuzzy-pid", "--format", "c", "--out", str(out))
     assert res.code == 0, res.err
     assert _files(out) == {"controller.h", "controller.c", "ct_check.c", "test_vectors.csv"}
-    assert not [p for p in (tmp_path / "new").iterdir() if p.name.startswith(".export")]
+    assert _files(tmp_path / "new") == {"ecu"}  # no temporary file left anywhere
     _, data = vectors.read_csv(str(out / "test_vectors.csv"))
     c = case("fuzzy-pid")
     assert np.array_equal(data[:, :-1], c.inputs) and np.array_equal(data[:, -1], c.u)
@@ -60,7 +60,7 @@ def test_export_from_a_tune_result_uses_its_gains_road_and_params(cli: Callable[
     result = chassistune.tune("abs-wheel", "pid", "pso", roads="ice", pop_size=4, max_iter=1,
                               params={"dt_s": 2e-3})
     source = tmp_path / "tune.json"
-    source.write_text(json.dumps(jsonable(result.as_dict())))
+    write_json(source, result.as_dict())  # as `tune --out` writes tune.json
     res = cli("export", str(source), "--param", "ecu_ts_s=0.01", "--format", "json", "--out",
               str(tmp_path / "out"))
     assert res.code == 0, res.err
@@ -98,27 +98,35 @@ def test_export_from_a_study_run(cli: Callable[..., object], tmp_path: Path) -> 
     (["nosuch/tune.json"], "SOURCE"),
     (["{study}#abs/wet-asphalt|pso|7"], "SOURCE"),
     (["{study}"], "SOURCE"),
+    (["{bang_bang}"], "SOURCE"),
     (["--controller", "none"], "--controller"),
     (["--controller", "bang-bang"], "--controller"),
     (["--plant", "quarter-car", "--controller", "pid"], "--plant"),
     (["--controller", "pid", "--gains", "kq=3"], "--gains"),
-    (["--controller", "fuzzy-pid", "--param", "fuzzy_table_points=1"], "fuzzy_table_points"),
-    (["--controller", "pid", "--param", "ecu_ts_s=-1"], "ecu_ts_s"),
-    (["--controller", "pid", "--param", "fuzzy_table_points=33"], "fuzzy_table_points"),
-    (["--controller", "pid", "--road", "mars"], "road"),
+    (["--controller", "pid", "--gains", "kp=abc"], "--gains kp"),
+    (["--controller", "fuzzy-pid", "--param", "fuzzy_table_points=1"],
+     "--param fuzzy_table_points"),
+    (["--controller", "pid", "--param", "ecu_ts_s=-1"], "--param ecu_ts_s"),
+    (["--controller", "pid", "--param", "fuzzy_table_points=33"], "--param fuzzy_table_points"),
+    (["--controller", "fuzzy-pid", "--param", "rulebase=nosuch"], "--param rulebase"),
+    (["--controller", "pid", "--road", "mars"], "--road"),
     ([], "--controller"),
 ])
 def test_bad_input_is_one_line_exit_2_and_nothing_written(
         args: list[str], field: str, cli: Callable[..., object], tmp_path: Path) -> None:
     study = tmp_path / "emptystudy"
     study.mkdir()
+    bang_bang = study / "bang-bang.json"  # a tune result of a law without a discrete form
+    bang_bang.write_text(json.dumps({"plant": "abs-wheel", "preset": None, "roads": ["ice"],
+                                     "controller": "bang-bang", "best_gains": {}, "params": {}}))
     out = tmp_path / "out"
-    res = cli("export", *(a.format(study=study) for a in args), "--format", "c", "--out",
-              str(out))
+    res = cli("export", *(a.format(study=study, bang_bang=bang_bang) for a in args), "--format",
+              "c", "--out", str(out))
     assert res.code == 2
-    assert len(res.err.strip().splitlines()) == 1 and field in res.err
+    assert len(res.err.strip().splitlines()) == 1
+    assert res.err.startswith(f"chassistune: error: {field}: "), res.err
     assert not out.exists()
-    assert _files(tmp_path) == {"emptystudy"} and not any(study.iterdir())
+    assert _files(tmp_path) == {"emptystudy"} and _files(study) == {"bang-bang.json"}
 
 
 def test_unwritable_folder_is_refused_before_any_work(cli: Callable[..., object],
@@ -129,3 +137,20 @@ def test_unwritable_folder_is_refused_before_any_work(cli: Callable[..., object]
         res = cli("export", "--controller", "pid", "--format", "c", "--out", str(out))
         assert res.code == 2 and len(res.err.strip().splitlines()) == 1 and "--out" in res.err
     assert _files(tmp_path) == {"a-file"} and blocker.read_text() == "not a folder"
+
+
+def test_a_failed_write_leaves_no_file_and_no_new_folder(tmp_path: Path,
+                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    """All files or none: the second file cannot be written, so the first is not either; an
+    existing folder keeps its files as they were, a folder the call created is removed."""
+    ec = case("pid").ec
+    monkeypatch.setattr(write, "files", lambda ec, fmt: {"controller.h": b"new",
+                                                         "no/such/folder.c": b"x"})
+    old = tmp_path / "old"
+    old.mkdir()
+    (old / "controller.h").write_text("old")
+    for out in (old, tmp_path / "new" / "deeper"):
+        with pytest.raises(FileNotFoundError):
+            write.write(ec, "c", str(out))
+    assert _files(tmp_path) == {"old"}
+    assert _files(old) == {"controller.h"} and (old / "controller.h").read_text() == "old"

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from chassistune import __version__
+from chassistune._io import dumps
 from chassistune.controllers import discrete
 from chassistune.errors import InputError
 from chassistune.export.source import ExportedController
@@ -66,8 +67,7 @@ def document(ec: ExportedController, inputs: np.ndarray, u: np.ndarray) -> dict[
 
 
 def json_text(ec: ExportedController, inputs: np.ndarray, u: np.ndarray) -> str:
-    doc = document(ec, inputs, u)
-    return json.dumps(doc, indent=1, allow_nan=False) + "\n"
+    return dumps(document(ec, inputs, u), indent=1) + "\n"
 
 
 def scenario_arguments(path: str | Path) -> dict[str, Any]:
@@ -75,13 +75,13 @@ def scenario_arguments(path: str | Path) -> dict[str, Any]:
     try:
         doc = json.loads(Path(path).read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError("--from", f"cannot read {str(path)!r}: {exc}") from None
+        raise InputError("from", f"cannot read {str(path)!r}: {exc}") from None
     if not isinstance(doc, dict) or doc.get("schema") != SCHEMA:
-        raise InputError("--from", f"{str(path)!r} is not a chassistune export")
+        raise InputError("from", f"{str(path)!r} is not a chassistune export")
     if doc.get("schema_version") != SCHEMA_VERSION:
-        raise InputError("--from", f"export schema version {doc.get('schema_version')!r} is not "
+        raise InputError("from", f"export schema version {doc.get('schema_version')!r} is not "
                          f"{SCHEMA_VERSION}")
     sc = doc["scenario"]
     if not all(isinstance(v, float) and math.isfinite(v) for v in sc["gains"].values()):
-        raise InputError("--from", "gains must be finite numbers")
+        raise InputError("from", "gains must be finite numbers")
     return {k: sc[k] for k in ("plant", "preset", "road", "controller", "gains", "params")}
