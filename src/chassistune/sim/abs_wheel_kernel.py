@@ -31,8 +31,25 @@ import math
 import numba
 import numpy as np
 
-from chassistune.fuzzy.gains import fuzzy_pid_gains, immune_gain, incremental_pid_du
+from chassistune._branchfree import clip, fmax, fmin, select
+from chassistune.controllers.fuzzy_pid import fuzzy_pid_gains
+from chassistune.controllers.immune_pid import immune_pid_step
+from chassistune.controllers.pid import pid_step
+from chassistune.controllers.switching import (
+    bang_bang_command,
+    no_abs_command,
+    threshold_step,
+    wheel_deceleration_sample,
+)
 from chassistune.plants.tires import tire_mu
+from chassistune.sim.abs_wheel_model import wheel_rates, wheel_slip
+from chassistune.sim.integrate import (
+    crossing_fraction,
+    error_integrals,
+    rk4_point,
+    rk4_update,
+    trapezoid,
+)
 
 # plant parameter vector
 P_MASS, P_INERTIA, P_RADIUS, P_V0, P_G, P_K, P_TAU, P_KQ, P_QMAX = 0, 1, 2, 3, 4, 5, 6, 7, 8
@@ -59,51 +76,30 @@ N_STATE = 6
 (T_TIME, T_V, T_WHEEL_V, T_SLIP, T_Q, T_TB, T_U, T_X, T_MU, T_TARGET) = range(10)
 N_TRACE = 10
 
-# threshold ABS phases
-PH_BUILD, PH_HOLD, PH_DUMP, PH_RECOVER, PH_SLOW = 0, 1, 2, 3, 4
-
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _rhs(v, w, q, r, z, xf, u0, kp, ki, kd, r_w, target, fz, inv_m, inv_i, kq, gain, inv_tau,
-         q_max, nf, kind, coef, xs, ys):
-    """Derivatives of (v, w, q, r, z, xf) and the command u at one state (fz = wheel load)."""
-    s = (v - w * r_w) / v
-    s = min(max(s, 0.0), 1.0)  # guard only: physics keeps S in [0, 1]
-    e = target - s
-    fx = tire_mu(kind, coef, xs, ys, s) * fz
-    dv = -fx * inv_m
-    dw = (r_w * fx - kq * q) * inv_i
-    dw = 0.0 if (w <= 0.0 and dw < 0.0) else dw
-    u = u0 + kp * e + ki * z + kd * nf * (e - xf)
-    dr = (gain * u - r) * inv_tau
-    q_hi = q >= q_max
-    q_lo = q <= 0.0
-    dq = 0.0 if ((q_hi and r > 0.0) or (q_lo and r < 0.0)) else r
-    dz = 0.0 if ((q_hi and e > 0.0) or (q_lo and e < 0.0)) else e
-    return dv, dw, dq, dr, dz, nf * (e - xf), u
+def _rhs(v, w, q, r, z, xf, u0, kp, ki, kd, p, kind, coef, xs, ys):
+    """Derivatives of (v, w, q, r, z, xf) and the command u of the wheel under the PID."""
+    r_w = p[P_RADIUS]
+    s = wheel_slip(v, w, r_w)
+    e = p[P_TARGET] - s
+    fx = tire_mu(kind, coef, xs, ys, s) * (p[P_LOAD] * p[P_MASS] * p[P_G])
+    u, dz, dxf = pid_step(e, z, xf, u0, kp, ki, kd, p[P_NFILTER], q >= p[P_QMAX], q <= 0.0)
+    dv, dw, dq, dr, _, _ = wheel_rates(w, q, r, fx, u, r_w, 1.0 / p[P_MASS], 1.0 / p[P_INERTIA],
+                                       p[P_KQ], p[P_K], 1.0 / p[P_TAU], p[P_QMAX])
+    return dv, dw, dq, dr, dz, dxf, u
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def _stage(m, active, x, k_in, c, k_out, u_out, u0, kp, ki, kd, p, kind, coef, xs, ys):
     """One RK4 stage for the running candidates: k_out = f(x + c k_in)."""
-    r_w = p[P_RADIUS]
-    target = p[P_TARGET]
-    fz = p[P_LOAD] * p[P_MASS] * p[P_G]
-    inv_m = 1.0 / p[P_MASS]
-    inv_i = 1.0 / p[P_INERTIA]
-    kq = p[P_KQ]
-    gain = p[P_K]
-    inv_tau = 1.0 / p[P_TAU]
-    q_max = p[P_QMAX]
-    nf = p[P_NFILTER]
     for j in range(m):
         i = active[j]
         dv, dw, dq, dr, dz, dxf, u = _rhs(
-            x[S_V, i] + c * k_in[S_V, i], x[S_W, i] + c * k_in[S_W, i],
-            x[S_Q, i] + c * k_in[S_Q, i], x[S_R, i] + c * k_in[S_R, i],
-            x[S_Z, i] + c * k_in[S_Z, i], x[S_XF, i] + c * k_in[S_XF, i],
-            u0[i], kp[i], ki[i], kd[i], r_w, target, fz, inv_m, inv_i, kq, gain, inv_tau, q_max,
-            nf, kind, coef, xs, ys)
+            rk4_point(x[S_V, i], c, k_in[S_V, i]), rk4_point(x[S_W, i], c, k_in[S_W, i]),
+            rk4_point(x[S_Q, i], c, k_in[S_Q, i]), rk4_point(x[S_R, i], c, k_in[S_R, i]),
+            rk4_point(x[S_Z, i], c, k_in[S_Z, i]), rk4_point(x[S_XF, i], c, k_in[S_XF, i]),
+            u0[i], kp[i], ki[i], kd[i], p, kind, coef, xs, ys)
         k_out[S_V, i] = dv
         k_out[S_W, i] = dw
         k_out[S_Q, i] = dq
@@ -114,77 +110,9 @@ def _stage(m, active, x, k_in, c, k_out, u_out, u0, kp, ki, kd, p, kind, coef, x
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _abs_integrals(a, b, t, h):
-    """Integrals over [t, t + h] of |e|, (t) |e| and e^2 for e linear from a to b."""
-    aa = abs(a)
-    bb = abs(b)
-    if a * b >= 0.0:
-        iae = 0.5 * h * (aa + bb)
-        itae = t * iae + h * h * (aa / 6.0 + bb / 3.0)
-    else:  # the error crosses zero at t + h1
-        h1 = h * aa / (aa + bb)
-        h2 = h - h1
-        iae = 0.5 * (aa * h1 + bb * h2)
-        itae = aa * (0.5 * t * h1 + h1 * h1 / 6.0) + bb * (0.5 * (t + h1) * h2 + h2 * h2 / 3.0)
-    ise = h * (a * a + a * b + b * b) / 3.0
-    return iae, itae, ise
-
-
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _sampled_command(ctrl_kind, c, phase, s, target, aw):
-    """Zero-order-hold command u0 of the switching laws and the next threshold phase."""
-    amp = c[Q_AMPLITUDE]
-    if ctrl_kind == C_NONE:
-        return amp, phase
-    if ctrl_kind == C_BANGBANG:
-        err = target - s
-        if err > 0.0:
-            return amp, phase
-        if err < 0.0:
-            return -amp, phase
-        return 0.0, phase
-    if ctrl_kind == C_THRESHOLD:
-        a_minus = c[Q_DECEL]
-        a_plus = c[Q_ACCEL]
-        s_high = target + c[Q_SLIP_HIGH]
-        ph = phase
-        if ph == PH_BUILD and aw < -a_minus:
-            ph = PH_HOLD
-        elif ph == PH_HOLD:
-            if s > s_high:
-                ph = PH_DUMP
-            elif aw > -a_minus:
-                ph = PH_SLOW
-        elif ph == PH_DUMP and aw > 0.0:
-            ph = PH_RECOVER
-        elif ph == PH_RECOVER and aw < a_plus and s < s_high:
-            ph = PH_SLOW
-        elif ph == PH_SLOW:
-            if s > s_high:
-                ph = PH_DUMP
-            elif aw < -a_minus:
-                ph = PH_HOLD
-        if ph == PH_BUILD:
-            return amp, ph
-        if ph == PH_DUMP:
-            return -amp, ph
-        if ph == PH_SLOW:
-            return amp * c[Q_SLOW], ph
-        return 0.0, ph
-    return 0.0, phase
-
-
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _immune_command(g, table, e, e1, e2, u_prev, ts, first):
-    """Fuzzy immune PID (seed 004 eqs. 6-10, DESIGN 4), g = (k_immune, eta, ki, kd, ke, kec).
-
-    The controller starts from rest (u = 0 and e = 0 before the first sample) without a
-    derivative kick: the first sample adds kp1 e + ki ts e only."""
-    ec = 0.0 if first else (e - e1) / ts
-    kp1 = immune_gain(table, e, ec, g[4], g[5], g[0], g[1])
-    if first:
-        return u_prev + incremental_pid_du(kp1, g[2], 0.0, ts, e, 0.0, 0.0)
-    return u_prev + incremental_pid_du(kp1, g[2], g[3], ts, e, e1, e2)
+def _update(x, i, k1, k2, k3, k4, h6, row):
+    """RK4 update of state `row` of candidate i."""
+    return rk4_update(x[row, i], h6, k1[row, i], k2[row, i], k3[row, i], k4[row, i])
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
@@ -215,7 +143,6 @@ def simulate_abs_wheel(gains, p, tire_kind, tire_coef, tire_xs, tire_ys, ctrl_ki
         kp[:] = gains[:, 0]
         ki[:] = gains[:, 1]
         kd[:] = gains[:, 2]
-    scheduled = np.zeros(3)
     e_prev = np.full(n, target)  # immune PID: e(k-1), e(k-2); starting at e(0): no kick
     e_prev2 = np.full(n, target)
     x = np.zeros((N_STATE, n))
@@ -263,26 +190,28 @@ def simulate_abs_wheel(gains, p, tire_kind, tire_coef, tire_xs, tire_ys, ctrl_ki
             ts = steps_per_sample * dt
             for j in range(m):
                 i = active[j]
+                e = target - slip[i]
+                g = gains[i]
                 if ctrl_kind == C_FUZZY_PID:
-                    e = target - slip[i]
                     ec = p[P_NFILTER] * (e - x[S_XF, i])  # filtered de/dt
-                    g = gains[i]
-                    fuzzy_pid_gains(table, e, ec, g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7],
-                                    scheduled)
-                    kp[i] = scheduled[0]
-                    ki[i] = scheduled[1]
-                    kd[i] = scheduled[2]
+                    kp[i], ki[i], kd[i] = fuzzy_pid_gains(table, e, ec, g[0], g[1], g[2], g[3],
+                                                          g[4], g[5], g[6], g[7])
                 elif ctrl_kind == C_IMMUNE:
-                    u0[i] = _immune_command(gains[i], table, target - slip[i], e_prev[i],
-                                            e_prev2[i], u0[i], ts, k == 0)
+                    u0[i] = immune_pid_step(table, e, e_prev[i], e_prev2[i], u0[i], ts, k == 0,
+                                            g[0], g[1], g[2], g[3], g[4], g[5])
                     e_prev2[i] = e_prev[i]
-                    e_prev[i] = target - slip[i]
-                else:
+                    e_prev[i] = e
+                elif ctrl_kind == C_BANGBANG:
+                    u0[i] = bang_bang_command(e, c[Q_AMPLITUDE])
+                elif ctrl_kind == C_THRESHOLD:
                     if k > 0:
-                        aw[i] = (x[S_W, i] - w_sampled[i]) * r_w / ts
+                        aw[i] = wheel_deceleration_sample(x[S_W, i], w_sampled[i], r_w, ts)
                     w_sampled[i] = x[S_W, i]
-                    u0[i], phase[i] = _sampled_command(ctrl_kind, c, phase[i], slip[i], target,
-                                                       aw[i])
+                    u0[i], phase[i] = threshold_step(phase[i], slip[i], target, aw[i],
+                                                     c[Q_AMPLITUDE], c[Q_DECEL], c[Q_ACCEL],
+                                                     c[Q_SLIP_HIGH], c[Q_SLOW])
+                else:
+                    u0[i] = no_abs_command(c[Q_AMPLITUDE])
         _stage(m, active, x, k4, 0.0, k1, u_first, u0, kp, ki, kd, p, tire_kind, tire_coef,
                tire_xs, tire_ys)
         _stage(m, active, x, k1, hs, k2, u_tmp, u0, kp, ki, kd, p, tire_kind, tire_coef,
@@ -295,32 +224,28 @@ def simulate_abs_wheel(gains, p, tire_kind, tire_coef, tire_xs, tire_ys, ctrl_ki
         while j < m:
             i = active[j]
             vi = x[S_V, i]
-            wi = x[S_W, i]
-            vn = vi + h6 * (k1[S_V, i] + 2.0 * k2[S_V, i] + 2.0 * k3[S_V, i] + k4[S_V, i])
-            wn = max(wi + h6 * (k1[S_W, i] + 2.0 * k2[S_W, i] + 2.0 * k3[S_W, i] + k4[S_W, i]),
-                     0.0)
-            qn = x[S_Q, i] + h6 * (k1[S_Q, i] + 2.0 * k2[S_Q, i] + 2.0 * k3[S_Q, i] + k4[S_Q, i])
-            qn = min(max(qn, 0.0), q_max)
-            rn = x[S_R, i] + h6 * (k1[S_R, i] + 2.0 * k2[S_R, i] + 2.0 * k3[S_R, i] + k4[S_R, i])
-            zn = x[S_Z, i] + h6 * (k1[S_Z, i] + 2.0 * k2[S_Z, i] + 2.0 * k3[S_Z, i] + k4[S_Z, i])
-            xfn = x[S_XF, i] + h6 * (k1[S_XF, i] + 2.0 * k2[S_XF, i] + 2.0 * k3[S_XF, i]
-                                     + k4[S_XF, i])
+            vn = _update(x, i, k1, k2, k3, k4, h6, S_V)
+            wn = fmax(_update(x, i, k1, k2, k3, k4, h6, S_W), 0.0)
+            qn = clip(_update(x, i, k1, k2, k3, k4, h6, S_Q), 0.0, q_max)
+            rn = _update(x, i, k1, k2, k3, k4, h6, S_R)
+            zn = _update(x, i, k1, k2, k3, k4, h6, S_Z)
+            xfn = _update(x, i, k1, k2, k3, k4, h6, S_XF)
             s_raw = (vn - wn * r_w) / vn
-            s_new = min(max(s_raw, 0.0), 1.0)
+            s_new = clip(s_raw, 0.0, 1.0)
             stop = vn <= v_stop
-            frac = (vi - v_stop) / (vi - vn) if stop else 1.0
+            frac = crossing_fraction(vi, vn, v_stop, stop)
             h = frac * dt
-            v_end = v_stop if stop else vn
+            v_end = select(stop, v_stop, vn)
             s_end = slip[i] + frac * (s_new - slip[i])
-            dist[i] += 0.5 * h * (vi + v_end)
-            d_iae, d_itae, d_ise = _abs_integrals(target - slip[i], target - s_end, t, h)
+            dist[i] += trapezoid(vi, v_end, h)
+            d_iae, d_itae, d_ise = error_integrals(target - slip[i], target - s_end, t, h)
             iae[i] += d_iae
             itae[i] += d_itae
             ise[i] += d_ise
-            sint[i] += 0.5 * h * (slip[i] + s_end)
-            clipmax[i] = max(clipmax[i], abs(s_raw - s_new))
-            minslip[i] = min(minslip[i], s_raw)
-            peakslip[i] = max(peakslip[i], s_new)
+            sint[i] += trapezoid(slip[i], s_end, h)
+            clipmax[i] = fmax(clipmax[i], abs(s_raw - s_new))
+            minslip[i] = fmin(minslip[i], s_raw)
+            peakslip[i] = fmax(peakslip[i], s_new)
             if vn > v_stop and wn * r_w < p[P_LOCK_RATIO] * vn:
                 locked[i] += dt
                 if lock_t[i] != lock_t[i]:
