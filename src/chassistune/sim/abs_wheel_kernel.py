@@ -42,6 +42,7 @@ from chassistune.controllers.switching import (
     wheel_deceleration_sample,
 )
 from chassistune.plants.tires import tire_mu
+from chassistune.sim import abs_wheel_layout as L
 from chassistune.sim.abs_wheel_model import wheel_rates, wheel_slip
 from chassistune.sim.integrate import (
     crossing_fraction,
@@ -51,30 +52,40 @@ from chassistune.sim.integrate import (
     trapezoid,
 )
 
-# plant parameter vector
-P_MASS, P_INERTIA, P_RADIUS, P_V0, P_G, P_K, P_TAU, P_KQ, P_QMAX = 0, 1, 2, 3, 4, 5, 6, 7, 8
-P_VSTOP, P_TMAX, P_DT, P_LOAD, P_TARGET, P_HOPELESS_M, P_LOCK_RATIO = 9, 10, 11, 12, 13, 14, 15
-P_NFILTER = 16
-N_PLANT = 17
+# slots of the declared layouts (numba freezes these module integers as constants)
+P_MASS, P_INERTIA, P_RADIUS, P_V0 = (L.PLANT[n] for n in (
+    "mass_kg", "wheel_inertia_kg_m2", "wheel_radius_m", "v0_m_s"))
+P_G, P_K, P_TAU, P_KQ, P_QMAX = (L.PLANT[n] for n in (
+    "g_m_s2", "actuator_gain", "actuator_tau_s", "brake_gain", "q_max"))
+P_VSTOP, P_TMAX, P_DT, P_LOAD, P_TARGET = (L.PLANT[n] for n in (
+    "v_stop_m_s", "t_max_s", "dt_s", "load_fraction", "target_slip"))
+P_HOPELESS_M, P_LOCK_RATIO, P_NFILTER = (L.PLANT[n] for n in (
+    "hopeless_distance_m", "lock_ratio", "n_filter"))
 
-# controller kinds and parameter vector
-C_NONE, C_PID, C_BANGBANG, C_THRESHOLD, C_FUZZY_PID, C_IMMUNE = 0, 1, 2, 3, 4, 5
-Q_TS, Q_AMPLITUDE, Q_DECEL, Q_ACCEL, Q_SLIP_HIGH, Q_SLOW = 0, 1, 2, 3, 4, 5
-N_CTRL = 6
+C_NONE, C_PID, C_BANGBANG, C_THRESHOLD, C_FUZZY_PID, C_IMMUNE = (
+    L.CONTROLLER_KINDS.index(n) for n in (
+        "none", "pid", "bang-bang", "threshold", "fuzzy-pid", "fuzzy-immune-pid"))
+Q_TS, Q_AMPLITUDE, Q_DECEL, Q_ACCEL, Q_SLIP_HIGH, Q_SLOW = (L.CONTROLLER[n] for n in (
+    "ts_s", "amplitude", "decel_threshold_m_s2", "accel_threshold_m_s2", "slip_margin",
+    "slow_fraction"))
 
-# metrics columns
-(M_STATUS, M_TIME, M_DIST, M_LOCK_T, M_IAE, M_ITAE, M_ISE, M_MEAN_SLIP, M_PEAK_SLIP,
- M_LOCKED_S, M_CLIP, M_NTRACE, M_MIN_SLIP) = range(13)
-N_METRICS = 13
-STATUS_STOPPED, STATUS_HOPELESS, STATUS_TIMEOUT, STATUS_DIVERGED = 0, 1, 2, 3
+(M_STATUS, M_TIME, M_DIST, M_LOCK_T, M_IAE, M_ITAE, M_ISE, M_MEAN_SLIP, M_PEAK_SLIP, M_LOCKED_S,
+ M_CLIP, M_NTRACE, M_MIN_SLIP) = (L.METRICS[n] for n in (
+    "status", "stop_time_s", "stop_distance_m", "wheel_lock_time_s", "slip_iae", "slip_itae",
+    "slip_ise", "mean_slip", "peak_slip", "locked_time_s", "slip_clip_max", "trace_rows",
+    "min_slip_unclipped"))
+N_METRICS = len(L.METRICS)
+STATUS_STOPPED, STATUS_HOPELESS, STATUS_TIMEOUT, STATUS_DIVERGED = (
+    L.STATUS_NAMES.index(n) for n in ("stopped", "hopeless", "timeout", "diverged"))
+
+(T_TIME, T_V, T_WHEEL_V, T_SLIP, T_TARGET, T_Q, T_TB, T_U, T_X, T_MU) = (L.TRACE[n] for n in (
+    "time_s", "vehicle_speed_m_s", "wheel_speed_m_s", "slip", "target_slip", "pressure",
+    "brake_torque_n_m", "command", "distance_m", "mu"))
+N_TRACE = len(L.TRACE)
 
 # state rows
 S_V, S_W, S_Q, S_R, S_Z, S_XF = 0, 1, 2, 3, 4, 5
 N_STATE = 6
-
-# trace columns
-(T_TIME, T_V, T_WHEEL_V, T_SLIP, T_Q, T_TB, T_U, T_X, T_MU, T_TARGET) = range(10)
-N_TRACE = 10
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
