@@ -52,8 +52,10 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
+from chassistune.controllers.immune_pid import incremental_pid_du
+from chassistune.controllers.switching import threshold_step as threshold_phase_step
+from chassistune.controllers.switching import wheel_deceleration_sample
 from chassistune.fuzzy.engine import evaluate
-from chassistune.fuzzy.gains import incremental_pid_du
 from chassistune.fuzzy.rulebase import RuleBase
 
 DEFAULT_TABLE_POINTS = 49
@@ -77,8 +79,6 @@ TS_PHASE, TS_W_PREV, TS_AW = 1, 2, 3
 # input slots
 IN_SLIP, IN_AT_MAX, IN_AT_MIN = 0, 1, 2
 IN_WHEEL_SPEED = 1  # threshold: (slip, wheel_speed_rad_s)
-
-PH_BUILD, PH_HOLD, PH_DUMP, PH_RECOVER, PH_SLOW = 0, 1, 2, 3, 4
 
 INPUT_DESCRIPTIONS = {
     "slip": "wheel slip (v - w R) / v against the reference speed, in [0, 1]",
@@ -256,46 +256,20 @@ def immune_step(state, inputs, params, table, grid):
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _next_phase(ph, s, aw, s_high, a_minus, a_plus):
-    """The threshold ABS's phase transition (DESIGN 4)."""
-    if ph == PH_BUILD and aw < -a_minus:
-        return PH_HOLD
-    if ph == PH_HOLD:
-        if s > s_high:
-            return PH_DUMP
-        if aw > -a_minus:
-            return PH_SLOW
-    elif ph == PH_DUMP and aw > 0.0:
-        return PH_RECOVER
-    elif ph == PH_RECOVER and aw < a_plus and s < s_high:
-        return PH_SLOW
-    elif ph == PH_SLOW:
-        if s > s_high:
-            return PH_DUMP
-        if aw < -a_minus:
-            return PH_HOLD
-    return ph
-
-
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def threshold_step(state, inputs, params, table, grid):
-    """Sampled threshold ABS (module docstring, `threshold`)."""
+    """Sampled threshold ABS (module docstring, `threshold`): the kernel's phase machine
+    (`controllers.switching`) fed the wheel acceleration over the last sample."""
     w = inputs[IN_WHEEL_SPEED]
+    ts = params[TH_TS]
     if state[ST_STARTED] != 0.0:
-        state[TS_AW] = (w - state[TS_W_PREV]) * params[TH_RADIUS] / params[TH_TS]
+        state[TS_AW] = wheel_deceleration_sample(w, state[TS_W_PREV], params[TH_RADIUS], ts)
     state[TS_W_PREV] = w
     state[ST_STARTED] = 1.0
-    ph = _next_phase(int(state[TS_PHASE]), inputs[IN_SLIP], state[TS_AW],
-                     params[TH_TARGET] + params[TH_MARGIN], params[TH_DECEL], params[TH_ACCEL])
+    u, ph = threshold_phase_step(int(state[TS_PHASE]), inputs[IN_SLIP], params[TH_TARGET],
+                                 state[TS_AW], params[TH_AMP], params[TH_DECEL],
+                                 params[TH_ACCEL], params[TH_MARGIN], params[TH_SLOW])
     state[TS_PHASE] = ph
-    amp = params[TH_AMP]
-    if ph == PH_BUILD:
-        return amp
-    if ph == PH_DUMP:
-        return -amp
-    if ph == PH_SLOW:
-        return amp * params[TH_SLOW]
-    return 0.0
+    return u
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

@@ -2,18 +2,17 @@
 or the exported C through ctypes. The test vectors are recorded here.
 
 The plant is integrated exactly as `chassistune.sim.abs_wheel_kernel` integrates it for its sampled
-laws: classic RK4 at the step dt on (v, w, q, r) with the command u held (zero-order hold) over
-each sample period ts = m dt, the kernel's own right-hand side (`plant_rates`), the same step-end
-update (wheel speed >= 0, pressure clipped to [0, q_max], clipped slip) and the same stop at v_stop
-located inside the last step. At each sample the controller sees the ECU inputs of an ideal
-sensor set: the clipped slip at the sample, the wheel speed (rad/s) and whether the pressure sits
-at q_max or 0. Driving the kernel's own sampled threshold law, this loop gives the kernel's stop
-distance bit for bit (tests/export); for the continuous laws it is the sampled loop that the
-kernel's realistic ECU mode (issue 15) will run.
+laws: classic RK4 (`sim.integrate`) at the step dt on (v, w, q, r) with the command u held
+(zero-order hold) over each sample period ts = m dt, the kernel's own right-hand side
+(`plant_rates`), the same step-end update (wheel speed >= 0, pressure clipped to [0, q_max],
+clipped slip) and the same stop at v_stop located inside the last step. At each sample the
+controller sees the ECU inputs of an ideal sensor set: the clipped slip at the sample, the wheel
+speed (rad/s) and whether the pressure sits at q_max or 0. Driving the kernel's own sampled
+threshold law, this loop gives the kernel's stop distance bit for bit (tests/export); for the
+continuous laws it is the sampled loop that the kernel's realistic ECU mode (issue 15) will run.
 
 The kernel's internals are read in `kernel_plant` and `plant_rates` only (its packed plant vector,
-tire data and right-hand side); besides them only its status codes are used.
-"""
+tire data and rates); besides them only its public slot and status constants are used."""
 
 from __future__ import annotations
 
@@ -26,8 +25,11 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
+from chassistune._branchfree import clip, fmax, select
 from chassistune.scenarios.abs_wheel import AbsWheelScenario
 from chassistune.sim import abs_wheel_kernel as K
+from chassistune.sim.abs_wheel_tires import KIND_TABLE, table_tuples
+from chassistune.sim.integrate import crossing_fraction, rk4_point, rk4_update, trapezoid
 
 Controller = Callable[[NDArray[np.float64]], float]
 """A sampled controller: the command u for one row of inputs (it keeps its own state)."""
@@ -48,20 +50,24 @@ STOPPED, HOPELESS, TIMEOUT, DIVERGED = (float(c) for c in (
 # -- the kernel's internals: the one place that reads them -----------------------------------
 
 def kernel_plant(scenario: AbsWheelScenario) -> tuple[NDArray[np.float64], tuple[Any, ...]]:
-    """The kernel's packed plant vector and tire data of `scenario` (for `plant_rates`)."""
+    """The kernel's plant vector of `scenario` and its tire as the kernel's lanes read it (law,
+    four coefficients, padded table nodes), as `simulate_abs_wheel` converts them."""
     p, kind, coef, xs, ys = scenario._kernel_args[:5]
-    return p, (kind, coef, xs, ys)
+    c = np.zeros(4)
+    c[: len(coef)] = coef
+    nodes = table_tuples(xs, ys) if kind == KIND_TABLE else K._NO_TABLE
+    return p, (kind, c[0], c[1], c[2], c[3], *(np.array(t) for t in nodes))
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def plant_rates(v, w, q, r, u, p, tire):
-    """(dv, dw, dq, dr) of the wheel under the command u (DESIGN 3.1): the kernel's own right-hand
-    side with its continuous PID off (kp = ki = kd = 0: its command is the held u)."""
-    kind, coef, xs, ys = tire
-    dv, dw, dq, dr, _, _, _ = K._rhs(
-        v, w, q, r, 0.0, 0.0, u, 0.0, 0.0, 0.0, p[K.P_RADIUS], p[K.P_TARGET],
+    """(dv, dw, dq, dr) of the wheel under the command u (DESIGN 3.1): the kernel's own rates
+    with its continuous PID off (kp = ki = kd = 0, z = xf = 0: its command is the held u)."""
+    law, c0, c1, c2, c3, xc, xs, ys = tire
+    dv, dw, dq, dr, _, _, _ = K._rates(
+        law, v, w, q, r, 0.0, 0.0, u, 0.0, 0.0, 0.0, p[K.P_TARGET], p[K.P_RADIUS],
         p[K.P_LOAD] * p[K.P_MASS] * p[K.P_G], 1.0 / p[K.P_MASS], 1.0 / p[K.P_INERTIA], p[K.P_KQ],
-        p[K.P_K], 1.0 / p[K.P_TAU], p[K.P_QMAX], p[K.P_NFILTER], kind, coef, xs, ys)
+        p[K.P_K], 1.0 / p[K.P_TAU], p[K.P_QMAX], p[K.P_NFILTER], c0, c1, c2, c3, xc, xs, ys)
     return dv, dw, dq, dr
 
 
@@ -87,22 +93,21 @@ def advance(x, acc, u, n, lc, p, tire):
         t = k * dt
         v, w, q, r = x[X_V], x[X_W], x[X_Q], x[X_R]
         k1v, k1w, k1q, k1r = plant_rates(v, w, q, r, u, p, tire)
-        k2v, k2w, k2q, k2r = plant_rates(v + hs * k1v, w + hs * k1w, q + hs * k1q, r + hs * k1r,
-                                         u, p, tire)
-        k3v, k3w, k3q, k3r = plant_rates(v + hs * k2v, w + hs * k2w, q + hs * k2q, r + hs * k2r,
-                                         u, p, tire)
-        k4v, k4w, k4q, k4r = plant_rates(v + dt * k3v, w + dt * k3w, q + dt * k3q, r + dt * k3r,
-                                         u, p, tire)
-        vn = v + h6 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v)
-        wn = max(w + h6 * (k1w + 2.0 * k2w + 2.0 * k3w + k4w), 0.0)
-        qn = min(max(q + h6 * (k1q + 2.0 * k2q + 2.0 * k3q + k4q), 0.0), q_max)
-        rn = r + h6 * (k1r + 2.0 * k2r + 2.0 * k3r + k4r)
+        k2v, k2w, k2q, k2r = plant_rates(rk4_point(v, hs, k1v), rk4_point(w, hs, k1w),
+                                         rk4_point(q, hs, k1q), rk4_point(r, hs, k1r), u, p, tire)
+        k3v, k3w, k3q, k3r = plant_rates(rk4_point(v, hs, k2v), rk4_point(w, hs, k2w),
+                                         rk4_point(q, hs, k2q), rk4_point(r, hs, k2r), u, p, tire)
+        k4v, k4w, k4q, k4r = plant_rates(rk4_point(v, dt, k3v), rk4_point(w, dt, k3w),
+                                         rk4_point(q, dt, k3q), rk4_point(r, dt, k3r), u, p, tire)
+        vn = rk4_update(v, h6, k1v, k2v, k3v, k4v)
+        wn = fmax(rk4_update(w, h6, k1w, k2w, k3w, k4w), 0.0)
+        qn = clip(rk4_update(q, h6, k1q, k2q, k3q, k4q), 0.0, q_max)
+        rn = rk4_update(r, h6, k1r, k2r, k3r, k4r)
         stop = vn <= v_stop
-        frac = (v - v_stop) / (v - vn) if stop else 1.0
-        h = frac * dt
-        acc[A_DIST] += 0.5 * h * (v + (v_stop if stop else vn))
+        h = crossing_fraction(v, vn, v_stop, stop) * dt
+        acc[A_DIST] += trapezoid(v, select(stop, v_stop, vn), h)
         x[X_V], x[X_W], x[X_Q], x[X_R] = vn, wn, qn, rn
-        acc[A_SLIP] = min(max((vn - wn * r_w) / vn, 0.0), 1.0)
+        acc[A_SLIP] = clip((vn - wn * r_w) / vn, 0.0, 1.0)
         acc[A_STEP] = k + 1.0
         check = vn + wn + rn
         if check - check != 0.0:
