@@ -9,6 +9,7 @@ from chassistune.plants.base import Plant
 
 _MODULES: dict[str, str] = {
     "abs-wheel": "chassistune.plants.abs_wheel",
+    "abs-vehicle": "chassistune.scenarios.abs_vehicle",
     "quarter-car": "chassistune.plants.quarter_car",
 }
 

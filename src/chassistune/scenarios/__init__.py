@@ -1,0 +1,1 @@
+"""Scenarios: plant + preset + road + controller + objective -> cost(gains), metrics, trace."""

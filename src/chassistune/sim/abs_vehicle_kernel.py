@@ -1,0 +1,660 @@
+"""Compiled closed loop of the 7-DOF vehicle ABS (DESIGN 3.3) over a population of candidates.
+
+One kernel serves every wheel controller (an integer selects the law) and both paths: a batch of
+n gain rows, or one row with a trace (a single run is a batch of one).
+
+Plant (`chassistune.plants.abs_vehicle`): body (vx, vy, r), position and heading (X, Y, psi), an
+optional driver steering angle delta, and per wheel its spin w, brake pressure q and pressure
+rate (K/(s(Ts+1)) actuator, q held in [0, q_max]); the load/force loop is solved exactly at every
+evaluation (closed form in a straight line, Newton's method otherwise).
+    m (dvx/dt - vy r) = sum Fx_i,  m (dvy/dt + vx r) = sum Fy_i,  Iz dr/dt = sum x_i Fy_i - y_i Fx_i
+    J dw_i/dt = -R Fx_i - kq q_i   (w_i >= 0: held at 0 while the brake exceeds the tire torque)
+Wheel laws on e_i = S*_i - S_i (S_i = (u_i - w_i R)/|V_i| clipped to [0, 1], S*_i the optimal
+slip of the surface under wheel i): the continuous PID of the single wheel (filtered derivative,
+conditional integration) u = u0 + kp e + ki z + kd N (e - xf), plus the sampled part u0 of the
+switching laws (none, threshold) and the sampled gain schedule of the fuzzy PID (period ts_s).
+Select-low: both rear channels get e = min(e_rl, e_rr) (the wheel with the larger slip), hence
+bitwise equal pressures.
+
+Integration: classic RK4 at a fixed step over all states; the CG path length and the slip
+integrals by quadrature of step-end values (as the single wheel); the surfaces under the wheels
+and their target slips switch at step ends from the contact points' global positions; the stop
+at v_stop (CG speed) is located by linear interpolation inside the last step.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from chassistune.fuzzy.gains import fuzzy_pid_gains
+from chassistune.plants.abs_vehicle import SF_TARGET, solve_loads
+from chassistune.plants.vehicle_roads import ROAD_MU_JUMP, ROAD_SPLIT
+from chassistune.sim.abs_wheel_kernel import (
+    C_FUZZY_PID,
+    C_NONE,
+    C_PID,
+    C_THRESHOLD,
+    N_CTRL,
+    Q_TS,
+    _abs_integrals,
+    _sampled_command,
+)
+from chassistune.sim.layout import Layout, Slot
+
+WHEELS = ("fl", "fr", "rl", "rr")
+CONTROLLER_KINDS = {"none": C_NONE, "pid": C_PID, "threshold": C_THRESHOLD,
+                    "fuzzy-pid": C_FUZZY_PID}
+"""Kernel codes of the wheel laws (shared with the single wheel's sampled switching laws)."""
+N_CONTROLLER_PARAMS = N_CTRL
+
+PLANT_LAYOUT = Layout("abs-vehicle plant", (
+    Slot("mass_kg", "kg"),
+    Slot("yaw_inertia_kg_m2", "kg m^2"),
+    Slot("wheel_inertia_kg_m2", "kg m^2"),
+    Slot("wheel_radius_m", "m"),
+    Slot("v0_m_s", "m/s"),
+    Slot("actuator_gain", "-"),
+    Slot("actuator_tau_s", "s"),
+    Slot("brake_gain", "N m/unit"),
+    Slot("q_max", "unit"),
+    Slot("v_stop_m_s", "m/s"),
+    Slot("t_max_s", "s"),
+    Slot("dt_s", "s"),
+    Slot("lock_ratio", "-"),
+    Slot("min_speed_m_s", "m/s"),
+    Slot("hopeless_m", "m", "stop a candidate once its path exceeds this"),
+    Slot("n_filter", "rad/s", "PID derivative filter coefficient"),
+    Slot("road_kind", "-", "0 uniform, 1 mu-jump, 2 split-mu"),
+    Slot("x_jump_global_m", "m", "global X of the mu jump (CG starts at 0)"),
+    Slot("split_y_m", "m", "global Y of the split line"),
+    Slot("driver", "-", "1: counter-steering driver, 0: steering fixed at 0"),
+    Slot("heading_gain", "rad/rad"),
+    Slot("yaw_rate_gain_s", "s"),
+    Slot("max_steer_rad", "rad"),
+    Slot("steer_tau_s", "s"),
+    Slot("select_low", "-", "1: one rear channel on min(e_rl, e_rr)"),
+    Slot("axle_gains", "-", "1: gains (front row, rear row) per axle"),
+    Slot("yaw_window_s", "s", "window of the yaw metrics"),
+))
+GEOMETRY_LAYOUT = Layout("abs-vehicle geometry rows (columns fl, fr, rl, rr)", (
+    Slot("x_m", "m", "wheel position forward of the CG"),
+    Slot("y_m", "m", "wheel position left of the CG"),
+    Slot("static_load_n", "N", "Fz0_i"),
+    Slot("load_per_ax", "N/(m/s^2)", "A_i"),
+    Slot("load_per_ay", "N/(m/s^2)", "B_i"),
+))
+STATE_LAYOUT = Layout("abs-vehicle state rows", (
+    Slot("vx", "m/s"), Slot("vy", "m/s"), Slot("yaw_rate", "rad/s"), Slot("x", "m"),
+    Slot("y", "m"), Slot("heading", "rad"), Slot("steer", "rad"),
+    *(Slot(f"w_{w}", "rad/s") for w in WHEELS),
+    *(Slot(f"q_{w}", "unit") for w in WHEELS),
+    *(Slot(f"qrate_{w}", "unit/s") for w in WHEELS),
+    *(Slot(f"z_{w}", "s") for w in WHEELS),
+    *(Slot(f"xf_{w}", "-") for w in WHEELS),
+))
+METRIC_LAYOUT = Layout("abs-vehicle metrics", (
+    Slot("status", "-", "0 stopped, 1 hopeless, 2 timeout, 3 diverged"),
+    Slot("stop_time_s", "s"),
+    Slot("stop_distance_m", "m", "CG path length"),
+    Slot("stop_x_m", "m", "global X of the CG at the stop"),
+    Slot("slip_iae", "s", "sum over the wheels"),
+    Slot("slip_itae", "s^2", "sum over the wheels"),
+    Slot("slip_ise", "s", "sum over the wheels"),
+    Slot("locked_time_s", "s", "sum over the wheels of the time locked while moving"),
+    Slot("yaw_rate_peak_1s_rad_s", "rad/s", "signed yaw rate of largest |r| in the window"),
+    Slot("heading_1s_deg", "deg", "heading at the end of the window"),
+    Slot("lateral_offset_1s_m", "m", "global Y of the CG at the end of the window"),
+    Slot("peak_yaw_rate_rad_s", "rad/s", "signed peak before a spin, or of the whole run"),
+    Slot("spun", "-", "1 when |heading| reached 90 degrees"),
+    Slot("spin_time_s", "s", "when |heading| reached 90 degrees (NaN: never)"),
+    Slot("heading_change_deg", "deg", "heading at the end"),
+    Slot("lateral_offset_m", "m", "global Y of the CG at the end"),
+    Slot("all_locked_time_s", "s", "first time all four wheels stand still (NaN: never)"),
+    Slot("all_locked_speed_m_s", "m/s", "CG speed then"),
+    Slot("all_locked_distance_m", "m", "CG path length then"),
+    *(Slot(f"mean_slip_{w}", "-") for w in WHEELS),
+    *(Slot(f"lock_time_{w}_s", "s", "first time w R < lock_ratio |V| (NaN: never)")
+      for w in WHEELS),
+    Slot("load_iterations_max", "-", "most Newton iterations of one load solve"),
+    Slot("n_trace", "-", "trace rows written"),
+))
+TRACE_LAYOUT = Layout("abs-vehicle trace", (
+    Slot("time_s", "s"), Slot("vx_m_s", "m/s"), Slot("vy_m_s", "m/s"),
+    Slot("speed_m_s", "m/s"), Slot("yaw_rate_rad_s", "rad/s"), Slot("heading_rad", "rad"),
+    Slot("x_m", "m"), Slot("y_m", "m"), Slot("steer_rad", "rad"), Slot("ax_m_s2", "m/s^2"),
+    Slot("ay_m_s2", "m/s^2"), Slot("distance_m", "m"),
+    *(Slot(f"wheel_speed_{w}_m_s", "m/s") for w in WHEELS),
+    *(Slot(f"slip_{w}", "-") for w in WHEELS),
+    *(Slot(f"target_slip_{w}", "-") for w in WHEELS),
+    *(Slot(f"load_{w}_n", "N") for w in WHEELS),
+    *(Slot(f"brake_torque_{w}_n_m", "N m") for w in WHEELS),
+    *(Slot(f"fx_{w}_n", "N", "wheel-frame longitudinal tire force") for w in WHEELS),
+    *(Slot(f"surface_{w}", "-", "index of the surface under the wheel") for w in WHEELS),
+))
+
+P_MASS = PLANT_LAYOUT["mass_kg"]
+P_IZ = PLANT_LAYOUT["yaw_inertia_kg_m2"]
+P_J = PLANT_LAYOUT["wheel_inertia_kg_m2"]
+P_R = PLANT_LAYOUT["wheel_radius_m"]
+P_V0 = PLANT_LAYOUT["v0_m_s"]
+P_K = PLANT_LAYOUT["actuator_gain"]
+P_TAU = PLANT_LAYOUT["actuator_tau_s"]
+P_KQ = PLANT_LAYOUT["brake_gain"]
+P_QMAX = PLANT_LAYOUT["q_max"]
+P_VSTOP = PLANT_LAYOUT["v_stop_m_s"]
+P_TMAX = PLANT_LAYOUT["t_max_s"]
+P_DT = PLANT_LAYOUT["dt_s"]
+P_LOCK = PLANT_LAYOUT["lock_ratio"]
+P_VMIN = PLANT_LAYOUT["min_speed_m_s"]
+P_HOPELESS = PLANT_LAYOUT["hopeless_m"]
+P_NF = PLANT_LAYOUT["n_filter"]
+P_ROAD = PLANT_LAYOUT["road_kind"]
+P_XJUMP = PLANT_LAYOUT["x_jump_global_m"]
+P_YSPLIT = PLANT_LAYOUT["split_y_m"]
+P_DRIVER = PLANT_LAYOUT["driver"]
+P_KPSI = PLANT_LAYOUT["heading_gain"]
+P_KR = PLANT_LAYOUT["yaw_rate_gain_s"]
+P_DMAX = PLANT_LAYOUT["max_steer_rad"]
+P_STAU = PLANT_LAYOUT["steer_tau_s"]
+P_SELECT_LOW = PLANT_LAYOUT["select_low"]
+P_AXLE = PLANT_LAYOUT["axle_gains"]
+P_WINDOW = PLANT_LAYOUT["yaw_window_s"]
+N_PLANT = len(PLANT_LAYOUT)
+
+G_X = GEOMETRY_LAYOUT["x_m"]
+G_Y = GEOMETRY_LAYOUT["y_m"]
+G_FZ0 = GEOMETRY_LAYOUT["static_load_n"]
+G_A = GEOMETRY_LAYOUT["load_per_ax"]
+G_B = GEOMETRY_LAYOUT["load_per_ay"]
+N_GEOMETRY = len(GEOMETRY_LAYOUT)
+
+S_VX = STATE_LAYOUT["vx"]
+S_VY = STATE_LAYOUT["vy"]
+S_YR = STATE_LAYOUT["yaw_rate"]
+S_X = STATE_LAYOUT["x"]
+S_Y = STATE_LAYOUT["y"]
+S_PSI = STATE_LAYOUT["heading"]
+S_DELTA = STATE_LAYOUT["steer"]
+S_W = STATE_LAYOUT["w_fl"]
+S_Q = STATE_LAYOUT["q_fl"]
+S_QR = STATE_LAYOUT["qrate_fl"]
+S_Z = STATE_LAYOUT["z_fl"]
+S_XF = STATE_LAYOUT["xf_fl"]
+N_STATE = len(STATE_LAYOUT)
+
+M_STATUS = METRIC_LAYOUT["status"]
+M_TIME = METRIC_LAYOUT["stop_time_s"]
+M_DIST = METRIC_LAYOUT["stop_distance_m"]
+M_XSTOP = METRIC_LAYOUT["stop_x_m"]
+M_IAE = METRIC_LAYOUT["slip_iae"]
+M_ITAE = METRIC_LAYOUT["slip_itae"]
+M_ISE = METRIC_LAYOUT["slip_ise"]
+M_LOCKED = METRIC_LAYOUT["locked_time_s"]
+M_YAWPK1 = METRIC_LAYOUT["yaw_rate_peak_1s_rad_s"]
+M_PSI1 = METRIC_LAYOUT["heading_1s_deg"]
+M_Y1 = METRIC_LAYOUT["lateral_offset_1s_m"]
+M_YAWPK = METRIC_LAYOUT["peak_yaw_rate_rad_s"]
+M_SPUN = METRIC_LAYOUT["spun"]
+M_SPIN_T = METRIC_LAYOUT["spin_time_s"]
+M_PSI_END = METRIC_LAYOUT["heading_change_deg"]
+M_Y_END = METRIC_LAYOUT["lateral_offset_m"]
+M_ALL_T = METRIC_LAYOUT["all_locked_time_s"]
+M_ALL_V = METRIC_LAYOUT["all_locked_speed_m_s"]
+M_ALL_D = METRIC_LAYOUT["all_locked_distance_m"]
+M_MEAN_SLIP = METRIC_LAYOUT["mean_slip_fl"]
+M_LOCK_T = METRIC_LAYOUT["lock_time_fl_s"]
+M_ITER = METRIC_LAYOUT["load_iterations_max"]
+M_NTRACE = METRIC_LAYOUT["n_trace"]
+N_METRICS = len(METRIC_LAYOUT)
+STATUS_STOPPED, STATUS_HOPELESS, STATUS_TIMEOUT, STATUS_DIVERGED = 0, 1, 2, 3
+
+T_TIME = TRACE_LAYOUT["time_s"]
+T_VX = TRACE_LAYOUT["vx_m_s"]
+T_VY = TRACE_LAYOUT["vy_m_s"]
+T_SPEED = TRACE_LAYOUT["speed_m_s"]
+T_YR = TRACE_LAYOUT["yaw_rate_rad_s"]
+T_PSI = TRACE_LAYOUT["heading_rad"]
+T_X = TRACE_LAYOUT["x_m"]
+T_Y = TRACE_LAYOUT["y_m"]
+T_DELTA = TRACE_LAYOUT["steer_rad"]
+T_AX = TRACE_LAYOUT["ax_m_s2"]
+T_AY = TRACE_LAYOUT["ay_m_s2"]
+T_DIST = TRACE_LAYOUT["distance_m"]
+T_WV = TRACE_LAYOUT["wheel_speed_fl_m_s"]
+T_SLIP = TRACE_LAYOUT["slip_fl"]
+T_TARGET = TRACE_LAYOUT["target_slip_fl"]
+T_FZ = TRACE_LAYOUT["load_fl_n"]
+T_TB = TRACE_LAYOUT["brake_torque_fl_n_m"]
+T_FX = TRACE_LAYOUT["fx_fl_n"]
+T_SURF = TRACE_LAYOUT["surface_fl"]
+N_TRACE = len(TRACE_LAYOUT)
+
+# scratch rows of one evaluation (per wheel columns)
+W_SX, W_VR, W_CS, W_SN, W_FZ, W_FXW, W_FXB, W_FYB, W_SLIP, W_VABS, W_E = range(11)
+N_SCRATCH = 11
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _kinematics(vx, vy, r, delta, w, p, geo, sc):
+    """Wheel-frame slips of the four wheels into the scratch rows (front wheels steered)."""
+    if delta != 0.0:
+        cd = math.cos(delta)
+        sd = math.sin(delta)
+    else:
+        cd = 1.0
+        sd = 0.0
+    r_w = p[P_R]
+    vmin = p[P_VMIN]
+    for j in range(4):
+        u = vx - r * geo[G_Y, j]
+        v = vy + r * geo[G_X, j]
+        if j < 2 and sd != 0.0:
+            uw = cd * u + sd * v
+            vw = cd * v - sd * u
+            sc[W_CS, j] = cd
+            sc[W_SN, j] = sd
+        else:
+            uw = u
+            vw = v
+            sc[W_CS, j] = 1.0
+            sc[W_SN, j] = 0.0
+        vabs = max(math.sqrt(uw * uw + vw * vw), vmin)
+        sx = (uw - w[j] * r_w) / vabs
+        sc[W_SX, j] = sx
+        sc[W_VR, j] = vw / vabs
+        sc[W_VABS, j] = vabs
+        sc[W_SLIP, j] = min(max(sx, 0.0), 1.0)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _select_low(sc, select_low):
+    """Rear channels on the larger-slip wheel's error (select-low), fronts individual."""
+    if select_low and sc[W_E, 3] < sc[W_E, 2]:
+        sc[W_E, 2] = sc[W_E, 3]
+    elif select_low:
+        sc[W_E, 3] = sc[W_E, 2]
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _rhs(y, dy, i, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, wbuf, tgt):
+    """Derivatives of candidate i's state `y` into dy; returns the load-solve iterations.
+
+    guess[:, i] holds the last (ax, ay) of the candidate (start of the load iteration), updated.
+    """
+    vx = y[S_VX]
+    vy = y[S_VY]
+    r = y[S_YR]
+    psi = y[S_PSI]
+    delta = y[S_DELTA]
+    for j in range(4):
+        wbuf[j] = y[S_W + j]
+    _kinematics(vx, vy, r, delta, wbuf, p, geo, sc)
+    for j in range(4):
+        tgt[j] = surfs[sidx[j, i], SF_TARGET]
+    ax, ay, it = solve_loads(sc[W_SX], sc[W_VR], sc[W_CS], sc[W_SN], surfs, sidx[:, i],
+                             geo[G_FZ0], geo[G_A], geo[G_B], p[P_MASS], guess[0, i],
+                             guess[1, i], sc[W_FZ], sc[W_FXW], sc[W_FXB], sc[W_FYB])
+    guess[0, i] = ax
+    guess[1, i] = ay
+    mz = 0.0
+    for j in range(4):
+        mz += geo[G_X, j] * sc[W_FYB, j] - geo[G_Y, j] * sc[W_FXB, j]
+    dy[S_VX] = ax + vy * r
+    dy[S_VY] = ay - vx * r
+    dy[S_YR] = mz / p[P_IZ]
+    if psi != 0.0:
+        cp = math.cos(psi)
+        sp = math.sin(psi)
+        dy[S_X] = vx * cp - vy * sp
+        dy[S_Y] = vx * sp + vy * cp
+    else:
+        dy[S_X] = vx
+        dy[S_Y] = vy
+    dy[S_PSI] = r
+    if p[P_DRIVER] != 0.0:
+        cmd = min(max(-p[P_KPSI] * psi - p[P_KR] * r, -p[P_DMAX]), p[P_DMAX])
+        dy[S_DELTA] = (cmd - delta) / p[P_STAU]
+    else:
+        dy[S_DELTA] = 0.0
+    for j in range(4):
+        sc[W_E, j] = tgt[j] - sc[W_SLIP, j]
+    _select_low(sc, p[P_SELECT_LOW] != 0.0)
+    r_w = p[P_R]
+    inv_j = 1.0 / p[P_J]
+    kq = p[P_KQ]
+    q_max = p[P_QMAX]
+    nf = p[P_NF]
+    gain = p[P_K]
+    inv_tau = 1.0 / p[P_TAU]
+    for j in range(4):
+        w = y[S_W + j]
+        q = y[S_Q + j]
+        qr = y[S_QR + j]
+        e = sc[W_E, j]
+        xf = y[S_XF + j]
+        dw = (-r_w * sc[W_FXW, j] - kq * q) * inv_j
+        dy[S_W + j] = 0.0 if (w <= 0.0 and dw < 0.0) else dw
+        u = u0[j, i] + kp[j, i] * e + ki[j, i] * y[S_Z + j] + kd[j, i] * nf * (e - xf)
+        dy[S_QR + j] = (gain * u - qr) * inv_tau
+        q_hi = q >= q_max
+        q_lo = q <= 0.0
+        dy[S_Q + j] = 0.0 if ((q_hi and qr > 0.0) or (q_lo and qr < 0.0)) else qr
+        dy[S_Z + j] = 0.0 if ((q_hi and e > 0.0) or (q_lo and e < 0.0)) else e
+        dy[S_XF + j] = nf * (e - xf)
+    return it
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _stage(m, active, x, k_in, c, k_out, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, y, dy,
+           wbuf, tgt, iters):
+    """One RK4 stage for the running candidates: k_out = f(x + c k_in)."""
+    for jj in range(m):
+        i = active[jj]
+        for s in range(N_STATE):
+            y[s] = x[s, i] + c * k_in[s, i]
+        it = _rhs(y, dy, i, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, wbuf, tgt)
+        iters[i] = max(iters[i], it)
+        for s in range(N_STATE):
+            k_out[s, i] = dy[s]
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _update_surfaces(x, i, p, geo, sidx):
+    """Surface under each wheel from its contact point's global position (mu-jump, split-mu)."""
+    kind = p[P_ROAD]
+    if kind != ROAD_MU_JUMP and kind != ROAD_SPLIT:
+        return
+    psi = x[S_PSI, i]
+    cp = math.cos(psi) if psi != 0.0 else 1.0
+    sp = math.sin(psi) if psi != 0.0 else 0.0
+    for j in range(4):
+        if kind == ROAD_MU_JUMP:
+            gx = x[S_X, i] + geo[G_X, j] * cp - geo[G_Y, j] * sp
+            sidx[j, i] = 1 if gx >= p[P_XJUMP] else 0
+        else:
+            gy = x[S_Y, i] + geo[G_X, j] * sp + geo[G_Y, j] * cp
+            sidx[j, i] = 0 if gy >= p[P_YSPLIT] else 1
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
+    """Simulate every row of `gains` (n, G): the wheel law's gains in catalogue order, twice
+    (front, then rear) when p[axle_gains] is 1.
+
+    p: PLANT_LAYOUT vector; geo: GEOMETRY_LAYOUT rows x 4 wheels; surfs: surface rows (SF_*
+    columns of `plants.abs_vehicle`), index 0 and 1; c: the single wheel's controller vector
+    (ts_s, amplitude, thresholds); table: a compiled fuzzy surface (any surface for other laws).
+    Writes each candidate's METRIC_LAYOUT row into out (n, N_METRICS); when `trace` has rows
+    (n must be 1), also the TRACE_LAYOUT time series, one row per step.
+    """
+    n = gains.shape[0]
+    dt = p[P_DT]
+    hs = 0.5 * dt
+    h6 = dt / 6.0
+    r_w = p[P_R]
+    v_stop = p[P_VSTOP]
+    q_max = p[P_QMAX]
+    window = p[P_WINDOW]
+    n_steps = math.ceil(p[P_TMAX] / dt - 1e-9)
+    select_low = p[P_SELECT_LOW] != 0.0
+    n_g = gains.shape[1] // 2 if p[P_AXLE] != 0.0 else gains.shape[1]
+    kp = np.zeros((4, n))
+    ki = np.zeros((4, n))
+    kd = np.zeros((4, n))
+    u0 = np.zeros((4, n))
+    col0 = np.zeros(4, dtype=np.int64)  # first gain column of each wheel
+    for j in range(2, 4):
+        col0[j] = n_g if p[P_AXLE] != 0.0 else 0
+    if ctrl_kind == C_PID:
+        for i in range(n):
+            for j in range(4):
+                kp[j, i] = gains[i, col0[j]]
+                ki[j, i] = gains[i, col0[j] + 1]
+                kd[j, i] = gains[i, col0[j] + 2]
+    scheduled = np.zeros(3)
+    x = np.zeros((N_STATE, n))
+    x[S_VX, :] = p[P_V0]
+    for j in range(4):
+        x[S_W + j, :] = p[P_V0] / r_w
+    sidx = np.zeros((4, n), dtype=np.int64)
+    for i in range(n):
+        _update_surfaces(x, i, p, geo, sidx)
+        for j in range(4):
+            x[S_XF + j, i] = surfs[sidx[j, i], SF_TARGET]  # filter starts at e(0): no kick
+    k1 = np.zeros((N_STATE, n))
+    k2 = np.zeros((N_STATE, n))
+    k3 = np.zeros((N_STATE, n))
+    k4 = np.zeros((N_STATE, n))
+    guess = np.zeros((2, n))
+    sc = np.zeros((N_SCRATCH, 4))
+    y = np.zeros(N_STATE)
+    dy = np.zeros(N_STATE)
+    wbuf = np.zeros(4)
+    tgt = np.zeros(4)
+    iters = np.zeros(n)
+    slip = np.zeros((4, n))  # clipped slips at the last step end
+    err = np.zeros((4, n))  # slip errors at the last step end (after the surface update)
+    for i in range(n):
+        for j in range(4):
+            err[j, i] = surfs[sidx[j, i], SF_TARGET]
+    w_sampled = np.zeros((4, n))
+    for j in range(4):
+        w_sampled[j, :] = p[P_V0] / r_w
+    aw = np.zeros((4, n))
+    phase = np.zeros((4, n), dtype=np.int64)
+    speed = np.full(n, p[P_V0])
+    dist = np.zeros(n)
+    iae = np.zeros(n)
+    itae = np.zeros(n)
+    ise = np.zeros(n)
+    sint = np.zeros((4, n))
+    locked = np.zeros(n)
+    lock_t = np.full((4, n), np.nan)
+    all_t = np.full(n, np.nan)
+    all_v = np.full(n, np.nan)
+    all_d = np.full(n, np.nan)
+    yaw_pk1 = np.zeros(n)
+    psi1 = np.full(n, np.nan)
+    y1 = np.full(n, np.nan)
+    yaw_pk = np.zeros(n)
+    spin_t = np.full(n, np.nan)
+    status = np.full(n, float(STATUS_TIMEOUT))
+    t_end = np.full(n, n_steps * dt)
+    steps_per_sample = max(1, round(c[Q_TS] / dt))
+    active = np.arange(n)
+    m = n
+    n_trace = trace.shape[0]
+    rows = 0
+    if n_trace > 0:
+        _trace_row(trace, 0, 0.0, x, 0, dist, slip, sidx, kp, ki, kd, u0, guess, p, geo, surfs,
+                   sc, y, dy, wbuf, tgt, iters)
+        rows = 1
+    for k in range(n_steps):
+        if m == 0:
+            break
+        t = k * dt
+        if ctrl_kind != C_PID and k % steps_per_sample == 0:  # sampled laws: own period ts
+            ts = steps_per_sample * dt
+            for jj in range(m):
+                i = active[jj]
+                for j in range(4):
+                    sc[W_E, j] = err[j, i]
+                _select_low(sc, select_low)
+                for j in range(4):
+                    e = sc[W_E, j]
+                    # select-low: a rear channel reads the wheel whose error it took
+                    src = j
+                    if select_low and j >= 2:
+                        src = 3 if err[3, i] < err[2, i] else 2
+                    if ctrl_kind == C_FUZZY_PID:
+                        ec = p[P_NF] * (e - x[S_XF + j, i])
+                        g0 = col0[j]
+                        fuzzy_pid_gains(table, e, ec, gains[i, g0], gains[i, g0 + 1],
+                                        gains[i, g0 + 2], gains[i, g0 + 3], gains[i, g0 + 4],
+                                        gains[i, g0 + 5], gains[i, g0 + 6], gains[i, g0 + 7],
+                                        scheduled)
+                        kp[j, i] = scheduled[0]
+                        ki[j, i] = scheduled[1]
+                        kd[j, i] = scheduled[2]
+                    else:
+                        if k > 0:
+                            aw[j, i] = (x[S_W + src, i] - w_sampled[src, i]) * r_w / ts
+                        target = surfs[sidx[src, i], SF_TARGET]
+                        u0[j, i], phase[j, i] = _sampled_command(
+                            ctrl_kind, c, phase[j, i], slip[src, i], target, aw[j, i])
+                for j in range(4):
+                    w_sampled[j, i] = x[S_W + j, i]
+        _stage(m, active, x, k4, 0.0, k1, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, y, dy,
+               wbuf, tgt, iters)
+        _stage(m, active, x, k1, hs, k2, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, y, dy,
+               wbuf, tgt, iters)
+        _stage(m, active, x, k2, hs, k3, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, y, dy,
+               wbuf, tgt, iters)
+        _stage(m, active, x, k3, dt, k4, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, y, dy,
+               wbuf, tgt, iters)
+        jj = 0
+        while jj < m:
+            i = active[jj]
+            for s in range(N_STATE):
+                x[s, i] += h6 * (k1[s, i] + 2.0 * k2[s, i] + 2.0 * k3[s, i] + k4[s, i])
+            for j in range(4):
+                x[S_W + j, i] = max(x[S_W + j, i], 0.0)
+                x[S_Q + j, i] = min(max(x[S_Q + j, i], 0.0), q_max)
+            vx = x[S_VX, i]
+            vy = x[S_VY, i]
+            sp_new = math.sqrt(vx * vx + vy * vy)
+            sp_old = speed[i]
+            stop = sp_new <= v_stop
+            frac = (sp_old - v_stop) / (sp_old - sp_new) if stop else 1.0
+            h = frac * dt
+            sp_end = v_stop if stop else sp_new
+            dist[i] += 0.5 * h * (sp_old + sp_end)
+            for j in range(4):
+                wbuf[j] = x[S_W + j, i]
+            _kinematics(vx, vy, x[S_YR, i], x[S_DELTA, i], wbuf, p, geo, sc)
+            all_still = True
+            for j in range(4):
+                s_new = sc[W_SLIP, j]
+                s_end = slip[j, i] + frac * (s_new - slip[j, i])
+                target = surfs[sidx[j, i], SF_TARGET]
+                d_iae, d_itae, d_ise = _abs_integrals(err[j, i], target - s_end, t, h)
+                iae[i] += d_iae
+                itae[i] += d_itae
+                ise[i] += d_ise
+                sint[j, i] += 0.5 * h * (slip[j, i] + s_end)
+                slip[j, i] = s_new
+                if sp_new > v_stop and x[S_W + j, i] * r_w < p[P_LOCK] * sc[W_VABS, j]:
+                    locked[i] += dt
+                    if lock_t[j, i] != lock_t[j, i]:
+                        lock_t[j, i] = t + dt
+                all_still = all_still and x[S_W + j, i] == 0.0
+            if all_still and all_t[i] != all_t[i] and sp_new > v_stop:
+                all_t[i] = t + dt
+                all_v[i] = sp_new
+                all_d[i] = dist[i]
+            _update_surfaces(x, i, p, geo, sidx)
+            for j in range(4):
+                err[j, i] = surfs[sidx[j, i], SF_TARGET] - slip[j, i]
+            r_now = x[S_YR, i]
+            psi_now = x[S_PSI, i]
+            if t + 0.5 * dt < window:
+                if abs(r_now) > abs(yaw_pk1[i]):
+                    yaw_pk1[i] = r_now
+                if t + 1.5 * dt >= window:
+                    psi1[i] = psi_now
+                    y1[i] = x[S_Y, i]
+            if spin_t[i] != spin_t[i]:
+                if abs(r_now) > abs(yaw_pk[i]):
+                    yaw_pk[i] = r_now
+                if abs(psi_now) >= 0.5 * math.pi:
+                    spin_t[i] = t + dt
+            speed[i] = sp_new
+            check = sp_new + r_now + psi_now + itae[i] + x[S_Q, i] + x[S_Z, i] + x[S_W, i]
+            ended = True
+            if check - check != 0.0:
+                status[i] = STATUS_DIVERGED
+                t_end[i] = t
+            elif stop:
+                status[i] = STATUS_STOPPED
+                t_end[i] = t + h
+            elif dist[i] > p[P_HOPELESS]:
+                status[i] = STATUS_HOPELESS
+                t_end[i] = t + dt
+            else:
+                ended = False
+            if ended:
+                m -= 1
+                active[jj] = active[m]
+                active[m] = i
+            else:
+                jj += 1
+        if n_trace > 0 and rows < n_trace:
+            _trace_row(trace, rows, min(t + dt, t_end[0]), x, 0, dist, slip, sidx, kp, ki, kd, u0,
+                       guess, p, geo, surfs, sc, y, dy, wbuf, tgt, iters)
+            if status[0] == STATUS_STOPPED:
+                trace[rows, T_SPEED] = max(trace[rows, T_SPEED], v_stop)
+            rows += 1
+    for i in range(n):
+        out[i, :] = 0.0
+        out[i, M_STATUS] = status[i]
+        out[i, M_TIME] = t_end[i]
+        out[i, M_DIST] = dist[i]
+        out[i, M_XSTOP] = x[S_X, i]
+        out[i, M_IAE] = iae[i]
+        out[i, M_ITAE] = itae[i]
+        out[i, M_ISE] = ise[i]
+        out[i, M_LOCKED] = locked[i]
+        out[i, M_YAWPK1] = yaw_pk1[i]
+        out[i, M_PSI1] = math.degrees(psi1[i] if psi1[i] == psi1[i] else x[S_PSI, i])
+        out[i, M_Y1] = y1[i] if y1[i] == y1[i] else x[S_Y, i]
+        out[i, M_YAWPK] = yaw_pk[i]
+        out[i, M_SPUN] = 0.0 if spin_t[i] != spin_t[i] else 1.0
+        out[i, M_SPIN_T] = spin_t[i]
+        out[i, M_PSI_END] = math.degrees(x[S_PSI, i])
+        out[i, M_Y_END] = x[S_Y, i]
+        out[i, M_ALL_T] = all_t[i]
+        out[i, M_ALL_V] = all_v[i]
+        out[i, M_ALL_D] = all_d[i]
+        for j in range(4):
+            out[i, M_MEAN_SLIP + j] = sint[j, i] / t_end[i] if t_end[i] > 0.0 else 0.0
+            out[i, M_LOCK_T + j] = lock_t[j, i]
+        out[i, M_ITER] = iters[i]
+        out[i, M_NTRACE] = rows
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _trace_row(trace, row, t, x, i, dist, slip, sidx, kp, ki, kd, u0, guess, p, geo, surfs, sc,
+               y, dy, wbuf, tgt, iters):
+    """One trace row of candidate i: its state, and loads and forces re-evaluated at it."""
+    for s in range(N_STATE):
+        y[s] = x[s, i]
+    g0 = guess[0, i]
+    g1 = guess[1, i]
+    _rhs(y, dy, i, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, wbuf, tgt)
+    ax = guess[0, i]
+    ay = guess[1, i]
+    guess[0, i] = g0  # tracing must not change the run
+    guess[1, i] = g1
+    trace[row, T_TIME] = t
+    trace[row, T_VX] = x[S_VX, i]
+    trace[row, T_VY] = x[S_VY, i]
+    trace[row, T_SPEED] = math.sqrt(x[S_VX, i] ** 2 + x[S_VY, i] ** 2)
+    trace[row, T_YR] = x[S_YR, i]
+    trace[row, T_PSI] = x[S_PSI, i]
+    trace[row, T_X] = x[S_X, i]
+    trace[row, T_Y] = x[S_Y, i]
+    trace[row, T_DELTA] = x[S_DELTA, i]
+    trace[row, T_AX] = ax
+    trace[row, T_AY] = ay
+    trace[row, T_DIST] = dist[i]
+    for j in range(4):
+        trace[row, T_WV + j] = x[S_W + j, i] * p[P_R]
+        trace[row, T_SLIP + j] = slip[j, i] if row > 0 else sc[W_SLIP, j]
+        trace[row, T_TARGET + j] = surfs[sidx[j, i], SF_TARGET]
+        trace[row, T_FZ + j] = sc[W_FZ, j]
+        trace[row, T_TB + j] = p[P_KQ] * x[S_Q + j, i]
+        trace[row, T_FX + j] = sc[W_FXW, j]
+        trace[row, T_SURF + j] = sidx[j, i]
