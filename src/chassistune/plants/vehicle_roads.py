@@ -5,8 +5,10 @@ Which surface is under wheel i follows its contact point's global position:
 - `mu-jump`: the first surface until the contact point's global X reaches the jump, the second
   after; x_jump_m is measured from the front axle's start (global X_jump = lf + x_jump_m with the
   CG starting at X = 0);
-- `split-mu`: the left surface where the contact point's global Y >= split_y_m (0: the car starts
-  centred on the split line), the right surface elsewhere;
+- `split-mu`: the left surface under the car's left wheels, the right one under its right wheels
+  (`split_by = "body"`, default: DESIGN 3.3's "by side"), or, with `split_by = "road"`, the left
+  surface where the contact point's global Y >= split_y_m (0: the car starts centred on the split
+  line) and the right one elsewhere;
 - uniform roads: one surface everywhere.
 """
 
@@ -21,7 +23,7 @@ from chassistune.plants.abs_wheel import BILINEAR_ROADS
 from chassistune.plants.tires import BilinearTire
 
 ROAD_UNIFORM, ROAD_MU_JUMP, ROAD_SPLIT = 0, 1, 2
-COMPOSITE = ("mu-jump", "split-mu")
+SPLIT_BY = ("body", "road")
 
 
 @dataclass(frozen=True)
@@ -35,10 +37,12 @@ class MuJumpParams:
 
 @dataclass(frozen=True)
 class SplitMuParams:
-    """Surfaces left and right of the split line y = split_y_m (global)."""
+    """Surfaces left and right: by the wheel's side of the car (`split_by = "body"`), or by the
+    contact point's global Y against the split line y = split_y_m (`split_by = "road"`)."""
 
     left_surface: str = "dry-concrete"
     right_surface: str = "ice"
+    split_by: str = "body"
     split_y_m: float = 0.0
 
 
@@ -51,6 +55,7 @@ class VehicleRoad:
     surface_names: tuple[str, str]
     surfaces: tuple[BilinearTire, BilinearTire]
     x_jump_m: float = 0.0
+    split_by: str = "body"
     split_y_m: float = 0.0
 
     def description(self) -> str:
@@ -95,12 +100,15 @@ def make_road(name: str, values: Mapping[str, object]) -> tuple[VehicleRoad, set
                             "second_surface": jump.second_surface, "x_jump_m": jump.x_jump_m}
     if name == "split-mu":
         split, used = override(SplitMuParams(), values)
+        if split.split_by not in SPLIT_BY:
+            raise InputError("--param split_by", f"must be body or road, got {split.split_by!r}")
         pair = (surface(split.left_surface, "--param left_surface"),
                 surface(split.right_surface, "--param right_surface"))
         road = VehicleRoad(name, ROAD_SPLIT, (split.left_surface, split.right_surface), pair,
-                           split_y_m=split.split_y_m)
+                           split_by=split.split_by, split_y_m=split.split_y_m)
         return road, used, {"left_surface": split.left_surface,
-                            "right_surface": split.right_surface, "split_y_m": split.split_y_m}
+                            "right_surface": split.right_surface, "split_by": split.split_by,
+                            "split_y_m": split.split_y_m}
     if name not in BILINEAR_ROADS:
         raise InputError("road", f"unknown road {name!r} for abs-vehicle (known: "
                          f"{', '.join(road_names())})")

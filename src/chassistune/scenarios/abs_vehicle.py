@@ -170,6 +170,7 @@ class AbsVehicleScenario(Scenario):
             "hopeless_m": self.scoring.hopeless_factor * self.bound_distance_m,
             "n_filter": cp.get("n_filter", 100.0), "road_kind": road.kind,
             "x_jump_global_m": pp.cg_to_front_m + road.x_jump_m, "split_y_m": road.split_y_m,
+            "split_by_road": 1.0 if road.split_by == "road" else 0.0,
             "driver": 1.0 if st.steering == "driver" else 0.0, "heading_gain": st.heading_gain,
             "yaw_rate_gain_s": st.yaw_rate_gain_s, "max_steer_rad": st.max_steer_rad,
             "steer_tau_s": st.steer_tau_s,

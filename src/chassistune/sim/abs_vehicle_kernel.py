@@ -70,6 +70,8 @@ PLANT_LAYOUT = Layout("abs-vehicle plant", (
     Slot("road_kind", "-", "0 uniform, 1 mu-jump, 2 split-mu"),
     Slot("x_jump_global_m", "m", "global X of the mu jump (CG starts at 0)"),
     Slot("split_y_m", "m", "global Y of the split line"),
+    Slot("split_by_road", "-", "1: split-mu surface from the contact point's global Y; 0: by "
+         "the wheel's side of the car"),
     Slot("driver", "-", "1: counter-steering driver, 0: steering fixed at 0"),
     Slot("heading_gain", "rad/rad"),
     Slot("yaw_rate_gain_s", "s"),
@@ -154,6 +156,7 @@ P_NF = PLANT_LAYOUT["n_filter"]
 P_ROAD = PLANT_LAYOUT["road_kind"]
 P_XJUMP = PLANT_LAYOUT["x_jump_global_m"]
 P_YSPLIT = PLANT_LAYOUT["split_y_m"]
+P_SPLIT_ROAD = PLANT_LAYOUT["split_by_road"]
 P_DRIVER = PLANT_LAYOUT["driver"]
 P_KPSI = PLANT_LAYOUT["heading_gain"]
 P_KR = PLANT_LAYOUT["yaw_rate_gain_s"]
@@ -374,9 +377,11 @@ def _update_surfaces(x, i, p, geo, sidx):
         if kind == ROAD_MU_JUMP:
             gx = x[S_X, i] + geo[G_X, j] * cp - geo[G_Y, j] * sp
             sidx[j, i] = 1 if gx >= p[P_XJUMP] else 0
-        else:
+        elif p[P_SPLIT_ROAD] != 0.0:
             gy = x[S_Y, i] + geo[G_X, j] * sp + geo[G_Y, j] * cp
             sidx[j, i] = 0 if gy >= p[P_YSPLIT] else 1
+        else:
+            sidx[j, i] = 0 if geo[G_Y, j] > 0.0 else 1
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
