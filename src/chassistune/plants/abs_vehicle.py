@@ -169,7 +169,7 @@ MAX_LOAD_ITERATIONS = 40
 LOAD_TOL_M_S2 = 1e-11
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy")
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def solve_loads(sx, vr, cs, sn, surfs, sidx, fz0, ca, cb, mass, ax0, ay0, fz, fxw, fxb, fyb):
     """Solve the load/force loop Fz_i(ax, ay), F_i(Fz_i), (ax, ay) = sum F_i / m exactly.
 

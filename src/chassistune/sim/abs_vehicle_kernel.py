@@ -281,7 +281,7 @@ def _select_low(sc, select_low):
         sc[W_E, 3] = sc[W_E, 2]
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy")
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _rhs(y, dy, i, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, wbuf, tgt):
     """Derivatives of candidate i's state `y` into dy; returns the load-solve iterations.
 
@@ -364,7 +364,7 @@ def _stage(m, active, x, k_in, c, k_out, kp, ki, kd, u0, sidx, guess, p, geo, su
             k_out[s, i] = dy[s]
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy")
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _update_surfaces(x, i, p, geo, sidx):
     """Surface under each wheel from its contact point's global position (mu-jump, split-mu)."""
     kind = p[P_ROAD]
@@ -425,16 +425,19 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
     for j in range(4):
         x[S_W + j, :] = p[P_V0] / r_w
     sidx = np.zeros((4, n), dtype=np.int64)
+    sc = np.zeros((N_SCRATCH, 4))
     for i in range(n):
         _update_surfaces(x, i, p, geo, sidx)
         for j in range(4):
-            x[S_XF + j, i] = surfs[sidx[j, i], SF_TARGET]  # filter starts at e(0): no kick
+            sc[W_E, j] = surfs[sidx[j, i], SF_TARGET]  # e(0): the wheels roll freely
+        _select_low(sc, select_low)
+        for j in range(4):
+            x[S_XF + j, i] = sc[W_E, j]  # the derivative filter starts at e(0): no kick
     k1 = np.zeros((N_STATE, n))
     k2 = np.zeros((N_STATE, n))
     k3 = np.zeros((N_STATE, n))
     k4 = np.zeros((N_STATE, n))
     guess = np.zeros((2, n))
-    sc = np.zeros((N_SCRATCH, 4))
     y = np.zeros(N_STATE)
     dy = np.zeros(N_STATE)
     wbuf = np.zeros(4)
