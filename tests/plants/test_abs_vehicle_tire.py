@@ -10,18 +10,30 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from chassistune.plants.abs_vehicle import (
+    N_WORK,
     SF_MU_PEAK,
+    WK_CS,
+    WK_FXB,
+    WK_FYB,
+    WK_FZ,
+    WK_SN,
+    WK_SX,
+    WK_VR,
     VehicleParams,
     bilinear_mu,
+    geometry,
     load_coefficients,
     solve_loads,
+    straight_force_per_load,
     surface_row,
     tire_force,
 )
 from chassistune.plants.abs_wheel import BILINEAR_ROADS
 from chassistune.plants.tires import BilinearTire, tire_mu
 
-SURFACES = {name: surface_row(s, h, g, 60_000.0) for name, (s, h, g, _) in BILINEAR_ROADS.items()}
+SURFACES = {name: surface_row(s, h, g, 60_000.0)[None, :]
+            for name, (s, h, g, _) in BILINEAR_ROADS.items()}
+"""One-row surface tables by name (the tire reads row 0)."""
 surface_names = st.sampled_from(sorted(SURFACES))
 speeds = st.floats(-40.0, 40.0, allow_nan=False)
 wheel_speeds = st.floats(0.0, 40.0, allow_nan=False)
@@ -33,7 +45,7 @@ def force(u: float, v: float, wr: float, fz: float, surf: np.ndarray
           ) -> tuple[float, float, float, float]:
     """The tire force for contact-centre velocity (u, v) and wheel circumferential speed wr."""
     vabs = max(math.hypot(u, v), MIN_SPEED)
-    return tire_force((u - wr) / vabs, v / vabs, fz, surf)
+    return tire_force((u - wr) / vabs, v / vabs, fz, surf, 0)
 
 
 @settings(max_examples=400, deadline=None)
@@ -41,7 +53,7 @@ def force(u: float, v: float, wr: float, fz: float, surf: np.ndarray
 def test_force_within_peak_friction_and_never_does_positive_work(u, v, wr, fz, name):
     surf = SURFACES[name]
     fx, fy, _, _ = force(u, v, wr, fz, surf)
-    assert math.hypot(fx, fy) <= surf[SF_MU_PEAK] * fz * (1 + 1e-12)
+    assert math.hypot(fx, fy) <= surf[0, SF_MU_PEAK] * fz * (1 + 1e-12)
     # power of the tire force on the slip velocity (u - w R, v): never positive
     assert fx * (u - wr) + fy * v <= 1e-9 * fz
 
@@ -52,12 +64,13 @@ def test_without_lateral_velocity_the_force_is_the_bilinear_curve_exactly(u, sli
     surf = SURFACES[name]
     wr = u * (1.0 - slip)
     sx = (u - wr) / u
-    fx, fy, _, _ = tire_force(sx, 0.0, fz, surf)
+    fx, fy, _, _ = tire_force(sx, 0.0, fz, surf, 0)
     s, h, g, _ = BILINEAR_ROADS[name]
     _, coef, xs, ys = BilinearTire(s, h, g).kernel_data()
     assert fy == 0.0
     assert fx == -(fz * tire_mu(2, coef, xs, ys, sx))  # bit for bit, the single wheel's curve
-    assert bilinear_mu(sx, surf) == tire_mu(2, coef, xs, ys, sx)
+    assert bilinear_mu(sx, surf, 0) == tire_mu(2, coef, xs, ys, sx)
+    assert straight_force_per_load(sx, surf, 0) * fz == fx
 
 
 @settings(max_examples=400, deadline=None)
@@ -96,40 +109,42 @@ def test_pure_cornering_gives_the_cornering_stiffness_up_to_the_peak():
     assert abs(fy_big) <= 0.9 * 4000.0
 
 
+def solve(sx, vr, delta: float, h: float, sidx, surfs) -> tuple[float, float, int, np.ndarray,
+                                                                 VehicleParams]:
+    pp = VehicleParams(cg_height_m=h)
+    wk = np.zeros((N_WORK, 4))
+    wk[WK_SX], wk[WK_VR] = sx, vr
+    wk[WK_CS] = [math.cos(delta)] * 2 + [1.0] * 2
+    wk[WK_SN] = [math.sin(delta)] * 2 + [0.0] * 2
+    ax, ay, it = solve_loads(wk, surfs, np.asarray(sidx).reshape(4, 1), 0, geometry(pp),
+                             pp.mass_kg, 0.0, 0.0)
+    return ax, ay, it, wk, pp
+
+
 @settings(max_examples=100, deadline=None)
 @given(sx=st.lists(st.floats(-0.5, 1.0), min_size=4, max_size=4),
        vr=st.lists(st.floats(-0.3, 0.3), min_size=4, max_size=4),
        delta=st.floats(-0.1, 0.1), h=st.floats(0.0, 0.8))
 def test_load_force_loop_is_solved_exactly(sx, vr, delta, h):
-    pp = VehicleParams(cg_height_m=h)
-    fz0, a, b = load_coefficients(pp)
-    surfs = np.stack([SURFACES["dry-concrete"], SURFACES["ice"]])
-    sidx = np.array([0, 1, 0, 1])
-    cs = np.array([math.cos(delta)] * 2 + [1.0] * 2)
-    sn = np.array([math.sin(delta)] * 2 + [0.0] * 2)
-    fz, fxw, fxb, fyb = (np.zeros(4) for _ in range(4))
-    ax, ay, it = solve_loads(np.array(sx), np.array(vr), cs, sn, surfs, sidx, fz0, a, b,
-                             pp.mass_kg, 0.0, 0.0, fz, fxw, fxb, fyb)
+    surfs = np.concatenate([SURFACES["dry-concrete"], SURFACES["ice"]])
+    ax, ay, it, wk, pp = solve(sx, vr, delta, h, [0, 1, 0, 1], surfs)
     assert it < 20
     # the loads are those of the accelerations the forces produce, and they sum to m g
+    fz0, a, b = load_coefficients(pp)
     expected = np.maximum(fz0 + a * ax + b * ay, 0.0)
-    np.testing.assert_allclose(fz, expected, rtol=0, atol=1e-7)
-    assert ax == pytest.approx(fxb.sum() / pp.mass_kg, abs=1e-12)
-    assert ay == pytest.approx(fyb.sum() / pp.mass_kg, abs=1e-12)
-    if np.all(fz > 0):
-        assert fz.sum() == pytest.approx(pp.mass_kg * pp.g_m_s2, rel=1e-12)
+    np.testing.assert_allclose(wk[WK_FZ], expected, rtol=0, atol=1e-7)
+    assert ax == pytest.approx(wk[WK_FXB].sum() / pp.mass_kg, abs=1e-12)
+    assert ay == pytest.approx(wk[WK_FYB].sum() / pp.mass_kg, abs=1e-12)
+    if np.all(wk[WK_FZ] > 0):
+        assert wk[WK_FZ].sum() == pytest.approx(pp.mass_kg * pp.g_m_s2, rel=1e-12)
 
 
 def test_straight_line_loop_has_the_closed_form():
-    pp = VehicleParams()
-    fz0, a, b = load_coefficients(pp)
     surf = SURFACES["dry-concrete"]
-    surfs = np.stack([surf, surf])
-    sx = np.full(4, 0.2)  # every wheel at the peak: ax = -0.9 g
-    fz, fxw, fxb, fyb = (np.zeros(4) for _ in range(4))
-    one, zero = np.ones(4), np.zeros(4)
-    ax, ay, it = solve_loads(sx, zero, one, zero, surfs, np.zeros(4, dtype=np.int64), fz0, a, b,
-                             pp.mass_kg, 0.0, 0.0, fz, fxw, fxb, fyb)
+    # every wheel at the peak: ax = -0.9 g
+    ax, ay, it, wk, pp = solve(np.full(4, 0.2), np.zeros(4), 0.0, 0.5, [0, 0, 0, 0],
+                               np.concatenate([surf, surf]))
     assert it == 0 and ay == 0.0
     assert ax == pytest.approx(-0.9 * pp.g_m_s2, rel=1e-14)
-    assert fz[0] == pytest.approx(4204.8, abs=0.05) and fz[2] == pytest.approx(1234.2, abs=0.05)
+    assert wk[WK_FZ, 0] == pytest.approx(4204.8, abs=0.05)
+    assert wk[WK_FZ, 2] == pytest.approx(1234.2, abs=0.05)

@@ -37,6 +37,13 @@ N_WHEELS = 4
 SF_ST, SF_RISE, SF_FALL0, SF_FALL1, SF_MU_PEAK, SF_MU_LOCK, SF_LAT, SF_TARGET = range(8)
 N_SURFACE = 8
 
+# work rows of one force evaluation (columns: the four wheels)
+WK_SX, WK_VR, WK_CS, WK_SN, WK_FZ, WK_FXW, WK_FXB, WK_FYB = range(8)
+N_WORK = 8
+# geometry rows (columns: the four wheels): x_i, y_i, Fz0_i, A_i, B_i
+GEO_X, GEO_Y, GEO_FZ0, GEO_A, GEO_B = range(5)
+N_GEO = 5
+
 RK4_REAL_LIMIT = 2.785
 """RK4's stability limit on the negative real axis (|lambda dt| below it)."""
 
@@ -132,25 +139,26 @@ def surface_row(slip_opt: float, mu_peak: float, mu_lock: float, stiffness_n_rad
 
 
 @numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
-def tire_force(sx, vr, fz, surf):
+def tire_force(sx, vr, fz, surfs, k):
     """Combined-slip force (Fx, Fy) of one wheel in its own frame and dF/dFz (DESIGN 3.3).
 
-    sx = (u - w R)/|V|, vr = v/|V|; `surf` a surface row. Returns (fx, fy, dfx_dfz, dfy_dfz).
-    With vr = 0 the force is exactly fx = -mu(|sx|) Fz sign(sx), fy = 0.
+    sx = (u - w R)/|V|, vr = v/|V|; the surface is row k of `surfs` (indexed in place: a row
+    view would cost reference counting in the kernel's inner loop). Returns
+    (fx, fy, dfx_dfz, dfy_dfz). With vr = 0 the force is exactly fx = -mu(|sx|) Fz sign(sx), fy = 0.
     """
     if fz <= 0.0:
         return 0.0, 0.0, 0.0, 0.0
-    sy = vr * surf[SF_LAT] / fz
+    sy = vr * surfs[k, SF_LAT] / fz
     s = math.sqrt(sx * sx + sy * sy)
     if s == 0.0:
         return 0.0, 0.0, 0.0, 0.0
     sc = min(s, 1.0)
-    if sc <= surf[SF_ST]:
-        mu = surf[SF_RISE] * sc
-        dmu = surf[SF_RISE]
+    if sc <= surfs[k, SF_ST]:
+        mu = surfs[k, SF_RISE] * sc
+        dmu = surfs[k, SF_RISE]
     else:
-        mu = surf[SF_FALL0] - surf[SF_FALL1] * sc
-        dmu = -surf[SF_FALL1] if s < 1.0 else 0.0
+        mu = surfs[k, SF_FALL0] - surfs[k, SF_FALL1] * sc
+        dmu = -surfs[k, SF_FALL1] if s < 1.0 else 0.0
     f = fz * mu
     cx = sx / s
     cy = sy / s
@@ -160,9 +168,18 @@ def tire_force(sx, vr, fz, surf):
 
 
 @numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
-def bilinear_mu(s, surf):
-    """mu(s) of a surface row for s in [0, 1] (the longitudinal curve, as `tires.tire_mu`)."""
-    return surf[SF_RISE] * s if s <= surf[SF_ST] else surf[SF_FALL0] - surf[SF_FALL1] * s
+def bilinear_mu(s, surfs, k):
+    """mu(s) of surface row k for s in [0, 1] (the longitudinal curve, as `tires.tire_mu`)."""
+    return (surfs[k, SF_RISE] * s if s <= surfs[k, SF_ST]
+            else surfs[k, SF_FALL0] - surfs[k, SF_FALL1] * s)
+
+
+@numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def straight_force_per_load(sx, surfs, k):
+    """Fx / Fz of `tire_force` without lateral slip: -mu(min(|sx|, 1)) sign(sx) (0 at sx = 0)."""
+    s = abs(sx)
+    mu = bilinear_mu(min(s, 1.0), surfs, k)
+    return -math.copysign(mu, sx) if s > 0.0 else 0.0
 
 
 MAX_LOAD_ITERATIONS = 40
@@ -170,40 +187,42 @@ LOAD_TOL_M_S2 = 1e-11
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def solve_loads(sx, vr, cs, sn, surfs, sidx, fz0, ca, cb, mass, ax0, ay0, fz, fxw, fxb, fyb):
+def solve_loads(wk, surfs, sidx, col, geo, mass, ax0, ay0):
     """Solve the load/force loop Fz_i(ax, ay), F_i(Fz_i), (ax, ay) = sum F_i / m exactly.
 
-    Per wheel i: slips sx[i], vr[i] in the wheel frame, steer rotation (cs[i], sn[i]) from wheel to
-    body frame, surface row surfs[sidx[i]]. Writes fz, the wheel-frame longitudinal force fxw and
-    the body-frame forces fxb, fyb; returns (ax, ay, iterations). Without lateral slip and steering
-    the loop is linear: ax = -sum c_i Fz0_i / (m + sum c_i A_i) with Fx_i = -c_i Fz_i; otherwise
+    wk: work rows (WK_*) x 4 wheels holding the wheel-frame slips wk[WK_SX], wk[WK_VR] and the
+    steer rotation (wk[WK_CS], wk[WK_SN]) from wheel to body frame; surface of wheel i is
+    surfs[sidx[i, col]]; geo: GEO_* rows x 4 wheels. Writes wk[WK_FZ], the wheel-frame
+    longitudinal force wk[WK_FXW] and the body-frame forces wk[WK_FXB], wk[WK_FYB]; returns
+    (ax, ay, iterations). Without lateral slip and steering the loop is linear:
+    ax = -sum c_i Fz0_i / (m + sum c_i A_i) with Fx_i = -c_i Fz_i (iterations 0); otherwise
     Newton's method on (ax, ay) from (ax0, ay0) (the previous evaluation's values).
     """
     straight = True
     for i in range(4):
-        if vr[i] != 0.0 or sn[i] != 0.0:
+        if wk[WK_VR, i] != 0.0 or wk[WK_SN, i] != 0.0:
             straight = False
     if straight:
         num = 0.0
         den = mass
         for i in range(4):
-            _fx, _fy, c, _d = tire_force(sx[i], 0.0, 1.0, surfs[sidx[i]])
-            fxw[i] = c  # Fx per unit load, -mu(|sx|) sign(sx): the force is c Fz exactly
-            num += c * fz0[i]
-            den -= c * ca[i]
+            c = straight_force_per_load(wk[WK_SX, i], surfs, sidx[i, col])
+            wk[WK_FXW, i] = c  # the force is c Fz exactly (tire_force without lateral slip)
+            num += c * geo[GEO_FZ0, i]
+            den -= c * geo[GEO_A, i]
         ax = num / den
         ok = True
         for i in range(4):
-            z = fz0[i] + ca[i] * ax
+            z = geo[GEO_FZ0, i] + geo[GEO_A, i] * ax
             ok = ok and z >= 0.0
-            fz[i] = z
+            wk[WK_FZ, i] = z
         if ok:
             total = 0.0
             for i in range(4):
-                fx = fxw[i] * fz[i]
-                fxw[i] = fx
-                fxb[i] = fx
-                fyb[i] = 0.0
+                fx = wk[WK_FXW, i] * wk[WK_FZ, i]
+                wk[WK_FXW, i] = fx
+                wk[WK_FXB, i] = fx
+                wk[WK_FYB, i] = 0.0
                 total += fx
             return total / mass, 0.0, 0
     ax = ax0
@@ -217,23 +236,24 @@ def solve_loads(sx, vr, cs, sn, surfs, sidx, fz0, ca, cb, mass, ax0, ay0, fz, fx
         j21 = 0.0
         j22 = 0.0
         for i in range(4):
-            z = fz0[i] + ca[i] * ax + cb[i] * ay
-            z = max(z, 0.0)
-            fz[i] = z
-            fx, fy, dfx, dfy = tire_force(sx[i], vr[i], z, surfs[sidx[i]])
-            bx = cs[i] * fx - sn[i] * fy
-            by = sn[i] * fx + cs[i] * fy
-            dbx = cs[i] * dfx - sn[i] * dfy
-            dby = sn[i] * dfx + cs[i] * dfy
-            fxw[i] = fx
-            fxb[i] = bx
-            fyb[i] = by
+            z = max(geo[GEO_FZ0, i] + geo[GEO_A, i] * ax + geo[GEO_B, i] * ay, 0.0)
+            wk[WK_FZ, i] = z
+            fx, fy, dfx, dfy = tire_force(wk[WK_SX, i], wk[WK_VR, i], z, surfs, sidx[i, col])
+            cs = wk[WK_CS, i]
+            sn = wk[WK_SN, i]
+            bx = cs * fx - sn * fy
+            by = sn * fx + cs * fy
+            dbx = cs * dfx - sn * dfy
+            dby = sn * dfx + cs * dfy
+            wk[WK_FXW, i] = fx
+            wk[WK_FXB, i] = bx
+            wk[WK_FYB, i] = by
             sfx += bx
             sfy += by
-            j11 += dbx * ca[i]
-            j12 += dbx * cb[i]
-            j21 += dby * ca[i]
-            j22 += dby * cb[i]
+            j11 += dbx * geo[GEO_A, i]
+            j12 += dbx * geo[GEO_B, i]
+            j21 += dby * geo[GEO_A, i]
+            j22 += dby * geo[GEO_B, i]
         r1 = sfx / mass - ax
         r2 = sfy / mass - ay
         if abs(r1) + abs(r2) <= LOAD_TOL_M_S2 or it >= MAX_LOAD_ITERATIONS:
@@ -250,6 +270,14 @@ def solve_loads(sx, vr, cs, sn, surfs, sidx, fz0, ca, cb, mass, ax0, ay0, fz, fx
             ax += r1
             ay += r2
         it += 1
+
+
+def geometry(pp: VehicleParams) -> np.ndarray:
+    """The GEO_* rows x 4 wheels: positions and the load coefficients."""
+    geo = np.zeros((N_GEO, 4))
+    geo[GEO_X], geo[GEO_Y] = wheel_positions(pp)
+    geo[GEO_FZ0], geo[GEO_A], geo[GEO_B] = load_coefficients(pp)
+    return geo
 
 
 # ------------------------------------------------------------------------------------------------

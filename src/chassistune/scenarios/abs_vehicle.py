@@ -25,13 +25,12 @@ from chassistune.plants.abs_vehicle import (
     Bound,
     SteeringParams,
     VehicleParams,
-    load_coefficients,
+    geometry,
     mu_jump_bound,
     split_mu_bound,
     surface_row,
     uniform_bound,
     wheel_mode_rate,
-    wheel_positions,
 )
 from chassistune.plants.abs_wheel import FUZZY_OUTPUTS, _no_surface, fuzzy_table
 from chassistune.plants.base import (
@@ -179,10 +178,7 @@ class AbsVehicleScenario(Scenario):
             "yaw_window_s": self.scoring.yaw_window_s,
         }
         p = K.PLANT_LAYOUT.pack(values)
-        xs, ys = wheel_positions(pp)
-        fz0, a, b = load_coefficients(pp)
-        geo = np.zeros((K.N_GEOMETRY, 4))
-        geo[K.G_X], geo[K.G_Y], geo[K.G_FZ0], geo[K.G_A], geo[K.G_B] = xs, ys, fz0, a, b
+        geo = geometry(pp)
         surfs = np.stack([surface_row(t.slip_opt, t.mu_peak, t.mu_lock,
                                       pp.cornering_stiffness_n_rad) for t in road.surfaces])
         from chassistune.sim.abs_wheel_kernel import (

@@ -30,7 +30,28 @@ import numba
 import numpy as np
 
 from chassistune.fuzzy.gains import fuzzy_pid_gains
-from chassistune.plants.abs_vehicle import SF_TARGET, solve_loads
+from chassistune.plants.abs_vehicle import (
+    GEO_A,
+    GEO_B,
+    GEO_FZ0,
+    GEO_X,
+    GEO_Y,
+    N_WORK,
+    SF_FALL0,
+    SF_FALL1,
+    SF_RISE,
+    SF_ST,
+    SF_TARGET,
+    WK_CS,
+    WK_FXB,
+    WK_FXW,
+    WK_FYB,
+    WK_FZ,
+    WK_SN,
+    WK_SX,
+    WK_VR,
+    solve_loads,
+)
 from chassistune.plants.vehicle_roads import ROAD_MU_JUMP, ROAD_SPLIT
 from chassistune.sim.abs_wheel_kernel import (
     C_FUZZY_PID,
@@ -173,6 +194,8 @@ G_FZ0 = GEOMETRY_LAYOUT["static_load_n"]
 G_A = GEOMETRY_LAYOUT["load_per_ax"]
 G_B = GEOMETRY_LAYOUT["load_per_ay"]
 N_GEOMETRY = len(GEOMETRY_LAYOUT)
+if (G_X, G_Y, G_FZ0, G_A, G_B) != (GEO_X, GEO_Y, GEO_FZ0, GEO_A, GEO_B):  # pragma: no cover
+    raise RuntimeError("GEOMETRY_LAYOUT must declare the rows of plants.abs_vehicle.geometry")
 
 S_VX = STATE_LAYOUT["vx"]
 S_VY = STATE_LAYOUT["vy"]
@@ -235,9 +258,16 @@ T_FX = TRACE_LAYOUT["fx_fl_n"]
 T_SURF = TRACE_LAYOUT["surface_fl"]
 N_TRACE = len(TRACE_LAYOUT)
 
-# scratch rows of one evaluation (per wheel columns)
-W_SX, W_VR, W_CS, W_SN, W_FZ, W_FXW, W_FXB, W_FYB, W_SLIP, W_VABS, W_E = range(11)
-N_SCRATCH = 11
+# lane-local copy of each wheel's surface (rows of `ls` (4, N_LANE_SURF, n)), kept in step with
+# the surface index so that the vector pass reads contiguous lanes instead of gathering
+L_ST, L_RISE, L_FALL0, L_FALL1, L_TARGET = range(5)
+N_LANE_SURF = 5
+
+# scratch rows of one evaluation (columns: the wheels): the physics' work rows, then ours
+W_SX, W_VR, W_CS, W_SN, W_FZ, W_FXW, W_FXB, W_FYB = WK_SX, WK_VR, WK_CS, WK_SN, WK_FZ, WK_FXW, \
+    WK_FXB, WK_FYB
+W_SLIP, W_VABS, W_E = N_WORK, N_WORK + 1, N_WORK + 2
+N_SCRATCH = N_WORK + 3
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -265,9 +295,10 @@ def _kinematics(vx, vy, r, delta, w, p, geo, sc):
             sc[W_CS, j] = 1.0
             sc[W_SN, j] = 0.0
         vabs = max(math.sqrt(uw * uw + vw * vw), vmin)
-        sx = (uw - w[j] * r_w) / vabs
+        inv = 1.0 / vabs
+        sx = (uw - w[j] * r_w) * inv
         sc[W_SX, j] = sx
-        sc[W_VR, j] = vw / vabs
+        sc[W_VR, j] = vw * inv
         sc[W_VABS, j] = vabs
         sc[W_SLIP, j] = min(max(sx, 0.0), 1.0)
 
@@ -282,10 +313,28 @@ def _select_low(sc, select_low):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _rhs(y, dy, i, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, wbuf, tgt):
-    """Derivatives of candidate i's state `y` into dy; returns the load-solve iterations.
+def _wheel_rates(w, q, qr, z, xf, e, fxw, dy, j, i, kp, ki, kd, u0, p, inv):
+    """Rates of wheel j's spin, brake actuator and PID states into dy[:, i] (DESIGN 3.1, 4):
+    J dw/dt = -R Fx - kq q (held at w = 0), T dqr/dt = K u - qr, dq/dt = qr held in [0, q_max],
+    u = u0 + kp e + ki z + kd N (e - xf) with conditional integration. Branch-free."""
+    dw = (-p[P_R] * fxw - p[P_KQ] * q) * inv[1]
+    dy[S_W + j, i] = 0.0 if ((w <= 0.0) & (dw < 0.0)) else dw
+    nf = p[P_NF]
+    u = u0[j, i] + kp[j, i] * e + ki[j, i] * z + kd[j, i] * nf * (e - xf)
+    dy[S_QR + j, i] = (p[P_K] * u - qr) * inv[2]
+    q_hi = q >= p[P_QMAX]
+    q_lo = q <= 0.0
+    dy[S_Q + j, i] = 0.0 if ((q_hi & (qr > 0.0)) | (q_lo & (qr < 0.0))) else qr
+    dy[S_Z + j, i] = 0.0 if ((q_hi & (e > 0.0)) | (q_lo & (e < 0.0))) else e
+    dy[S_XF + j, i] = nf * (e - xf)
 
-    guess[:, i] holds the last (ax, ay) of the candidate (start of the load iteration), updated.
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _rhs(y, dy, i, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv):
+    """Derivatives of candidate i's state `y` into dy[:, i]; returns the load-solve iterations.
+
+    guess[:, i] holds the last (ax, ay) of the candidate (start of the load iteration), updated;
+    inv = (1/Iz, 1/J, 1/T, 1/tau_steer).
     """
     vx = y[S_VX]
     vy = y[S_VY]
@@ -297,91 +346,185 @@ def _rhs(y, dy, i, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, wbuf, tgt):
     _kinematics(vx, vy, r, delta, wbuf, p, geo, sc)
     for j in range(4):
         tgt[j] = surfs[sidx[j, i], SF_TARGET]
-    ax, ay, it = solve_loads(sc[W_SX], sc[W_VR], sc[W_CS], sc[W_SN], surfs, sidx[:, i],
-                             geo[G_FZ0], geo[G_A], geo[G_B], p[P_MASS], guess[0, i],
-                             guess[1, i], sc[W_FZ], sc[W_FXW], sc[W_FXB], sc[W_FYB])
+    ax, ay, it = solve_loads(sc, surfs, sidx, i, geo, p[P_MASS], guess[0, i], guess[1, i])
     guess[0, i] = ax
     guess[1, i] = ay
     mz = 0.0
     for j in range(4):
         mz += geo[G_X, j] * sc[W_FYB, j] - geo[G_Y, j] * sc[W_FXB, j]
-    dy[S_VX] = ax + vy * r
-    dy[S_VY] = ay - vx * r
-    dy[S_YR] = mz / p[P_IZ]
+    dy[S_VX, i] = ax + vy * r
+    dy[S_VY, i] = ay - vx * r
+    dy[S_YR, i] = mz * inv[0]
     if psi != 0.0:
         cp = math.cos(psi)
         sp = math.sin(psi)
-        dy[S_X] = vx * cp - vy * sp
-        dy[S_Y] = vx * sp + vy * cp
+        dy[S_X, i] = vx * cp - vy * sp
+        dy[S_Y, i] = vx * sp + vy * cp
     else:
-        dy[S_X] = vx
-        dy[S_Y] = vy
-    dy[S_PSI] = r
+        dy[S_X, i] = vx
+        dy[S_Y, i] = vy
+    dy[S_PSI, i] = r
     if p[P_DRIVER] != 0.0:
         cmd = min(max(-p[P_KPSI] * psi - p[P_KR] * r, -p[P_DMAX]), p[P_DMAX])
-        dy[S_DELTA] = (cmd - delta) / p[P_STAU]
+        dy[S_DELTA, i] = (cmd - delta) * inv[3]
     else:
-        dy[S_DELTA] = 0.0
+        dy[S_DELTA, i] = 0.0
     for j in range(4):
         sc[W_E, j] = tgt[j] - sc[W_SLIP, j]
     _select_low(sc, p[P_SELECT_LOW] != 0.0)
-    r_w = p[P_R]
-    inv_j = 1.0 / p[P_J]
-    kq = p[P_KQ]
-    q_max = p[P_QMAX]
-    nf = p[P_NF]
-    gain = p[P_K]
-    inv_tau = 1.0 / p[P_TAU]
     for j in range(4):
-        w = y[S_W + j]
-        q = y[S_Q + j]
-        qr = y[S_QR + j]
-        e = sc[W_E, j]
-        xf = y[S_XF + j]
-        dw = (-r_w * sc[W_FXW, j] - kq * q) * inv_j
-        dy[S_W + j] = 0.0 if (w <= 0.0 and dw < 0.0) else dw
-        u = u0[j, i] + kp[j, i] * e + ki[j, i] * y[S_Z + j] + kd[j, i] * nf * (e - xf)
-        dy[S_QR + j] = (gain * u - qr) * inv_tau
-        q_hi = q >= q_max
-        q_lo = q <= 0.0
-        dy[S_Q + j] = 0.0 if ((q_hi and qr > 0.0) or (q_lo and qr < 0.0)) else qr
-        dy[S_Z + j] = 0.0 if ((q_hi and e > 0.0) or (q_lo and e < 0.0)) else e
-        dy[S_XF + j] = nf * (e - xf)
+        _wheel_rates(y[S_W + j], y[S_Q + j], y[S_QR + j], y[S_Z + j], y[S_XF + j], sc[W_E, j],
+                     sc[W_FXW, j], dy, j, i, kp, ki, kd, u0, p, inv)
     return it
 
 
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _straight_wheel(vx, w, j, i, ls, p):
+    """Slip and force per unit load of wheel j of lane i in straight-line braking (r = vy = 0,
+    no steering): `_kinematics` and `straight_force_per_load` reduced to that case, bit for bit."""
+    vabs = max(math.sqrt(vx * vx), p[P_VMIN])
+    sx = (vx - w * p[P_R]) * (1.0 / vabs)
+    s = abs(sx)
+    sc = min(s, 1.0)
+    mu = ls[j, L_RISE, i] * sc if sc <= ls[j, L_ST, i] else (
+        ls[j, L_FALL0, i] - ls[j, L_FALL1, i] * sc)
+    cf = -math.copysign(mu, sx) if s > 0.0 else 0.0
+    return cf, min(max(sx, 0.0), 1.0)
+
+
 @numba.njit(cache=True, nogil=True, error_model="numpy")
-def _stage(m, active, x, k_in, c, k_out, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, y, dy,
-           wbuf, tgt, iters):
-    """One RK4 stage for the running candidates: k_out = f(x + c k_in)."""
+def _stage(n, m, active, x, k_in, c, k_out, kp, ki, kd, u0, sidx, ls, guess, flag, p, geo, surfs,
+           sc, y, wbuf, tgt, iters, inv):
+    """One RK4 stage, k_out = f(x + c k_in), in two passes.
+
+    Pass 1 runs every lane (candidate column) through the straight-line case in one branch-free
+    loop the compiler vectorizes across candidates: no yaw, no lateral velocity, heading and
+    steering at 0, loads in closed form. Lanes where that case does not hold are flagged; pass 2
+    recomputes them (running candidates only) with the general right-hand side `_rhs`. Both
+    passes evaluate the same formulas in the same order: a lane's numbers do not depend on the
+    pass, nor on its neighbours.
+    """
+    mass = p[P_MASS]
+    driver = p[P_DRIVER] != 0.0
+    select_low = p[P_SELECT_LOW] != 0.0
+    fz00 = geo[G_FZ0, 0]
+    fz01 = geo[G_FZ0, 1]
+    fz02 = geo[G_FZ0, 2]
+    fz03 = geo[G_FZ0, 3]
+    a0 = geo[G_A, 0]
+    a1 = geo[G_A, 1]
+    a2 = geo[G_A, 2]
+    a3 = geo[G_A, 3]
+    for i in range(n):
+        vx = x[S_VX, i] + c * k_in[S_VX, i]
+        vy = x[S_VY, i] + c * k_in[S_VY, i]
+        r = x[S_YR, i] + c * k_in[S_YR, i]
+        psi = x[S_PSI, i] + c * k_in[S_PSI, i]
+        delta = x[S_DELTA, i] + c * k_in[S_DELTA, i]
+        c0, s0 = _straight_wheel(vx, x[S_W, i] + c * k_in[S_W, i], 0, i, ls, p)
+        c1, s1 = _straight_wheel(vx, x[S_W + 1, i] + c * k_in[S_W + 1, i], 1, i, ls, p)
+        c2, s2 = _straight_wheel(vx, x[S_W + 2, i] + c * k_in[S_W + 2, i], 2, i, ls, p)
+        c3, s3 = _straight_wheel(vx, x[S_W + 3, i] + c * k_in[S_W + 3, i], 3, i, ls, p)
+        num = 0.0
+        num += c0 * fz00
+        num += c1 * fz01
+        num += c2 * fz02
+        num += c3 * fz03
+        den = mass
+        den -= c0 * a0
+        den -= c1 * a1
+        den -= c2 * a2
+        den -= c3 * a3
+        ax = num / den
+        fz0 = fz00 + a0 * ax
+        fz1 = fz01 + a1 * ax
+        fz2 = fz02 + a2 * ax
+        fz3 = fz03 + a3 * ax
+        ok = ((vy == 0.0) & (r == 0.0) & (psi == 0.0) & (delta == 0.0) & (fz0 >= 0.0)
+              & (fz1 >= 0.0) & (fz2 >= 0.0) & (fz3 >= 0.0))
+        fx0 = c0 * fz0
+        fx1 = c1 * fz1
+        fx2 = c2 * fz2
+        fx3 = c3 * fz3
+        total = 0.0
+        total += fx0
+        total += fx1
+        total += fx2
+        total += fx3
+        ax = total / mass
+        mz = 0.0
+        mz += geo[G_X, 0] * 0.0 - geo[G_Y, 0] * fx0
+        mz += geo[G_X, 1] * 0.0 - geo[G_Y, 1] * fx1
+        mz += geo[G_X, 2] * 0.0 - geo[G_Y, 2] * fx2
+        mz += geo[G_X, 3] * 0.0 - geo[G_Y, 3] * fx3
+        k_out[S_VX, i] = ax + vy * r
+        k_out[S_VY, i] = 0.0 - vx * r
+        k_out[S_YR, i] = mz * inv[0]
+        k_out[S_X, i] = vx
+        k_out[S_Y, i] = vy
+        k_out[S_PSI, i] = r
+        cmd = min(max(-p[P_KPSI] * psi - p[P_KR] * r, -p[P_DMAX]), p[P_DMAX])
+        k_out[S_DELTA, i] = (cmd - delta) * inv[3] if driver else 0.0
+        e0 = ls[0, L_TARGET, i] - s0
+        e1 = ls[1, L_TARGET, i] - s1
+        e2 = ls[2, L_TARGET, i] - s2
+        e3 = ls[3, L_TARGET, i] - s3
+        low = e3 < e2
+        e2s = e3 if (select_low & low) else e2
+        e3s = e2 if (select_low & ~low) else e3
+        _wheel_rates(x[S_W, i] + c * k_in[S_W, i], x[S_Q, i] + c * k_in[S_Q, i],
+                     x[S_QR, i] + c * k_in[S_QR, i], x[S_Z, i] + c * k_in[S_Z, i],
+                     x[S_XF, i] + c * k_in[S_XF, i], e0, fx0, k_out, 0, i, kp, ki, kd, u0, p,
+                     inv)
+        _wheel_rates(x[S_W + 1, i] + c * k_in[S_W + 1, i], x[S_Q + 1, i] + c * k_in[S_Q + 1, i],
+                     x[S_QR + 1, i] + c * k_in[S_QR + 1, i], x[S_Z + 1, i] + c * k_in[S_Z + 1, i],
+                     x[S_XF + 1, i] + c * k_in[S_XF + 1, i], e1, fx1, k_out, 1, i, kp, ki, kd,
+                     u0, p, inv)
+        _wheel_rates(x[S_W + 2, i] + c * k_in[S_W + 2, i], x[S_Q + 2, i] + c * k_in[S_Q + 2, i],
+                     x[S_QR + 2, i] + c * k_in[S_QR + 2, i], x[S_Z + 2, i] + c * k_in[S_Z + 2, i],
+                     x[S_XF + 2, i] + c * k_in[S_XF + 2, i], e2s, fx2, k_out, 2, i, kp, ki, kd,
+                     u0, p, inv)
+        _wheel_rates(x[S_W + 3, i] + c * k_in[S_W + 3, i], x[S_Q + 3, i] + c * k_in[S_Q + 3, i],
+                     x[S_QR + 3, i] + c * k_in[S_QR + 3, i], x[S_Z + 3, i] + c * k_in[S_Z + 3, i],
+                     x[S_XF + 3, i] + c * k_in[S_XF + 3, i], e3s, fx3, k_out, 3, i, kp, ki, kd,
+                     u0, p, inv)
+        guess[0, i] = ax if ok else guess[0, i]
+        guess[1, i] = 0.0 if ok else guess[1, i]
+        flag[i] = 0 if ok else 1
     for jj in range(m):
         i = active[jj]
-        for s in range(N_STATE):
-            y[s] = x[s, i] + c * k_in[s, i]
-        it = _rhs(y, dy, i, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, wbuf, tgt)
-        iters[i] = max(iters[i], it)
-        for s in range(N_STATE):
-            k_out[s, i] = dy[s]
+        if flag[i] != 0:
+            for s in range(N_STATE):
+                y[s] = x[s, i] + c * k_in[s, i]
+            it = _rhs(y, k_out, i, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv)
+            iters[i] = max(iters[i], it)
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _update_surfaces(x, i, p, geo, sidx):
-    """Surface under each wheel from its contact point's global position (mu-jump, split-mu)."""
+def _update_surfaces(x, i, p, geo, sidx, surfs, ls):
+    """Surface under each wheel from its contact point's global position (mu-jump, split-mu),
+    and its lane-local copy."""
     kind = p[P_ROAD]
-    if kind != ROAD_MU_JUMP and kind != ROAD_SPLIT:
-        return
-    psi = x[S_PSI, i]
-    cp = math.cos(psi) if psi != 0.0 else 1.0
-    sp = math.sin(psi) if psi != 0.0 else 0.0
+    if kind == ROAD_MU_JUMP or kind == ROAD_SPLIT:
+        psi = x[S_PSI, i]
+        cp = math.cos(psi) if psi != 0.0 else 1.0
+        sp = math.sin(psi) if psi != 0.0 else 0.0
+        for j in range(4):
+            if kind == ROAD_MU_JUMP:
+                gx = x[S_X, i] + geo[G_X, j] * cp - geo[G_Y, j] * sp
+                sidx[j, i] = 1 if gx >= p[P_XJUMP] else 0
+            elif p[P_SPLIT_ROAD] != 0.0:
+                gy = x[S_Y, i] + geo[G_X, j] * sp + geo[G_Y, j] * cp
+                sidx[j, i] = 0 if gy >= p[P_YSPLIT] else 1
+            else:
+                sidx[j, i] = 0 if geo[G_Y, j] > 0.0 else 1
     for j in range(4):
-        if kind == ROAD_MU_JUMP:
-            gx = x[S_X, i] + geo[G_X, j] * cp - geo[G_Y, j] * sp
-            sidx[j, i] = 1 if gx >= p[P_XJUMP] else 0
-        elif p[P_SPLIT_ROAD] != 0.0:
-            gy = x[S_Y, i] + geo[G_X, j] * sp + geo[G_Y, j] * cp
-            sidx[j, i] = 0 if gy >= p[P_YSPLIT] else 1
-        else:
-            sidx[j, i] = 0 if geo[G_Y, j] > 0.0 else 1
+        k = sidx[j, i]
+        ls[j, L_ST, i] = surfs[k, SF_ST]
+        ls[j, L_RISE, i] = surfs[k, SF_RISE]
+        ls[j, L_FALL0, i] = surfs[k, SF_FALL0]
+        ls[j, L_FALL1, i] = surfs[k, SF_FALL1]
+        ls[j, L_TARGET, i] = surfs[k, SF_TARGET]
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
@@ -425,9 +568,11 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
     for j in range(4):
         x[S_W + j, :] = p[P_V0] / r_w
     sidx = np.zeros((4, n), dtype=np.int64)
+    ls = np.zeros((4, N_LANE_SURF, n))
+    flag = np.zeros(n, dtype=np.int64)
     sc = np.zeros((N_SCRATCH, 4))
     for i in range(n):
-        _update_surfaces(x, i, p, geo, sidx)
+        _update_surfaces(x, i, p, geo, sidx, surfs, ls)
         for j in range(4):
             sc[W_E, j] = surfs[sidx[j, i], SF_TARGET]  # e(0): the wheels roll freely
         _select_low(sc, select_low)
@@ -439,7 +584,8 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
     k4 = np.zeros((N_STATE, n))
     guess = np.zeros((2, n))
     y = np.zeros(N_STATE)
-    dy = np.zeros(N_STATE)
+    dy = np.zeros((N_STATE, 1))
+    inv = np.array([1.0 / p[P_IZ], 1.0 / p[P_J], 1.0 / p[P_TAU], 1.0 / p[P_STAU]])
     wbuf = np.zeros(4)
     tgt = np.zeros(4)
     iters = np.zeros(n)
@@ -478,7 +624,7 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
     rows = 0
     if n_trace > 0:
         _trace_row(trace, 0, 0.0, x, 0, dist, slip, sidx, kp, ki, kd, u0, guess, p, geo, surfs,
-                   sc, y, dy, wbuf, tgt, iters)
+                   sc, y, dy, wbuf, tgt, inv)
         rows = 1
     for k in range(n_steps):
         if m == 0:
@@ -515,14 +661,14 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
                             ctrl_kind, c, phase[j, i], slip[src, i], target, aw[j, i])
                 for j in range(4):
                     w_sampled[j, i] = x[S_W + j, i]
-        _stage(m, active, x, k4, 0.0, k1, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, y, dy,
-               wbuf, tgt, iters)
-        _stage(m, active, x, k1, hs, k2, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, y, dy,
-               wbuf, tgt, iters)
-        _stage(m, active, x, k2, hs, k3, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, y, dy,
-               wbuf, tgt, iters)
-        _stage(m, active, x, k3, dt, k4, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, y, dy,
-               wbuf, tgt, iters)
+        _stage(n, m, active, x, k4, 0.0, k1, kp, ki, kd, u0, sidx, ls, guess, flag,
+               p, geo, surfs, sc, y, wbuf, tgt, iters, inv)
+        _stage(n, m, active, x, k1, hs, k2, kp, ki, kd, u0, sidx, ls, guess, flag,
+               p, geo, surfs, sc, y, wbuf, tgt, iters, inv)
+        _stage(n, m, active, x, k2, hs, k3, kp, ki, kd, u0, sidx, ls, guess, flag,
+               p, geo, surfs, sc, y, wbuf, tgt, iters, inv)
+        _stage(n, m, active, x, k3, dt, k4, kp, ki, kd, u0, sidx, ls, guess, flag,
+               p, geo, surfs, sc, y, wbuf, tgt, iters, inv)
         jj = 0
         while jj < m:
             i = active[jj]
@@ -563,7 +709,7 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
                 all_t[i] = t + dt
                 all_v[i] = sp_new
                 all_d[i] = dist[i]
-            _update_surfaces(x, i, p, geo, sidx)
+            _update_surfaces(x, i, p, geo, sidx, surfs, ls)
             for j in range(4):
                 err[j, i] = surfs[sidx[j, i], SF_TARGET] - slip[j, i]
             r_now = x[S_YR, i]
@@ -601,7 +747,7 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
                 jj += 1
         if n_trace > 0 and rows < n_trace:
             _trace_row(trace, rows, min(t + dt, t_end[0]), x, 0, dist, slip, sidx, kp, ki, kd, u0,
-                       guess, p, geo, surfs, sc, y, dy, wbuf, tgt, iters)
+                       guess, p, geo, surfs, sc, y, dy, wbuf, tgt, inv)
             if status[0] == STATUS_STOPPED:
                 trace[rows, T_SPEED] = max(trace[rows, T_SPEED], v_stop)
             rows += 1
@@ -635,13 +781,14 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def _trace_row(trace, row, t, x, i, dist, slip, sidx, kp, ki, kd, u0, guess, p, geo, surfs, sc,
-               y, dy, wbuf, tgt, iters):
-    """One trace row of candidate i: its state, and loads and forces re-evaluated at it."""
+               y, dy, wbuf, tgt, inv):
+    """One trace row of candidate i (a batch of one: i = 0): its state, and loads and forces
+    re-evaluated at it (dy: a throw-away (N_STATE, 1) array)."""
     for s in range(N_STATE):
         y[s] = x[s, i]
     g0 = guess[0, i]
     g1 = guess[1, i]
-    _rhs(y, dy, i, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, wbuf, tgt)
+    _rhs(y, dy, i, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv)
     ax = guess[0, i]
     ay = guess[1, i]
     guess[0, i] = g0  # tracing must not change the run
