@@ -210,6 +210,8 @@ S_QR = STATE_LAYOUT["qrate_fl"]
 S_Z = STATE_LAYOUT["z_fl"]
 S_XF = STATE_LAYOUT["xf_fl"]
 N_STATE = len(STATE_LAYOUT)
+K_FLAG = N_STATE
+"""Extra row of the stage derivative arrays: 1 where the straight-line pass did not apply."""
 
 M_STATUS = METRIC_LAYOUT["status"]
 M_TIME = METRIC_LAYOUT["stop_time_s"]
@@ -257,6 +259,10 @@ T_TB = TRACE_LAYOUT["brake_torque_fl_n_m"]
 T_FX = TRACE_LAYOUT["fx_fl_n"]
 T_SURF = TRACE_LAYOUT["surface_fl"]
 N_TRACE = len(TRACE_LAYOUT)
+
+# the wheel laws' gains and held command per wheel and lane: law[LAW_*, j, i]
+LAW_KP, LAW_KI, LAW_KD, LAW_U0 = range(4)
+N_LAW = 4
 
 # lane-local copy of each wheel's surface (rows of `ls` (4, N_LANE_SURF, n)), kept in step with
 # the surface index so that the vector pass reads contiguous lanes instead of gathering
@@ -313,16 +319,17 @@ def _select_low(sc, select_low):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _wheel_rates(w, q, qr, z, xf, e, fxw, dy, j, i, kp, ki, kd, u0, p, inv):
+def _wheel_rates(w, q, qr, z, xf, e, fxw, dy, j, i, law, r_w, kq, inv_j, nf, gain,
+                 inv_tau, q_max):
     """Rates of wheel j's spin, brake actuator and PID states into dy[:, i] (DESIGN 3.1, 4):
     J dw/dt = -R Fx - kq q (held at w = 0), T dqr/dt = K u - qr, dq/dt = qr held in [0, q_max],
     u = u0 + kp e + ki z + kd N (e - xf) with conditional integration. Branch-free."""
-    dw = (-p[P_R] * fxw - p[P_KQ] * q) * inv[1]
+    dw = (-r_w * fxw - kq * q) * inv_j
     dy[S_W + j, i] = 0.0 if ((w <= 0.0) & (dw < 0.0)) else dw
-    nf = p[P_NF]
-    u = u0[j, i] + kp[j, i] * e + ki[j, i] * z + kd[j, i] * nf * (e - xf)
-    dy[S_QR + j, i] = (p[P_K] * u - qr) * inv[2]
-    q_hi = q >= p[P_QMAX]
+    u = (law[LAW_U0, j, i] + law[LAW_KP, j, i] * e + law[LAW_KI, j, i] * z
+         + law[LAW_KD, j, i] * nf * (e - xf))
+    dy[S_QR + j, i] = (gain * u - qr) * inv_tau
+    q_hi = q >= q_max
     q_lo = q <= 0.0
     dy[S_Q + j, i] = 0.0 if ((q_hi & (qr > 0.0)) | (q_lo & (qr < 0.0))) else qr
     dy[S_Z + j, i] = 0.0 if ((q_hi & (e > 0.0)) | (q_lo & (e < 0.0))) else e
@@ -330,7 +337,7 @@ def _wheel_rates(w, q, qr, z, xf, e, fxw, dy, j, i, kp, ki, kd, u0, p, inv):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _rhs(y, dy, i, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv):
+def _rhs(y, dy, i, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv):
     """Derivatives of candidate i's state `y` into dy[:, i]; returns the load-solve iterations.
 
     guess[:, i] holds the last (ax, ay) of the candidate (start of the load iteration), updated;
@@ -374,16 +381,17 @@ def _rhs(y, dy, i, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, wbuf, tgt, in
     _select_low(sc, p[P_SELECT_LOW] != 0.0)
     for j in range(4):
         _wheel_rates(y[S_W + j], y[S_Q + j], y[S_QR + j], y[S_Z + j], y[S_XF + j], sc[W_E, j],
-                     sc[W_FXW, j], dy, j, i, kp, ki, kd, u0, p, inv)
+                     sc[W_FXW, j], dy, j, i, law, p[P_R], p[P_KQ], inv[1], p[P_NF],
+                     p[P_K], inv[2], p[P_QMAX])
     return it
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _straight_wheel(vx, w, j, i, ls, p):
+def _straight_wheel(vx, w, j, i, ls, r_w, vmin):
     """Slip and force per unit load of wheel j of lane i in straight-line braking (r = vy = 0,
     no steering): `_kinematics` and `straight_force_per_load` reduced to that case, bit for bit."""
-    vabs = max(math.sqrt(vx * vx), p[P_VMIN])
-    sx = (vx - w * p[P_R]) * (1.0 / vabs)
+    vabs = max(math.sqrt(vx * vx), vmin)
+    sx = (vx - w * r_w) * (1.0 / vabs)
     s = abs(sx)
     sc = min(s, 1.0)
     mu = ls[j, L_RISE, i] * sc if sc <= ls[j, L_ST, i] else (
@@ -393,14 +401,15 @@ def _straight_wheel(vx, w, j, i, ls, p):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
-def _stage(n, m, active, x, k_in, c, k_out, kp, ki, kd, u0, sidx, ls, guess, flag, p, geo, surfs,
+def _stage(n, m, active, x, k_in, c, k_out, law, sidx, ls, guess, flag, p, geo, surfs,
            sc, y, wbuf, tgt, iters, inv):
     """One RK4 stage, k_out = f(x + c k_in), in two passes.
 
     Pass 1 runs every lane (candidate column) through the straight-line case in one branch-free
     loop the compiler vectorizes across candidates: no yaw, no lateral velocity, heading and
     steering at 0, loads in closed form. Lanes where that case does not hold are flagged; pass 2
-    recomputes them (running candidates only) with the general right-hand side `_rhs`. Both
+    recomputes them (running candidates only) with the general right-hand side `_rhs`, which
+    starts its load iteration from the lane's last general solution (`guess`). Both
     passes evaluate the same formulas in the same order: a lane's numbers do not depend on the
     pass, nor on its neighbours.
     """
@@ -415,16 +424,37 @@ def _stage(n, m, active, x, k_in, c, k_out, kp, ki, kd, u0, sidx, ls, guess, fla
     a1 = geo[G_A, 1]
     a2 = geo[G_A, 2]
     a3 = geo[G_A, 3]
+    x0 = geo[G_X, 0]
+    x1 = geo[G_X, 1]
+    x2 = geo[G_X, 2]
+    x3 = geo[G_X, 3]
+    y0 = geo[G_Y, 0]
+    y1 = geo[G_Y, 1]
+    y2 = geo[G_Y, 2]
+    y3 = geo[G_Y, 3]
+    r_w = p[P_R]
+    vmin = p[P_VMIN]
+    kq = p[P_KQ]
+    nf = p[P_NF]
+    gain = p[P_K]
+    q_max = p[P_QMAX]
+    kpsi = p[P_KPSI]
+    kr = p[P_KR]
+    dmax = p[P_DMAX]
+    inv_iz = inv[0]
+    inv_j = inv[1]
+    inv_tau = inv[2]
+    inv_st = inv[3]
     for i in range(n):
         vx = x[S_VX, i] + c * k_in[S_VX, i]
         vy = x[S_VY, i] + c * k_in[S_VY, i]
         r = x[S_YR, i] + c * k_in[S_YR, i]
         psi = x[S_PSI, i] + c * k_in[S_PSI, i]
         delta = x[S_DELTA, i] + c * k_in[S_DELTA, i]
-        c0, s0 = _straight_wheel(vx, x[S_W, i] + c * k_in[S_W, i], 0, i, ls, p)
-        c1, s1 = _straight_wheel(vx, x[S_W + 1, i] + c * k_in[S_W + 1, i], 1, i, ls, p)
-        c2, s2 = _straight_wheel(vx, x[S_W + 2, i] + c * k_in[S_W + 2, i], 2, i, ls, p)
-        c3, s3 = _straight_wheel(vx, x[S_W + 3, i] + c * k_in[S_W + 3, i], 3, i, ls, p)
+        c0, s0 = _straight_wheel(vx, x[S_W, i] + c * k_in[S_W, i], 0, i, ls, r_w, vmin)
+        c1, s1 = _straight_wheel(vx, x[S_W + 1, i] + c * k_in[S_W + 1, i], 1, i, ls, r_w, vmin)
+        c2, s2 = _straight_wheel(vx, x[S_W + 2, i] + c * k_in[S_W + 2, i], 2, i, ls, r_w, vmin)
+        c3, s3 = _straight_wheel(vx, x[S_W + 3, i] + c * k_in[S_W + 3, i], 3, i, ls, r_w, vmin)
         num = 0.0
         num += c0 * fz00
         num += c1 * fz01
@@ -453,18 +483,18 @@ def _stage(n, m, active, x, k_in, c, k_out, kp, ki, kd, u0, sidx, ls, guess, fla
         total += fx3
         ax = total / mass
         mz = 0.0
-        mz += geo[G_X, 0] * 0.0 - geo[G_Y, 0] * fx0
-        mz += geo[G_X, 1] * 0.0 - geo[G_Y, 1] * fx1
-        mz += geo[G_X, 2] * 0.0 - geo[G_Y, 2] * fx2
-        mz += geo[G_X, 3] * 0.0 - geo[G_Y, 3] * fx3
+        mz += x0 * 0.0 - y0 * fx0
+        mz += x1 * 0.0 - y1 * fx1
+        mz += x2 * 0.0 - y2 * fx2
+        mz += x3 * 0.0 - y3 * fx3
         k_out[S_VX, i] = ax + vy * r
         k_out[S_VY, i] = 0.0 - vx * r
-        k_out[S_YR, i] = mz * inv[0]
+        k_out[S_YR, i] = mz * inv_iz
         k_out[S_X, i] = vx
         k_out[S_Y, i] = vy
         k_out[S_PSI, i] = r
-        cmd = min(max(-p[P_KPSI] * psi - p[P_KR] * r, -p[P_DMAX]), p[P_DMAX])
-        k_out[S_DELTA, i] = (cmd - delta) * inv[3] if driver else 0.0
+        cmd = min(max(-kpsi * psi - kr * r, -dmax), dmax)
+        k_out[S_DELTA, i] = (cmd - delta) * inv_st if driver else 0.0
         e0 = ls[0, L_TARGET, i] - s0
         e1 = ls[1, L_TARGET, i] - s1
         e2 = ls[2, L_TARGET, i] - s2
@@ -474,29 +504,27 @@ def _stage(n, m, active, x, k_in, c, k_out, kp, ki, kd, u0, sidx, ls, guess, fla
         e3s = e2 if (select_low & ~low) else e3
         _wheel_rates(x[S_W, i] + c * k_in[S_W, i], x[S_Q, i] + c * k_in[S_Q, i],
                      x[S_QR, i] + c * k_in[S_QR, i], x[S_Z, i] + c * k_in[S_Z, i],
-                     x[S_XF, i] + c * k_in[S_XF, i], e0, fx0, k_out, 0, i, kp, ki, kd, u0, p,
-                     inv)
+                     x[S_XF, i] + c * k_in[S_XF, i], e0, fx0, k_out, 0, i, law, r_w, kq,
+                     inv_j, nf, gain, inv_tau, q_max)
         _wheel_rates(x[S_W + 1, i] + c * k_in[S_W + 1, i], x[S_Q + 1, i] + c * k_in[S_Q + 1, i],
                      x[S_QR + 1, i] + c * k_in[S_QR + 1, i], x[S_Z + 1, i] + c * k_in[S_Z + 1, i],
-                     x[S_XF + 1, i] + c * k_in[S_XF + 1, i], e1, fx1, k_out, 1, i, kp, ki, kd,
-                     u0, p, inv)
+                     x[S_XF + 1, i] + c * k_in[S_XF + 1, i], e1, fx1, k_out, 1, i, law,
+                     r_w, kq, inv_j, nf, gain, inv_tau, q_max)
         _wheel_rates(x[S_W + 2, i] + c * k_in[S_W + 2, i], x[S_Q + 2, i] + c * k_in[S_Q + 2, i],
                      x[S_QR + 2, i] + c * k_in[S_QR + 2, i], x[S_Z + 2, i] + c * k_in[S_Z + 2, i],
-                     x[S_XF + 2, i] + c * k_in[S_XF + 2, i], e2s, fx2, k_out, 2, i, kp, ki, kd,
-                     u0, p, inv)
+                     x[S_XF + 2, i] + c * k_in[S_XF + 2, i], e2s, fx2, k_out, 2, i, law,
+                     r_w, kq, inv_j, nf, gain, inv_tau, q_max)
         _wheel_rates(x[S_W + 3, i] + c * k_in[S_W + 3, i], x[S_Q + 3, i] + c * k_in[S_Q + 3, i],
                      x[S_QR + 3, i] + c * k_in[S_QR + 3, i], x[S_Z + 3, i] + c * k_in[S_Z + 3, i],
-                     x[S_XF + 3, i] + c * k_in[S_XF + 3, i], e3s, fx3, k_out, 3, i, kp, ki, kd,
-                     u0, p, inv)
-        guess[0, i] = ax if ok else guess[0, i]
-        guess[1, i] = 0.0 if ok else guess[1, i]
-        flag[i] = 0 if ok else 1
+                     x[S_XF + 3, i] + c * k_in[S_XF + 3, i], e3s, fx3, k_out, 3, i, law,
+                     r_w, kq, inv_j, nf, gain, inv_tau, q_max)
+        k_out[K_FLAG, i] = 0.0 if ok else 1.0
     for jj in range(m):
         i = active[jj]
-        if flag[i] != 0:
+        if k_out[K_FLAG, i] != 0.0:
             for s in range(N_STATE):
                 y[s] = x[s, i] + c * k_in[s, i]
-            it = _rhs(y, k_out, i, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv)
+            it = _rhs(y, k_out, i, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv)
             iters[i] = max(iters[i], it)
 
 
@@ -549,19 +577,16 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
     n_steps = math.ceil(p[P_TMAX] / dt - 1e-9)
     select_low = p[P_SELECT_LOW] != 0.0
     n_g = gains.shape[1] // 2 if p[P_AXLE] != 0.0 else gains.shape[1]
-    kp = np.zeros((4, n))
-    ki = np.zeros((4, n))
-    kd = np.zeros((4, n))
-    u0 = np.zeros((4, n))
+    law = np.zeros((N_LAW, 4, n))
     col0 = np.zeros(4, dtype=np.int64)  # first gain column of each wheel
     for j in range(2, 4):
         col0[j] = n_g if p[P_AXLE] != 0.0 else 0
     if ctrl_kind == C_PID:
         for i in range(n):
             for j in range(4):
-                kp[j, i] = gains[i, col0[j]]
-                ki[j, i] = gains[i, col0[j] + 1]
-                kd[j, i] = gains[i, col0[j] + 2]
+                law[LAW_KP, j, i] = gains[i, col0[j]]
+                law[LAW_KI, j, i] = gains[i, col0[j] + 1]
+                law[LAW_KD, j, i] = gains[i, col0[j] + 2]
     scheduled = np.zeros(3)
     x = np.zeros((N_STATE, n))
     x[S_VX, :] = p[P_V0]
@@ -578,10 +603,10 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
         _select_low(sc, select_low)
         for j in range(4):
             x[S_XF + j, i] = sc[W_E, j]  # the derivative filter starts at e(0): no kick
-    k1 = np.zeros((N_STATE, n))
-    k2 = np.zeros((N_STATE, n))
-    k3 = np.zeros((N_STATE, n))
-    k4 = np.zeros((N_STATE, n))
+    k1 = np.zeros((N_STATE + 1, n))  # row K_FLAG: lanes the straight pass could not handle
+    k2 = np.zeros((N_STATE + 1, n))
+    k3 = np.zeros((N_STATE + 1, n))
+    k4 = np.zeros((N_STATE + 1, n))
     guess = np.zeros((2, n))
     y = np.zeros(N_STATE)
     dy = np.zeros((N_STATE, 1))
@@ -623,7 +648,7 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
     n_trace = trace.shape[0]
     rows = 0
     if n_trace > 0:
-        _trace_row(trace, 0, 0.0, x, 0, dist, slip, sidx, kp, ki, kd, u0, guess, p, geo, surfs,
+        _trace_row(trace, 0, 0.0, x, 0, dist, slip, sidx, law, guess, p, geo, surfs,
                    sc, y, dy, wbuf, tgt, inv)
         rows = 1
     for k in range(n_steps):
@@ -650,24 +675,24 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
                                         gains[i, g0 + 2], gains[i, g0 + 3], gains[i, g0 + 4],
                                         gains[i, g0 + 5], gains[i, g0 + 6], gains[i, g0 + 7],
                                         scheduled)
-                        kp[j, i] = scheduled[0]
-                        ki[j, i] = scheduled[1]
-                        kd[j, i] = scheduled[2]
+                        law[LAW_KP, j, i] = scheduled[0]
+                        law[LAW_KI, j, i] = scheduled[1]
+                        law[LAW_KD, j, i] = scheduled[2]
                     else:
                         if k > 0:
                             aw[j, i] = (x[S_W + src, i] - w_sampled[src, i]) * r_w / ts
                         target = surfs[sidx[src, i], SF_TARGET]
-                        u0[j, i], phase[j, i] = _sampled_command(
+                        law[LAW_U0, j, i], phase[j, i] = _sampled_command(
                             ctrl_kind, c, phase[j, i], slip[src, i], target, aw[j, i])
                 for j in range(4):
                     w_sampled[j, i] = x[S_W + j, i]
-        _stage(n, m, active, x, k4, 0.0, k1, kp, ki, kd, u0, sidx, ls, guess, flag,
+        _stage(n, m, active, x, k4, 0.0, k1, law, sidx, ls, guess, flag,
                p, geo, surfs, sc, y, wbuf, tgt, iters, inv)
-        _stage(n, m, active, x, k1, hs, k2, kp, ki, kd, u0, sidx, ls, guess, flag,
+        _stage(n, m, active, x, k1, hs, k2, law, sidx, ls, guess, flag,
                p, geo, surfs, sc, y, wbuf, tgt, iters, inv)
-        _stage(n, m, active, x, k2, hs, k3, kp, ki, kd, u0, sidx, ls, guess, flag,
+        _stage(n, m, active, x, k2, hs, k3, law, sidx, ls, guess, flag,
                p, geo, surfs, sc, y, wbuf, tgt, iters, inv)
-        _stage(n, m, active, x, k3, dt, k4, kp, ki, kd, u0, sidx, ls, guess, flag,
+        _stage(n, m, active, x, k3, dt, k4, law, sidx, ls, guess, flag,
                p, geo, surfs, sc, y, wbuf, tgt, iters, inv)
         jj = 0
         while jj < m:
@@ -746,7 +771,7 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
             else:
                 jj += 1
         if n_trace > 0 and rows < n_trace:
-            _trace_row(trace, rows, min(t + dt, t_end[0]), x, 0, dist, slip, sidx, kp, ki, kd, u0,
+            _trace_row(trace, rows, min(t + dt, t_end[0]), x, 0, dist, slip, sidx, law,
                        guess, p, geo, surfs, sc, y, dy, wbuf, tgt, inv)
             if status[0] == STATUS_STOPPED:
                 trace[rows, T_SPEED] = max(trace[rows, T_SPEED], v_stop)
@@ -780,7 +805,7 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
-def _trace_row(trace, row, t, x, i, dist, slip, sidx, kp, ki, kd, u0, guess, p, geo, surfs, sc,
+def _trace_row(trace, row, t, x, i, dist, slip, sidx, law, guess, p, geo, surfs, sc,
                y, dy, wbuf, tgt, inv):
     """One trace row of candidate i (a batch of one: i = 0): its state, and loads and forces
     re-evaluated at it (dy: a throw-away (N_STATE, 1) array)."""
@@ -788,7 +813,7 @@ def _trace_row(trace, row, t, x, i, dist, slip, sidx, kp, ki, kd, u0, guess, p, 
         y[s] = x[s, i]
     g0 = guess[0, i]
     g1 = guess[1, i]
-    _rhs(y, dy, i, kp, ki, kd, u0, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv)
+    _rhs(y, dy, i, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv)
     ax = guess[0, i]
     ay = guess[1, i]
     guess[0, i] = g0  # tracing must not change the run
