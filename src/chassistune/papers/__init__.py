@@ -1,0 +1,1 @@
+"""The four papers of the first release: their published numbers and their reproductions."""

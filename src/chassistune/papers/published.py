@@ -1,0 +1,84 @@
+"""The papers' published numbers (package data `data/paper_results.toml`), read in one place.
+
+Each `Quantity` is one printed row of a paper: its paper key, where it is printed (table or
+figure), the quantity's name and unit, the road it belongs to (if any), and the values by label
+(controller, algorithm or gain), exactly as published. Reports quote them; tests never use them as
+expectations of our results.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass
+from functools import cache
+from importlib import resources
+
+from chassistune.errors import InputError
+
+PAPER_KEYS = ("derlsp-ao-abs", "iabc-suspension", "deffao-vehicle-abs", "fuzzy-immune-abs")
+
+
+@dataclass(frozen=True)
+class Paper:
+    """A paper: its short key, citation and the setting its numbers refer to."""
+
+    key: str
+    citation: str
+    setting: str
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """One published row: values by label, in `unit`, printed at `source` of `paper`."""
+
+    paper: str
+    source: str
+    name: str
+    unit: str
+    labels: tuple[str, ...]
+    values: tuple[float, ...]
+    road: str | None = None
+    note: str = ""
+
+    def as_dict(self) -> dict[str, float]:
+        """Label -> value."""
+        return dict(zip(self.labels, self.values, strict=True))
+
+
+@cache
+def _load() -> tuple[dict[str, Paper], tuple[Quantity, ...]]:
+    text = resources.files("chassistune").joinpath("data/paper_results.toml").read_text("utf-8")
+    raw = tomllib.loads(text)
+    papers = {k: Paper(k, v["citation"], v["setting"]) for k, v in raw["papers"].items()}
+    quantities = []
+    for q in raw["quantity"]:
+        if q["paper"] not in papers or len(q["labels"]) != len(q["values"]):
+            raise ValueError(f"paper_results.toml: malformed quantity {q.get('name')!r}")
+        quantities.append(Quantity(
+            paper=q["paper"], source=q["source"], name=q["name"], unit=q["unit"],
+            labels=tuple(q["labels"]), values=tuple(float(v) for v in q["values"]),
+            road=q.get("road"), note=q.get("note", ""),
+        ))
+    return papers, tuple(quantities)
+
+
+def paper(key: str) -> Paper:
+    """The paper `key`, or InputError listing the known keys."""
+    papers = _load()[0]
+    if key not in papers:
+        raise InputError("paper", f"unknown paper {key!r} (known: {', '.join(papers)})")
+    return papers[key]
+
+
+def quantities(key: str) -> tuple[Quantity, ...]:
+    """Every published quantity of paper `key`, in file order."""
+    paper(key)
+    return tuple(q for q in _load()[1] if q.paper == key)
+
+
+def lookup(key: str, name: str, road: str | None = None) -> Quantity:
+    """The one quantity `name` (on `road`) of paper `key`; KeyError if it is not published."""
+    found = [q for q in quantities(key) if q.name == name and q.road == road]
+    if len(found) != 1:
+        raise KeyError(f"{key}: no single published {name!r} on road {road!r}")
+    return found[0]
