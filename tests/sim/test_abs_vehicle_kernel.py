@@ -116,3 +116,21 @@ def test_cli_simulate_json_and_plot(cli, tmp_path):
     assert doc["params"]["steering"] == "driver" and doc["params"]["left_surface"] == "dry-concrete"
     assert doc["metrics"]["stopped"] and not doc["metrics"]["spun"]
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.slow
+def test_general_path_agrees_with_an_independent_scipy_integration():
+    """Split-mu (yaw, lateral slip, Newton loads): the kernel's RK4 at 1 ms against scipy's RK45
+    at rtol 1e-8 on the plain-Python right-hand side of perf/vehicle.py (loads by fixed-point
+    iteration, the tire written out separately)."""
+    from chassistune.perf.vehicle import reference_solution
+
+    sc = PLANT.scenario(None, "split-mu", "pid", {"t_max_s": 0.6})
+    g = sc.gains_array(None)
+    sol = reference_solution(sc, g, rtol=1e-8, atol=1e-9)
+    s = sc.trace(g).signals
+    assert sol.t[-1] == pytest.approx(s["time_s"][-1], abs=1e-12)
+    for row, name in ((0, "vx_m_s"), (1, "vy_m_s"), (2, "yaw_rate_rad_s"), (3, "x_m"),
+                      (4, "y_m"), (5, "heading_rad"), (26, "distance_m")):
+        assert s[name][-1] == pytest.approx(sol.y[row, -1], rel=1e-5), name
+    assert abs(s["yaw_rate_rad_s"][-1]) > 0.3  # a real yaw, not a trivial agreement

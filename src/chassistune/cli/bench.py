@@ -13,7 +13,7 @@ import click
 from chassistune.cli.common import echo_json, fmt
 from chassistune.cli.main import cli
 
-AREAS = ("abs", "optimizer", "tuning", "fuzzy", "suspension")
+AREAS = ("abs", "optimizer", "tuning", "fuzzy", "suspension", "vehicle")
 
 
 @cli.command("bench")
