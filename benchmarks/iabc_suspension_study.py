@@ -40,9 +40,9 @@ from numpy.typing import ArrayLike
 from scipy.optimize import minimize
 
 from chassistune import stats
-from chassistune.controllers.quarter_car_registry import PAPER_BOX
+from chassistune.controllers.catalogue import PAPER_BOX
 from chassistune.optimizers.registry import make
-from chassistune.plants.quarter_car import PLANT, QuarterCarScenario
+from chassistune.scenarios.quarter_car import PLANT, QuarterCarScenario
 from chassistune.sim import lyapunov
 from chassistune.sim import quarter_car_kernel as kernel
 from chassistune.tuning.problem import TuningProblem, build_problem

@@ -63,7 +63,7 @@ def validate(obj: T, where: str = "") -> T:
     return obj
 
 
-def override(obj: T, values: Mapping[str, object], where: str = "--param ") -> tuple[T, set[str]]:
+def override(obj: T, values: Mapping[str, object], where: str = "params.") -> tuple[T, set[str]]:
     """Return (copy of `obj` with the fields named in `values` replaced, names used).
 
     Names that are not fields of `obj` are left for the caller (who reports unknown ones).

@@ -7,8 +7,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from chassistune.params import to_float
-from chassistune.plants.base import Scenario, Trace
-from chassistune.plants.registry import get_plant
+from chassistune.scenarios.base import Scenario, Trace
+from chassistune.scenarios.registry import get_plant
 
 
 @dataclass
@@ -52,7 +52,7 @@ def simulate(
     values raise `chassistune.errors.InputError` (a ValueError).
     """
     scenario = get_plant(plant).scenario(preset, road, controller, params or {}, seed)
-    numeric = {k: to_float(v, f"--gains {k}") for k, v in (gains or {}).items()}
+    numeric = {k: to_float(v, f"gains.{k}") for k, v in (gains or {}).items()}
     g = scenario.gains_array(numeric)
     trace = scenario.trace(g)
     return SimulationResult(scenario, dict(zip(scenario.gain_names, g.tolist(), strict=True)),

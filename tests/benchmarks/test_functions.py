@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from chassistune import benchmarks
-from chassistune.benchmarks.functions import FUNCTIONS
+from chassistune.benchmarks.functions import REGISTRY
 from chassistune.errors import InputError
 
 DETERMINISTIC = [n for n in benchmarks.names() if n != "F7"]
@@ -95,7 +95,7 @@ def test_bad_names_and_dimensions_raise_value_errors() -> None:
         benchmarks.get("F16")(np.zeros((3, 5)))
     with pytest.raises(ValueError, match="dim >= 2"):
         benchmarks.get("F5").bounds(1)
-    assert benchmarks.get("f1") is FUNCTIONS["F1"]
+    assert benchmarks.get("f1") is REGISTRY.get("F1")
 
 
 OPFUNU = {

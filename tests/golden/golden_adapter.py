@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from chassistune.plants.registry import get_plant
+from chassistune.scenarios.registry import get_plant
 
 
 def abs_scenario(preset: str, road: str, controller: str) -> Any:

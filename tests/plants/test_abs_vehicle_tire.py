@@ -28,7 +28,7 @@ from chassistune.plants.abs_vehicle import (
     surface_row,
     tire_force,
 )
-from chassistune.plants.abs_wheel import BILINEAR_ROADS
+from chassistune.plants.roads import BILINEAR_ROADS
 from chassistune.plants.tires import BilinearTire, tire_mu
 
 SURFACES = {name: surface_row(s, h, g, 60_000.0)[None, :]

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from chassistune.plants.abs_wheel import PLANT
-from chassistune.plants.base import PENALTY
+from chassistune.scenarios.abs_wheel import PLANT
+from chassistune.scenarios.base import PENALTY
 
 CLASSIC = {"ke": 15.0, "kec": 0.3, "ku_p": 500.0, "ku_i": 0.0, "ku_d": 20.0, "kp0": 5000.0,
            "ki0": 0.0, "kd0": 230.0}

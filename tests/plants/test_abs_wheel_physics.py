@@ -5,11 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from chassistune.plants.abs_wheel import BILINEAR_ROADS, PLANT, road_names
-from chassistune.plants.base import PENALTY
+from chassistune.plants.roads import BILINEAR_ROADS, friction_roads
+from chassistune.scenarios.abs_wheel import PLANT
+from chassistune.scenarios.base import PENALTY
 
 PRESET_ROADS = [(p, r) for p, info in PLANT.presets().items() for r in info.roads]
-ALL_ROADS = [("paper-derlsp-ao", r) for r in road_names() if r != "sldemo-table"] + [
+ALL_ROADS = [("paper-derlsp-ao", r) for r in friction_roads() if r != "sldemo-table"] + [
     ("sldemo", "sldemo-table")]
 CONTROLLERS = ["none", "pid", "bang-bang", "threshold"]
 GOOD_PID = {"kp": 5000.0, "ki": 0.0, "kd": 230.0}

@@ -9,11 +9,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from chassistune.controllers.registry import for_plant
+from chassistune.controllers.catalogue import for_plant
 from chassistune.errors import InputError
-from chassistune.plants.base import PENALTY
-from chassistune.plants.quarter_car import PLANT, QuarterCarTrace
-from chassistune.plants.registry import get_plant
+from chassistune.plots.registry import plot_trace
+from chassistune.scenarios.base import PENALTY
+from chassistune.scenarios.quarter_car import PLANT, QuarterCarTrace
+from chassistune.scenarios.registry import get_plant
 
 METRICS = {
     "body_acc_rms", "susp_travel_rms", "tire_defl_rms", "objective", "passive_body_acc_rms",
@@ -163,27 +164,27 @@ def test_long_traces_are_decimated() -> None:
 
 
 @pytest.mark.parametrize(("kwargs", "field", "problem"), [
-    ({"params": {"sprung_mass_kg": "-320"}}, "--param sprung_mass_kg", "must be positive"),
-    ({"params": {"unsprung_mass_kg": 0}}, "--param unsprung_mass_kg", "must be positive"),
-    ({"params": {"spring_n_m": -1}}, "--param spring_n_m", "must be positive"),
-    ({"params": {"tire_stiffness_n_m": "-2e5"}}, "--param tire_stiffness_n_m", "must be positive"),
-    ({"params": {"damper_n_s_m": "abc"}}, "--param damper_n_s_m", "not a number"),
-    ({"params": {"speed_m_s": 0}}, "--param speed_m_s", "must be positive"),
-    ({"params": {"duration_s": 0}}, "--param duration_s", "must be positive"),
-    ({"params": {"duration_s": -5}}, "--param duration_s", "must be positive"),
-    ({"params": {"dt_s": 0.1}}, "--param dt_s", "at most 0.01"),
-    ({"params": {"duration_s": 1e5, "dt_s": 1e-4}}, "--param duration_s", "too many steps"),
-    ({"params": {"mass_kg": 3}}, "--param mass_kg", "unknown parameter"),
-    ({"params": {"feedback": "wheel_speed"}, "controller": "pid"}, "--param feedback",
+    ({"params": {"sprung_mass_kg": "-320"}}, "params.sprung_mass_kg", "must be positive"),
+    ({"params": {"unsprung_mass_kg": 0}}, "params.unsprung_mass_kg", "must be positive"),
+    ({"params": {"spring_n_m": -1}}, "params.spring_n_m", "must be positive"),
+    ({"params": {"tire_stiffness_n_m": "-2e5"}}, "params.tire_stiffness_n_m", "must be positive"),
+    ({"params": {"damper_n_s_m": "abc"}}, "params.damper_n_s_m", "not a number"),
+    ({"params": {"speed_m_s": 0}}, "params.speed_m_s", "must be positive"),
+    ({"params": {"duration_s": 0}}, "params.duration_s", "must be positive"),
+    ({"params": {"duration_s": -5}}, "params.duration_s", "must be positive"),
+    ({"params": {"dt_s": 0.1}}, "params.dt_s", "at most 0.01"),
+    ({"params": {"duration_s": 1e5, "dt_s": 1e-4}}, "params.duration_s", "too many steps"),
+    ({"params": {"mass_kg": 3}}, "params.mass_kg", "unknown parameter"),
+    ({"params": {"feedback": "wheel_speed"}, "controller": "pid"}, "params.feedback",
      "unknown feedback"),
-    ({"params": {"feedback": "body_velocity"}, "controller": "passive"}, "--param feedback",
+    ({"params": {"feedback": "body_velocity"}, "controller": "passive"}, "params.feedback",
      "unknown parameter"),
-    ({"params": {"n_filter": 0}, "controller": "pid"}, "--param n_filter", "must be positive"),
+    ({"params": {"n_filter": 0}, "controller": "pid"}, "params.n_filter", "must be positive"),
     ({"road": "iso-z"}, "road", "unknown road"),
     ({"road": "dry-concrete"}, "road", "unknown road"),
     ({"preset": "sports"}, "preset", "unknown preset"),
     ({"controller": "lqr"}, "controller", "unknown controller"),
-    ({"seed": -1}, "--seed", "non-negative"),
+    ({"seed": -1}, "seed", "non-negative"),
 ])
 def test_bad_input_is_a_one_line_input_error(kwargs: dict, field: str, problem: str) -> None:
     with pytest.raises(InputError) as err:
@@ -208,5 +209,5 @@ def test_bad_objective_and_gain_shape() -> None:
 def test_plot_writes_a_png(tmp_path: Path, controller: str, gains: list[float]) -> None:
     sc = PLANT.scenario("paper-iabc", controller=controller, params={"duration_s": 8})
     path = tmp_path / "qc.png"
-    PLANT.plot(sc, sc.trace(np.array(gains)), str(path))
+    plot_trace(sc, sc.trace(np.array(gains)), str(path))
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

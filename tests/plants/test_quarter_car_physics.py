@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from chassistune.plants.quarter_car import PLANT
+from chassistune.scenarios.quarter_car import PLANT
 from chassistune.sim import lyapunov as L
 from chassistune.sim import quarter_car_kernel as K
 

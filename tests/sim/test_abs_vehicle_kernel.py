@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from chassistune.errors import InputError
-from chassistune.plants.base import PENALTY
 from chassistune.scenarios.abs_vehicle import PLANT
+from chassistune.scenarios.base import PENALTY
 from chassistune.sim import abs_vehicle_kernel as K
 
 
@@ -60,7 +60,7 @@ def test_costs_are_finite_and_bad_runs_get_the_penalty():
 
 
 def test_layouts_declare_every_kernel_slot_once():
-    assert K.N_METRICS == len(K.METRIC_LAYOUT) and K.N_TRACE == len(K.TRACE_LAYOUT)
+    assert len(K.METRIC_LAYOUT) == K.N_METRICS and len(K.TRACE_LAYOUT) == K.N_TRACE
     assert K.S_XF + 4 == K.N_STATE
     sc = PLANT.scenario(None, "dry-concrete", "pid")
     tr = sc.trace(sc.gains_array(None))
@@ -69,13 +69,13 @@ def test_layouts_declare_every_kernel_slot_once():
 
 
 @pytest.mark.parametrize("params,field", [
-    ({"dt_s": "0.002"}, "--param dt_s"),
-    ({"v_stop_m_s": "0.5"}, "--param dt_s"),
-    ({"steering": "wheel"}, "--param steering"),
-    ({"rear": "select-high"}, "--param rear"),
-    ({"first_surface": "mud"}, "--param first_surface"),
-    ({"mass_kg": "-1"}, "--param mass_kg"),
-    ({"bogus": "1"}, "--param bogus"),
+    ({"dt_s": "0.002"}, "params.dt_s"),
+    ({"v_stop_m_s": "0.5"}, "params.dt_s"),
+    ({"steering": "wheel"}, "params.steering"),
+    ({"rear": "select-high"}, "params.rear"),
+    ({"first_surface": "mud"}, "params.first_surface"),
+    ({"mass_kg": "-1"}, "params.mass_kg"),
+    ({"bogus": "1"}, "params.bogus"),
 ])
 def test_bad_parameters_are_refused_naming_the_field(params, field):
     road = "mu-jump" if "first_surface" in params else "dry-concrete"

@@ -25,3 +25,15 @@ def test_refuses_duplicates_and_incomplete_packs() -> None:
         lay.pack({})
     with pytest.raises(ValueError, match="unknown"):
         lay.pack({"a": 1.0, "z": 2.0})
+
+
+def test_quarter_car_layouts_name_the_kernel_slots() -> None:
+    from chassistune.plants import quarter_car as model
+    from chassistune.sim import lyapunov
+    from chassistune.sim import quarter_car_kernel as kernel
+
+    assert kernel.PLANT["sprung_mass_kg"] == model.P_MS and len(kernel.PLANT) == model.N_PLANT
+    assert kernel.OUTPUTS["force"] == model.OUT_FORCE and len(kernel.OUTPUTS) == model.N_OUT
+    assert kernel.RESULT["diverged"] == kernel.R_DIVERGED == kernel.N_RESULT - 1
+    assert lyapunov.EXACT["stable"] == lyapunov.E_STABLE == lyapunov.N_EXACT - 1
+    assert kernel.RESULT.units["force_rms"] == "N" and kernel.OUTPUTS.units["body_acc"] == "m/s^2"

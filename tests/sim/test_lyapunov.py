@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from scipy.linalg import solve_continuous_lyapunov
 
-from chassistune.plants.quarter_car import PLANT
+from chassistune.plants import quarter_car as M
+from chassistune.scenarios.quarter_car import PLANT
 from chassistune.sim import lyapunov as L
-from chassistune.sim import quarter_car_model as M
 
 FEEDBACKS = list(M.FEEDBACK_CODES.values())
 SI_BOX = np.array([1e4, 1e5, 1e3])

@@ -7,10 +7,10 @@ import pytest
 from scipy.linalg import expm
 
 from chassistune.plants import iso_roads
-from chassistune.plants.quarter_car import PLANT, QuarterCarScenario
+from chassistune.plants import quarter_car as M
+from chassistune.scenarios.quarter_car import PLANT, QuarterCarScenario
 from chassistune.sim import lti
 from chassistune.sim import quarter_car_kernel as K
-from chassistune.sim import quarter_car_model as M
 
 
 def test_expm_matches_scipy() -> None:

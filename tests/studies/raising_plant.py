@@ -7,13 +7,14 @@ their initializer (this module is importable there: spawned workers inherit sys.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Mapping
 
 import numpy as np
 
-from chassistune.plants import registry
-from chassistune.plants.quarter_car import QuarterCarPlant, QuarterCarScenario
+from chassistune.scenarios import registry
+from chassistune.scenarios.quarter_car import QuarterCarPlant, QuarterCarScenario
 
 NAME = "raising-quarter-car"
 MESSAGE = "test objective raised on purpose"
@@ -32,7 +33,7 @@ class RaisingScenario(QuarterCarScenario):
 
 
 class RaisingPlant(QuarterCarPlant):
-    name = NAME
+    spec = dataclasses.replace(registry.QUARTER_CAR, name=NAME)
 
     def scenario(self, preset: str | None = None, road: str | None = None,
                  controller: str = "none", params: Mapping[str, object] | None = None,
@@ -47,4 +48,5 @@ PLANT = RaisingPlant()
 
 def register() -> None:
     """Make `raising-quarter-car` a known plant in this process."""
-    registry._MODULES[NAME] = __name__
+    if NAME not in registry.plant_names():
+        registry.register(PLANT.spec, PLANT)

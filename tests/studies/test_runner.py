@@ -10,8 +10,8 @@ import raising_plant
 from studies_helpers import RAISING, tiny_config, write_plan
 
 from chassistune.errors import InputError
-from chassistune.plants import registry
 from chassistune.reports.tables import runs_table
+from chassistune.scenarios import registry
 from chassistune.studies.executors import ProcessExecutor, SerialExecutor
 from chassistune.studies.runner import run_study
 from chassistune.studies.store import Store, open_study
@@ -20,8 +20,10 @@ VARYING = ["wall_time_s", "versions"]
 
 
 @pytest.fixture
-def raising(monkeypatch):
-    monkeypatch.setitem(registry._MODULES, raising_plant.NAME, raising_plant.__name__)
+def raising():
+    raising_plant.register()
+    yield
+    registry.unregister(raising_plant.NAME)
 
 
 def _table(folder):

@@ -51,7 +51,7 @@ def test_bad_tuning_input_raises_clear_errors():
         build_problem("abs-wheel", "pid", objective="comfort")
     with pytest.raises(InputError, match="no gains"):
         build_problem("abs-wheel", "none")
-    with pytest.raises(InputError, match="bounds kp"):
+    with pytest.raises(InputError, match=r"bounds\.kp"):
         build_problem("abs-wheel", "pid", bounds={"kp": (5.0, 1.0)})
 
 

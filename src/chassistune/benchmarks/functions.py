@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from chassistune._registry import Registry
 from chassistune.errors import InputError
 
 FloatArray = NDArray[np.float64]
@@ -313,141 +314,137 @@ def _fn(
     )
 
 
-FUNCTIONS: dict[str, BenchmarkFunction] = {
-    f.name: f
-    for f in [
-        _fn("F1", "sphere", _sphere, -100.0, 100.0),
-        _fn("F2", "Schwefel 2.22", _schwefel_222, -10.0, 10.0),
-        _fn("F3", "Schwefel 1.2", _schwefel_12, -100.0, 100.0),
-        _fn("F4", "Schwefel 2.21", _schwefel_221, -100.0, 100.0),
-        _fn("F5", "Rosenbrock", _rosenbrock, -30.0, 30.0, x_min=1.0, min_dim=2),
-        _fn("F6", "step, floor(x + 0.5)^2 (Yao)", _step, -100.0, 100.0),
-        _fn(
-            "F7",
-            "quartic with uniform noise (needs a Generator)",
-            _quartic,
-            -1.28,
-            1.28,
-            noisy=True,
-        ),
-        _fn(
-            "F8", "Schwefel 2.26", _schwefel_226, -500.0, 500.0, x_min=SCHWEFEL_X, f_min=SCHWEFEL_F
-        ),
-        _fn("F9", "Rastrigin", _rastrigin, -5.12, 5.12),
-        _fn("F10", "Ackley", _ackley, -32.0, 32.0),
-        _fn("F11", "Griewank", _griewank, -600.0, 600.0),
-        _fn("F12", "penalized 1", _penalized_1, -50.0, 50.0, x_min=-1.0),
-        _fn("F13", "penalized 2", _penalized_2, -50.0, 50.0, x_min=1.0),
-        BenchmarkFunction(
-            "F14",
-            "Shekel's foxholes",
-            _foxholes,
-            2,
-            (-65.536,),
-            (65.536,),
-            (-31.9783299932, -31.97833),
-            0.9980038377944505,
-        ),
-        BenchmarkFunction(
-            "F15",
-            "Kowalik",
-            _kowalik,
-            4,
-            (-5.0,),
-            (5.0,),
-            (0.19283345, 0.19083624, 0.1231173, 0.13576599),
-            3.0748598780560557e-4,
-        ),
-        BenchmarkFunction(
-            "F16",
-            "six-hump camel back",
-            _six_hump_camel,
-            2,
-            (-5.0,),
-            (5.0,),
-            (0.089842006, -0.712656409),
-            -1.031628453489877,
-        ),
-        BenchmarkFunction(
-            "F17",
-            "Branin",
-            _branin,
-            2,
-            (-5.0, 0.0),
-            (10.0, 15.0),
-            (np.pi, 2.275),
-            0.39788735772973816,
-        ),
-        BenchmarkFunction(
-            "F18", "Goldstein-Price", _goldstein_price, 2, (-2.0,), (2.0,), (0.0, -1.0), 3.0
-        ),
-        BenchmarkFunction(
-            "F19",
-            "Hartman 3",
-            _hartman(_HART3_A, _HART3_P),
-            3,
-            (0.0,),
-            (1.0,),
-            (0.1146143636, 0.555648844, 0.8525469459),
-            -3.8627821478207482,
-        ),
-        BenchmarkFunction(
-            "F20",
-            "Hartman 6 (p32 = 0.1451)",
-            _hartman(_HART6_A, _HART6_P),
-            6,
-            (0.0,),
-            (1.0,),
-            (0.2016895136, 0.1500106893, 0.4768739738, 0.2753324271, 0.3116516158, 0.6573005364),
-            -3.3223680114155143,
-        ),
-        BenchmarkFunction(
-            "F21",
-            "Shekel 5",
-            _shekel(5),
-            4,
-            (0.0,),
-            (10.0,),
-            (4.0000371463, 4.0001332689, 4.0000371463, 4.0001332689),
-            -10.153199679058208,
-        ),
-        BenchmarkFunction(
-            "F22",
-            "Shekel 7",
-            _shekel(7),
-            4,
-            (0.0,),
-            (10.0,),
-            (4.0005729079, 4.0006893581, 3.9994897013, 3.9996061508),
-            -10.402940566818637,
-        ),
-        BenchmarkFunction(
-            "F23",
-            "Shekel 10",
-            _shekel(10),
-            4,
-            (0.0,),
-            (10.0,),
-            (4.0007465244, 4.0005929267, 3.9996633911, 3.9995097936),
-            -10.536409816692023,
-        ),
-    ]
-}
+REGISTRY: Registry[BenchmarkFunction] = Registry("function", key=str.upper)
+for _f in [
+    _fn("F1", "sphere", _sphere, -100.0, 100.0),
+    _fn("F2", "Schwefel 2.22", _schwefel_222, -10.0, 10.0),
+    _fn("F3", "Schwefel 1.2", _schwefel_12, -100.0, 100.0),
+    _fn("F4", "Schwefel 2.21", _schwefel_221, -100.0, 100.0),
+    _fn("F5", "Rosenbrock", _rosenbrock, -30.0, 30.0, x_min=1.0, min_dim=2),
+    _fn("F6", "step, floor(x + 0.5)^2 (Yao)", _step, -100.0, 100.0),
+    _fn(
+        "F7",
+        "quartic with uniform noise (needs a Generator)",
+        _quartic,
+        -1.28,
+        1.28,
+        noisy=True,
+    ),
+    _fn(
+        "F8", "Schwefel 2.26", _schwefel_226, -500.0, 500.0, x_min=SCHWEFEL_X, f_min=SCHWEFEL_F
+    ),
+    _fn("F9", "Rastrigin", _rastrigin, -5.12, 5.12),
+    _fn("F10", "Ackley", _ackley, -32.0, 32.0),
+    _fn("F11", "Griewank", _griewank, -600.0, 600.0),
+    _fn("F12", "penalized 1", _penalized_1, -50.0, 50.0, x_min=-1.0),
+    _fn("F13", "penalized 2", _penalized_2, -50.0, 50.0, x_min=1.0),
+    BenchmarkFunction(
+        "F14",
+        "Shekel's foxholes",
+        _foxholes,
+        2,
+        (-65.536,),
+        (65.536,),
+        (-31.9783299932, -31.97833),
+        0.9980038377944505,
+    ),
+    BenchmarkFunction(
+        "F15",
+        "Kowalik",
+        _kowalik,
+        4,
+        (-5.0,),
+        (5.0,),
+        (0.19283345, 0.19083624, 0.1231173, 0.13576599),
+        3.0748598780560557e-4,
+    ),
+    BenchmarkFunction(
+        "F16",
+        "six-hump camel back",
+        _six_hump_camel,
+        2,
+        (-5.0,),
+        (5.0,),
+        (0.089842006, -0.712656409),
+        -1.031628453489877,
+    ),
+    BenchmarkFunction(
+        "F17",
+        "Branin",
+        _branin,
+        2,
+        (-5.0, 0.0),
+        (10.0, 15.0),
+        (np.pi, 2.275),
+        0.39788735772973816,
+    ),
+    BenchmarkFunction(
+        "F18", "Goldstein-Price", _goldstein_price, 2, (-2.0,), (2.0,), (0.0, -1.0), 3.0
+    ),
+    BenchmarkFunction(
+        "F19",
+        "Hartman 3",
+        _hartman(_HART3_A, _HART3_P),
+        3,
+        (0.0,),
+        (1.0,),
+        (0.1146143636, 0.555648844, 0.8525469459),
+        -3.8627821478207482,
+    ),
+    BenchmarkFunction(
+        "F20",
+        "Hartman 6 (p32 = 0.1451)",
+        _hartman(_HART6_A, _HART6_P),
+        6,
+        (0.0,),
+        (1.0,),
+        (0.2016895136, 0.1500106893, 0.4768739738, 0.2753324271, 0.3116516158, 0.6573005364),
+        -3.3223680114155143,
+    ),
+    BenchmarkFunction(
+        "F21",
+        "Shekel 5",
+        _shekel(5),
+        4,
+        (0.0,),
+        (10.0,),
+        (4.0000371463, 4.0001332689, 4.0000371463, 4.0001332689),
+        -10.153199679058208,
+    ),
+    BenchmarkFunction(
+        "F22",
+        "Shekel 7",
+        _shekel(7),
+        4,
+        (0.0,),
+        (10.0,),
+        (4.0005729079, 4.0006893581, 3.9994897013, 3.9996061508),
+        -10.402940566818637,
+    ),
+    BenchmarkFunction(
+        "F23",
+        "Shekel 10",
+        _shekel(10),
+        4,
+        (0.0,),
+        (10.0,),
+        (4.0007465244, 4.0005929267, 3.9996633911, 3.9995097936),
+        -10.536409816692023,
+    ),
+]:
+    REGISTRY.register(_f.name, _f)
 
 
 def names() -> list[str]:
     """F1 .. F23."""
-    return list(FUNCTIONS)
+    return REGISTRY.names()
 
 
 def get(name: str) -> BenchmarkFunction:
     """The function `name` (case-insensitive, e.g. "F14" or "f14"); InputError if unknown."""
-    key = str(name).upper()
-    if key not in FUNCTIONS:
-        raise InputError("function", f"unknown function {name!r} (known: F1..F23)")
-    return FUNCTIONS[key]
+    return REGISTRY.get(name)
 
 
 def catalogue() -> list[dict[str, object]]:
     """One dict per function: name, description, dim, bounds, f_min (and more)."""
-    return [f.as_dict() for f in FUNCTIONS.values()]
+    return [get(n).as_dict() for n in names()]

@@ -12,6 +12,25 @@ import numpy as np
 
 from chassistune.errors import InputError
 
+_FLAGS = {
+    "params": "--param", "gains": "--gains", "road": "--road", "roads": "--road",
+    "preset": "--preset", "controller": "--controller", "objective": "--objective",
+    "aggregate": "--aggregate", "seed": "--seed", "optimizer": "--optimizer", "pop_size": "--pop",
+    "max_iter": "--iters", "max_evals": "--evals", "dim": "--dim", "plant": "PLANT",
+    "function": "FUNCTION",
+}
+"""The command line's word for the head of a domain field path."""
+
+
+def cli_field(field: str) -> str:
+    """The command-line words for a domain field path (the one mapping): `params.v0_m_s` ->
+    `--param v0_m_s`, `gains.kp` -> `--gains kp`, `roads` -> `--road`; others unchanged."""
+    head, dot, rest = field.partition(".")
+    flag = _FLAGS.get(head)
+    if flag is None:
+        return field
+    return f"{flag} {rest}" if dot else flag
+
 
 def check_output_file(path: str | None, option: str, suffix: str | None = None) -> None:
     """Refuse an output path whose folder does not exist (before any work is done)."""

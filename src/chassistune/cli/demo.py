@@ -21,15 +21,15 @@ from chassistune.errors import InputError
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
 def demo_command(out_dir: str, as_json: bool) -> None:
     """No ABS against a PID ABS on seed 000's three roads: table and plots."""
-    from chassistune.controllers import abs_registry
-    from chassistune.plants.abs_wheel import PLANT
+    from chassistune.controllers import catalogue
     from chassistune.plots.abs_wheel import plot_comparison
+    from chassistune.scenarios.abs_wheel import PLANT
 
     parent = os.path.dirname(os.path.abspath(out_dir))
     if not os.path.isdir(parent):
         raise InputError("--out", f"folder {parent!r} does not exist")
     os.makedirs(out_dir, exist_ok=True)
-    pid = abs_registry.get("pid").default_gains()  # the hand-set PID of the registry
+    pid = catalogue.get("abs-wheel", "pid").default_gains()  # the hand-set PID of the registry
     rows = []
     for road in PLANT.presets()["paper-derlsp-ao"].roads:
         runs = []

@@ -7,19 +7,19 @@ import json
 import click
 
 from chassistune.cli.main import cli
-from chassistune.plants.registry import get_plant, plant_names
+from chassistune.scenarios.registry import get_plant, plant_names, plant_spec
 
 KINDS = ["plants", "presets", "roads", "controllers", "optimizers", "functions"]
 
 
 def catalogue(kind: str) -> object:
     """The JSON-ready listing of one kind (grouped by plant where it applies)."""
-    from chassistune.controllers.registry import for_plant
+    from chassistune.controllers.catalogue import for_plant
 
     if kind == "plants":
         return [
-            {"name": n, "description": get_plant(n).description,
-             "default_preset": get_plant(n).default_preset}
+            {"name": n, "description": plant_spec(n).description,
+             "default_preset": plant_spec(n).default_preset}
             for n in plant_names()
         ]
     if kind == "presets":
@@ -38,7 +38,6 @@ def catalogue(kind: str) -> object:
     if kind == "controllers":
         out = {}
         for n in plant_names():
-            get_plant(n)  # importing the plant registers its controllers
             out[n] = [c.as_dict() for c in for_plant(n)]
         return out
     if kind == "optimizers":

@@ -34,7 +34,10 @@ def main(argv: list[str] | None = None) -> None:
     try:
         cli.main(args=argv, prog_name="chassistune", standalone_mode=False)
     except InputError as exc:
-        click.echo(f"chassistune: error: {_one_line(str(exc))}", err=True)
+        from chassistune.cli.common import cli_field
+
+        click.echo(f"chassistune: error: {cli_field(exc.field)}: {_one_line(exc.problem)}",
+                   err=True)
         sys.exit(2)
     except click.UsageError as exc:
         param = getattr(exc, "param", None)

@@ -12,16 +12,6 @@ import click
 from chassistune.cli.main import cli
 from chassistune.errors import InputError
 
-_OPTION_NAMES = {
-    "pop_size": "--pop",
-    "max_iter": "--iters",
-    "max_evals": "--evals",
-    "dim": "--dim",
-    "seed": "--seed",
-    "optimizer": "--optimizer",
-    "function": "FUNCTION",
-}
-
 
 def _finite(v: float) -> float | None:
     return v if math.isfinite(v) else None
@@ -46,28 +36,25 @@ def run_optimize(
         raise InputError("--iters", "give --iters or --evals, not both")
     if iters is None and evals is None:
         iters = 100
-    try:
-        fn = get_function(function)
-        bounds = fn.bounds(dim)
-        # F7's noise has its own stream, derived from the seed
-        noise = (
-            np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0]) if fn.noisy else None
-        )
+    fn = get_function(function)
+    bounds = fn.bounds(dim)
+    # F7's noise has its own stream, derived from the seed
+    noise = (
+        np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0]) if fn.noisy else None
+    )
 
-        def objective(x: Any) -> Any:
-            return fn(x, noise)
+    def objective(x: Any) -> Any:
+        return fn(x, noise)
 
-        res = minimize(
-            objective,
-            bounds,
-            method=optimizer,
-            pop_size=pop,
-            max_iter=iters,
-            max_evals=evals,
-            seed=seed,
-        )
-    except InputError as exc:
-        raise InputError(_OPTION_NAMES.get(exc.field, exc.field), exc.problem) from None
+    res = minimize(
+        objective,
+        bounds,
+        method=optimizer,
+        pop_size=pop,
+        max_iter=iters,
+        max_evals=evals,
+        seed=seed,
+    )
     return {
         "function": fn.name,
         "dim": int(bounds.shape[0]),

@@ -12,7 +12,8 @@ import numpy as np
 from chassistune.cli.common import check_output_file, echo_json, fmt
 from chassistune.cli.main import cli
 from chassistune.params import parse_assignments
-from chassistune.plants.registry import get_plant, plant_names
+from chassistune.plots.registry import plot_trace
+from chassistune.scenarios.registry import get_plant, plant_names
 from chassistune.simulate import SimulationResult, simulate
 
 
@@ -81,7 +82,7 @@ def simulate_command(plant: str, preset: str | None, road: str | None, controlle
                       params=parse_assignments(params, "--param"),
                       gains=parse_assignments(gains, "--gains"), seed=seed)
     if plot_path:
-        get_plant(plant).plot(result.scenario, result.trace, plot_path)
+        plot_trace(result.scenario, result.trace, plot_path)
     if csv_path:
         write_csv(result, csv_path)
     if as_json:

@@ -31,8 +31,8 @@ def _write_atomic(path: str, text: str) -> None:
 
 def write_outputs(result: TuneResult, out_dir: str) -> list[str]:
     """best_gains.json, tune.json, history.csv, convergence.png and one response plot per road."""
-    from chassistune.plants.registry import get_plant
     from chassistune.plots.convergence import plot_convergence
+    from chassistune.plots.registry import plot_trace
 
     os.makedirs(out_dir, exist_ok=True)
     written = []
@@ -53,11 +53,10 @@ def write_outputs(result: TuneResult, out_dir: str) -> list[str]:
                      title=f"{first.plant} {first.controller.name} on "
                      f"{', '.join(result.problem.roads)}: {result.problem.objective}")
     written.append(path)
-    plant = get_plant(first.plant)
     gains = np.array([result.best_gains[n] for n in result.problem.gain_names])
     for sc in result.problem.scenarios:
         path = os.path.join(out_dir, f"response-{sc.road}.png")
-        plant.plot(sc, sc.trace(gains), path)
+        plot_trace(sc, sc.trace(gains), path)
         written.append(path)
     return written
 

@@ -15,10 +15,9 @@ from __future__ import annotations
 
 import dataclasses
 
-from chassistune.controllers.abs_registry import AMPLITUDE, SAMPLE_PERIOD
-from chassistune.controllers.abs_registry import get as wheel_spec
-from chassistune.controllers.registry import ControllerSpec, GainSpec, ParamSpec, for_plant, register
-from chassistune.controllers.registry import get as _get
+from chassistune.controllers.catalogue import ABS_WHEEL, AMPLITUDE, for_plant, register
+from chassistune.controllers.catalogue import get as _get
+from chassistune.controllers.specs import ControllerSpec, GainSpec, ParamSpec
 
 PLANT = "abs-vehicle"
 
@@ -55,6 +54,11 @@ def _rescaled(spec: ControllerSpec) -> tuple[GainSpec, ...]:
     return tuple(out)
 
 
+def wheel_spec(name: str) -> ControllerSpec:
+    """The single wheel's controller `name`, which the vehicle's law repeats per wheel."""
+    return _get(ABS_WHEEL, name)
+
+
 def _register() -> None:
     none = wheel_spec("none")
     register(ControllerSpec(PLANT, "none", none.description + " (all four wheels)",
@@ -67,7 +71,7 @@ def _register() -> None:
                             gains=_rescaled(fuzzy), params=fuzzy.params + VEHICLE_PARAMS))
     threshold = wheel_spec("threshold")
     register(ControllerSpec(PLANT, "threshold", threshold.description + "; one law per wheel",
-                            params=threshold.params + (REAR,)))
+                            params=(*threshold.params, REAR)))
 
 
 _register()

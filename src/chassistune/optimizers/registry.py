@@ -3,45 +3,45 @@
 from __future__ import annotations
 
 import dataclasses
-import importlib
 from typing import Any
 
 from numpy.typing import ArrayLike
 
+from chassistune._registry import Registry
 from chassistune.errors import InputError
 from chassistune.optimizers.base import Optimizer, Repair, SeedLike
 
-_CLASSES: dict[str, tuple[str, str]] = {
-    "ao": ("aquila", "AO"),
-    "derlsp-ao": ("aquila", "DERLSPAO"),
-    "deffao": ("aquila", "DEFFAO"),
-    "abc": ("bee_colony", "ABC"),
-    "iabc": ("bee_colony", "IABC"),
-    "ga": ("ga", "GA"),
-    "pso": ("pso", "PSO"),
-    "de": ("de", "DE"),
-    "gwo": ("gwo", "GWO"),
-    "mfo": ("mfo", "MFO"),
-    "poa": ("poa", "POA"),
-    "dbo": ("dbo", "DBO"),
-}
+OPTIMIZERS: Registry[type[Optimizer]] = Registry("optimizer", key=str.lower)
+for _name, _path in (
+    ("ao", "aquila:AO"),
+    ("derlsp-ao", "aquila:DERLSPAO"),
+    ("deffao", "aquila:DEFFAO"),
+    ("abc", "bee_colony:ABC"),
+    ("iabc", "bee_colony:IABC"),
+    ("ga", "ga:GA"),
+    ("pso", "pso:PSO"),
+    ("de", "de:DE"),
+    ("gwo", "gwo:GWO"),
+    ("mfo", "mfo:MFO"),
+    ("poa", "poa:POA"),
+    ("dbo", "dbo:DBO"),
+):
+    OPTIMIZERS.register(_name, f"chassistune.optimizers.{_path}")
+
+
+def register(name: str, cls: type[Optimizer] | str) -> None:
+    """Add an optimizer class (or a lazy "module:attr" path) under `name` (lower case)."""
+    OPTIMIZERS.register(name.lower(), cls)
 
 
 def names() -> list[str]:
     """The registered optimizer names."""
-    return list(_CLASSES)
+    return OPTIMIZERS.names()
 
 
 def get(name: str) -> type[Optimizer]:
-    """The optimizer class `name`, or InputError listing the known ones."""
-    key = str(name).lower()
-    if key not in _CLASSES:
-        raise InputError("optimizer", f"unknown optimizer {name!r} (known: {', '.join(_CLASSES)})")
-    module, cls = _CLASSES[key]
-    found: type[Optimizer] = getattr(
-        importlib.import_module(f"chassistune.optimizers.{module}"), cls
-    )
-    return found
+    """The optimizer class `name` (case-insensitive), or InputError listing the known ones."""
+    return OPTIMIZERS.get(name)
 
 
 def hyperparameters(name: str, **overrides: Any) -> Any:
@@ -86,7 +86,7 @@ def make(
 def catalogue() -> list[dict[str, Any]]:
     """One dict per optimizer: name, description, min_pop, hyperparameters (defaults)."""
     out = []
-    for n in _CLASSES:
+    for n in OPTIMIZERS.names():
         cls = get(n)
         out.append(
             {

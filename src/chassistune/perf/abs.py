@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from chassistune.perf.timing import best_time
-from chassistune.plants.abs_wheel import PLANT, AbsWheelScenario
+from chassistune.scenarios.abs_wheel import PLANT, AbsWheelScenario
 
 
 def bench_population() -> np.ndarray:
@@ -67,7 +67,7 @@ def figures(quick: bool = False) -> dict[str, float]:
     ours = sc.raw(gains, workers=1)
     errs = []
     for col in ("stop_distance_m", "slip_itae"):
-        from chassistune.plants.abs_wheel import METRIC_COLUMNS
+        from chassistune.scenarios.abs_wheel import METRIC_COLUMNS
 
         c = METRIC_COLUMNS[col]
         errs.append(np.max(np.abs(ours[:, c] - ref[:, c]) / np.abs(ref[:, c])))

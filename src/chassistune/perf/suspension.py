@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from chassistune.perf.timing import best_time
-from chassistune.plants.quarter_car import PLANT
+from chassistune.scenarios.quarter_car import PLANT
 
 
 def bench_population(n: int) -> np.ndarray:

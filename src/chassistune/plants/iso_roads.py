@@ -27,11 +27,6 @@ N0_CYCLES_PER_M = 0.1
 NOISE_INTENSITY = 0.5
 """W of the white noise w in eq. (2): one-sided PSD 1 (Simulink's noise power 1 would be 2x)."""
 
-ISO_CLASSES: dict[str, float] = {
-    f"iso-{letter}": 16e-6 * 4.0**i for i, letter in enumerate("abcdefgh")
-}
-"""Road name -> geometric mean Gd(n0) of the ISO 8608 class, m^3 (16e-6 ... 262144e-6)."""
-
 _POS = {"positive": True}
 
 
@@ -53,24 +48,6 @@ class RoadParams:
     def pole_rad_s(self) -> float:
         """2 pi f0 of eq. (2)."""
         return 2.0 * math.pi * self.cutoff_hz
-
-
-def road_names() -> dict[str, str]:
-    """Road name -> one-line description."""
-    return {
-        name: f"ISO 8608 class {name[-1].upper()} random road, Gd(n0) = {gq * 1e6:g}e-6 m^3"
-        for name, gq in ISO_CLASSES.items()
-    }
-
-
-def road_class(name: str) -> float:
-    """Gq of a road name, or InputError listing the known roads."""
-    try:
-        return ISO_CLASSES[name]
-    except KeyError:
-        raise InputError(
-            "road", f"unknown road {name!r} for quarter-car (known: {', '.join(ISO_CLASSES)})"
-        ) from None
 
 
 def iso_psd(n: np.ndarray, gq_m3: float, n0: float = N0_CYCLES_PER_M) -> np.ndarray:
@@ -109,5 +86,5 @@ def road_profile(road: RoadParams, noise: np.ndarray, dt_s: float) -> np.ndarray
 def validate_road(road: RoadParams) -> None:
     """Checks beyond the field metadata: a class coefficient Gq of at most 1 m^3."""
     if road.gq_m3 > 1.0:
-        raise InputError("--param gq_m3", f"must be at most 1 m^3 (ISO class H is 2.6e-4), "
+        raise InputError("params.gq_m3", f"must be at most 1 m^3 (ISO class H is 2.6e-4), "
                          f"got {road.gq_m3:g}")

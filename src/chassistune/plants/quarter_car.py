@@ -1,52 +1,46 @@
-"""Quarter-car active suspension `quarter-car` (DESIGN 3.4; seed 001).
+"""Quarter-car active suspension (DESIGN 3.4; Jing and Xu 2023, `iabc-suspension`): parameters,
+presets and the closed-loop state-space model with a linear controller.
 
-Parameters, presets, roads and the scenario that evaluates populations of controller gains with
-the exact Lyapunov objective (`chassistune.sim.lyapunov`) or the compiled simulation
-(`chassistune.sim.quarter_car_kernel`) on an ISO 8608 road (`chassistune.plants.iso_roads`).
+Plant (`iabc-suspension` eqs. 1-3 in the corrected form of DESIGN 3.4)::
+
+    ms zs'' = -ks (zs - zu) - cs (zs' - zu') + u
+    mu zu'' =  ks (zs - zu) + cs (zs' - zu') - kt (zu - z0) - u
+    z0'     = -2 pi f0 z0 + b w,    b = 2 pi n0 sqrt(Gq v),  w white with intensity W = 1/2
+
+Controller: PID on e = 0 - y with a filtered derivative,
+``u = kp e + ki int(e) + kd N (e - xf)``, ``xf' = N (e - xf)`` (so ``kd N s/(s + N)`` acts on e),
+y selected by `feedback`. Passive is the PID with zero gains, skyhook is kp = c_sky on velocity.
+
+Two realizations come out of one builder (`closed_loop`):
+
+- *minimal* (the Lyapunov objective): the integral of body velocity is -zs and that of body
+  acceleration is -vs, so no integrator state is added for them (it would put an eigenvalue at
+  exactly 0 and make the Lyapunov equation singular); the integrator of displacement or travel is
+  kept only when ki != 0 and the derivative filter only when kd != 0.
+- *explicit* (the simulation): an integrator state and a filter state always, as a block diagram
+  would have them; 7 states for every candidate.
+
+Body acceleration feedback is an algebraic loop (y depends on u); it is solved exactly.
+States: zs, vs, zu, vu, z0, [I = int(e)], [xf]. Outputs: the rows of OUT_* below.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
-from collections.abc import Mapping
 from dataclasses import dataclass, field
-from functools import cached_property
-from typing import Any
 
 import numpy as np
+from numba import njit
 
-from chassistune.controllers import quarter_car_registry as registry
-from chassistune.controllers.registry import ControllerSpec
-from chassistune.errors import InputError
-from chassistune.params import as_dict, override, validate
-from chassistune.plants import iso_roads
-from chassistune.plants.base import (
-    PENALTY,
-    Plant,
-    PresetInfo,
-    Scenario,
-    Trace,
-    json_scalar,
-    pick_preset,
-)
-from chassistune.sim import lyapunov
-from chassistune.sim import quarter_car_kernel as kernel
-from chassistune.sim import quarter_car_model as model
-from chassistune.sim.batch import run_chunked
+from chassistune.plants.presets import PresetInfo
 
 G_M_S2 = 9.80665
-MAX_STEPS = 20_000_000
-"""duration_s / dt_s above this is refused (the noise array alone would pass 160 MB)."""
-MAX_TRACE_SAMPLES = 1_000_001
-"""Longer traces are recorded every stride-th step."""
-
 _POS = {"positive": True}
 
 
 @dataclass(frozen=True)
 class QuarterCarParams:
-    """Vehicle: 2-DOF quarter car of seed 001 Table 1 (SI)."""
+    """Vehicle: 2-DOF quarter car of `iabc-suspension` Table 1 (SI)."""
 
     sprung_mass_kg: float = field(default=320.0, metadata=_POS)
     unsprung_mass_kg: float = field(default=45.0, metadata=_POS)
@@ -66,42 +60,25 @@ class QuarterCarParams:
 
 
 @dataclass(frozen=True)
-class SolverParams:
-    """Simulated time and step of the exact discretization (noise held over the step)."""
+class Preset:
+    """A named vehicle parameter set."""
 
-    duration_s: float = field(default=10.0, metadata=_POS)
-    dt_s: float = field(default=1e-3, metadata=_POS)
-
-    @property
-    def n_steps(self) -> int:
-        return round(self.duration_s / self.dt_s)
-
-
-@dataclass(frozen=True)
-class ControllerParams:
-    """Fixed parameters of the linear controllers (only `pid` exposes them)."""
-
-    feedback: str = "body_velocity"
-    n_filter: float = field(default=100.0, metadata=_POS)
-
-
-@dataclass(frozen=True)
-class _Preset:
     info: PresetInfo
     vehicle: QuarterCarParams
 
 
-PRESETS: dict[str, _Preset] = {
-    "paper-iabc": _Preset(
+PRESETS: dict[str, Preset] = {
+    "paper-iabc": Preset(
         PresetInfo(
             "paper-iabc",
-            "seed 001 Table 1 as printed: ms = 320 kg, mu = 45 kg, ks = 17 kN/m, kt = 200 kN/m, "
-            "cs = 12000 N s/m (damping ratio 2.57, about ten times a car's), 20 m/s",
+            "Jing and Xu 2023 (iabc-suspension) Table 1 as printed: ms = 320 kg, mu = 45 kg, "
+            "ks = 17 kN/m, kt = 200 kN/m, cs = 12000 N s/m (damping ratio 2.57, about ten times "
+            "a car's), 20 m/s",
             ("iso-b", "iso-c"),
         ),
         QuarterCarParams(),
     ),
-    "typical": _Preset(
+    "typical": Preset(
         PresetInfo(
             "typical",
             "paper-iabc with a car's damper cs = 1200 N s/m (damping ratio 0.26)",
@@ -111,290 +88,203 @@ PRESETS: dict[str, _Preset] = {
     ),
 }
 
-OBJECTIVES = ("rms-ratio-exact", "rms-ratio")
+PLANT_SLOTS: tuple[tuple[str, str, str], ...] = (
+    ("sprung_mass_kg", "kg", "ms"),
+    ("unsprung_mass_kg", "kg", "mu"),
+    ("spring_n_m", "N/m", "ks"),
+    ("damper_n_s_m", "N s/m", "cs"),
+    ("tire_stiffness_n_m", "N/m", "kt"),
+    ("road_pole_rad_s", "rad/s", "2 pi f0 of the road filter"),
+    ("road_gain", "m/s^0.5", "b of the road filter"),
+)
+"""The plant vector read by `closed_loop`: (name, unit, meaning), in order (the kernels' Layout)."""
+_P = {name: i for i, (name, _, _) in enumerate(PLANT_SLOTS)}
+P_MS, P_MU, P_KS, P_CS = (_P[n] for n in ("sprung_mass_kg", "unsprung_mass_kg", "spring_n_m",
+                                           "damper_n_s_m"))
+P_KT, P_LAM, P_B = (_P[n] for n in ("tire_stiffness_n_m", "road_pole_rad_s", "road_gain"))
+N_PLANT = len(PLANT_SLOTS)
+
+# feedback signal codes
+FB_DISPLACEMENT, FB_VELOCITY, FB_ACCELERATION, FB_TRAVEL = range(4)
+FEEDBACK_CODES = {
+    "body_displacement": FB_DISPLACEMENT,
+    "body_velocity": FB_VELOCITY,
+    "body_acceleration": FB_ACCELERATION,
+    "suspension_travel": FB_TRAVEL,
+}
+
+# state indices (the controller states follow the plant's when present)
+S_ZS, S_VS, S_ZU, S_VU, S_Z0 = range(5)
+N_PLANT_STATES = 5
+MAX_STATES = 7
+
+OUTPUT_SLOTS: tuple[tuple[str, str, str], ...] = (
+    ("body_acc", "m/s^2", "body vertical acceleration zs''"),
+    ("susp_travel", "m", "suspension travel zs - zu"),
+    ("tire_defl", "m", "tire deflection zu - z0"),
+    ("force", "N", "actuator force u"),
+    ("road", "m", "road displacement z0"),
+    ("body_disp", "m", "body displacement zs"),
+)
+"""The rows of C (outputs y = C x): (name, unit, meaning), in order (the kernels' Layout)."""
+OUTPUT_NAMES = tuple(name for name, _, _ in OUTPUT_SLOTS)
+OUT_ACC, OUT_TRAVEL, OUT_TIRE, OUT_FORCE, OUT_ROAD, OUT_ZS = (
+    OUTPUT_NAMES.index(n)
+    for n in ("body_acc", "susp_travel", "tire_defl", "force", "road", "body_disp")
+)
+N_OUT = len(OUTPUT_SLOTS)
+
+# closed_loop() status
+SINGULAR_LOOP = -1
 
 
-@dataclass
-class QuarterCarTrace(Trace):
-    """A Trace that remembers the gains it was run with (for the frequency-response panel)."""
+@njit(cache=True, nogil=True)
+def closed_loop(
+    plant: np.ndarray,
+    feedback: int,
+    kp: float,
+    ki: float,
+    kd: float,
+    n_filter: float,
+    explicit: bool,
+    a: np.ndarray,
+    b: np.ndarray,
+    c: np.ndarray,
+) -> int:
+    """Fill a[:m, :m], b[:m], c[:, :m] with the closed loop; return m (SINGULAR_LOOP if none).
 
-    gains: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    `a` is (MAX_STATES, MAX_STATES), `b` (MAX_STATES,), `c` (N_OUT, MAX_STATES); entries beyond
+    m are zeroed. With acceleration feedback the loop u = K x needs 1 + (kp + kd N)/ms > 0.
+    """
+    ms = plant[P_MS]
+    mu = plant[P_MU]
+    ks = plant[P_KS]
+    cs = plant[P_CS]
+    kt = plant[P_KT]
+    integral_state = explicit or (feedback in (FB_DISPLACEMENT, FB_TRAVEL) and ki != 0.0)
+    filter_state = explicit or kd != 0.0
+    m = N_PLANT_STATES
+    i_int = -1
+    i_flt = -1
+    if integral_state:
+        i_int = m
+        m += 1
+    if filter_state:
+        i_flt = m
+        m += 1
+    a[:, :] = 0.0
+    b[:] = 0.0
+    c[:, :] = 0.0
 
+    # suspension force on the body, Fs = -ks (zs - zu) - cs (vs - vu), as a row over the states
+    fs = np.zeros(m)
+    fs[S_ZS] = -ks
+    fs[S_ZU] = ks
+    fs[S_VS] = -cs
+    fs[S_VU] = cs
 
-class QuarterCarScenario(Scenario):
-    """A resolved quarter-car scenario: evaluates populations of gain rows in compiled kernels."""
+    # measured signal y = cy x + dy u
+    cy = np.zeros(m)
+    dy = 0.0
+    if feedback == FB_DISPLACEMENT:
+        cy[S_ZS] = 1.0
+    elif feedback == FB_VELOCITY:
+        cy[S_VS] = 1.0
+    elif feedback == FB_ACCELERATION:
+        cy[:] = fs / ms
+        dy = 1.0 / ms
+    else:
+        cy[S_ZS] = 1.0
+        cy[S_ZU] = -1.0
 
-    objectives = OBJECTIVES
-    default_objective = "rms-ratio-exact"
+    # int(e) as a row over the states: its own state, or -zs / -vs in the minimal realization
+    r_int = np.zeros(m)
+    if integral_state:
+        r_int[i_int] = 1.0
+    elif feedback == FB_VELOCITY:
+        r_int[S_ZS] = -1.0
+    elif feedback == FB_ACCELERATION:
+        r_int[S_VS] = -1.0
 
-    def __init__(
-        self,
-        preset: str,
-        road: str,
-        controller: ControllerSpec,
-        vehicle: QuarterCarParams,
-        road_params: iso_roads.RoadParams,
-        solver: SolverParams,
-        controller_params: ControllerParams,
-        seed: int,
-    ) -> None:
-        self.plant = "quarter-car"
-        self.preset = preset
-        self.road = road
-        self.controller = controller
-        self.vehicle = vehicle
-        self.road_params = road_params
-        self.solver = solver
-        self.controller_params = controller_params
-        self.seed = seed
-        v = vehicle
-        p = np.zeros(model.N_PLANT)
-        p[model.P_MS] = v.sprung_mass_kg
-        p[model.P_MU] = v.unsprung_mass_kg
-        p[model.P_KS] = v.spring_n_m
-        p[model.P_CS] = v.damper_n_s_m
-        p[model.P_KT] = v.tire_stiffness_n_m
-        p[model.P_LAM] = road_params.pole_rad_s
-        p[model.P_B] = road_params.gain
-        self.plant_vector = p
-        self.feedback_code = model.FEEDBACK_CODES[controller_params.feedback]
+    # u = -(kp + kd N) (cy x + dy u) + ki int(e) - kd N xf  =>  u = K x
+    g = kp + kd * n_filter if filter_state else kp
+    den = 1.0 + g * dy
+    if not den > 0.0:
+        return SINGULAR_LOOP
+    k = (-g * cy + ki * r_int) / den
+    if filter_state:
+        k[i_flt] -= kd * n_filter / den
+    e_row = -(cy + dy * k)
 
-    # -- parameters -------------------------------------------------------------------------
+    a[S_ZS, S_VS] = 1.0
+    a[S_VS, :m] = (fs + k) / ms
+    a[S_ZU, S_VU] = 1.0
+    a[S_VU, :m] = (-fs - k) / mu
+    a[S_VU, S_ZU] -= kt / mu
+    a[S_VU, S_Z0] += kt / mu
+    a[S_Z0, S_Z0] = -plant[P_LAM]
+    if integral_state:
+        a[i_int, :m] = e_row
+    if filter_state:
+        a[i_flt, :m] = n_filter * e_row
+        a[i_flt, i_flt] -= n_filter
+    b[S_Z0] = plant[P_B]
 
-    def params(self) -> dict[str, Any]:
-        out: dict[str, Any] = as_dict(self.vehicle)
-        out.update(as_dict(self.road_params))
-        out.update(as_dict(self.solver))
-        if self.controller.params:
-            out.update(as_dict(self.controller_params))
-        out["noise_intensity"] = iso_roads.NOISE_INTENSITY
-        out["damping_ratio"] = self.vehicle.damping_ratio
-        out["seed"] = self.seed
-        return out
-
-    def pid_gains(self, gains: np.ndarray) -> np.ndarray:
-        """The (n, 3) rows (kp, ki, kd) of the common linear controller for this controller."""
-        g = np.asarray(gains, dtype=np.float64)
-        k = len(self.gain_names)
-        if g.ndim == 1 and g.size == k:
-            g = g.reshape(1, k)
-        if g.ndim != 2 or g.shape[1] != k:
-            raise InputError("gains", f"expected shape (n, {k}) for {self.controller.name}, got "
-                             f"{tuple(np.shape(gains))}")
-        full = np.zeros((g.shape[0], 3))
-        if self.controller.name == "pid":
-            full[:] = g
-        elif self.controller.name == "skyhook":
-            full[:, 0] = g[:, 0]
-        return full
-
-    @property
-    def _feedback(self) -> int:
-        return self.feedback_code if self.controller.name == "pid" else model.FB_VELOCITY
-
-    # -- exact (Lyapunov) -------------------------------------------------------------------
-
-    def exact(self, gains: np.ndarray) -> np.ndarray:
-        """(n, lyapunov.N_EXACT): stationary RMS (acc, travel, tire, force) and stable flag."""
-        return lyapunov.exact_rms(self.plant_vector, self._feedback,
-                                  self.controller_params.n_filter, self.pid_gains(gains))
-
-    @cached_property
-    def passive_exact(self) -> np.ndarray:
-        """Stationary RMS of the passive suspension (acc, travel, tire)."""
-        return lyapunov.exact_rms(self.plant_vector, model.FB_VELOCITY, 1.0,
-                                  np.zeros((1, 3)))[0, :3]
-
-    # -- simulation ---------------------------------------------------------------------------
-
-    @cached_property
-    def noise(self) -> np.ndarray:
-        """The run's white-noise sequence (common to all candidates)."""
-        return iso_roads.white_noise(self.seed, self.solver.n_steps, self.solver.dt_s)
-
-    def simulate(self, gains: np.ndarray, workers: int | None = None) -> np.ndarray:
-        """(n, kernel.N_RESULT): simulated RMS (acc, travel, tire, force) and diverged flag."""
-        p, fb, nf = self.plant_vector, self._feedback, self.controller_params.n_filter
-        noise, dt = self.noise, self.solver.dt_s
-        no_trace = np.zeros((model.N_OUT, 0))
-
-        def call(g: np.ndarray, out: np.ndarray) -> None:
-            kernel.simulate_batch(p, fb, nf, g, noise, dt, no_trace, 1, out)
-
-        return run_chunked(call, self.pid_gains(gains), kernel.N_RESULT, workers)
-
-    @cached_property
-    def passive_sim(self) -> np.ndarray:
-        """Simulated RMS of the passive suspension on this run's road (acc, travel, tire)."""
-        out = np.empty((1, kernel.N_RESULT))
-        kernel.simulate_batch(self.plant_vector, model.FB_VELOCITY, 1.0, np.zeros((1, 3)),
-                              self.noise, self.solver.dt_s, np.zeros((model.N_OUT, 0)), 1, out)
-        return out[0, :3]
-
-    # -- metrics and costs ----------------------------------------------------------------------
-
-    def metrics(self, gains: np.ndarray) -> dict[str, np.ndarray]:
-        exact = self.exact(gains)
-        sim = self.simulate(gains)
-        stable = exact[:, lyapunov.E_STABLE] == 1.0
-        diverged = sim[:, kernel.R_DIVERGED] == 1.0
-        n = sim.shape[0]
-        ps = self.passive_sim
-        v = self.vehicle
-        return {
-            "body_acc_rms": sim[:, kernel.R_ACC],
-            "susp_travel_rms": sim[:, kernel.R_TRAVEL],
-            "tire_defl_rms": sim[:, kernel.R_TIRE],
-            "objective": lyapunov.rms_ratio(sim, ps, stable & ~diverged, PENALTY),
-            "objective_exact": lyapunov.rms_ratio(exact, self.passive_exact, stable, PENALTY),
-            "passive_body_acc_rms": np.full(n, ps[0]),
-            "passive_susp_travel_rms": np.full(n, ps[1]),
-            "passive_tire_defl_rms": np.full(n, ps[2]),
-            "force_rms": sim[:, kernel.R_FORCE],
-            "damping_ratio": np.full(n, v.damping_ratio),
-            "travel_3sigma_m": 3.0 * sim[:, kernel.R_TRAVEL],
-            "dynamic_tire_load_ratio": (v.tire_stiffness_n_m * sim[:, kernel.R_TIRE]
-                                        / v.static_tire_load_n),
-            "stable": stable,
-            "diverged": diverged,
-        }
-
-    def cost(
-        self, gains: np.ndarray, objective: str | None = None, workers: int | None = None
-    ) -> np.ndarray:
-        """Eq. 10 per row; `workers` threads for the simulation (default: all cores)."""
-        objective = objective or self.default_objective
-        if objective not in OBJECTIVES:
-            raise InputError("objective", f"unknown objective {objective!r} for quarter-car "
-                             f"(known: {', '.join(OBJECTIVES)})")
-        exact = self.exact(gains)
-        stable = exact[:, lyapunov.E_STABLE] == 1.0
-        if objective == "rms-ratio-exact":
-            return lyapunov.rms_ratio(exact, self.passive_exact, stable, PENALTY)
-        sim = self.simulate(gains, workers)
-        usable = stable & (sim[:, kernel.R_DIVERGED] == 0.0)
-        return lyapunov.rms_ratio(sim, self.passive_sim, usable, PENALTY)
-
-    # -- traces and frequency responses ---------------------------------------------------------
-
-    def _trace_run(self, pid: np.ndarray, feedback: int, stride: int, n_rec: int) -> np.ndarray:
-        rec = np.zeros((model.N_OUT, n_rec))
-        out = np.empty((1, kernel.N_RESULT))
-        kernel.simulate_batch(self.plant_vector, feedback, self.controller_params.n_filter,
-                              pid.reshape(1, 3), self.noise, self.solver.dt_s, rec, stride, out)
-        return rec
-
-    def trace(self, gains: np.ndarray) -> QuarterCarTrace:
-        g = np.asarray(gains, dtype=np.float64).reshape(-1)
-        pid = self.pid_gains(g.reshape(1, -1))[0]
-        n_steps = self.solver.n_steps
-        stride = max(1, math.ceil((n_steps + 1) / MAX_TRACE_SAMPLES))
-        n_rec = n_steps // stride + 1
-        active = self._trace_run(pid, self._feedback, stride, n_rec)
-        passive = self._trace_run(np.zeros(3), model.FB_VELOCITY, stride, n_rec)
-        names = dict(zip(model.OUTPUT_NAMES, range(model.N_OUT), strict=True))
-        signals = {
-            "time_s": np.arange(n_rec) * stride * self.solver.dt_s,
-            "road_m": active[names["road"]],
-            "body_acc_m_s2": active[names["body_acc"]],
-            "susp_travel_m": active[names["susp_travel"]],
-            "tire_defl_m": active[names["tire_defl"]],
-            "force_n": active[names["force"]],
-            "body_disp_m": active[names["body_disp"]],
-            "passive_body_acc_m_s2": passive[names["body_acc"]],
-            "passive_susp_travel_m": passive[names["susp_travel"]],
-            "passive_tire_defl_m": passive[names["tire_defl"]],
-        }
-        units = {k: _UNITS[k.rsplit("_", 1)[-1]] for k in signals}
-        metrics = {k: json_scalar(v[0]) for k, v in self.metrics(g.reshape(1, -1)).items()}
-        return QuarterCarTrace(signals, metrics, units, gains=g.copy())
-
-    def frequency_response(self, gains: np.ndarray, freq_hz: np.ndarray) -> dict[str, np.ndarray]:
-        """|body acceleration / road velocity| (1/s) of the active and passive loops at freq_hz."""
-        pid = self.pid_gains(np.asarray(gains, dtype=np.float64).reshape(1, -1))[0]
-        omega = 2.0 * math.pi * np.asarray(freq_hz, dtype=np.float64)
-        key = "body_acc_per_road_velocity"
-        active = model.frequency_response(self.plant_vector, self._feedback, pid[0], pid[1],
-                                          pid[2], self.controller_params.n_filter, omega)[key]
-        passive = model.frequency_response(self.plant_vector, model.FB_VELOCITY, 0.0, 0.0, 0.0,
-                                           1.0, omega)[key]
-        return {"freq_hz": np.asarray(freq_hz, dtype=np.float64), "active": np.abs(active),
-                "passive": np.abs(passive)}
+    c[OUT_ACC, :m] = a[S_VS, :m]
+    c[OUT_TRAVEL, S_ZS] = 1.0
+    c[OUT_TRAVEL, S_ZU] = -1.0
+    c[OUT_TIRE, S_ZU] = 1.0
+    c[OUT_TIRE, S_Z0] = -1.0
+    c[OUT_FORCE, :m] = k
+    c[OUT_ROAD, S_Z0] = 1.0
+    c[OUT_ZS, S_ZS] = 1.0
+    return m
 
 
-_UNITS = {"s": "s", "m": "m", "s2": "m/s^2", "n": "N"}
+def frequency_response(
+    plant: np.ndarray,
+    feedback: int,
+    kp: float,
+    ki: float,
+    kd: float,
+    n_filter: float,
+    omega: np.ndarray,
+) -> dict[str, np.ndarray]:
+    """Responses per unit road displacement Z0(s) at s = j omega, from the Laplace-domain equations.
 
+    Written from the equations of motion, not from `closed_loop`, so that it checks the state
+    space: with C(s) = kp + ki/s + kd N s/(s + N) and Y = h_s Zs + h_u Zu,
 
+        [ms s^2 + ks + cs s + C h_s ] Zs + [-(ks + cs s) + C h_u]        Zu = 0
+        [-(ks + cs s) - C h_s       ] Zs + [mu s^2 + ks + cs s + kt - C h_u] Zu = kt Z0
 
-class QuarterCarPlant(Plant):
-    """The quarter-car active suspension plant."""
-
-    name = "quarter-car"
-    description = "2-DOF quarter-car active suspension on an ISO 8608 random road (seed 001)"
-    default_preset = "paper-iabc"
-
-    def presets(self) -> dict[str, PresetInfo]:
-        return {n: p.info for n, p in PRESETS.items()}
-
-    def roads(self) -> dict[str, str]:
-        return iso_roads.road_names()
-
-    def scenario(
-        self,
-        preset: str | None = None,
-        road: str | None = None,
-        controller: str = "none",
-        params: Mapping[str, object] | None = None,
-        seed: int = 0,
-    ) -> QuarterCarScenario:
-        preset = pick_preset("quarter-car", preset, self.default_preset, PRESETS)
-        pre = PRESETS[preset]
-        road = road or pre.info.roads[0]
-        gq = iso_roads.road_class(road)
-        spec = registry.get(controller)
-        if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
-            raise InputError("--seed", f"must be a non-negative integer, got {seed!r}")
-        values = dict(params or {})
-        vehicle, used = override(pre.vehicle, values)
-        road_params, used_road = override(iso_roads.RoadParams(gq_m3=gq), values)
-        solver, used_solver = override(SolverParams(), values)
-        ctrl_values = {k: v for k, v in values.items() if k in spec.param_names}
-        ctrl, used_ctrl = override(ControllerParams(), ctrl_values)
-        used |= used_road | used_solver | used_ctrl
-        unknown = sorted(set(values) - used)
-        if unknown:
-            known = sorted(
-                {f.name for f in dataclasses.fields(QuarterCarParams)}
-                | {f.name for f in dataclasses.fields(iso_roads.RoadParams)}
-                | {f.name for f in dataclasses.fields(SolverParams)}
-                | set(spec.param_names)
-            )
-            raise InputError(f"--param {unknown[0]}", f"unknown parameter for quarter-car with "
-                             f"{spec.name} (known: {', '.join(known)})")
-        if ctrl.feedback not in model.FEEDBACK_CODES:
-            raise InputError("--param feedback", f"unknown feedback {ctrl.feedback!r} (known: "
-                             f"{', '.join(model.FEEDBACK_CODES)})")
-        iso_roads.validate_road(road_params)
-        _check_solver(solver)
-        return QuarterCarScenario(preset, road, spec, validate(vehicle, "--param "),
-                                  road_params, solver, ctrl, int(seed))
-
-    def plot(self, scenario: Scenario, trace: Trace, path: str) -> None:
-        from chassistune.plots.quarter_car import plot_trace
-
-        plot_trace(scenario, trace, path)
-
-
-def _check_solver(solver: SolverParams) -> None:
-    if solver.dt_s > 0.01:
-        raise InputError("--param dt_s", f"must be at most 0.01 s (the road noise is held over "
-                         f"the step), got {solver.dt_s:g}")
-    if solver.duration_s < solver.dt_s:
-        raise InputError("--param duration_s", f"must be at least one step dt_s = "
-                         f"{solver.dt_s:g}, got {solver.duration_s:g}")
-    if solver.n_steps > MAX_STEPS:
-        raise InputError("--param duration_s", f"too many steps: duration_s / dt_s = "
-                         f"{solver.n_steps} exceeds {MAX_STEPS}")
-
-
-PLANT = QuarterCarPlant()
+    Keys: body_acc (s^2 Zs), susp_travel, tire_defl, force (U = -C Y), body_acc_per_road_velocity
+    (s^2 Zs / (s Z0)), all complex arrays shaped like omega (rad/s, > 0).
+    """
+    s = 1j * np.asarray(omega, dtype=np.float64)
+    ms, mu, ks, cs, kt = (plant[i] for i in (P_MS, P_MU, P_KS, P_CS, P_KT))
+    ctrl = kp + ki / s + kd * n_filter * s / (s + n_filter)
+    one = np.ones_like(s)
+    zero = np.zeros_like(s)
+    h_s, h_u = {
+        FB_DISPLACEMENT: (one, zero),
+        FB_VELOCITY: (s, zero),
+        FB_ACCELERATION: (s * s, zero),
+        FB_TRAVEL: (one, -one),
+    }[feedback]
+    susp = ks + cs * s
+    a11 = ms * s * s + susp + ctrl * h_s
+    a12 = -susp + ctrl * h_u
+    a21 = -susp - ctrl * h_s
+    a22 = mu * s * s + susp + kt - ctrl * h_u
+    det = a11 * a22 - a12 * a21
+    zs = -a12 * kt / det
+    zu = a11 * kt / det
+    force = -ctrl * (h_s * zs + h_u * zu)
+    return {
+        "body_acc": s * s * zs,
+        "susp_travel": zs - zu,
+        "tire_defl": zu - 1.0,
+        "force": force,
+        "body_acc_per_road_velocity": s * zs,
+    }

@@ -108,7 +108,7 @@ class BilinearTire(TireCurve):
 
     def __post_init__(self) -> None:
         if not 0.0 < self.slip_opt < 1.0:
-            raise InputError("--param slip_opt", f"must be in (0, 1), got {self.slip_opt:g}")
+            raise InputError("params.slip_opt", f"must be in (0, 1), got {self.slip_opt:g}")
 
     def kernel_data(self) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
         xs = np.array([0.0, self.slip_opt, 1.0])

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 from chassistune.errors import InputError
 from chassistune.params import override
-from chassistune.plants.abs_wheel import BILINEAR_ROADS
+from chassistune.plants.roads import BILINEAR_ROADS
 from chassistune.plants.tires import BilinearTire
 
 ROAD_UNIFORM, ROAD_MU_JUMP, ROAD_SPLIT = 0, 1, 2
@@ -92,8 +92,8 @@ def make_road(name: str, values: Mapping[str, object]) -> tuple[VehicleRoad, set
     """The road `name` with its parameter overrides; returns (road, names used, params echo)."""
     if name == "mu-jump":
         jump, used = override(MuJumpParams(), values)
-        pair = (surface(jump.first_surface, "--param first_surface"),
-                surface(jump.second_surface, "--param second_surface"))
+        pair = (surface(jump.first_surface, "params.first_surface"),
+                surface(jump.second_surface, "params.second_surface"))
         road = VehicleRoad(name, ROAD_MU_JUMP, (jump.first_surface, jump.second_surface), pair,
                            x_jump_m=jump.x_jump_m)
         return road, used, {"first_surface": jump.first_surface,
@@ -101,9 +101,9 @@ def make_road(name: str, values: Mapping[str, object]) -> tuple[VehicleRoad, set
     if name == "split-mu":
         split, used = override(SplitMuParams(), values)
         if split.split_by not in SPLIT_BY:
-            raise InputError("--param split_by", f"must be body or road, got {split.split_by!r}")
-        pair = (surface(split.left_surface, "--param left_surface"),
-                surface(split.right_surface, "--param right_surface"))
+            raise InputError("params.split_by", f"must be body or road, got {split.split_by!r}")
+        pair = (surface(split.left_surface, "params.left_surface"),
+                surface(split.right_surface, "params.right_surface"))
         road = VehicleRoad(name, ROAD_SPLIT, (split.left_surface, split.right_surface), pair,
                            split_by=split.split_by, split_y_m=split.split_y_m)
         return road, used, {"left_surface": split.left_surface,

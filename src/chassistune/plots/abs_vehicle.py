@@ -7,8 +7,8 @@ from typing import Any
 
 import numpy as np
 
-from chassistune.plants.base import Trace
 from chassistune.plots.style import pyplot, save
+from chassistune.scenarios.base import Trace
 
 WHEELS = ("fl", "fr", "rl", "rr")
 WHEEL_COLORS = {"fl": "C0", "fr": "C1", "rl": "C2", "rr": "C3"}

@@ -5,8 +5,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from chassistune.plants.base import Scenario, Trace
 from chassistune.plots.style import pyplot, save
+from chassistune.scenarios.base import Scenario, Trace
 
 
 def plot_trace(scenario: Scenario, trace: Trace, path: str) -> None:

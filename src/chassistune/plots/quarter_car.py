@@ -6,8 +6,8 @@ from typing import Any
 
 import numpy as np
 
-from chassistune.plants.base import Trace
 from chassistune.plots.style import pyplot, save
+from chassistune.scenarios.base import Trace
 
 WINDOW_S = 5.0
 """Time histories show at most the first WINDOW_S seconds (the RMS values use the whole run)."""

@@ -67,7 +67,8 @@ def boxplot_figure(costs: Mapping[str, np.ndarray], path: str, title: str) -> No
 def response_figures(record: RunRecord, path_for_road: Mapping[str, str]) -> list[str]:
     """The plant's own response plot of a run's best gains on each tuned road (re-simulated
     with the run's scenario seed); the paths written."""
-    from chassistune.plants.registry import get_plant
+    from chassistune.plots.registry import plot_trace
+    from chassistune.scenarios.registry import get_plant
 
     s = record.spec
     plant = get_plant(s.plant)
@@ -75,6 +76,6 @@ def response_figures(record: RunRecord, path_for_road: Mapping[str, str]) -> lis
     for road in s.roads:
         sc = plant.scenario(s.preset, road, s.controller, s.params, s.scenario_seed)
         gains = np.array([record.best_gains[n] for n in sc.gain_names], dtype=float)
-        plant.plot(sc, sc.trace(gains), path_for_road[road])
+        plot_trace(sc, sc.trace(gains), path_for_road[road])
         written.append(path_for_road[road])
     return written

@@ -1,8 +1,8 @@
 """Tables of a study, as pandas DataFrames: the run export and the report's statistics.
 
 All statistics come from `chassistune.stats` (the one statistics module). Costs are minimized:
-"best" is the lowest. Key metrics are the plant's lower-is-better figures (KEY_METRICS), so their
-best and worst are their minimum and maximum too.
+"best" is the lowest. Key metrics are the plant's lower-is-better figures (its PlantSpec's), so
+their best and worst are their minimum and maximum too.
 """
 
 from __future__ import annotations
@@ -19,15 +19,14 @@ import pandas as pd
 from chassistune import stats
 from chassistune.errors import InputError
 from chassistune.reports.files import atomic_path
+from chassistune.scenarios.registry import plant_names, plant_spec
 from chassistune.studies.store import RunRecord, Store
 
-KEY_METRICS: dict[str, tuple[str, ...]] = {
-    "abs-wheel": ("stop_distance_m", "distance_ratio", "stop_time_s", "slip_itae",
-                  "locked_time_s"),
-    "quarter-car": ("objective_exact", "body_acc_rms", "susp_travel_rms", "tire_defl_rms",
-                    "force_rms"),
-}
-"""Per plant, the lower-is-better metrics summarized in the report."""
+
+def key_metrics(plant: str) -> tuple[str, ...]:
+    """The plant's lower-is-better metrics summarized in the report (its PlantSpec's)."""
+    return plant_spec(plant).key_metrics if plant in plant_names() else ()
+
 
 SUMMARY_COLUMNS = ("n", "mean", "std", "best", "worst", "median")
 
@@ -135,7 +134,7 @@ def _quantities(data: StudyData, scenario: str) -> list[str]:
     runs = data.runs(scenario)
     out = ["best_cost"]
     for r in runs[:1]:
-        keys = KEY_METRICS.get(r.spec.plant, ())
+        keys = key_metrics(r.spec.plant)
         for road in r.spec.roads:
             for k in keys:
                 if k in r.metrics.get(road, {}):

@@ -1,1 +1,0 @@
-"""Scenarios: plant + preset + road + controller + objective -> cost(gains), metrics, trace."""

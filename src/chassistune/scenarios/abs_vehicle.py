@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from chassistune.controllers import vehicle_specs
-from chassistune.controllers.registry import ControllerSpec
+from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
 from chassistune.params import as_dict, override, to_float, validate
 from chassistune.plants.abs_vehicle import (
@@ -32,16 +32,7 @@ from chassistune.plants.abs_vehicle import (
     uniform_bound,
     wheel_mode_rate,
 )
-from chassistune.plants.abs_wheel import FUZZY_OUTPUTS, _no_surface, fuzzy_table
-from chassistune.plants.base import (
-    PENALTY,
-    Plant,
-    PresetInfo,
-    Scenario,
-    Trace,
-    json_scalar,
-    pick_preset,
-)
+from chassistune.plants.presets import PresetInfo
 from chassistune.plants.vehicle_roads import (
     ROAD_MU_JUMP,
     ROAD_SPLIT,
@@ -51,10 +42,20 @@ from chassistune.plants.vehicle_roads import (
     make_road,
     road_names,
 )
+from chassistune.scenarios.abs_wheel import FUZZY_OUTPUTS, _no_surface, fuzzy_table
+from chassistune.scenarios.base import (
+    PENALTY,
+    Plant,
+    Scenario,
+    Trace,
+    json_scalar,
+    pick_preset,
+)
+from chassistune.scenarios.registry import ABS_VEHICLE
 from chassistune.sim import abs_vehicle_kernel as K
 from chassistune.sim.batch import run_chunked
 
-PLANT_NAME = "abs-vehicle"
+PLANT_NAME = ABS_VEHICLE.name
 
 
 @dataclass(frozen=True)
@@ -112,7 +113,7 @@ def check_step(pp: VehicleParams, road: VehicleRoad) -> None:
     if lam * pp.dt_s > RK4_REAL_LIMIT:
         dt_max = RK4_REAL_LIMIT / lam
         v_min = pp.v_stop_m_s * lam * pp.dt_s / RK4_REAL_LIMIT
-        raise InputError("--param dt_s", f"dt_s = {pp.dt_s:g} s with v_stop_m_s = "
+        raise InputError("params.dt_s", f"dt_s = {pp.dt_s:g} s with v_stop_m_s = "
                          f"{pp.v_stop_m_s:g} m/s is past RK4's stability limit of the wheel mode "
                          f"(|lambda| dt = {lam * pp.dt_s:.2f} > {RK4_REAL_LIMIT}): use dt_s <= "
                          f"{dt_max:.3g} or v_stop_m_s >= {v_min:.3g}")
@@ -120,12 +121,12 @@ def check_step(pp: VehicleParams, road: VehicleRoad) -> None:
 
 def _check_consistency(pp: VehicleParams, road: VehicleRoad) -> None:
     if pp.v0_m_s <= pp.v_stop_m_s:
-        raise InputError("--param v0_m_s", f"must exceed v_stop_m_s = {pp.v_stop_m_s:g}, "
+        raise InputError("params.v0_m_s", f"must exceed v_stop_m_s = {pp.v_stop_m_s:g}, "
                          f"got {pp.v0_m_s:g}")
     if pp.t_max_s < 10 * pp.dt_s:
-        raise InputError("--param t_max_s", f"must be at least 10 steps, got {pp.t_max_s:g}")
+        raise InputError("params.t_max_s", f"must be at least 10 steps, got {pp.t_max_s:g}")
     if pp.t_max_s / pp.dt_s > 5e7:
-        raise InputError("--param dt_s", "too many steps (t_max_s / dt_s above 5e7)")
+        raise InputError("params.dt_s", "too many steps (t_max_s / dt_s above 5e7)")
     check_step(pp, road)
 
 
@@ -283,10 +284,7 @@ class AbsVehicleScenario(Scenario):
 class AbsVehiclePlant(Plant):
     """The 7-DOF vehicle ABS plant."""
 
-    name = PLANT_NAME
-    description = ("7-DOF vehicle ABS: four braked wheels, load transfer, combined-slip tires, "
-                   "uniform, mu-jump and split-mu roads, optional counter-steering driver")
-    default_preset = "paper-deffao"
+    spec = ABS_VEHICLE
 
     def presets(self) -> dict[str, PresetInfo]:
         return {n: p.info for n, p in PRESETS.items()}
@@ -294,12 +292,15 @@ class AbsVehiclePlant(Plant):
     def roads(self) -> dict[str, str]:
         return road_names()
 
+    def controllers(self) -> list[ControllerSpec]:
+        return [vehicle_specs.get(n) for n in vehicle_specs.names()]
+
     def param_names(self) -> list[str]:
         """Every `--param` name of the plant, road and solver (controllers add their own)."""
         names: list[str] = []
         for cls in (VehicleParams, SteeringParams, VehicleScoring, MuJumpParams, SplitMuParams):
-            names += [f.name for f in dataclasses.fields(cls)]  # type: ignore[arg-type]
-        return names + ["slip_opt", "mu_peak", "mu_lock"]
+            names += [f.name for f in dataclasses.fields(cls)]
+        return [*names, "slip_opt", "mu_peak", "mu_lock"]
 
     def scenario(
         self,
@@ -317,7 +318,7 @@ class AbsVehiclePlant(Plant):
         plant_params, used = override(pre.params, values)
         steering, used_steering = override(SteeringParams(), values)
         if steering.steering not in STEERING_MODES:
-            raise InputError("--param steering", f"must be fixed or driver, got "
+            raise InputError("params.steering", f"must be fixed or driver, got "
                              f"{steering.steering!r}")
         road_spec, used_road, road_params = make_road(road_name, values)
         scoring, used_scoring = override(VehicleScoring(), values)
@@ -327,18 +328,18 @@ class AbsVehiclePlant(Plant):
             if isinstance(ps.default, str):
                 value = str(values.get(ps.name, ps.default))
                 if ps.choices and value not in ps.choices:
-                    raise InputError(f"--param {ps.name}", f"must be one of "
+                    raise InputError(f"params.{ps.name}", f"must be one of "
                                      f"{', '.join(ps.choices)}, got {value!r}")
                 ctrl_values[ps.name] = value
                 used.add(ps.name)
                 continue
             if ps.name in values:
-                ctrl_values[ps.name] = to_float(values[ps.name], f"--param {ps.name}")
+                ctrl_values[ps.name] = to_float(values[ps.name], f"params.{ps.name}")
                 used.add(ps.name)
             elif isinstance(ps.default, float):
                 ctrl_values[ps.name] = ps.default
             if ps.positive and ps.name in ctrl_values and not ctrl_values[ps.name] > 0:
-                raise InputError(f"--param {ps.name}", f"must be positive, got "
+                raise InputError(f"params.{ps.name}", f"must be positive, got "
                                  f"{ctrl_values[ps.name]:g}")
         if "amplitude" in spec.param_names and "amplitude" not in ctrl_values:
             # the driver's demand: reaches q_max in 0.15 s through the integrating actuator
@@ -346,19 +347,14 @@ class AbsVehiclePlant(Plant):
         unknown = sorted(set(values) - used)
         if unknown:
             known = sorted(set(self.param_names()) | set(spec.param_names))
-            raise InputError(f"--param {unknown[0]}", f"unknown parameter for abs-vehicle with "
+            raise InputError(f"params.{unknown[0]}", f"unknown parameter for abs-vehicle with "
                              f"{spec.name} on {road_name} (known: {', '.join(known)})")
         if ctrl_values.get("axle_gains") == "per-axle":
             spec = vehicle_specs.per_axle(spec)
-        plant_params = validate(plant_params, "--param ")
+        plant_params = validate(plant_params, "params.")
         _check_consistency(plant_params, road_spec)
         return AbsVehicleScenario(preset, road_spec, road_params, spec, plant_params, steering,
                                   ctrl_values, scoring, seed)
-
-    def plot(self, scenario: Scenario, trace: Trace, path: str) -> None:
-        from chassistune.plots.abs_vehicle import plot_trace
-
-        plot_trace(scenario, trace, path)
 
 
 PLANT = AbsVehiclePlant()

@@ -533,7 +533,7 @@ def _update_surfaces(x, i, p, geo, sidx, surfs, ls):
     """Surface under each wheel from its contact point's global position (mu-jump, split-mu),
     and its lane-local copy."""
     kind = p[P_ROAD]
-    if kind == ROAD_MU_JUMP or kind == ROAD_SPLIT:
+    if kind in (ROAD_MU_JUMP, ROAD_SPLIT):
         psi = x[S_PSI, i]
         cp = math.cos(psi) if psi != 0.0 else 1.0
         sp = math.sin(psi) if psi != 0.0 else 0.0

@@ -19,7 +19,7 @@ import numpy as np
 from numba import njit
 
 from chassistune.plants.iso_roads import NOISE_INTENSITY
-from chassistune.sim.quarter_car_model import (
+from chassistune.plants.quarter_car import (
     MAX_STATES,
     N_OUT,
     OUT_ACC,
@@ -28,13 +28,21 @@ from chassistune.sim.quarter_car_model import (
     OUT_TRAVEL,
     closed_loop,
 )
+from chassistune.sim.layout import Layout, Slot
 
 W_ROAD = NOISE_INTENSITY
 """Intensity of the road's white noise: W = 1/2, one-sided PSD 1 (DESIGN 3.4)."""
 
-# columns of exact_rms_batch's output
-E_ACC, E_TRAVEL, E_TIRE, E_FORCE, E_STABLE = range(5)
-N_EXACT = 5
+EXACT = Layout("quarter-car exact stationary results", (
+    Slot("body_acc_rms", "m/s^2", "stationary RMS of the body acceleration"),
+    Slot("susp_travel_rms", "m", "stationary RMS of the suspension travel"),
+    Slot("tire_defl_rms", "m", "stationary RMS of the tire deflection"),
+    Slot("force_rms", "N", "stationary RMS of the actuator force"),
+    Slot("stable", "-", "1 if the closed loop is Hurwitz"),
+))
+"""Columns of exact_rms_batch's output."""
+E_ACC, E_TRAVEL, E_TIRE, E_FORCE, E_STABLE = (EXACT[n] for n in EXACT.names)
+N_EXACT = len(EXACT)
 
 _PIVOT_TOL = 1e-14
 _PD_TOL = 1e-13

@@ -1,6 +1,6 @@
 """Compiled batch simulation of the quarter car on a random road (DESIGN 2, 3.4).
 
-Each candidate's closed loop (the *explicit* realization of `quarter_car_model`: integrator and
+Each candidate's closed loop (the *explicit* realization of `plants.quarter_car`: integrator and
 derivative-filter states as a block diagram has them) is discretized exactly,
 x[k+1] = Phi x[k] + gamma w[k], with the road's white noise w[k] ~ N(0, W/dt) held over the step
 (W = 1/2); the controller acts continuously inside the step, so the only approximation is the
@@ -16,13 +16,28 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from chassistune.plants.quarter_car import (
+    MAX_STATES,
+    N_OUT,
+    OUTPUT_SLOTS,
+    PLANT_SLOTS,
+    closed_loop,
+)
+from chassistune.sim.layout import Layout, Slot
 from chassistune.sim.lti import discretize_zoh
-from chassistune.sim.quarter_car_model import MAX_STATES, N_OUT, closed_loop
 
-# columns of the kernel's result
-R_ACC, R_TRAVEL, R_TIRE, R_FORCE, R_DIVERGED = range(5)
-N_RESULT = 5
-N_RMS = 4  # outputs 0..3 of quarter_car_model (acc, travel, tire, force) are accumulated
+PLANT = Layout("quarter-car plant vector", tuple(Slot(*s) for s in PLANT_SLOTS))
+OUTPUTS = Layout("quarter-car outputs (trace rows)", tuple(Slot(*s) for s in OUTPUT_SLOTS))
+RESULT = Layout("quarter-car simulation results", (
+    Slot("body_acc_rms", "m/s^2", "RMS of the body acceleration"),
+    Slot("susp_travel_rms", "m", "RMS of the suspension travel"),
+    Slot("tire_defl_rms", "m", "RMS of the tire deflection"),
+    Slot("force_rms", "N", "RMS of the actuator force"),
+    Slot("diverged", "-", "1 if the state left |x| < DIVERGED_ABOVE or turned NaN"),
+))
+R_ACC, R_TRAVEL, R_TIRE, R_FORCE, R_DIVERGED = (RESULT[n] for n in RESULT.names)
+N_RESULT = len(RESULT)
+N_RMS = 4  # outputs 0..3 (acc, travel, tire, force) are accumulated, into result columns 0..3
 
 DIVERGED_ABOVE = 1e6
 BLOCK = 64

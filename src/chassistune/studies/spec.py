@@ -294,20 +294,20 @@ def load_config(path: str | Path) -> StudyConfig:
 
 # -- planning ------------------------------------------------------------------------------------
 
-_FIELD_NAMES = {
-    "--road": "roads", "road": "roads", "--controller": "controller", "--objective": "objective",
-    "objective": "objective", "--aggregate": "aggregate", "bounds": "bounds",
-    "preset": "preset", "plant": "plant", "controller": "controller", "--seed": "seed",
+_CONFIG_KEYS = {
+    "road": "roads", "pop_size": "budget.pop_size", "max_iter": "budget.iterations",
+    "max_evals": "budget.evaluations",
 }
+"""Domain field heads whose config key differs (budget keys live in the top-level table)."""
 
 
-def _scenario_field(index: int, field: str) -> str:
-    """`--param mass_kg` -> `scenarios[0].params.mass_kg`, `--road` -> `scenarios[0].roads`."""
-    base = f"scenarios[{index}]"
-    for prefix, name in (("--param ", "params"), ("bounds ", "bounds")):
-        if field.startswith(prefix):
-            return f"{base}.{name}.{field[len(prefix):]}"
-    return f"{base}.{_FIELD_NAMES.get(field, field.lstrip('-'))}"
+def config_path(field: str, table: str) -> str:
+    """Where a domain field path lives in the config (the one mapping): `params.mass_kg` of
+    `scenarios[0]` -> `scenarios[0].params.mass_kg`, `road` -> `scenarios[0].roads`,
+    `pop_size` -> `budget.pop_size`."""
+    head, dot, rest = field.partition(".")
+    key = _CONFIG_KEYS.get(head, head)
+    return key if key.startswith("budget.") else f"{table}.{key}{dot}{rest}"
 
 
 @dataclass(frozen=True)
@@ -330,7 +330,7 @@ def _cells(sc: ScenarioConfig, default_road: str) -> Iterator[_Cell]:
 
 def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int) -> list[dict[str, Any]]:
     """Build every scenario the runs will build; the run-spec fields of each cell."""
-    from chassistune.plants.registry import get_plant
+    from chassistune.scenarios.registry import get_plant
     from chassistune.tuning.problem import build_problem
 
     try:
@@ -352,7 +352,7 @@ def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int) -> list[dict[st
                 "bounds": dict(zip(problem.gain_names, problem.bounds, strict=True)),
             })
     except InputError as exc:
-        raise InputError(_scenario_field(index, exc.field), exc.problem) from None
+        raise InputError(config_path(exc.field, f"scenarios[{index}]"), exc.problem) from None
     for road in test_roads:
         if road not in every_road:
             try:
@@ -377,10 +377,12 @@ def _resolve_optimizer(index: int, opt: OptimizerConfig, budget: BudgetConfig,
         make(opt.name, bounds, budget.pop_size, 0, max_iter=budget.iterations,
              max_evals=budget.evaluations, **hyper)
     except InputError as exc:
-        field = {"pop_size": "budget.pop_size", "max_iter": "budget.iterations",
-                 "max_evals": "budget.evaluations"}.get(exc.field, f"{where}.hyperparameters")
-        if field == f"{where}.hyperparameters" and exc.field in opt.hyperparameters:
-            field = f"{field}.{exc.field}"
+        if exc.field in _CONFIG_KEYS:
+            field = config_path(exc.field, where)
+        elif exc.field in opt.hyperparameters:
+            field = config_path(f"hyperparameters.{exc.field}", where)
+        else:
+            field = config_path("hyperparameters", where)
         raise InputError(field, exc.problem) from None
     except (TypeError, ValueError) as exc:
         raise InputError(f"{where}.hyperparameters", str(exc)) from None

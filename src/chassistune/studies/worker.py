@@ -51,7 +51,7 @@ def plain(x: Any) -> Any:
 
 
 def _run(spec: RunSpec) -> dict[str, Any]:
-    from chassistune.plants.registry import get_plant
+    from chassistune.scenarios.registry import get_plant
     from chassistune.tuning.problem import build_problem
     from chassistune.tuning.tune import run_optimizer
 

@@ -13,8 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from chassistune.errors import InputError
-from chassistune.plants.base import PENALTY, Scenario
-from chassistune.plants.registry import get_plant
+from chassistune.scenarios.base import PENALTY, Scenario
+from chassistune.scenarios.registry import get_plant
 
 AGGREGATES = ("mean", "max")
 
@@ -56,18 +56,18 @@ def build_problem(
 ) -> TuningProblem:
     """Resolve the scenarios (one per road; default the preset's first road) and the box."""
     if aggregate not in AGGREGATES:
-        raise InputError("--aggregate", f"must be mean or max, got {aggregate!r}")
+        raise InputError("aggregate", f"must be mean or max, got {aggregate!r}")
     p = get_plant(plant)
     road_list: list[str | None] = list(roads) if roads else [None]
     if len(set(road_list)) != len(road_list):
-        raise InputError("--road", "a road is listed twice")
+        raise InputError("roads", "a road is listed twice")
     scenarios = [p.scenario(preset, r, controller, params or {}, seed) for r in road_list]
     spec = scenarios[0].controller
     if not spec.gains:
-        raise InputError("--controller", f"{controller} has no gains to tune")
+        raise InputError("controller", f"{controller} has no gains to tune")
     objective = objective or scenarios[0].default_objective
     if objective not in scenarios[0].objectives:
-        raise InputError("--objective", f"unknown objective {objective!r} for {plant} "
+        raise InputError("objective", f"unknown objective {objective!r} for {plant} "
                          f"(known: {', '.join(scenarios[0].objectives)})")
     box = dict(zip(spec.gain_names, spec.bounds(), strict=True))
     for name, (lo, hi) in (bounds or {}).items():
@@ -75,6 +75,6 @@ def build_problem(
             raise InputError("bounds", f"unknown gain {name!r} for {controller} "
                              f"(known: {', '.join(spec.gain_names)})")
         if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
-            raise InputError(f"bounds {name}", f"need finite lo < hi, got [{lo}, {hi}]")
+            raise InputError(f"bounds.{name}", f"need finite lo < hi, got [{lo}, {hi}]")
         box[name] = (float(lo), float(hi))
     return TuningProblem(scenarios, objective, aggregate, [box[n] for n in spec.gain_names])

@@ -1,9 +1,10 @@
-"""What every plant offers the simulation, tuning and CLI layers.
+"""What every plant offers the tuning, study, report and CLI layers.
 
-A *plant* (registered by name in `chassistune.plants.registry`) knows its presets and roads and
+A *plant* (registered by name in `chassistune.scenarios.registry`) knows its presets and roads and
 builds a *scenario*: plant + preset + road + controller + parameter overrides, fully resolved and
 validated. A scenario evaluates a whole population of gain vectors at once (`metrics`, `cost`)
-and traces one candidate for plots (`trace`).
+and traces one candidate for plots (`trace`). What the upper layers need to know about a plant
+without building anything (version, default preset, key metrics, plot function) is its `PlantSpec`.
 """
 
 from __future__ import annotations
@@ -16,8 +17,9 @@ from typing import Any
 
 import numpy as np
 
-from chassistune.controllers.registry import ControllerSpec
+from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
+from chassistune.plants.presets import PresetInfo
 
 PENALTY = 1e9
 """Cost of a run that cannot be scored (diverged, NaN, unstable, hopeless, not stopped)."""
@@ -43,12 +45,20 @@ def pick_preset(plant: str, name: str | None, default: str, known: Mapping[str, 
 
 
 @dataclass(frozen=True)
-class PresetInfo:
-    """A named parameter set of a plant, with the roads of its paper (first = default)."""
+class PlantSpec:
+    """A plant's identity and what reports need of it.
+
+    `key_metrics` are its lower-is-better metrics summarized in reports (each a metric name of
+    its scenarios); `plot` names the function drawing a trace, lazily as "module:attr"
+    (signature `plot(scenario, trace, path)`), so that no computation module imports matplotlib.
+    """
 
     name: str
+    version: int
     description: str
-    roads: tuple[str, ...]
+    default_preset: str
+    key_metrics: tuple[str, ...]
+    plot: str
 
 
 @dataclass
@@ -97,18 +107,28 @@ class Scenario(ABC):
             if name not in values:
                 known = ", ".join(self.gain_names) or "none"
                 raise InputError(
-                    "--gains", f"unknown gain {name!r} for {self.controller.name} (known: {known})"
+                    "gains", f"unknown gain {name!r} for {self.controller.name} (known: {known})"
                 )
             values[name] = float(value)
         return np.array([values[n] for n in self.gain_names], dtype=np.float64)
 
 
 class Plant(ABC):
-    """A registered plant: its presets, roads and how to build a scenario."""
+    """A registered plant: its spec, presets, roads and how to build a scenario."""
 
-    name: str
-    description: str
-    default_preset: str
+    spec: PlantSpec
+
+    @property
+    def name(self) -> str:
+        return self.spec.name
+
+    @property
+    def description(self) -> str:
+        return self.spec.description
+
+    @property
+    def default_preset(self) -> str:
+        return self.spec.default_preset
 
     @abstractmethod
     def presets(self) -> dict[str, PresetInfo]:
@@ -117,6 +137,10 @@ class Plant(ABC):
     @abstractmethod
     def roads(self) -> dict[str, str]:
         """Road name -> one-line description."""
+
+    @abstractmethod
+    def controllers(self) -> list[ControllerSpec]:
+        """The controllers a scenario of this plant accepts, in catalogue order."""
 
     @abstractmethod
     def scenario(
@@ -128,11 +152,3 @@ class Plant(ABC):
         seed: int = 0,
     ) -> Scenario:
         """Resolve and validate; unknown names or bad values raise InputError."""
-
-    @abstractmethod
-    def plot(self, scenario: Scenario, trace: Trace, path: str) -> None:
-        """Draw the figure of `simulate --plot` for this trace into `path` (PNG).
-
-        Implementations import matplotlib lazily (physics imports no plotting) from
-        `chassistune.plots.<plant module>`.
-        """

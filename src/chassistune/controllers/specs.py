@@ -1,14 +1,11 @@
-"""One registry of controllers keyed by (plant, controller): gain names, units, defaults, bounds.
+"""What a controller declares: its tunable gains (unit, default, bounds) and fixed parameters.
 
-`chassistune list controllers --json`, `--gains`, `tune`, study configs and exported tables all
-read it. The ABS PID and the suspension PID share a name, not their bounds.
+The specs of every (plant, controller) pair are listed in `chassistune.controllers.catalogue`.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-
-from chassistune.errors import InputError
 
 
 @dataclass(frozen=True)
@@ -90,31 +87,3 @@ class ControllerSpec:
             "gains": [g.as_dict() for g in self.gains],
             "params": [p.as_dict() for p in self.params],
         }
-
-
-_REGISTRY: dict[tuple[str, str], ControllerSpec] = {}
-
-
-def register(spec: ControllerSpec) -> ControllerSpec:
-    """Add a controller; registering the same (plant, name) twice is a programming error."""
-    key = (spec.plant, spec.name)
-    if key in _REGISTRY:
-        raise RuntimeError(f"controller {spec.name!r} registered twice for plant {spec.plant!r}")
-    _REGISTRY[key] = spec
-    return spec
-
-
-def get(plant: str, name: str) -> ControllerSpec:
-    """The controller `name` of `plant`, or InputError listing the known ones."""
-    try:
-        return _REGISTRY[(plant, name)]
-    except KeyError:
-        known = ", ".join(sorted(n for p, n in _REGISTRY if p == plant)) or "none"
-        raise InputError(
-            "controller", f"unknown controller {name!r} for plant {plant!r} (known: {known})"
-        ) from None
-
-
-def for_plant(plant: str) -> list[ControllerSpec]:
-    """All controllers of a plant, in registration order."""
-    return [s for (p, _), s in _REGISTRY.items() if p == plant]

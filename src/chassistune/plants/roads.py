@@ -1,0 +1,88 @@
+"""Every road surface by name (DESIGN 3.2, 3.4): tire-road friction curves for the wheel plants and
+ISO 8608 roughness classes for the suspension.
+
+Friction roads: the bilinear curves of Tian et al.'s Table 1 (`derlsp-ao-abs`) and the peaks of
+Ding 2023 (`fuzzy-immune-abs`), Burckhardt's seven surfaces (`burckhardt-<surface>`) and
+MathWorks' sldemo table (`sldemo-table`). Roughness roads: `iso-a` ... `iso-h`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+from chassistune.errors import InputError
+from chassistune.params import override
+from chassistune.plants.tires import (
+    BURCKHARDT_SURFACES,
+    SLDEMO_TABLE,
+    BilinearTire,
+    BurckhardtTire,
+    TireCurve,
+)
+
+BILINEAR_ROADS: dict[str, tuple[float, float, float, str]] = {
+    "dry-concrete": (0.2, 0.9, 0.75, "derlsp-ao-abs Table 1"),
+    "wet-asphalt": (0.2, 0.78, 0.50, "derlsp-ao-abs Table 1 (its eq. 7 slope 0.3125 is a "
+                    "misprint)"),
+    "ice": (0.1, 0.1028, 0.07, "derlsp-ao-abs Table 1"),
+    "asphalt-0.8": (0.2, 0.8, 0.6, "fuzzy-immune-abs peak 0.8; slip and lock values our "
+                    "assumption"),
+    "dirt-0.2": (0.15, 0.2, 0.15, "fuzzy-immune-abs peak 0.2; slip and lock values our "
+                 "assumption"),
+}
+"""Road name -> (S_T, mu_h, mu_g, source) of the bilinear curve."""
+
+BURCKHARDT_PREFIX = "burckhardt-"
+
+ISO_CLASSES: dict[str, float] = {
+    f"iso-{letter}": 16e-6 * 4.0**i for i, letter in enumerate("abcdefgh")
+}
+"""Road name -> geometric mean Gd(n0) of the ISO 8608 class, m^3 (16e-6 ... 262144e-6)."""
+
+
+def friction_roads() -> dict[str, str]:
+    """Friction road name -> one-line description."""
+    out = {n: f"bilinear S_T={s}, mu_h={h}, mu_g={g}: {d}" for n, (s, h, g, d) in
+           BILINEAR_ROADS.items()}
+    out["sldemo-table"] = "MathWorks sldemo_absbrake mu-slip table (peak 1.0 at S = 0.2)"
+    for name, (c1, c2, c3) in BURCKHARDT_SURFACES.items():
+        out[f"{BURCKHARDT_PREFIX}{name}"] = f"Burckhardt c1={c1}, c2={c2}, c3={c3}"
+    return out
+
+
+def tire_for_road(road: str, values: Mapping[str, object]) -> tuple[TireCurve, set[str]]:
+    """The road's tire curve with overrides (slip_opt/mu_peak/mu_lock or c1/c2/c3) applied, and
+    the names of `values` used."""
+    base: TireCurve
+    surface = road[len(BURCKHARDT_PREFIX):]
+    if road in BILINEAR_ROADS:
+        s, h, g, _ = BILINEAR_ROADS[road]
+        base = BilinearTire(s, h, g)
+    elif road == "sldemo-table":
+        return SLDEMO_TABLE, set()
+    elif road.startswith(BURCKHARDT_PREFIX) and surface in BURCKHARDT_SURFACES:
+        base = BurckhardtTire(*BURCKHARDT_SURFACES[surface])
+    else:
+        raise InputError(
+            "road", f"unknown road {road!r} for abs-wheel (known: {', '.join(friction_roads())})"
+        )
+    tire, used = override(base, values)
+    return tire, used
+
+
+def roughness_roads() -> dict[str, str]:
+    """ISO 8608 road name -> one-line description."""
+    return {
+        name: f"ISO 8608 class {name[-1].upper()} random road, Gd(n0) = {gq * 1e6:g}e-6 m^3"
+        for name, gq in ISO_CLASSES.items()
+    }
+
+
+def roughness_class(name: str) -> float:
+    """Gq of an ISO 8608 road name (m^3), or InputError listing the known roads."""
+    try:
+        return ISO_CLASSES[name]
+    except KeyError:
+        raise InputError(
+            "road", f"unknown road {name!r} for quarter-car (known: {', '.join(ISO_CLASSES)})"
+        ) from None
