@@ -2,17 +2,40 @@
 
 Python API: `simulate(...)` one closed-loop run, `tune(...)` tune a controller's gains,
 `minimize(fun, bounds, method=...)` any optimizer over a vectorized function,
-`chassistune.benchmarks.get("F14")` the classic benchmark functions.
+`chassistune.benchmarks.get("F14")` the classic benchmark functions. Their heavy parts (numpy,
+numba, the plants) are imported on first use, so that importing the package and starting the CLI
+stay fast.
 """
 
-__version__ = "0.1.0"
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
 
 from chassistune._numba_cache import configure as _configure_numba_cache
 
+__version__ = "0.1.0"
+
 _configure_numba_cache()
 
-from chassistune.optimizers.minimize import minimize  # noqa: E402
+# `simulate` is bound now (its module is light): the function must shadow the submodule of the
+# same name before anything imports that submodule.
 from chassistune.simulate import simulate  # noqa: E402
-from chassistune.tuning.tune import tune  # noqa: E402
+
+if TYPE_CHECKING:
+    from chassistune.optimizers.minimize import minimize
+    from chassistune.tuning.tune import tune
+
+_LAZY = {"minimize": "chassistune.optimizers.minimize", "tune": "chassistune.tuning.tune"}
+
+
+def __getattr__(name: str) -> Any:
+    """`chassistune.minimize` and `chassistune.tune`, imported on first access."""
+    if name not in _LAZY:
+        raise AttributeError(f"module 'chassistune' has no attribute {name!r}")
+    value = getattr(importlib.import_module(_LAZY[name]), name)
+    globals()[name] = value
+    return value
+
 
 __all__ = ["__version__", "minimize", "simulate", "tune"]

@@ -4,11 +4,12 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from chassistune.params import to_float
-from chassistune.scenarios.base import Scenario, Trace
-from chassistune.scenarios.registry import get_plant
+
+if TYPE_CHECKING:  # the plants are imported on first use: `import chassistune` stays light
+    from chassistune.scenarios.base import Scenario, Trace
 
 
 @dataclass
@@ -51,6 +52,8 @@ def simulate(
     `params` overrides plant, road, solver and controller parameters by name (SI). Bad names or
     values raise `chassistune.errors.InputError` (a ValueError).
     """
+    from chassistune.scenarios.registry import get_plant
+
     scenario = get_plant(plant).scenario(preset, road, controller, params or {}, seed)
     numeric = {k: to_float(v, f"gains.{k}") for k, v in (gains or {}).items()}
     g = scenario.gains_array(numeric)

@@ -1,6 +1,7 @@
 """The built-in rule bases hold the papers' tables.
 
-Seed 003 Table 3 (deffao), shared/fuzzy_tables.md (classic), seed 004 Table 1 (immune).
+deffao-vehicle-abs Table 3 (deffao), shared/fuzzy_tables.md (classic), fuzzy-immune-abs Table 1
+(immune).
 """
 
 from __future__ import annotations
@@ -9,8 +10,8 @@ import pytest
 
 from chassistune.fuzzy import RuleBase, builtin_names, load_rulebase, rulebase_from_dict
 
-# Seed 003 (Tian et al. 2025), Table 3 exactly as the seed text prints it: each row is its E label
-# followed by seven "kp,ki,kd" cells (columns EC = NB..PB) run together.
+# Tian, Huang et al. 2025 (deffao-vehicle-abs), Table 3 exactly as the paper's text prints it: each
+# row is its E label followed by seven "kp,ki,kd" cells (columns EC = NB..PB) run together.
 SEED_003_TABLE_3 = """\
 NBB,Z,SB,Z,MB,Z,BB,Z,BZ,Z,MZ,Z,MZ,Z,S
 NMB,S,MM,S,MM,Z,BS,Z,BZ,S,MZ,S,MZ,S,M

@@ -7,13 +7,13 @@ import pytest
 
 import chassistune
 from chassistune import benchmarks
-from chassistune.optimizers.minimize import MinimizeResult, minimize
+from chassistune.optimizers import OptimizeResult, minimize
 
 
 def test_result_fields_and_budget() -> None:
     f = benchmarks.get("F1")
     res = chassistune.minimize(f, [(-5, 5)] * 4, method="pso", pop_size=12, max_evals=500, seed=1)
-    assert isinstance(res, MinimizeResult)
+    assert isinstance(res, OptimizeResult)
     assert res.nfev == 500 and res.nit == len(res.history) == len(res.history_nfev)
     assert res.fun == res.history[-1] == pytest.approx(float(f(res.x)))
     assert res["fun"] == res.fun and res.method == "pso" and res.success
@@ -32,7 +32,7 @@ def test_scalar_objective_matches_vectorized() -> None:
 def test_callback_sees_every_iteration_and_can_stop() -> None:
     seen: list[int] = []
 
-    def cb(r: MinimizeResult) -> bool:
+    def cb(r: OptimizeResult) -> bool:
         seen.append(r.nit)
         return r.nit == 4
 

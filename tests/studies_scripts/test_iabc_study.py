@@ -1,4 +1,4 @@
-"""benchmarks/iabc_suspension_study.py on a tiny budget: outputs written, resume skips done runs."""
+"""paper_scripts/iabc_suspension_study.py on a tiny budget: outputs written, resume skips runs."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from types import ModuleType
 
 import pytest
 
-SCRIPT = Path(__file__).resolve().parents[2] / "benchmarks" / "iabc_suspension_study.py"
+SCRIPT = Path(__file__).resolve().parents[2] / "paper_scripts" / "iabc_suspension_study.py"
 
 
 @pytest.fixture(scope="module")

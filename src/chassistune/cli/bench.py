@@ -11,12 +11,11 @@ import importlib
 import click
 
 from chassistune.cli.common import echo_json, fmt
-from chassistune.cli.main import cli
 
 AREAS = ("abs", "optimizer", "tuning", "fuzzy", "suspension", "vehicle")
 
 
-@cli.command("bench")
+@click.command("bench")
 @click.option("--quick", is_flag=True, help="Fewer repetitions and a smaller baseline sample.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
 @click.option("--only", type=click.Choice(AREAS), multiple=True,

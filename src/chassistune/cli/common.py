@@ -1,14 +1,15 @@
-"""Helpers shared by the commands: output checks, JSON printing, number formatting."""
+"""Helpers shared by the commands: output checks, JSON printing, number formatting.
+
+Light on purpose (no numpy at import): every command module imports it at start-up.
+"""
 
 from __future__ import annotations
 
-import json
 import math
 import os
 from typing import Any
 
 import click
-import numpy as np
 
 from chassistune.errors import InputError
 
@@ -43,31 +44,17 @@ def check_output_file(path: str | None, option: str, suffix: str | None = None) 
         raise InputError(option, f"expected a {suffix} file name, got {path!r}")
 
 
-def jsonable(x: Any) -> Any:
-    """Plain JSON types: numpy scalars and arrays converted, NaN and inf -> None."""
-    if isinstance(x, dict):
-        return {str(k): jsonable(v) for k, v in x.items()}
-    if isinstance(x, list | tuple):
-        return [jsonable(v) for v in x]
-    if isinstance(x, np.ndarray):
-        return [jsonable(v) for v in x.tolist()]
-    if isinstance(x, np.bool_ | bool):
-        return bool(x)
-    if isinstance(x, np.integer):
-        return int(x)
-    if isinstance(x, np.floating | float):
-        f = float(x)
-        return f if math.isfinite(f) else None
-    return x
-
-
 def echo_json(obj: dict[str, Any]) -> None:
-    """Print exactly one JSON object on stdout."""
-    click.echo(json.dumps(jsonable(obj), indent=1))
+    """Print exactly one JSON object on stdout (normalized by `_io.jsonable`)."""
+    from chassistune._io import dumps
+
+    click.echo(dumps(obj, indent=1))
 
 
 def fmt(x: Any) -> str:
     """A short human rendering of a metric value."""
+    import numpy as np
+
     if x is None:
         return "-"
     if isinstance(x, bool | np.bool_):

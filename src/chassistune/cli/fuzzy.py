@@ -9,19 +9,19 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
-from chassistune.cli.main import cli
 from chassistune.errors import InputError
-from chassistune.fuzzy.engine import evaluate_named
-from chassistune.fuzzy.loader import load_rulebase
-from chassistune.fuzzy.rulebase import OPERATORS, RuleBase, Variable
+
+if TYPE_CHECKING:  # the fuzzy package builds numba ufuncs at import: imported by the commands
+    from chassistune.fuzzy.rulebase import RuleBase, Variable
 
 PLOT_SUFFIXES = (".png", ".svg", ".pdf")
 
 
-@cli.group("fuzzy")
+@click.group("fuzzy")
 def fuzzy_group() -> None:
     """Show and evaluate fuzzy rule bases (a built-in name or a TOML file)."""
 
@@ -69,6 +69,9 @@ def _check_plot_path(path: str) -> Path:
 @click.option("--plot", "plot", metavar="FILE.png", help="Draw the sets and control surfaces.")
 def show_command(rulebase: str, as_json: bool, plot: str | None) -> None:
     """Show a rule base: variables, sets, rules (and --plot its control surfaces)."""
+    from chassistune.fuzzy.loader import load_rulebase
+    from chassistune.fuzzy.rulebase import OPERATORS
+
     rb = load_rulebase(rulebase)
     out = _check_plot_path(plot) if plot else None
     if out is not None:
@@ -126,6 +129,9 @@ def _parse_inputs(items: tuple[str, ...]) -> dict[str, float]:
 @click.option("--json", "as_json", is_flag=True, help='Print {"outputs": {NAME: VALUE}}.')
 def eval_command(rulebase: str, inputs: tuple[str, ...], as_json: bool) -> None:
     """Evaluate a rule base exactly (Mamdani min/max, centroid) at one input point."""
+    from chassistune.fuzzy.engine import evaluate_named
+    from chassistune.fuzzy.loader import load_rulebase
+
     rb = load_rulebase(rulebase)
     values = _parse_inputs(inputs)
     result = {name: float(v) for name, v in evaluate_named(rb, values).items()}

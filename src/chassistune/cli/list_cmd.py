@@ -6,15 +6,12 @@ import json
 
 import click
 
-from chassistune.cli.main import cli
-from chassistune.scenarios.registry import get_plant, plant_names, plant_spec
-
 KINDS = ["plants", "presets", "roads", "controllers", "optimizers", "functions"]
 
 
 def catalogue(kind: str) -> object:
     """The JSON-ready listing of one kind (grouped by plant where it applies)."""
-    from chassistune.controllers.catalogue import for_plant
+    from chassistune.scenarios.registry import get_plant, plant_names, plant_spec
 
     if kind == "plants":
         return [
@@ -36,6 +33,8 @@ def catalogue(kind: str) -> object:
             for n in plant_names()
         }
     if kind == "controllers":
+        from chassistune.controllers.catalogue import for_plant
+
         out = {}
         for n in plant_names():
             out[n] = [c.as_dict() for c in for_plant(n)]
@@ -71,7 +70,7 @@ def _print_human(kind: str, data: object) -> None:
             click.echo(f"{item['name']:<14} {item.get('description', '')}")
 
 
-@cli.command("list")
+@click.command("list")
 @click.argument("kind", type=click.Choice(KINDS))
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
 def list_command(kind: str, as_json: bool) -> None:

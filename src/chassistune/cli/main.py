@@ -1,7 +1,8 @@
-"""Entry point: the click group, and the error policy of DESIGN 7.
+"""Entry point: the click group with every command added, and the error policy of DESIGN 7.
 
 Exit 0 on success, 2 on bad input (one line on stderr naming the field), 1 on anything else.
-Command modules register themselves on `cli` when imported at the bottom of this file.
+Each command module defines a plain click command (or group) and imports its heavy modules
+inside it, so that `--help`, `--version` and `list` answer without importing numba.
 """
 
 from __future__ import annotations
@@ -10,6 +11,14 @@ import sys
 
 import click
 
+from chassistune.cli.bench import bench_command
+from chassistune.cli.demo import demo_command
+from chassistune.cli.fuzzy import fuzzy_group
+from chassistune.cli.list_cmd import list_command
+from chassistune.cli.optimize import optimize_command
+from chassistune.cli.simulate import simulate_command
+from chassistune.cli.study import study_group
+from chassistune.cli.tune import tune_command
 from chassistune.errors import InputError
 
 
@@ -23,16 +32,22 @@ def cli() -> None:
     """
 
 
+for _command in (list_command, simulate_command, tune_command, optimize_command, study_group,
+                 fuzzy_group, bench_command, demo_command):
+    cli.add_command(_command)
+
+
 def _one_line(text: str) -> str:
     return " ".join(str(text).split())
 
 
 def main(argv: list[str] | None = None) -> None:
     """Run the CLI, mapping bad input to one stderr line and exit status 2."""
-    from chassistune.cli import commands  # noqa: F401  (registers the commands)
-
+    args = sys.argv[1:] if argv is None else argv
+    if not args:  # no command: the usual help, as `--help` prints it
+        args = ["--help"]
     try:
-        cli.main(args=argv, prog_name="chassistune", standalone_mode=False)
+        cli.main(args=args, prog_name="chassistune", standalone_mode=False)
     except InputError as exc:
         from chassistune.cli.common import cli_field
 

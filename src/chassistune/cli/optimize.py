@@ -4,17 +4,11 @@
 from __future__ import annotations
 
 import json
-import math
 from typing import Any
 
 import click
 
-from chassistune.cli.main import cli
 from chassistune.errors import InputError
-
-
-def _finite(v: float) -> float | None:
-    return v if math.isfinite(v) else None
 
 
 def run_optimize(
@@ -27,8 +21,8 @@ def run_optimize(
     seed: int,
 ) -> dict[str, Any]:
     """Run one optimizer on one benchmark function; the `optimize --json` object (DESIGN 7)."""
-    import numpy as np
-
+    from chassistune._io import jsonable
+    from chassistune._rng import child_seed, make_rng
     from chassistune.benchmarks.functions import get as get_function
     from chassistune.optimizers.minimize import minimize
 
@@ -39,9 +33,7 @@ def run_optimize(
     fn = get_function(function)
     bounds = fn.bounds(dim)
     # F7's noise has its own stream, derived from the seed
-    noise = (
-        np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0]) if fn.noisy else None
-    )
+    noise = make_rng(child_seed(seed, 0)) if fn.noisy else None
 
     def objective(x: Any) -> Any:
         return fn(x, noise)
@@ -59,16 +51,16 @@ def run_optimize(
         "function": fn.name,
         "dim": int(bounds.shape[0]),
         "optimizer": optimizer.lower(),
-        "best_f": _finite(res.fun),
-        "best_x": [float(v) for v in res.x],
+        "best_f": jsonable(res.fun),
+        "best_x": jsonable(res.x),
         "nfev": res.nfev,
         "nit": res.nit,
-        "history": [_finite(float(v)) for v in res.history],
-        "history_nfev": [int(v) for v in res.history_nfev],
+        "history": jsonable(res.history),
+        "history_nfev": jsonable(res.history_nfev),
     }
 
 
-@cli.command("optimize")
+@click.command("optimize")
 @click.argument("function")
 @click.option(
     "--dim", type=int, default=None, help="Dimension (default: the function's usual one)."

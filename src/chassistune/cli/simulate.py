@@ -3,36 +3,29 @@
 from __future__ import annotations
 
 import csv
-import os
-import tempfile
+from typing import TYPE_CHECKING
 
 import click
-import numpy as np
 
 from chassistune.cli.common import check_output_file, echo_json, fmt
-from chassistune.cli.main import cli
-from chassistune.params import parse_assignments
-from chassistune.plots.registry import plot_trace
-from chassistune.scenarios.registry import get_plant, plant_names
-from chassistune.simulate import SimulationResult, simulate
+
+if TYPE_CHECKING:
+    from chassistune.simulate import SimulationResult
 
 
 def write_csv(result: SimulationResult, path: str) -> None:
     """The trace as CSV, one row per step, written atomically."""
+    import numpy as np
+
+    from chassistune._io import atomic_path
+
     sig = result.trace.signals
     names = list(sig)
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(suffix=".csv", dir=folder)
-    try:
-        with os.fdopen(fd, "w", newline="") as fh:
-            w = csv.writer(fh)
-            units = result.trace.units
-            w.writerow([f"{n} [{units[n]}]" if n in units else n for n in names])
-            w.writerows(np.column_stack([sig[n] for n in names]).tolist())
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
+    with atomic_path(path) as tmp, open(tmp, "w", newline="", encoding="utf-8") as fh:
+        w = csv.writer(fh)
+        units = result.trace.units
+        w.writerow([f"{n} [{units[n]}]" if n in units else n for n in names])
+        w.writerows(np.column_stack([sig[n] for n in names]).tolist())
 
 
 def _print_metrics(metrics: dict[str, object]) -> None:
@@ -51,7 +44,7 @@ def _print_metrics(metrics: dict[str, object]) -> None:
         click.echo(f"  {k:<{width}}  {fmt(metrics[k])}")
 
 
-@cli.command("simulate")
+@click.command("simulate")
 @click.argument("plant", metavar="PLANT")
 @click.option("--preset", help="Parameter preset (default: the plant's paper preset).")
 @click.option("--road", help="Road (default: the preset's first road).")
@@ -74,6 +67,11 @@ def simulate_command(plant: str, preset: str | None, road: str | None, controlle
     PLANT is one of the plants of `chassistune list plants` (abs-wheel, quarter-car). Units are SI.
     Example: chassistune simulate abs-wheel --road wet-asphalt --gains kp=5000,kd=230 --plot out.png
     """
+    from chassistune.params import parse_assignments
+    from chassistune.plots.registry import plot_trace
+    from chassistune.scenarios.registry import get_plant, plant_names
+    from chassistune.simulate import simulate
+
     if plant not in plant_names():
         get_plant(plant)  # raises the one-line error listing the plants
     check_output_file(plot_path, "--plot", ".png")

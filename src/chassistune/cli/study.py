@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import click
 
-from chassistune.cli.main import cli
 from chassistune.errors import InputError
 
 
-@cli.group("study")
+@click.group("study")
 def study_group() -> None:
     """Run a study from a TOML config, report on it, export its runs (docs/studies.md)."""
 
@@ -56,13 +55,22 @@ def run_command(config: str, out_dir: str, executor: str, scheduler: str | None,
 @click.argument("study_dir", metavar="DIR")
 @click.option("--reference", metavar="OPTIMIZER",
               help="Optimizer the others are compared with (default: the first of the config).")
-def report_command(study_dir: str, reference: str | None) -> None:
+@click.option("--interactive", is_flag=True,
+              help="Also write DIR/report_interactive.html (plotly; needs the [interactive] "
+                   "extra).")
+def report_command(study_dir: str, reference: str | None, interactive: bool) -> None:
     """Statistics, tables and figures of a study: DIR/report.html, CSV and PNG files."""
     from chassistune.reports.build import build_report
 
+    if interactive:
+        from chassistune.reports.interactive import build_interactive, require_plotly
+
+        require_plotly()  # refused before anything is written
     written = build_report(study_dir, reference)
     click.echo(f"wrote {written.html} ({len(written.tables)} tables, {len(written.figures)} "
                f"figures in {written.folder})")
+    if interactive:
+        click.echo(f"wrote {build_interactive(study_dir, reference).html}")
 
 
 @study_group.command("export")

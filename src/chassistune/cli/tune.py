@@ -2,66 +2,20 @@
 
 from __future__ import annotations
 
-import json
 import os
-import tempfile
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import click
-import numpy as np
 
-from chassistune.cli.common import echo_json, fmt, jsonable
-from chassistune.cli.main import cli
+from chassistune.cli.common import echo_json, fmt
 from chassistune.errors import InputError
-from chassistune.params import parse_assignments
-from chassistune.tuning.problem import build_problem
-from chassistune.tuning.tune import TuneResult, run_optimizer
+
+if TYPE_CHECKING:
+    from chassistune.tuning.tune import Progress, TuneResult
 
 
-def _write_atomic(path: str, text: str) -> None:
-    fd, tmp = tempfile.mkstemp(dir=os.path.dirname(os.path.abspath(path)))
-    try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-
-
-def write_outputs(result: TuneResult, out_dir: str) -> list[str]:
-    """best_gains.json, tune.json, history.csv, convergence.png and one response plot per road."""
-    from chassistune.plots.convergence import plot_convergence
-    from chassistune.plots.registry import plot_trace
-
-    os.makedirs(out_dir, exist_ok=True)
-    written = []
-    path = os.path.join(out_dir, "best_gains.json")
-    _write_atomic(path, json.dumps(jsonable(result.best_gains), indent=1) + "\n")
-    written.append(path)
-    path = os.path.join(out_dir, "tune.json")
-    _write_atomic(path, json.dumps(jsonable(result.as_dict()), indent=1) + "\n")
-    written.append(path)
-    path = os.path.join(out_dir, "history.csv")
-    rows = "\n".join(f"{i + 1},{n},{c!r}" for i, (n, c) in
-                     enumerate(zip(result.history_nfev, result.history, strict=True)))
-    _write_atomic(path, "iteration,nfev,best_cost\n" + rows + "\n")
-    written.append(path)
-    path = os.path.join(out_dir, "convergence.png")
-    first = result.problem.scenarios[0]
-    plot_convergence({result.optimizer: [(result.history_nfev, result.history)]}, path,
-                     title=f"{first.plant} {first.controller.name} on "
-                     f"{', '.join(result.problem.roads)}: {result.problem.objective}")
-    written.append(path)
-    gains = np.array([result.best_gains[n] for n in result.problem.gain_names])
-    for sc in result.problem.scenarios:
-        path = os.path.join(out_dir, f"response-{sc.road}.png")
-        plot_trace(sc, sc.trace(gains), path)
-        written.append(path)
-    return written
-
-
-@cli.command("tune")
+@click.command("tune")
 @click.argument("plant", metavar="PLANT")
 @click.option("--preset", help="Parameter preset (default: the plant's paper preset).")
 @click.option("--road", "roads", multiple=True,
@@ -91,6 +45,10 @@ def tune_command(plant: str, preset: str | None, roads: tuple[str, ...], aggrega
     Example: chassistune tune abs-wheel --road dry-concrete --controller pid --optimizer derlsp-ao
     """
     from chassistune.optimizers.registry import get as get_optimizer
+    from chassistune.params import parse_assignments
+    from chassistune.reports.outputs import write_tune_outputs
+    from chassistune.tuning.problem import build_problem
+    from chassistune.tuning.tune import run_optimizer
 
     get_optimizer(optimizer)
     for name, value in (("--iters", iters), ("--evals", evals), ("--pop", pop_size)):
@@ -109,7 +67,7 @@ def tune_command(plant: str, preset: str | None, roads: tuple[str, ...], aggrega
     else:
         result = _with_progress(lambda cb: run_optimizer(problem, optimizer, pop_size, iters,
                                                          evals, seed, cb), iters, evals)
-    written = write_outputs(result, out_dir) if out_dir else []
+    written = write_tune_outputs(result, out_dir) if out_dir else []
     if as_json:
         echo_json(result.as_dict())
         return
@@ -126,7 +84,7 @@ def tune_command(plant: str, preset: str | None, roads: tuple[str, ...], aggrega
         click.echo(f"wrote {path}")
 
 
-def _with_progress(run: Callable[[Callable[[int, int, float], None]], TuneResult],
+def _with_progress(run: Callable[[Progress], TuneResult],
                    iters: int | None, evals: int | None) -> TuneResult:
     """Run with a rich progress bar on stderr (iterations or evaluations, best cost, ETA)."""
     from rich.console import Console

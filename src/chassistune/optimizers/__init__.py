@@ -1,5 +1,6 @@
-"""Batch ask/tell optimizers (registry in `registry`), and `minimize`."""
+"""Batch ask/tell optimizers (registry in `registry`), the one loop `drive`, and `minimize`."""
 
-from chassistune.optimizers.minimize import MinimizeResult, minimize
+from chassistune.optimizers.driver import OptimizeResult, drive
+from chassistune.optimizers.minimize import minimize
 
-__all__ = ["MinimizeResult", "minimize"]
+__all__ = ["OptimizeResult", "drive", "minimize"]

@@ -16,16 +16,16 @@ IntArray = NDArray[np.intp]
 
 
 def mantegna_sigma(beta: float) -> float:
-    """sigma_u of Mantegna's Levy step (seed 000 eq. 17)."""
+    """sigma_u of Mantegna's Levy step (derlsp-ao-abs eq. 17)."""
     num = math.gamma(1.0 + beta) * math.sin(math.pi * beta / 2.0)
     den = math.gamma((1.0 + beta) / 2.0) * beta * 2.0 ** ((beta - 1.0) / 2.0)
     return float((num / den) ** (1.0 / beta))
 
 
 def levy(rng: np.random.Generator, shape: tuple[int, ...], beta: float, scale: float) -> FloatArray:
-    """Levy(D) steps, seed 000 eqs. 16-17, with Mantegna's draws.
+    """Levy(D) steps, derlsp-ao-abs eqs. 16-17, with Mantegna's draws.
 
-    Levy = scale * u / |v|^(1/beta), u ~ N(0, sigma^2), v ~ N(0, 1). Seed 000 prints u1 in
+    Levy = scale * u / |v|^(1/beta), u ~ N(0, sigma^2), v ~ N(0, 1). derlsp-ao-abs prints u1 in
     (0, 1): a slip (a uniform u gives no symmetric heavy-tailed step); we use the normal u of
     Mantegna and of the authors' code.
     Draws: `standard_normal(shape)` for u, then `standard_normal(shape)` for v.
@@ -61,7 +61,7 @@ def partners(rng: np.random.Generator, n: int, k: int, rows: IntArray | None = N
 def binomial_crossover(
     rng: np.random.Generator, x: FloatArray, v: FloatArray, cr: float
 ) -> FloatArray:
-    """DE binomial crossover with a forced gene j_rand (seed 000 eq. 33).
+    """DE binomial crossover with a forced gene j_rand (derlsp-ao-abs eq. 33).
 
     Draws: `random(x.shape)` for the CR test, then `integers(0, d, size=n)` for j_rand.
     """
@@ -81,7 +81,7 @@ def greedy(
     ties: bool = False,
     rows: IntArray | None = None,
 ) -> NDArray[np.bool_]:
-    """One-to-one greedy selection in place (seed 000 eq. 34): keep the trial where it is better.
+    """One-to-one greedy selection in place (derlsp-ao-abs eq. 34): keep the trial where better.
 
     `ties=True` also accepts equal costs (`<=`, as POA's reference code does). With `rows`, trial i
     competes with member `rows[i]`. Returns the mask of accepted trials.

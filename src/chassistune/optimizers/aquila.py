@@ -1,9 +1,9 @@
 """The Aquila family: AO, DERLSP-AO and DEFFAO as configurations of one engine.
 
-AO (Abualigah et al. 2021), as written in seed 000 section 3.1, eqs. 13-27:
+AO (Abualigah et al. 2021), as written in derlsp-ao-abs section 3.1, eqs. 13-27:
 exploration while t <= 2T/3 (eq. 13 expanded exploration or eq. 15 contour flight, by a coin flip
 per eagle), exploitation after (eq. 23 low flight or eq. 24 walk-and-grab); greedy one-to-one
-selection. Where seed 000 and the authors' MATLAB code differ we follow seed 000:
+selection. Where derlsp-ao-abs and the authors' MATLAB code differ we follow derlsp-ao-abs:
 
 - XM is the population mean per dimension (eq. 14; the code takes the scalar mean of one
   individual, a known slip);
@@ -12,7 +12,7 @@ selection. Where seed 000 and the authors' MATLAB code differ we follow seed 000
   (`x1_form="grouped"`): it is the reading that contracts towards the best. Taken as printed
   (`x1_form="printed"`) X1 = Xbest (2 - t/T - rand) near convergence, which does not contract: on
   F1 (d = 30, N = 30, 500 iterations) we measured about 1e-7 printed against 1e-68 grouped. This is
-  the one place where we depart from seed 000's printed text, and the choice is a hyperparameter;
+  the one place where we depart from derlsp-ao-abs's printed text, and the choice is a parameter;
 - the spiral of eqs. 18-22 uses r = r1 + U D1 with r1 a random integer in [1, 20] drawn per eagle
   and U = 0.00565 (the code fixes r1 = 10 and U = 0.0265);
 - Levy(D) is a fresh vector per eagle with Mantegna's normal u (the paper's u1 in (0, 1) is a slip),
@@ -25,7 +25,7 @@ flips `random(N)`; exploration: eq. 13's rand `random(N)`, XR `integers(0, N, N)
 `random(N)` twice, eq. 24's two rands `random(N)` twice, Levy `(N, D)`. Every array is drawn for
 all N eagles whichever move each one takes.
 
-DERLSP-AO (seed 000 section 3.2) adds three strategies, each switched by a hyperparameter:
+DERLSP-AO (derlsp-ao-abs section 3.2) adds three strategies, each switched by a hyperparameter:
 
 1. `lens_opposition` (eqs. 28-29): the lens-imaging opposite of the best,
    X' = (a+b)/2 + (a+b)/(2k) - Xbest/k with a, b the current population's per-dimension minimum and
@@ -40,7 +40,7 @@ DERLSP-AO (seed 000 section 3.2) adds three strategies, each switched by a hyper
 
 An iteration costs N + 1 + N evaluations with all three on.
 
-DEFFAO (seed 003) names three strategies and gives no equations: THE DESIGN BELOW IS OURS.
+DEFFAO (deffao-vehicle-abs) names three strategies and gives no equations: THE DESIGN BELOW IS OURS.
 
 1. `free_hunting`: each eagle, with probability `free_prob` (a coin per eagle), hunts on its own
    instead of taking its AO move: it picks a random other eagle k and moves towards it if k is
@@ -69,7 +69,7 @@ from chassistune.optimizers.base import Hyperparameters, Optimizer, Steps
 
 @dataclass(frozen=True)
 class AquilaHyper(Hyperparameters):
-    """Hyperparameters of the Aquila family (seed 000 eqs. 13-34; DEFFAO's: ours)."""
+    """Hyperparameters of the Aquila family (derlsp-ao-abs eqs. 13-34; DEFFAO's: ours)."""
 
     alpha: float = 0.1  # eq. 23
     delta: float = 0.1  # eq. 23
@@ -79,13 +79,13 @@ class AquilaHyper(Hyperparameters):
     spiral_omega: float = 0.005  # omega of eq. 21
     spiral_r1_max: int = 20  # r1 ~ U{1, .., r1_max} (eq. 20)
     x1_form: str = "grouped"  # eq. 13: "grouped" (XM - Xbest) rand, or "printed" XM - Xbest rand
-    # DERLSP-AO, seed 000 section 3.2
+    # DERLSP-AO, derlsp-ao-abs section 3.2
     lens_opposition: bool = False  # eqs. 28-29
     lens_k: float | None = None  # None: adaptive k = (1 + (t/T)^0.5)^10
     stagnation: bool = False  # eqs. 30-31
     stagnation_iters: int = 5
     de_step: bool = False  # eqs. 32-34
-    # DEFFAO, seed 003 (design ours)
+    # DEFFAO, deffao-vehicle-abs (design ours)
     free_hunting: bool = False
     free_prob: float = 0.2
     nonlinear_factor: bool = False
@@ -262,27 +262,27 @@ class Aquila(Optimizer):
 
 
 class AO(Aquila):
-    """Aquila Optimizer (Abualigah et al. 2021), seed 000 eqs. 13-27."""
+    """Aquila Optimizer (Abualigah et al. 2021), derlsp-ao-abs eqs. 13-27."""
 
     name = "ao"
-    description = "Aquila Optimizer (Abualigah 2021; seed 000 eqs. 13-27)"
+    description = "Aquila Optimizer (Abualigah 2021; derlsp-ao-abs eqs. 13-27)"
     min_pop = 2
     defaults = AquilaHyper()
 
 
 class DERLSPAO(Aquila):
-    """DERLSP-AO: AO + lens opposition + stagnation perturbation + DE step (seed 000 eqs. 28-34)."""
+    """DERLSP-AO: AO + lens opposition + stagnation perturbation + DE (derlsp-ao-abs eqs. 28-34)."""
 
     name = "derlsp-ao"
-    description = "AO + lens opposition, stagnation perturbation and DE (seed 000 eqs. 28-34)"
+    description = "AO + lens opposition, stagnation perturbation and DE (derlsp-ao-abs eqs. 28-34)"
     min_pop = 4
     defaults = AquilaHyper(lens_opposition=True, stagnation=True, de_step=True)
 
 
 class DEFFAO(Aquila):
-    """DEFFAO: AO + free hunting + nonlinear factor + DE elimination (seed 003; design ours)."""
+    """DEFFAO: AO + free hunting + nonlinear factor + DE elimination (deffao-vehicle-abs; ours)."""
 
     name = "deffao"
-    description = "AO + free hunting, nonlinear factor, DE elimination (seed 003; our design)"
+    description = "AO + free hunting, nonlinear factor, DE elimination (deffao-vehicle-abs; ours)"
     min_pop = 3
     defaults = AquilaHyper(free_hunting=True, nonlinear_factor=True, de_elimination=True)

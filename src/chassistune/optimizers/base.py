@@ -13,7 +13,7 @@ and receives their costs::
 The base class drives that coroutine from `ask()` / `tell()` and owns everything the algorithms
 share:
 
-- the `numpy.random.Generator` (`self.rng`, seeded from an int, a `SeedSequence` or a Generator);
+- the `numpy.random.Generator` (`self.rng`, from `chassistune._rng.make_rng(seed)`);
 - bounds repair: every yielded batch is repaired *in place* (clip by default, or reflect) before it
   is handed out, so the algorithm sees exactly the points that are evaluated (a NaN coordinate,
   which has no nearest bound, is redrawn uniformly: the only draw the base makes after start-up);
@@ -22,7 +22,9 @@ share:
   not evaluated get cost +inf, so they lose every greedy comparison and are never the best;
 - cost hygiene: NaN, +inf and -inf costs become +inf;
 - the best-so-far point and cost, the convergence history (best-so-far after every iteration)
-  and `history_nfev` (evaluations spent at each of those points).
+  and `history_nfev` (evaluations spent at each of those points);
+- `diagnostics`, a dict in which an algorithm reports on its run (ABC's scout count), carried
+  into the run's result by `optimizers.driver.drive`.
 
 The schedule horizon `T` that the algorithms use (AO's 2T/3 switch, GWO's a, ...) is `max_iter`,
 or `floor(max_evals / evals_per_iteration)` when only `max_evals` is given, or the smaller of the
@@ -40,11 +42,11 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from chassistune._rng import SeedLike, make_rng
 from chassistune.errors import InputError
 
 FloatArray = NDArray[np.float64]
 Steps = Generator[FloatArray, FloatArray, None]
-SeedLike = int | np.random.SeedSequence | np.random.Generator | None
 Repair = Literal["clip", "reflect"]
 
 
@@ -63,17 +65,6 @@ class Hyperparameters:
     def as_dict(self) -> dict[str, Any]:
         """The hyperparameters as a plain dict (JSON-ready)."""
         return dataclasses.asdict(self)
-
-
-def make_rng(seed: SeedLike) -> np.random.Generator:
-    """The one seeding helper: an int >= 0, a SeedSequence, None, or a Generator (used as is)."""
-    if isinstance(seed, np.random.Generator):
-        return seed
-    if seed is None or isinstance(seed, np.random.SeedSequence):
-        return np.random.default_rng(seed)
-    if isinstance(seed, int | np.integer) and not isinstance(seed, bool) and seed >= 0:
-        return np.random.default_rng(int(seed))
-    raise InputError("seed", f"expected a non-negative integer, got {seed!r}")
 
 
 def as_bounds(bounds: ArrayLike) -> tuple[FloatArray, FloatArray]:
@@ -171,6 +162,8 @@ class Optimizer:
         self._gen: Steps | None = None
         self._pending: FloatArray | None = None
         self._finished = False
+        self.diagnostics: dict[str, Any] = {}
+        """What the algorithm reports about its run (counters such as IABC's `scouts`)."""
 
     # -- to be provided by subclasses ------------------------------------------------------------
     def required_pop(self) -> int:

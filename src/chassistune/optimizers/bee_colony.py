@@ -1,12 +1,13 @@
-"""Artificial bee colony: ABC (Karaboga 2005) and IABC (seed 001 eqs. 5-9) as two configurations.
+"""Artificial bee colony: ABC (Karaboga 2005) and IABC (iabc-suspension eqs. 5-9) as configurations.
 
 `pop_size` is the number of food sources SN; a cycle has an employed phase (SN evaluations), an
 onlooker phase (SN evaluations) and at most one scout (one evaluation), so about 2 SN evaluations.
 
-- Employed bees (seed 001 eq. 6): v_ij = x_ij + phi (x_ij - x_kj) on one random dimension j, k a
-  random other source, phi ~ U(-a, a); greedy; a failed try adds one to the source's trial count.
+- Employed bees (iabc-suspension eq. 6): v_ij = x_ij + phi (x_ij - x_kj) on one random dimension
+  j, k a random other source, phi ~ U(-a, a); greedy; a failed try adds one to the source's trial
+  count.
 - Onlookers choose sources from the fitness of the costs Q: Karaboga's fit = 1/(1 + Q) for Q >= 0,
-  1 + |Q| for Q < 0 (benchmark functions go negative), or seed 001's fit = 1/Q (eq. 11,
+  1 + |Q| for Q < 0 (benchmark functions go negative), or iabc-suspension's fit = 1/Q (eq. 11,
   `fitness="reciprocal"`, for positive objectives; Q <= 0 is treated as 1e-300).
   ABC (`selection="roulette"`): p_i = fit_i / sum fit (eq. 7), SN sources sampled with replacement.
   IABC (`selection="iabc"`): p_i = 0.1 fit_i / max fit + 0.9 (eq. 9), used as Karaboga's reference
@@ -14,10 +15,11 @@ onlooker phase (SN evaluations) and at most one scout (one evaluation), so about
   send an onlooker to source i when rand < p_i, until SN onlookers are sent.
 - Scout: at most one per cycle, the source with the largest trial count if it exceeds `limit`
   (default SN * D) is replaced by a uniform random point (eq. 5), evaluated, unconditionally.
-  `scouts` counts them. With seed 001's setting (100 sources, 3 gains, 100 cycles, limit 300)
-  IABC practically never sends one (every p_i >= 0.9, so a source gets one or two onlookers per
-  cycle: about 2 to 3 trials per cycle at most); ABC's roulette can pile onlookers on a dominant
-  source, and then a scout can fire (3 on F5, d = 3, seed 0; none on F1, F9, F19).
+  `diagnostics["scouts"]` counts them. With iabc-suspension's setting (100 sources, 3 gains, 100
+  cycles, limit 300) IABC practically never sends one (every p_i >= 0.9, so a source gets one or
+  two onlookers per cycle: about 2 to 3 trials per cycle at most); ABC's roulette can pile
+  onlookers on a dominant source, and then a scout can fire (3 on F5, d = 3, seed 0; none on F1,
+  F9, F19).
 - IABC's nudge (eq. 8): where the new coordinate equals the old one (x_ij == x_kj), it is moved by
   epsilon * (hi_j - lo_j) * phi (`epsilon` > 0; 0 switches the nudge off, as in ABC).
 
@@ -43,11 +45,11 @@ from chassistune.optimizers.base import FloatArray, Hyperparameters, Optimizer, 
 
 @dataclass(frozen=True)
 class BeeColonyHyper(Hyperparameters):
-    """ABC / IABC hyperparameters (Karaboga 2005; seed 001 eqs. 6-9)."""
+    """ABC / IABC hyperparameters (Karaboga 2005; iabc-suspension eqs. 6-9)."""
 
     limit: int | None = None  # None: SN * D
     phi_range: float = 1.0  # a: phi ~ U(-a, a), eq. 6
-    fitness: str = "karaboga"  # or "reciprocal" (seed 001 eq. 11)
+    fitness: str = "karaboga"  # or "reciprocal" (iabc-suspension eq. 11)
     selection: str = "roulette"  # eq. 7; "iabc" for eq. 9
     epsilon: float = 0.0  # eq. 8 nudge, relative to the range; 0: off
 
@@ -133,7 +135,7 @@ class BeeColony(Optimizer):
         x = self.uniform(sn)  # eq. 5
         f = (yield x).copy()
         trial = np.zeros(sn, dtype=np.int64)
-        self.scouts = 0  # scouts sent so far (reported: seed 001's setting sends none)
+        self.diagnostics["scouts"] = 0  # scouts sent (iabc-suspension's setting sends none)
         for _ in self.iterations():
             # employed bees
             v = self._neighbour_moves(x, all_rows)
@@ -158,23 +160,23 @@ class BeeColony(Optimizer):
             # scout: at most one per cycle
             i = int(np.argmax(trial))
             if trial[i] > limit:
-                self.scouts += 1
+                self.diagnostics["scouts"] += 1
                 fresh = self.uniform(1)
                 f_fresh = yield fresh
                 x[i], f[i], trial[i] = fresh[0], f_fresh[0], 0
 
 
 class ABC(BeeColony):
-    """Artificial bee colony (Karaboga 2005), roulette onlookers (seed 001 eqs. 5-7)."""
+    """Artificial bee colony (Karaboga 2005), roulette onlookers (iabc-suspension eqs. 5-7)."""
 
     name = "abc"
-    description = "Artificial bee colony (Karaboga 2005; seed 001 eqs. 5-7)"
+    description = "Artificial bee colony (Karaboga 2005; iabc-suspension eqs. 5-7)"
     defaults = BeeColonyHyper()
 
 
 class IABC(BeeColony):
-    """Improved ABC of seed 001: epsilon nudge (eq. 8) and p = 0.1 f / max f + 0.9 (eq. 9)."""
+    """Improved ABC (iabc-suspension): epsilon nudge (eq. 8), p = 0.1 f / max f + 0.9 (eq. 9)."""
 
     name = "iabc"
-    description = "Improved ABC: epsilon nudge and p = 0.1 f/max f + 0.9 (seed 001 eqs. 8-9)"
+    description = "Improved ABC: epsilon nudge and p = 0.1 f/max f + 0.9 (iabc-suspension eqs. 8-9)"
     defaults = BeeColonyHyper(selection="iabc", epsilon=1e-6)

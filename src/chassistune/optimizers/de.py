@@ -2,7 +2,7 @@
 
 v = x_r0 + F (x_r1 - x_r2) with r0, r1, r2 distinct and != i, binomial crossover with a forced gene
 j_rand, greedy selection accepting ties (Storn & Price's `<=`). F = 0.5, CR = 0.9.
-The same operators serve DERLSP-AO's DE step (seed 000 eqs. 32-34), see `_operators`.
+The same operators serve DERLSP-AO's DE step (derlsp-ao-abs eqs. 32-34), see `_operators`.
 
 Draw order per generation: partners (`_operators.partners`, k = 3), then `binomial_crossover`.
 """

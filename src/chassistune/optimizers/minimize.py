@@ -3,34 +3,15 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from chassistune._rng import SeedLike
 from chassistune.errors import InputError
-from chassistune.optimizers.base import SeedLike
+from chassistune.optimizers.driver import Callback, OptimizeResult, drive
 from chassistune.optimizers.registry import make
-
-
-@dataclass(frozen=True)
-class MinimizeResult:
-    """The outcome of `minimize` (scipy's OptimizeResult names where they exist)."""
-
-    x: NDArray[np.float64]
-    fun: float
-    nfev: int
-    nit: int
-    history: NDArray[np.float64]  # best-so-far cost after each iteration
-    history_nfev: NDArray[np.int64]  # evaluations spent at each of those points
-    method: str
-    success: bool
-    message: str
-    hyperparameters: dict[str, Any] = field(default_factory=dict)
-
-    def __getitem__(self, key: str) -> Any:  # scipy's OptimizeResult is also a mapping
-        return getattr(self, key)
 
 
 def minimize(
@@ -42,9 +23,9 @@ def minimize(
     max_evals: int | None = None,
     seed: SeedLike = 0,
     vectorized: bool = True,
-    callback: Callable[[MinimizeResult], object] | None = None,
+    callback: Callback | None = None,
     **hyper: Any,
-) -> MinimizeResult:
+) -> OptimizeResult:
     """Minimize `fun` over the box `bounds` (a sequence of `(lo, hi)` pairs) with `method`.
 
     With `vectorized=True`, `fun` takes an `(n, d)` array and returns `n` costs; otherwise it takes
@@ -57,41 +38,16 @@ def minimize(
     if not callable(fun):
         raise InputError("fun", "expected a callable")
     opt = make(method, bounds, pop_size, seed, max_iter=max_iter, max_evals=max_evals, **hyper)
-    stopped = False
-    while not opt.done:
-        x = opt.ask()
-        if vectorized:
-            f = fun(x)
-        else:
-            try:
-                f = np.array([fun(row) for row in x], dtype=float)
-            except (TypeError, ValueError) as exc:
-                raise InputError("fun", f"must return one number per point ({exc})") from None
-        before = opt.nit
-        opt.tell(x, f)
-        if callback is not None and opt.nit > before and callback(_result(opt, method, "running")):
-            stopped = True
-            break
-    message = "stopped by the callback" if stopped else _why(opt)
-    return _result(opt, method, message)
+    return drive(opt, fun if vectorized else _pointwise(fun), callback)
 
 
-def _why(opt: Any) -> str:
-    if opt.max_evals is not None and opt.nfev >= opt.max_evals:
-        return "max_evals reached"
-    return "max_iter reached"
+def _pointwise(fun: Callable[..., Any]) -> Callable[[NDArray[np.float64]], NDArray[np.float64]]:
+    """A batch objective calling the scalar `fun` once per row."""
 
+    def batch(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        try:
+            return np.array([fun(row) for row in x], dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise InputError("fun", f"must return one number per point ({exc})") from None
 
-def _result(opt: Any, method: str, message: str) -> MinimizeResult:
-    return MinimizeResult(
-        x=opt.best_x.copy(),
-        fun=float(opt.best_f),
-        nfev=int(opt.nfev),
-        nit=int(opt.nit),
-        history=opt.history,
-        history_nfev=opt.history_nfev,
-        method=method,
-        success=bool(np.isfinite(opt.best_f)),
-        message=message,
-        hyperparameters=opt.hyper.as_dict(),
-    )
+    return batch

@@ -8,8 +8,9 @@ from typing import Any
 from numpy.typing import ArrayLike
 
 from chassistune._registry import Registry
+from chassistune._rng import SeedLike
 from chassistune.errors import InputError
-from chassistune.optimizers.base import Optimizer, Repair, SeedLike
+from chassistune.optimizers.base import Optimizer, Repair
 
 OPTIMIZERS: Registry[type[Optimizer]] = Registry("optimizer", key=str.lower)
 for _name, _path in (

@@ -1,7 +1,7 @@
 """ABS figures: `abs_sims_per_s`, `abs_max_rel_err`, `abs_speedup_vs_solve_ivp` (DESIGN 8).
 
 Population: 50 gain triples 10 ** U(log10 lo, log10 hi) with (lo, hi) = (10, 3162), (1, 1000),
-(0.01, 10) for kp, ki, kd from default_rng(12345); preset paper-derlsp-ao, PID, dry concrete,
+(0.01, 10) for kp, ki, kd from make_rng(12345); preset paper-derlsp-ao, PID, dry concrete,
 simulated to v_stop on one core. The baseline is what a Python user writes today: the same closed
 loop as a scipy `solve_ivp` RK45 right-hand side (max_step 1e-3, terminal event at v_stop).
 """
@@ -10,13 +10,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from chassistune._rng import make_rng
 from chassistune.perf.timing import best_time
 from chassistune.scenarios.abs_wheel import PLANT, AbsWheelScenario
 
 
 def bench_population() -> np.ndarray:
     """The 50 (kp, ki, kd) rows of DESIGN 8."""
-    rng = np.random.default_rng(12345)
+    rng = make_rng(12345)
     lo = np.log10([10.0, 1.0, 0.01])
     hi = np.log10([3162.0, 1000.0, 10.0])
     return np.asarray(10 ** rng.uniform(lo, hi, (50, 3)))

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from chassistune.benchmarks.functions import get as get_function
+from chassistune.optimizers.driver import drive
 from chassistune.optimizers.registry import make
 
 DIM, POP, ITERS = 30, 50, 500
@@ -41,13 +42,8 @@ def ours_us_per_eval(seed: int = 0) -> float:
     """Optimizer-side microseconds per evaluation of our AO (one run)."""
     f5 = get_function("F5")
     timed = _Timed(f5)
-    opt = make("ao", f5.bounds(DIM), POP, seed, max_iter=ITERS)
-    t0 = time.perf_counter()
-    while not opt.done:
-        x = opt.ask()
-        opt.tell(x, timed(x))
-    wall = time.perf_counter() - t0
-    return 1e6 * (wall - timed.seconds) / opt.nfev
+    run = drive(make("ao", f5.bounds(DIM), POP, seed, max_iter=ITERS), timed)
+    return 1e6 * (run.wall_time_s - timed.seconds) / run.nfev
 
 
 def mealpy_us_per_eval(epochs: int, seed: int = 0) -> float:

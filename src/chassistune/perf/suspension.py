@@ -3,13 +3,14 @@
 The exact objective (`rms-ratio-exact`: Lyapunov equation per candidate) against the simulated one
 (`rms-ratio`: the default 10 s run at dt = 1 ms, exact discretization), same candidates, same
 scenario (preset paper-iabc, PID, iso-b), both on one core and measured in the same run.
-Candidates: rows uniform over the PID's registry bounds from default_rng(12345).
+Candidates: rows uniform over the PID's registry bounds from make_rng(12345).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from chassistune._rng import make_rng
 from chassistune.perf.timing import best_time
 from chassistune.scenarios.quarter_car import PLANT
 
@@ -18,7 +19,7 @@ def bench_population(n: int) -> np.ndarray:
     """n (kp, ki, kd) rows uniform over the registry bounds of the quarter-car PID."""
     sc = PLANT.scenario("paper-iabc", controller="pid")
     lo, hi = np.array(sc.controller.bounds()).T
-    return np.asarray(np.random.default_rng(12345).uniform(lo, hi, (n, len(lo))))
+    return np.asarray(make_rng(12345).uniform(lo, hi, (n, len(lo))))
 
 
 def figures(quick: bool = False) -> dict[str, float]:

@@ -1,4 +1,5 @@
-"""ISO 8608 random road profiles as filtered white noise (DESIGN 3.4, seed 001 eq. 3 corrected).
+"""ISO 8608 random road profiles as filtered white noise (DESIGN 3.4, iabc-suspension eq. 3,
+corrected).
 
 Displacement PSD of class X (one-sided, spatial frequency n in cycles/m):
 
@@ -21,6 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from chassistune._rng import make_rng
 from chassistune.errors import InputError
 
 N0_CYCLES_PER_M = 0.1
@@ -63,8 +65,8 @@ def filter_psd(n: np.ndarray, road: RoadParams) -> np.ndarray:
 
 
 def white_noise(seed: int, n_steps: int, dt_s: float) -> np.ndarray:
-    """w_k ~ N(0, W/dt), W = 1/2, from numpy.random.default_rng(seed): the run's noise."""
-    rng = np.random.default_rng(seed)
+    """w_k ~ N(0, W/dt), W = 1/2, from `make_rng(seed)`: the run's noise."""
+    rng = make_rng(seed)
     return rng.standard_normal(n_steps) * math.sqrt(NOISE_INTENSITY / dt_s)
 
 

@@ -3,7 +3,7 @@
 Three families, all evaluated by one compiled function (`tire_mu`) from plain arrays so that roads
 are data, not code paths:
 
-* bilinear (seed 000 eq. 5): mu = mu_h S / S_T for S <= S_T, else
+* bilinear (derlsp-ao-abs eq. 5): mu = mu_h S / S_T for S <= S_T, else
   (mu_h - mu_g S_T)/(1 - S_T) - (mu_h - mu_g) S / (1 - S_T); stored as the piecewise-linear table
   (0, 0), (S_T, mu_h), (1, mu_g);
 * Burckhardt: mu = c1 (1 - exp(-c2 S)) - c3 S;
@@ -100,7 +100,7 @@ class TireCurve:
 
 @dataclass(frozen=True)
 class BilinearTire(TireCurve):
-    """Seed 000 eq. 5 with Table 1's (S_T, mu_h, mu_g)."""
+    """Tian et al. (derlsp-ao-abs) eq. 5 with Table 1's (S_T, mu_h, mu_g)."""
 
     slip_opt: float = field(metadata=_POS)
     mu_peak: float = field(metadata=_POS)

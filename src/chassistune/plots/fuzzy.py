@@ -5,12 +5,12 @@ matplotlib is imported when a figure is drawn, never at package import; no pyplo
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from chassistune._io import atomic_path
 from chassistune.fuzzy.engine import evaluate
 from chassistune.fuzzy.rulebase import RuleBase, Variable
 
@@ -91,10 +91,6 @@ def plot_rulebase(rb: RuleBase, path: str | Path) -> Path:
             ax.set_title(rb.outputs[k].name, fontsize=9)
             ax.grid(alpha=0.3)
     out = Path(path)
-    partial = out.with_name(f".{out.name}.partial")
-    try:  # never leave a half-written figure behind
-        fig.savefig(partial, dpi=110, format=out.suffix.lstrip(".").lower() or "png")
-        os.replace(partial, out)
-    finally:
-        partial.unlink(missing_ok=True)
+    with atomic_path(out) as tmp:  # never leave a half-written figure behind
+        fig.savefig(tmp, dpi=110, format=out.suffix.lstrip(".").lower() or "png")
     return out

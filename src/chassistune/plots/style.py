@@ -27,18 +27,12 @@ def pyplot() -> Any:
 
 def save(fig: Any, path: str) -> None:
     """Write the figure atomically (a temporary file renamed into place) and close it."""
-    import os
-    import tempfile
+    from chassistune._io import atomic_path
 
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(suffix=".png", dir=folder)
-    os.close(fd)
     try:
-        fig.savefig(tmp, bbox_inches="tight", format="png")
-        os.replace(tmp, path)
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, bbox_inches="tight", format="png")
     finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
         fig.clf()
         import matplotlib.pyplot as plt
 

@@ -1,20 +1,21 @@
-"""Figures of a study report: convergence bands, final-cost box plots, best responses (PNG)."""
+"""PNG figures of the static report: convergence bands, final-cost box plots, and the best
+responses of every optimizer over the baseline (`PngFigures`, the static `sections.Figures`)."""
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from pathlib import Path
 
 import numpy as np
 
-from chassistune import stats
+from chassistune._rng import make_rng
+from chassistune.plots.overlay import plot_overlay
 from chassistune.plots.style import pyplot, save
+from chassistune.reports.bands import convergence_bands, log_scale_suits
+from chassistune.reports.html import FigureView
+from chassistune.reports.responses import ResponseSet
+from chassistune.reports.sections import ASSETS, Assets
 from chassistune.studies.store import RunRecord
-
-
-def _log_scale_suits(values: Sequence[np.ndarray]) -> bool:
-    v = np.concatenate([np.ravel(a) for a in values]) if values else np.zeros(0)
-    v = v[np.isfinite(v)]
-    return bool(v.size) and bool(np.all(v > 0)) and float(v.max() / v.min()) > 30.0
 
 
 def convergence_figure(runs: Mapping[str, Sequence[RunRecord]], path: str, title: str) -> None:
@@ -22,19 +23,13 @@ def convergence_figure(runs: Mapping[str, Sequence[RunRecord]], path: str, title
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.2))
     drawn = []
-    for label, recs in runs.items():
-        recs = [r for r in recs if r.history]
-        if not recs:
-            continue
-        grid = np.unique(np.concatenate([np.asarray(r.history_nfev, dtype=float) for r in recs]))
-        band = stats.convergence_band([r.history for r in recs], [r.history_nfev for r in recs],
-                                      grid)
+    for label, (n, band) in convergence_bands(runs).items():
         line = ax.plot(band["nfev"], band["median"], drawstyle="steps-post",
-                       label=f"{label} (median of {len(recs)})")[0]
+                       label=f"{label} (median of {n})")[0]
         ax.fill_between(band["nfev"], band["q25"], band["q75"], step="post",
                         color=line.get_color(), alpha=0.2, lw=0)
         drawn.extend([band["q25"], band["q75"]])
-    if _log_scale_suits(drawn):
+    if log_scale_suits(drawn):
         ax.set_yscale("log")
     ax.set_xlabel("evaluations")
     ax.set_ylabel("best cost so far")
@@ -53,10 +48,10 @@ def boxplot_figure(costs: Mapping[str, np.ndarray], path: str, title: str) -> No
     data = [np.asarray(costs[k], dtype=float) for k in labels]
     ax.boxplot(data, showfliers=False, widths=0.5)
     ax.set_xticks(range(1, len(labels) + 1), labels)
-    jitter = np.random.default_rng(0)
+    jitter = make_rng(0)
     for i, v in enumerate(data, start=1):
         ax.plot(i + jitter.uniform(-0.12, 0.12, v.size), v, "o", ms=3.5, alpha=0.6, color="C0")
-    if _log_scale_suits(data):
+    if log_scale_suits(data):
         ax.set_yscale("log")
     ax.set_ylabel("final best cost")
     ax.set_title(title, fontsize=9)
@@ -64,18 +59,43 @@ def boxplot_figure(costs: Mapping[str, np.ndarray], path: str, title: str) -> No
     save(fig, path)
 
 
-def response_figures(record: RunRecord, path_for_road: Mapping[str, str]) -> list[str]:
-    """The plant's own response plot of a run's best gains on each tuned road (re-simulated
-    with the run's scenario seed); the paths written."""
-    from chassistune.plots.registry import plot_trace
-    from chassistune.scenarios.registry import get_plant
+class PngFigures:
+    """Draws each figure into DIR/report/figures/NAME.png and embeds it in the page."""
 
-    s = record.spec
-    plant = get_plant(s.plant)
-    written = []
-    for road in s.roads:
-        sc = plant.scenario(s.preset, road, s.controller, s.params, s.scenario_seed)
-        gains = np.array([record.best_gains[n] for n in sc.gain_names], dtype=float)
-        plot_trace(sc, sc.trace(gains), path_for_road[road])
-        written.append(path_for_road[road])
-    return written
+    def __init__(self, assets: Assets) -> None:
+        self.assets = assets
+        self.folder = assets.root / ASSETS / "figures"
+        self.folder.mkdir(parents=True, exist_ok=True)
+        for old in self.folder.glob("*.png"):  # a previous report's figures
+            old.unlink()
+        self.written: list[Path] = []
+
+    def _view(self, path: Path, title: str, caption: str) -> FigureView:
+        self.written.append(path)
+        return FigureView.from_png(path, self.assets.next_id("figure"), title, caption,
+                                   path.relative_to(self.assets.root).as_posix())
+
+    def convergence(self, scenario: str, runs: Mapping[str, Sequence[RunRecord]],
+                    name: str) -> FigureView:
+        path = self.folder / f"{name}.png"
+        convergence_figure(runs, str(path), scenario)
+        return self._view(path, f"Convergence, {scenario}",
+                          "Best cost so far against evaluations: median over seeds (line) and "
+                          "interquartile band.")
+
+    def final_costs(self, scenario: str, costs: Mapping[str, np.ndarray],
+                    name: str) -> FigureView:
+        path = self.folder / f"{name}.png"
+        boxplot_figure(costs, str(path), f"{scenario}: final best cost")
+        return self._view(path, f"Final cost distribution, {scenario}",
+                          "Box plot of the final best cost per optimizer; points are runs.")
+
+    def responses(self, rs: ResponseSet, name: str) -> FigureView:
+        path = self.folder / f"{name}.png"
+        plot_overlay([(p.signal, p.label) for p in rs.panels], rs.curves, str(path),
+                     f"{rs.scenario} on {rs.road}: each optimizer's best run")
+        base = next((c.label for c in rs.curves if c.baseline), "")
+        return self._view(path, f"Best controllers against {base}, {rs.scenario}, on {rs.road}",
+                          f"Each optimizer's lowest-cost gains (label: the seed that found them) "
+                          f"re-simulated on {rs.road}, all on the road realization of seed "
+                          f"{rs.seed}, over the {base} baseline (grey, dashed).")

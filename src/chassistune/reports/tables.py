@@ -17,8 +17,8 @@ import numpy as np
 import pandas as pd
 
 from chassistune import stats
+from chassistune._io import atomic_path
 from chassistune.errors import InputError
-from chassistune.reports.files import atomic_path
 from chassistune.scenarios.registry import plant_names, plant_spec
 from chassistune.studies.store import RunRecord, Store
 
@@ -129,7 +129,7 @@ def write_table(df: pd.DataFrame, path: str, fmt: str = "csv") -> None:
 # -- statistics ----------------------------------------------------------------------------------
 
 
-def _quantities(data: StudyData, scenario: str) -> list[str]:
+def quantities(data: StudyData, scenario: str) -> list[str]:
     """best_cost, then the key metrics present in this scenario's runs (by road if several)."""
     runs = data.runs(scenario)
     out = ["best_cost"]
@@ -142,7 +142,7 @@ def _quantities(data: StudyData, scenario: str) -> list[str]:
     return out
 
 
-def _values(runs: Sequence[RunRecord], quantity: str) -> np.ndarray:
+def values(runs: Sequence[RunRecord], quantity: str) -> np.ndarray:
     if quantity == "best_cost":
         vals = [r.best_cost for r in runs]
     else:
@@ -157,12 +157,12 @@ def summary_table(data: StudyData) -> pd.DataFrame:
     median over the completed runs; `failed` counts the failed runs of that cell."""
     rows = []
     for sc in data.scenarios:
-        quantities = _quantities(data, sc)
+        names = quantities(data, sc)
         for opt in data.optimizers:
             runs = data.runs(sc, opt)
             failed = len(data.runs(sc, opt, completed=False)) - len(runs)
-            for q in quantities:
-                v = _values(runs, q)
+            for q in names:
+                v = values(runs, q)
                 summ = stats.summary(v) if v.size else {c: math.nan for c in SUMMARY_COLUMNS}
                 if not v.size:
                     summ["n"] = 0
@@ -252,30 +252,6 @@ def posthoc_table(data: StudyData, reference: str) -> pd.DataFrame:
     return pd.DataFrame([{"reference": c.a, "optimizer": c.b, "rank_difference": c.rank_difference,
                           "z": c.z, "p_value": c.p_value, "p_holm": c.p_holm,
                           "reject": c.reject} for c in comps], columns=cols)
-
-
-def generalization_table(data: StudyData) -> pd.DataFrame:
-    """Tuned on X, tested on Y: the cost of each run's best gains on each test road of its
-    scenario, median and mean over seeds (scenario groups with two or more test roads)."""
-    rows = []
-    rank = {sc: i for i, sc in enumerate(data.scenarios)}
-    records = sorted(data.records, key=lambda r: rank[r.spec.scenario])  # config order
-    groups = dict.fromkeys(r.spec.group for r in records if len(r.spec.test_roads) > 1)
-    for group in groups:
-        runs = [r for r in records if r.spec.group == group and r.completed]
-        for opt in data.optimizers:
-            mine = [r for r in runs if r.spec.optimizer == opt]
-            for tuned in dict.fromkeys(r.spec.road for r in mine):
-                cell = [r for r in mine if r.spec.road == tuned]
-                for road in cell[0].spec.test_roads:
-                    v = np.array([r.test_costs.get(road, math.nan) for r in cell], dtype=float)
-                    v = v[np.isfinite(v)]
-                    rows.append({"group": group, "optimizer": opt, "tuned_on": tuned,
-                                 "tested_on": road, "n": v.size,
-                                 "median_cost": float(np.median(v)) if v.size else math.nan,
-                                 "mean_cost": float(np.mean(v)) if v.size else math.nan})
-    return pd.DataFrame(rows, columns=["group", "optimizer", "tuned_on", "tested_on", "n",
-                                       "median_cost", "mean_cost"])
 
 
 def failures_table(data: StudyData) -> pd.DataFrame:

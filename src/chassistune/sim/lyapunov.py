@@ -10,7 +10,7 @@ system in the m (m + 1) / 2 unknowns of the symmetric P (21 for m = 6) by Gaussi
 partial pivoting, inside one compiled loop over the candidates. The same factorization solves
 A X + X A^T + I = 0, whose solution is positive definite if and only if A is Hurwitz (Lyapunov's
 theorem): that is the stability test, so unstable loops get the penalty without an eigenvalue
-solver. `rms-ratio-exact` is seed 001's eq. 10 on these RMS values.
+solver. `rms-ratio-exact` is the iabc-suspension paper's eq. 10 on these RMS values.
 """
 
 from __future__ import annotations
@@ -29,18 +29,14 @@ from chassistune.plants.quarter_car import (
     closed_loop,
 )
 from chassistune.sim.layout import Layout, Slot
+from chassistune.sim.quarter_car_kernel import RMS_SLOTS
 
 W_ROAD = NOISE_INTENSITY
 """Intensity of the road's white noise: W = 1/2, one-sided PSD 1 (DESIGN 3.4)."""
 
 EXACT = Layout("quarter-car exact stationary results", (
-    Slot("body_acc_rms", "m/s^2", "stationary RMS of the body acceleration"),
-    Slot("susp_travel_rms", "m", "stationary RMS of the suspension travel"),
-    Slot("tire_defl_rms", "m", "stationary RMS of the tire deflection"),
-    Slot("force_rms", "N", "stationary RMS of the actuator force"),
-    Slot("stable", "-", "1 if the closed loop is Hurwitz"),
-))
-"""Columns of exact_rms_batch's output."""
+    *RMS_SLOTS, Slot("stable", "-", "1 if the closed loop is Hurwitz")))
+"""Columns of exact_rms_batch's output: the simulation's RMS columns, then the stability flag."""
 E_ACC, E_TRAVEL, E_TIRE, E_FORCE, E_STABLE = (EXACT[n] for n in EXACT.names)
 N_EXACT = len(EXACT)
 
@@ -209,7 +205,7 @@ def exact_rms(
 def rms_ratio(
     active: np.ndarray, passive: np.ndarray, usable: np.ndarray, penalty: float
 ) -> np.ndarray:
-    """Seed 001 eq. 10: Q = sum of active/passive RMS of acc, travel, tire; penalty if unusable.
+    """iabc-suspension eq. 10: Q = sum of active/passive RMS (acc, travel, tire), or the penalty.
 
     active: (n, >= 3), passive: (3,), usable: (n,) bool. Finite values are clipped below penalty.
     """

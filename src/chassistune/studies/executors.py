@@ -1,6 +1,6 @@
 """Where runs execute: in the driver (serial), in a local process pool, or on Dask.
 
-Every executor takes run specs and yields the workers' plain result dicts as runs finish (in any
+Every executor takes run specs and yields the workers' `RunResult`s as runs finish (in any
 order); only the driver writes them to the store. A run's numbers depend only on its spec, so all
 executors give identical results. Worker processes simulate with one thread each
 (CHASSISTUNE_THREADS=1): the parallelism is across runs; a kernel's results do not depend on its
@@ -20,29 +20,22 @@ from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 from chassistune.errors import InputError
+from chassistune.sim.batch import default_workers
+from chassistune.studies.records import RunResult
 from chassistune.studies.spec import RunSpec
 from chassistune.studies.worker import execute_run, failed_result
 
 EXECUTORS = ("serial", "process", "dask")
 
-Result = dict[str, Any]
-
-
-def default_workers() -> int:
-    """The cores this process may use."""
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except AttributeError:  # pragma: no cover - non-Linux
-        return max(1, os.cpu_count() or 1)
 
 
 class Executor(ABC):
-    """Runs specs; `results(specs)` yields one result dict per spec as runs finish."""
+    """Runs specs; `results(specs)` yields one `RunResult` per spec as runs finish."""
 
     name: str = ""
 
     @abstractmethod
-    def results(self, specs: Sequence[RunSpec]) -> Iterator[Result]:
+    def results(self, specs: Sequence[RunSpec]) -> Iterator[RunResult]:
         """Yield one result per spec, in completion order."""
 
     def close(self) -> None:  # noqa: B027 - nothing to release by default
@@ -60,7 +53,7 @@ class SerialExecutor(Executor):
 
     name = "serial"
 
-    def results(self, specs: Sequence[RunSpec]) -> Iterator[Result]:
+    def results(self, specs: Sequence[RunSpec]) -> Iterator[RunResult]:
         for spec in specs:
             yield execute_run(spec)
 
@@ -104,7 +97,7 @@ class ProcessExecutor(Executor):
             initializer=_init_worker, initargs=(os.getpid(), self._initializer))
         return self._pool
 
-    def _alone(self, spec: RunSpec) -> Result:
+    def _alone(self, spec: RunSpec) -> RunResult:
         """Run one suspect with nothing else in flight; its worker dying convicts it."""
         pool = self._pool or self._new_pool()
         try:
@@ -113,10 +106,10 @@ class ProcessExecutor(Executor):
             self._new_pool()
             return failed_result(spec, "the worker process died while running it")
 
-    def results(self, specs: Sequence[RunSpec]) -> Iterator[Result]:
+    def results(self, specs: Sequence[RunSpec]) -> Iterator[RunResult]:
         self._new_pool()
         pending, suspects = deque(specs), deque[RunSpec]()
-        running: dict[cf.Future[Result], RunSpec] = {}
+        running: dict[cf.Future[RunResult], RunSpec] = {}
         window = 2 * self.workers
         while pending or suspects or running:
             if suspects and not running:
@@ -126,7 +119,7 @@ class ProcessExecutor(Executor):
                 spec = pending.popleft()
                 running[self._pool.submit(execute_run, spec)] = spec  # type: ignore[union-attr]
             done, _ = cf.wait(running, return_when=cf.FIRST_COMPLETED)
-            finished: list[Result] = []
+            finished: list[RunResult] = []
             for fut in done:
                 spec = running.pop(fut)
                 try:
@@ -190,7 +183,7 @@ class DaskExecutor(Executor):
                 raise InputError("--scheduler", f"cannot reach a Dask scheduler at {address!r} "
                                  f"({type(exc).__name__}: {exc})") from None
 
-    def results(self, specs: Sequence[RunSpec]) -> Iterator[Result]:
+    def results(self, specs: Sequence[RunSpec]) -> Iterator[RunResult]:
         from distributed import as_completed
 
         futures = {self._client.submit(execute_run, s, key=f"run-{s.spec_hash}", pure=False,
@@ -198,7 +191,7 @@ class DaskExecutor(Executor):
         for fut in as_completed(futures):
             spec = futures[fut]
             try:
-                result: Result = fut.result()
+                result: RunResult = fut.result()
             except Exception as exc:  # the worker running it was lost too often
                 result = failed_result(spec, f"dask: {type(exc).__name__}: {exc}")
             fut.release()

@@ -15,9 +15,9 @@ from pathlib import Path
 
 from chassistune.errors import InputError
 from chassistune.studies.executors import Executor
+from chassistune.studies.records import RunStatus
 from chassistune.studies.spec import RunSpec, StudyPlan
 from chassistune.studies.store import STORE_NAME, Store, store_path
-from chassistune.studies.worker import COMPLETED
 
 Progress = Callable[[int, int, int], None]
 """progress(done, failed, total), called once at the start and after every finished run."""
@@ -66,7 +66,7 @@ def pending_runs(plan: StudyPlan, out_dir: str | Path,
         if spec_hash != spec.spec_hash:
             raise InputError("--out", f"{str(out_dir)!r} already holds run {spec.key!r} made "
                              "from a different config; use a new --out folder")
-        if retry_failed and status != COMPLETED:
+        if retry_failed and status is not RunStatus.COMPLETED:
             todo.append(spec)
     return todo
 
@@ -87,8 +87,8 @@ def run_study(plan: StudyPlan, out_dir: str | Path, executor: Executor,
         if progress is not None:
             progress(skipped, 0, total)
         for result in executor.results(todo):
-            store.record(specs[result["key"]], result)
-            if result["status"] == COMPLETED:
+            store.record(specs[result.key], result)
+            if result.completed:
                 completed += 1
             else:
                 failed += 1

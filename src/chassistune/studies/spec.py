@@ -1,10 +1,10 @@
 """Study configs (TOML, validated by pydantic) and their expansion into run specs (DESIGN 2, 9).
 
 A config is data: nothing in it is evaluated. `load_config` parses and validates the file,
-`plan_study` resolves every name against the registries (building every scenario, as the runs
-will) and expands the grid scenarios x roads x optimizers x seeds into `RunSpec`s. Both raise
-`InputError` naming the field (`scenarios[0].roads`, `optimizers[1].hyperparameters`, ...), so a
-bad config is refused before anything is written.
+`plan_study` resolves every name against the registries (building each distinct problem once,
+kept for the runs of this process) and expands the grid scenarios x roads x optimizers x seeds
+into `RunSpec`s. Both raise `InputError` naming the field (`scenarios[0].roads`,
+`optimizers[1].hyperparameters`, ...), so a bad config is refused before anything is written.
 
 Seeds: each run's randomness comes from `SeedSequence(study.seed, spawn_key=(seed_index,))`, the
 same for every scenario and optimizer at that index (common random numbers) and unchanged when
@@ -35,6 +35,7 @@ from pydantic import (
     model_validator,
 )
 
+from chassistune._rng import child_seed, int_seed, make_rng
 from chassistune.errors import InputError
 
 MAX_SEEDS = 100_000
@@ -202,16 +203,17 @@ class RunSpec(_Model):
         return hashlib.sha256(text.encode()).hexdigest()
 
     def seed_sequence(self) -> np.random.SeedSequence:
-        return np.random.SeedSequence(self.root_seed, spawn_key=(self.seed,))
+        """Child `seed` of the study's root seed."""
+        return child_seed(self.root_seed, self.seed)
 
     def optimizer_rng(self) -> np.random.Generator:
-        """The optimizer's generator: `default_rng(SeedSequence(root, spawn_key=(seed,)))`."""
-        return np.random.default_rng(self.seed_sequence())
+        """The optimizer's generator, from `seed_sequence()`."""
+        return make_rng(self.seed_sequence())
 
     @property
     def scenario_seed(self) -> int:
         """The scenario's seed (the quarter car's road realization), from the same sequence."""
-        return int(self.seed_sequence().generate_state(1, np.uint32)[0])
+        return int_seed(self.seed_sequence())
 
 
 @dataclass(frozen=True)
@@ -329,8 +331,10 @@ def _cells(sc: ScenarioConfig, default_road: str) -> Iterator[_Cell]:
 
 
 def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int) -> list[dict[str, Any]]:
-    """Build every scenario the runs will build; the run-spec fields of each cell."""
+    """Build each cell's problem once (kept for the runs: `studies.problems`); the run-spec
+    fields of each cell. `seed` is the scenario seed of the study's first seed index."""
     from chassistune.scenarios.registry import get_plant
+    from chassistune.studies.problems import problem_key, remember
     from chassistune.tuning.problem import build_problem
 
     try:
@@ -344,13 +348,15 @@ def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int) -> list[dict[st
         for cell in cells:
             problem = build_problem(sc.plant, sc.controller, preset, list(cell.roads),
                                     sc.objective, sc.aggregate, sc.params, sc.bounds, seed)
-            out.append({
+            fields = {
                 "group": cell.group, "scenario": cell.name, "plant": sc.plant,
                 "preset": problem.scenarios[0].preset,
                 "controller": sc.controller, "objective": problem.objective, "roads": cell.roads,
                 "aggregate": sc.aggregate, "test_roads": test_roads, "params": dict(sc.params),
                 "bounds": dict(zip(problem.gain_names, problem.bounds, strict=True)),
-            })
+            }
+            remember(problem_key(fields, seed), problem)
+            out.append(fields)
     except InputError as exc:
         raise InputError(config_path(exc.field, f"scenarios[{index}]"), exc.problem) from None
     for road in test_roads:
@@ -391,8 +397,9 @@ def _resolve_optimizer(index: int, opt: OptimizerConfig, budget: BudgetConfig,
 def plan_study(config: StudyConfig) -> StudyPlan:
     """Resolve every name and expand the grid into run specs (InputError on the first problem)."""
     cells: list[dict[str, Any]] = []
+    first_seed = int_seed(child_seed(config.study.seed, config.study.seeds[0]))
     for i, sc in enumerate(config.scenarios):
-        resolved = _resolve_scenario(i, sc, 0)
+        resolved = _resolve_scenario(i, sc, first_seed)
         if any(c["group"] == resolved[0]["group"] for c in cells):
             raise InputError(f"scenarios[{i}].name", f"another scenario is also named "
                              f"{resolved[0]['group']!r}: give each scenario a distinct `name`")

@@ -18,13 +18,16 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from chassistune._io import dumps
 from chassistune.errors import InputError
+from chassistune.studies.records import RunResult, RunStatus
 from chassistune.studies.spec import RunSpec
 
 STORE_NAME = "study.sqlite"
 SCHEMA_VERSION = "1"
 
-_SCHEMA = """
+_STATUSES = ", ".join(f"'{s.value}'" for s in RunStatus)
+_SCHEMA = f"""
 CREATE TABLE IF NOT EXISTS meta (
     key TEXT PRIMARY KEY,
     value TEXT NOT NULL
@@ -36,7 +39,7 @@ CREATE TABLE IF NOT EXISTS runs (
     seed INTEGER NOT NULL,
     spec_hash TEXT NOT NULL,
     spec TEXT NOT NULL,
-    status TEXT NOT NULL CHECK (status IN ('completed', 'failed')),
+    status TEXT NOT NULL CHECK (status IN ({_STATUSES})),
     error TEXT,
     best_cost REAL,
     nfev INTEGER,
@@ -60,7 +63,7 @@ class RunRecord:
     """A finished run as read back from the store."""
 
     spec: RunSpec
-    status: str
+    status: RunStatus
     error: str | None
     best_cost: float | None
     nfev: int | None
@@ -75,7 +78,7 @@ class RunRecord:
 
     @property
     def completed(self) -> bool:
-        return self.status == "completed"
+        return self.status is RunStatus.COMPLETED
 
 
 def store_path(study_dir: str | Path) -> Path:
@@ -83,8 +86,18 @@ def store_path(study_dir: str | Path) -> Path:
 
 
 def _connect(path: Path, read_only: bool) -> sqlite3.Connection:
+    """A connection to an existing store (`read_only`: no statement may write) or a new one.
+
+    A reader opens the file read-write (never creating it) with `query_only` on: a `mode=ro`
+    connection to a WAL database creates -wal and -shm files that it cannot remove, whereas the
+    last connection that can write checkpoints and removes them on close. A file or folder that
+    is not writable falls back to `mode=ro`.
+    """
     if read_only:
-        conn = sqlite3.connect(f"{path.resolve().as_uri()}?mode=ro", uri=True)
+        uri = path.resolve().as_uri()
+        mode = "rw" if os.access(path, os.W_OK) and os.access(path.parent, os.W_OK) else "ro"
+        conn = sqlite3.connect(f"{uri}?mode={mode}", uri=True)
+        conn.execute("PRAGMA query_only=ON")
     else:
         conn = sqlite3.connect(path)
         conn.execute("PRAGMA journal_mode=WAL")
@@ -153,28 +166,28 @@ class Store:
 
     # -- runs ------------------------------------------------------------------------------------
 
-    def finished(self) -> dict[str, tuple[str, str]]:
+    def finished(self) -> dict[str, tuple[str, RunStatus]]:
         """key -> (spec_hash, status) of every finished run."""
         rows = self._conn.execute("SELECT key, spec_hash, status FROM runs").fetchall()
-        return {k: (h, s) for k, h, s in rows}
+        return {k: (h, RunStatus(s)) for k, h, s in rows}
 
-    def record(self, spec: RunSpec, result: dict[str, Any]) -> None:
-        """Write one finished run (a worker's result dict) as one transaction."""
-        if result["key"] != spec.key or result["spec_hash"] != spec.spec_hash:
-            raise RuntimeError(f"result {result['key']} does not belong to run {spec.key}")
-        row = {
+    def record(self, spec: RunSpec, result: RunResult) -> None:
+        """Write one finished run (a worker's result) as one transaction."""
+        if result.key != spec.key or result.spec_hash != spec.spec_hash:
+            raise RuntimeError(f"result {result.key} does not belong to run {spec.key}")
+        row: dict[str, Any] = {
             "key": spec.key, "scenario": spec.scenario, "optimizer": spec.optimizer,
             "seed": spec.seed, "spec_hash": spec.spec_hash,
             "spec": spec.model_dump_json(),  # field and gain order kept
-            "status": result["status"], "error": result.get("error"),
-            "best_cost": result.get("best_cost"), "nfev": result.get("nfev"),
-            "nit": result.get("nit"), "wall_time_s": result.get("wall_time_s"),
-            "versions": json.dumps(result.get("versions", {}), sort_keys=True),
+            "status": result.status.value, "error": result.error,
+            "best_cost": result.best_cost, "nfev": result.nfev, "nit": result.nit,
+            "wall_time_s": result.wall_time_s,
+            "versions": dumps(result.versions, sort_keys=True),
             "finished_at": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
         }
         for col in _JSON_COLUMNS:
-            value = result.get(col)
-            row[col] = None if value is None else json.dumps(value)
+            value = getattr(result, col)
+            row[col] = None if value is None else dumps(value)
         cols = ", ".join(row)
         marks = ", ".join(f":{c}" for c in row)
         with self._conn:
@@ -189,7 +202,7 @@ class Store:
         for (spec, status, error, cost, nfev, nit, wall, gains, metrics, tests, hist, hist_n,
              vers) in cur:
             yield RunRecord(
-                spec=RunSpec.model_validate_json(spec), status=status, error=error,
+                spec=RunSpec.model_validate_json(spec), status=RunStatus(status), error=error,
                 best_cost=cost, nfev=nfev, nit=nit, wall_time_s=wall,
                 best_gains=_loads(gains, {}), metrics=_loads(metrics, {}),
                 test_costs=_loads(tests, {}), history=_loads(hist, []),

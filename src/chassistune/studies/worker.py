@@ -1,4 +1,4 @@
-"""One run of a study, in whatever process the executor chose: a spec in, a plain dict out.
+"""One run of a study, in whatever process the executor chose: a spec in, a `RunResult` out.
 
 Workers never touch the store. Any exception of the run (a raising objective, a bad value found
 late) becomes a `failed` result carrying the error text, so the study goes on.
@@ -15,10 +15,9 @@ from typing import Any
 
 import numpy as np
 
+from chassistune._io import jsonable
+from chassistune.studies.records import RunResult, RunStatus
 from chassistune.studies.spec import RunSpec
-
-COMPLETED = "completed"
-FAILED = "failed"
 
 
 @cache
@@ -35,29 +34,13 @@ def versions() -> dict[str, str]:
     return out
 
 
-def plain(x: Any) -> Any:
-    """JSON-ready Python values (numpy scalars and arrays converted; NaN kept as float)."""
-    if isinstance(x, dict):
-        return {str(k): plain(v) for k, v in x.items()}
-    if isinstance(x, list | tuple | np.ndarray):
-        return [plain(v) for v in (x.tolist() if isinstance(x, np.ndarray) else x)]
-    if isinstance(x, bool | np.bool_):
-        return bool(x)
-    if isinstance(x, int | np.integer):
-        return int(x)
-    if isinstance(x, float | np.floating):
-        return float(x)
-    return x if x is None or isinstance(x, str) else str(x)
-
-
 def _run(spec: RunSpec) -> dict[str, Any]:
     from chassistune.scenarios.registry import get_plant
-    from chassistune.tuning.problem import build_problem
+    from chassistune.studies.problems import problem_for
     from chassistune.tuning.tune import run_optimizer
 
     seed = spec.scenario_seed
-    problem = build_problem(spec.plant, spec.controller, spec.preset, list(spec.roads),
-                            spec.objective, spec.aggregate, spec.params, spec.bounds, seed)
+    problem = problem_for(spec.model_dump(), seed)
     hyper: dict[str, Any] = dict(spec.hyperparameters)
     result = run_optimizer(problem, spec.optimizer_name, spec.pop_size, spec.max_iter,
                            spec.max_evals, spec.optimizer_rng(), **hyper)
@@ -81,26 +64,24 @@ def _run(spec: RunSpec) -> dict[str, Any]:
     }
 
 
-def execute_run(spec: RunSpec) -> dict[str, Any]:
-    """Do one run; return {key, spec_hash, status, error, wall_time_s, versions, ...results}."""
+def execute_run(spec: RunSpec) -> RunResult:
+    """Do one run: completed with its numbers, or failed with the error text."""
     t0 = time.perf_counter()
-    out: dict[str, Any] = {"key": spec.key, "spec_hash": spec.spec_hash}
     try:
-        out.update(plain(_run(spec)))
-        if not math.isfinite(out["best_cost"]):
-            raise FloatingPointError(f"best cost is {out['best_cost']}")
-        out["status"], out["error"] = COMPLETED, None
+        numbers = _run(spec)
+        if not math.isfinite(numbers["best_cost"]):
+            raise FloatingPointError(f"best cost is {numbers['best_cost']}")
     except Exception as exc:
         last = traceback.extract_tb(exc.__traceback__)[-1:]
         where = f" (at {last[0].filename.rsplit('/', 1)[-1]}:{last[0].lineno})" if last else ""
-        out = {"key": spec.key, "spec_hash": spec.spec_hash, "status": FAILED,
-               "error": f"{type(exc).__name__}: {exc}{where}"}
-    out["wall_time_s"] = time.perf_counter() - t0
-    out["versions"] = versions()
-    return out
+        return failed_result(spec, f"{type(exc).__name__}: {exc}{where}",
+                             time.perf_counter() - t0)
+    return RunResult(key=spec.key, spec_hash=spec.spec_hash, status=RunStatus.COMPLETED,
+                     wall_time_s=time.perf_counter() - t0, versions=versions(),
+                     **jsonable(numbers))
 
 
-def failed_result(spec: RunSpec, error: str) -> dict[str, Any]:
-    """The result recorded when a run could not finish for reasons outside it (lost worker)."""
-    return {"key": spec.key, "spec_hash": spec.spec_hash, "status": FAILED, "error": error,
-            "wall_time_s": math.nan, "versions": versions()}
+def failed_result(spec: RunSpec, error: str, wall_time_s: float = math.nan) -> RunResult:
+    """A failed run: raised in the worker, or lost outside it (a dead worker: no wall time)."""
+    return RunResult(key=spec.key, spec_hash=spec.spec_hash, status=RunStatus.FAILED,
+                     wall_time_s=wall_time_s, versions=versions(), error=error)

@@ -2,34 +2,35 @@
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
+from chassistune._rng import SeedLike
 from chassistune.errors import InputError
-from chassistune.optimizers.base import SeedLike
+from chassistune.optimizers.driver import OptimizeResult, drive
 from chassistune.optimizers.registry import make
 from chassistune.tuning.problem import TuningProblem, build_problem
 
 
-@dataclass
-class TuneResult:
-    """Best gains and cost, budget spent, convergence history, metrics of the tuned controller."""
+@dataclass(frozen=True, kw_only=True)
+class TuneResult(OptimizeResult):
+    """An optimizer run on a tuning problem: the gains by name and the tuned controller's metrics
+    on each road (`x` and `fun` are `best_gains` and `best_cost` in the box's order)."""
 
     problem: TuningProblem
-    optimizer: str
     best_gains: dict[str, float]
-    best_cost: float
-    nfev: int
-    nit: int
-    wall_time_s: float
-    history: np.ndarray
-    history_nfev: np.ndarray
     metrics: dict[str, dict[str, Any]] = field(default_factory=dict)
-    hyperparameters: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def best_cost(self) -> float:
+        return self.fun
+
+    @property
+    def optimizer(self) -> str:
+        return self.method
 
     def as_dict(self) -> dict[str, Any]:
         """The `tune --json` object (DESIGN 7); `metrics` by road when several were tuned."""
@@ -58,6 +59,10 @@ class TuneResult:
         }
 
 
+Progress = Callable[[int, int, float], None]
+"""progress(nit, nfev, best cost so far), after every iteration."""
+
+
 def run_optimizer(
     problem: TuningProblem,
     optimizer: str,
@@ -65,7 +70,7 @@ def run_optimizer(
     max_iter: int | None,
     max_evals: int | None,
     seed: SeedLike,
-    progress: Callable[[int, int, float], None] | None = None,
+    progress: Progress | None = None,
     **hyper: Any,
 ) -> TuneResult:
     """Drive `optimizer` over `problem`; `progress(nit, nfev, best)` after each iteration."""
@@ -73,31 +78,14 @@ def run_optimizer(
         raise InputError("--iters", "give an iteration or an evaluation budget")
     opt = make(optimizer, problem.bounds, pop_size, seed, max_iter=max_iter, max_evals=max_evals,
                **hyper)
-    t0 = time.perf_counter()
-    while not opt.done:
-        x = opt.ask()
-        before = opt.nit
-        opt.tell(x, problem(np.asarray(x)))
-        if progress is not None and opt.nit > before:
-            progress(opt.nit, opt.nfev, opt.best_f)
-    wall = time.perf_counter() - t0
-    best = np.asarray(opt.best_x, dtype=float)
-    metrics = {}
-    for sc in problem.scenarios:
-        trace = sc.trace(best)
-        metrics[sc.road] = trace.metrics
+    run = drive(opt, problem, None if progress is None else
+                lambda r: progress(r.nit, r.nfev, r.fun))
+    best = np.asarray(run.x, dtype=float)
     return TuneResult(
+        **vars(run),
         problem=problem,
-        optimizer=optimizer,
         best_gains=dict(zip(problem.gain_names, best.tolist(), strict=True)),
-        best_cost=float(opt.best_f),
-        nfev=int(opt.nfev),
-        nit=int(opt.nit),
-        wall_time_s=wall,
-        history=opt.history,
-        history_nfev=opt.history_nfev,
-        metrics=metrics,
-        hyperparameters=opt.hyper.as_dict(),
+        metrics={sc.road: sc.trace(best).metrics for sc in problem.scenarios},
     )
 
 

@@ -1,8 +1,8 @@
-"""Seed 001 study: quarter-car PID tuned by ABC and improved ABC (issue 5, item 6).
+"""Jing and Xu 2023 (iabc-suspension): quarter-car PID tuned by ABC and IABC (issue 5, item 6).
 
 Tunes the PID (kp, ki, kd; feedback body velocity) of `quarter-car` with `abc` and `iabc` on the
 paper's box [0, 500]^3 and on our SI box (the registry bounds), presets `paper-iabc` and `typical`,
-objective `rms-ratio-exact` (seed 001 eq. 10, exact stationary RMS), 100 food sources, 100
+objective `rms-ratio-exact` (iabc-suspension eq. 10, exact stationary RMS), 100 food sources, 100
 iterations, 30 seeds. Seed i is `SeedSequence(ROOT_ENTROPY, spawn_key=(i,))` (child i of
 `SeedSequence(ROOT_ENTROPY).spawn(n)`), the same for both algorithms: a paired comparison.
 
@@ -16,7 +16,7 @@ are skipped. Then the reports: convergence figures, summaries, Wilcoxon rank-sum
 module), scout counts, Table 2 (exact stationary values on ISO class B at 20 m/s, and the mean over
 10 s road realizations) beside the paper's values, and `tables.md` with the same in markdown.
 
-    .venv/bin/python benchmarks/iabc_suspension_study.py [--seeds 30] [--out DIR]
+    .venv/bin/python paper_scripts/iabc_suspension_study.py [--seeds 30] [--out DIR]
 """
 
 from __future__ import annotations
@@ -25,9 +25,7 @@ import argparse
 import csv
 import io
 import json
-import os
 import sys
-import tempfile
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
@@ -39,8 +37,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import minimize
 
-from chassistune import stats
+from chassistune import _io, stats
+from chassistune._rng import child_seed
 from chassistune.controllers.catalogue import PAPER_BOX
+from chassistune.optimizers.driver import drive
 from chassistune.optimizers.registry import make
 from chassistune.scenarios.quarter_car import PLANT, QuarterCarScenario
 from chassistune.sim import lyapunov
@@ -48,7 +48,7 @@ from chassistune.sim import quarter_car_kernel as kernel
 from chassistune.tuning.problem import TuningProblem, build_problem
 
 ROOT_ENTROPY = 1_001_2023
-"""Root of every run seed (seed 001, published 2023)."""
+"""Root of every run seed (iabc-suspension, published 2023)."""
 PRESETS = ("paper-iabc", "typical")
 BOXES = ("paper", "si")
 """Boxes tuned with the exact objective."""
@@ -71,7 +71,7 @@ GRID_POINTS = 61
 GAP_FLOOR = 1e-12
 RESOLUTION = 1e-9
 """Q rounded to this before the second rank-sum test (differences below are immaterial)."""
-PAPER: dict[str, Any] = {  # ../shared/paper_results.toml [iabc_suspension]: seed 001 Table 2, 4.3
+PAPER: dict[str, Any] = {  # ../shared/paper_results.toml [iabc_suspension]: Table 2, 4.3
     "controllers": ["traditional PID", "ABC-PID", "IABC-PID"],
     "body_acc_rms_m_s2": [0.8082, 0.7244, 0.6147],
     "susp_travel_rms_m": [0.0026, 0.0019, 0.0014],
@@ -103,7 +103,7 @@ class Config:
 
 def seed_sequence(index: int) -> np.random.SeedSequence:
     """Run seed `index`: child `index` of SeedSequence(ROOT_ENTROPY)."""
-    return np.random.SeedSequence(ROOT_ENTROPY, spawn_key=(index,))
+    return child_seed(ROOT_ENTROPY, index)
 
 
 def box_bounds(box: str) -> dict[str, tuple[float, float]] | None:
@@ -126,12 +126,9 @@ def run_path(out: Path, preset: str, box: str, algorithm: str, seed: int) -> Pat
 
 def tune_once(prob: TuningProblem, algorithm: str, pop: int, iters: int, seed: int,
               road_seed: int = 0) -> Row:
-    """One ask/tell run (our loop rather than `run_optimizer`: it keeps the scout count)."""
-    opt = make(algorithm, prob.bounds, pop, seed_sequence(seed), max_iter=iters, **HYPER)
-    t0 = time.perf_counter()
-    while not opt.done:
-        x = opt.ask()
-        opt.tell(x, prob(np.asarray(x)))
+    """One run through the package's ask/tell driver (its diagnostics hold the scout count)."""
+    run = drive(make(algorithm, prob.bounds, pop, seed_sequence(seed), max_iter=iters, **HYPER),
+                prob)
     return {
         "algorithm": algorithm,
         "seed_index": seed,
@@ -142,34 +139,22 @@ def tune_once(prob: TuningProblem, algorithm: str, pop: int, iters: int, seed: i
         "objective": prob.objective,
         "road_seed": road_seed,
         "bounds": [list(b) for b in prob.bounds],
-        "hyperparameters": opt.hyper.as_dict(),
-        "best_gains": dict(zip(GAINS, np.asarray(opt.best_x, dtype=float).tolist(), strict=True)),
-        "best_cost": float(opt.best_f),
-        "nfev": int(opt.nfev),
-        "nit": int(opt.nit),
-        "scouts": int(getattr(opt, "scouts", 0)),
-        "wall_time_s": time.perf_counter() - t0,
-        "history": opt.history.tolist(),
-        "history_nfev": opt.history_nfev.tolist(),
+        "hyperparameters": run.hyperparameters,
+        "best_gains": dict(zip(GAINS, run.x.tolist(), strict=True)),
+        "best_cost": run.fun,
+        "nfev": run.nfev,
+        "nit": run.nit,
+        "scouts": int(run.diagnostics["scouts"]),
+        "wall_time_s": run.wall_time_s,
+        "history": run.history.tolist(),
+        "history_nfev": run.history_nfev.tolist(),
     }
 
 
-def write_atomic(path: Path, text: str) -> None:
-    """Write `text` to `path` through a temporary file renamed into place."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-", suffix=path.suffix)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-
-
 def write_json(path: Path, obj: Any) -> None:
-    """Atomic JSON file."""
-    write_atomic(path, json.dumps(obj, indent=1) + "\n")
+    """Atomic JSON file (its folder created if missing)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    _io.write_json(path, obj)
 
 
 def check_manifest(cfg: Config) -> None:
@@ -560,7 +545,7 @@ def write_csv(path: Path, rows: Sequence[Row]) -> None:
     for r in rows:
         writer.writerow({k: " ".join(f"{x:.10g}" for x in v) if isinstance(v, list) else v
                          for k, v in r.items()})
-    write_atomic(path, buf.getvalue())
+    _io.write_text(path, buf.getvalue())
 
 
 # -- markdown ----------------------------------------------------------------------------------
@@ -612,7 +597,8 @@ def number(x: float) -> str:
 
 def md_report(res: Mapping[str, Any], paper: Mapping[str, Any]) -> str:
     """tables.md: every table of the study in markdown."""
-    parts = ["# Seed 001 study: tables (generated by benchmarks/iabc_suspension_study.py)\n"]
+    parts = ["# Jing and Xu 2023 (iabc-suspension) study: tables (generated by "
+             "paper_scripts/iabc_suspension_study.py)\n"]
     for preset, box in exact_pairs():
         parts.append(f"\n## Table 2, {preset}, {box} box\n\n"
                      + md_table2(res["table2"], preset, box, paper))
@@ -698,7 +684,7 @@ def report(cfg: Config, log: Callable[[str], None] = print) -> dict[str, Any]:
                  "ten_s_summary"):
         write_csv(cfg.out / f"{name}.csv", res[name])
     write_json(cfg.out / "results.json", res)
-    write_atomic(cfg.out / "tables.md", md_report(res, paper))
+    _io.write_text(cfg.out / "tables.md", md_report(res, paper))
     for path in plot_cells(runs, cfg.out):
         log(f"wrote {path}")
     return res

@@ -9,16 +9,16 @@ cell from the K-th), then build the tables from whatever cells exist with `--rep
 Protocols (population 30, usual dimensions, 30 runs, run r seeded with SeedSequence(ROOT, r)):
   evals    equal evaluation budget, 15,000 evaluations (= AO's cost of 500 iterations)
   iters    the papers' equal-iteration protocol, 500 iterations (evaluations differ: POA 2N, ...)
-  seed000  seed 000's setting for its claims (population 50, 500 iterations) on F4, F5, F6, F14
+  seed000  derlsp-ao-abs's setting for its claims (population 50, 500 iterations), F4 F5 F6 F14
 
 Methods: our twelve (`ao`, ..., `dbo`), `ao+2` (DERLSP-AO without its DE step: the ablation of
-seed 000's Fig. 6), mealpy 3.0.3's peers `mealpy:ao|gwo|mfo|abc|de|pso|ga|poa` (with our
+derlsp-ao-abs's Fig. 6), mealpy 3.0.3's peers `mealpy:ao|gwo|mfo|abc|de|pso|ga|poa` (with our
 hyperparameters where mealpy has them) and `scipy:de` (scipy's differential_evolution,
 rand1bin, F 0.5, CR 0.9, the same 30 initial points, no polishing, no early stop).
 
-    python benchmarks/compare_optimizers.py --protocols evals --functions F1,F16 --runs 5
-    python benchmarks/compare_optimizers.py --part 0/4          # a quarter of the grid
-    python benchmarks/compare_optimizers.py --report            # docs/optimizer_comparison.md
+    python paper_scripts/compare_optimizers.py --protocols evals --functions F1,F16 --runs 5
+    python paper_scripts/compare_optimizers.py --part 0/4          # a quarter of the grid
+    python paper_scripts/compare_optimizers.py --report            # docs/optimizer_comparison.md
 """
 
 from __future__ import annotations
@@ -26,9 +26,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import sys
-import tempfile
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -36,7 +34,8 @@ from typing import Any
 
 import numpy as np
 
-from chassistune import benchmarks, stats
+from chassistune import _io, benchmarks, stats
+from chassistune._rng import child_seed, int_seed, make_rng
 from chassistune.optimizers import registry
 from chassistune.optimizers.minimize import minimize
 
@@ -48,7 +47,7 @@ OURS = registry.names()
 MEALPY = ["ao", "gwo", "mfo", "abc", "de", "pso", "ga", "poa"]
 SEED000_FUNCS = ["F4", "F5", "F6", "F14"]
 SEED000_METHODS = ["ao", "ao+2", "derlsp-ao", "mfo", "gwo"]
-TABLE4 = {  # seed 003 Table 4, via ../shared/paper_results.toml: MFO, POA, DBO, AO, DEFFAO
+TABLE4 = {  # deffao-vehicle-abs Table 4 (../shared/paper_results.toml): MFO, POA, DBO, AO, DEFFAO
     "F2": [60.087, 6.0243e-32, 0.0497, 6.212e-47, 3.846e-52],
     "F3": [25007.2, 9.935e-60, 2835.44, 3.809e-80, 8.05e-96],
     "F5": [661.167, 28.8163, 43.8941, 0.0095, 7.801e-14],
@@ -67,7 +66,7 @@ GRID = np.unique(np.geomspace(POP, EVALS, 40).astype(int))
 def _objective(
     fn: benchmarks.BenchmarkFunction, seed: np.random.SeedSequence
 ) -> Callable[..., Any]:
-    noise = np.random.default_rng(seed.spawn(1)[0]) if fn.noisy else None
+    noise = make_rng(child_seed(seed, 0)) if fn.noisy else None
     return lambda x: fn(x, noise)
 
 
@@ -85,7 +84,6 @@ def run_ours(
     method: str, fn: benchmarks.BenchmarkFunction, protocol: str, seed: np.random.SeedSequence
 ) -> dict[str, Any]:
     name, hyper = ("derlsp-ao", {"de_step": False}) if method == "ao+2" else (method, {})
-    t0 = time.perf_counter()
     res = minimize(
         _objective(fn, seed),
         fn.bounds(),
@@ -95,12 +93,11 @@ def run_ours(
         **_budget(protocol),
         **hyper,
     )
-    wall = time.perf_counter() - t0
     return {
         "best_f": res.fun,
         "nfev": res.nfev,
         "nit": res.nit,
-        "wall_s": wall,
+        "wall_s": res.wall_time_s,
         "history": res.history.tolist(),
         "history_nfev": res.history_nfev.tolist(),
     }
@@ -144,7 +141,7 @@ def run_mealpy(
     term = {"max_fe": EVALS} if protocol == "evals" else None
     model = classes[method]()
     t0 = time.perf_counter()
-    best = model.solve(problem, termination=term, seed=int(seed.generate_state(1)[0]))
+    best = model.solve(problem, termination=term, seed=int_seed(seed))
     wall = time.perf_counter() - t0
     return {
         "best_f": float(best.target.fitness),
@@ -160,7 +157,7 @@ def run_scipy_de(
     from scipy.optimize import differential_evolution
 
     b = fn.bounds()
-    rng = np.random.default_rng(seed)
+    rng = make_rng(seed)
     init = b[:, 0] + rng.random((POP, b.shape[0])) * (b[:, 1] - b[:, 0])
     maxiter = (EVALS - POP) // POP if protocol == "evals" else ITERS
     objective = _objective(fn, seed)
@@ -215,19 +212,6 @@ def cell_path(out: Path, protocol: str, function: str, method: str) -> Path:
     return out / protocol / function / f"{method.replace(':', '_')}.json"
 
 
-def write_atomically(path: Path, data: dict[str, Any]) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-", suffix=".json")
-    try:
-        with os.fdopen(fd, "w") as fh:
-            json.dump(data, fh)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-
-
 def load_cell(path: Path) -> dict[str, Any] | None:
     try:
         with open(path) as fh:
@@ -246,7 +230,7 @@ def run_cell(out: Path, protocol: str, function: str, method: str, runs: int) ->
     fn = benchmarks.get(function)
     results = []
     for r in range(runs):
-        res = run_one(method, fn, protocol, np.random.SeedSequence(ROOT, spawn_key=(r,)))
+        res = run_one(method, fn, protocol, child_seed(ROOT, r))
         results.append(res)
     data: dict[str, Any] = {
         "protocol": protocol,
@@ -268,7 +252,8 @@ def run_cell(out: Path, protocol: str, function: str, method: str, runs: int) ->
             k: [None if not math.isfinite(v) else float(v) for v in vals]
             for k, vals in band.items()
         }
-    write_atomically(path, data)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    _io.write_json(path, data, indent=None)
     return True
 
 
@@ -288,9 +273,10 @@ def _g(x: float) -> str:
 
 def report(out: Path) -> str:
     lines = [
-        "# Optimizer comparison (generated by benchmarks/compare_optimizers.py)",
+        "# Optimizer comparison (generated by paper_scripts/compare_optimizers.py)",
         "",
-        f"Population {POP} (seed 000's checks: 50), usual dimensions, runs per cell as listed; "
+        f"Population {POP} (the derlsp-ao-abs paper's checks: 50), usual dimensions, runs per cell "
+        "as listed; "
         f"protocol `evals`: {EVALS} evaluations; `iters`: {ITERS} iterations. "
         "Cells not run yet are shown as blank.",
         "",
@@ -381,7 +367,8 @@ def claims(out: Path) -> list[str]:
     lines = [
         "## The papers' claims",
         "",
-        "Seed 000 (Figs. 6-7): DERLSP-AO reaches lower costs than AO, MFO and GWO (population "
+        "Tian et al. (derlsp-ao-abs), Figs. 6-7: DERLSP-AO reaches lower costs than AO, MFO and "
+        "GWO (population "
         "50, 500 iterations), and AO with the first two strategies (`ao+2`) beats AO. "
         "A claim holds on a function when the rank-sum sign is + (significantly lower).",
         "",
@@ -401,7 +388,8 @@ def claims(out: Path) -> list[str]:
             )
     lines += [
         "",
-        "Seed 003 Table 4 (best fitness; the protocol is not stated: we use `iters`, "
+        "Tian, Huang et al. 2025 (deffao-vehicle-abs), Table 4 (best fitness; the protocol is not "
+        "stated: we use `iters`, "
         "population 30, 500 iterations): published value and our best (median) for each "
         "method, and whether DEFFAO is significantly lower than each rival (rank-sum +).",
         "",
@@ -441,7 +429,8 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     if args.report:
         text = report(args.out)
-        write_atomically_text(args.report_to, text)
+        args.report_to.parent.mkdir(parents=True, exist_ok=True)
+        _io.write_text(args.report_to, text)
         print(f"wrote {args.report_to}")
         return 0
     k, n = (int(v) for v in args.part.split("/"))
@@ -459,14 +448,6 @@ def main(argv: list[str] | None = None) -> int:
         state = f"{time.perf_counter() - t0:.1f} s" if ran else "done before"
         print(f"[{i}/{len(cells)}] {p} {f} {m}: {state}", flush=True)
     return 0
-
-
-def write_atomically_text(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-", suffix=".md")
-    with os.fdopen(fd, "w") as fh:
-        fh.write(text)
-    os.replace(tmp, path)
 
 
 if __name__ == "__main__":

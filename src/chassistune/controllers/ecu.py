@@ -1,0 +1,271 @@
+"""Compiled ECU parts between plant and controller (issue 15; parameters in `ecu_params.py`).
+
+Scalar-in, scalar-out step functions with their state passed in and returned, so that the
+single-wheel kernel and a four-wheel vehicle kernel can call them per lane or per wheel. They
+allocate nothing and draw nothing (random inputs arrive as pre-drawn arrays).
+
+- Toothed-wheel sensor: edge k sits at wheel angle k 2 pi / N + d[k mod len(d)]; the kernel
+  integrates the wheel angle, and `sensor_step` finds the edge times inside an integration step
+  on the cubic Hermite interpolant of the angle (values and rates at both ends: the dense output
+  consistent with the step's own order), floors them to the capture timer and estimates the
+  speed from the last edge period, w_est = (2 pi / N) / (t_k - t_k-1). No edge: hold.
+- Reference speed: slew-limited vref_k = max(v_wheel, vref_k-1 - a_max ts) (select-high of
+  the wheels on a vehicle), or an integrated accelerometer (bias, noise) re-anchored to the
+  wheel speed when the wheel is stable and either agrees or has its brake released.
+- Three-state modulator: build / hold / dump with orifice rates dp/dt = k_b sqrt(p_s - p) and
+  -k_d sqrt(p - p_r), integrated exactly (sqrt(p_s - p) falls linearly in time), so the
+  pressure never leaves [p_r, p_s]. The controller issues one pulse per period: a state held for
+  `on` seconds from `start` (command time + dead time), then hold; `duty_pulse` turns a pressure
+  rate into such a pulse, quantized so that every valve state lasts at least the minimum on-time,
+  carrying what the rounding missed into the next period; `switching_pulse` maps the held
+  command of a switching law (threshold ABS: build, hold, dump, slow build) to a pulse.
+- Low-speed cut-out (latched) and the speed schedule of the gains (kp, kd ~ v / v0).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+
+VALVE_DUMP = -1
+VALVE_HOLD = 0
+VALVE_BUILD = 1
+
+_BISECTIONS = 52
+"""Halvings of the step in the edge-time search (2^-52 of the step: float resolution)."""
+
+_jit = numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+
+
+@_jit
+def edge_angle(k, teeth, spacing):
+    """Wheel angle (rad) of edge k: k 2 pi / teeth + spacing[k mod len(spacing)] (k may be a
+    whole float, as a kernel's state rows hold it)."""
+    return k * (2.0 * math.pi / teeth) + spacing[int(k) % spacing.shape[0]]
+
+
+@_jit
+def hermite_angle(s, theta0, theta1, w0, w1, dt):
+    """Cubic Hermite interpolant of the angle at s in [0, 1] of a step of length dt."""
+    s2 = s * s
+    s3 = s2 * s
+    return ((2.0 * s3 - 3.0 * s2 + 1.0) * theta0 + (s3 - 2.0 * s2 + s) * dt * w0
+            + (-2.0 * s3 + 3.0 * s2) * theta1 + (s3 - s2) * dt * w1)
+
+
+@_jit
+def crossing_fraction(target, theta0, theta1, w0, w1, dt):
+    """Fraction s of the step where the interpolated angle reaches `target` (bisection).
+
+    theta0 < target <= theta1; the first crossing of a monotone interpolant (w0, w1 >= 0 and
+    the angle increment between their bounds keep it monotone)."""
+    lo = 0.0
+    hi = 1.0
+    for _ in range(_BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        if hermite_angle(mid, theta0, theta1, w0, w1, dt) < target:
+            lo = mid
+        else:
+            hi = mid
+    return hi
+
+
+@_jit
+def sensor_first_edge(theta0, teeth, spacing):
+    """Index of the first edge strictly ahead of the wheel angle theta0."""
+    k = math.floor(theta0 * teeth / (2.0 * math.pi))
+    while edge_angle(k, teeth, spacing) > theta0:
+        k -= 1
+    while edge_angle(k, teeth, spacing) <= theta0:
+        k += 1
+    return k
+
+
+@_jit
+def sensor_step(theta0, theta1, w0, w1, t0, dt, k_next, t_last, t_prev, w_est, teeth,
+                timer_s, spacing, jitter):
+    """Advance the toothed-wheel sensor over one integration step [t0, t0 + dt].
+
+    State: k_next (next edge index), t_last and t_prev (captured times of the last two edges,
+    -1 before the first ones), w_est (speed estimate, rad/s). Only the last two edges inside the
+    step matter (a fine wheel passes many per step): their exact times are found on the angle's
+    interpolant, jittered by jitter[k mod len], floored to the timer, and the estimate becomes
+    the nominal pitch over their captured period. No edge in the step, or a non-positive
+    captured period: the estimate holds. Returns (k_next, t_last, t_prev, w_est).
+    """
+    k_first = int(k_next)
+    if edge_angle(k_first, teeth, spacing) > theta1:
+        return k_first, t_last, t_prev, w_est
+    k_end = math.floor(theta1 * teeth / (2.0 * math.pi))
+    while edge_angle(k_end + 1, teeth, spacing) <= theta1:
+        k_end += 1
+    while edge_angle(k_end, teeth, spacing) > theta1:
+        k_end -= 1
+    k = max(k_first, k_end - 1)
+    while k <= k_end:
+        s = crossing_fraction(edge_angle(k, teeth, spacing), theta0, theta1, w0, w1, dt)
+        t_edge = t0 + s * dt + jitter[k % jitter.shape[0]]
+        t_prev = t_last
+        t_last = math.floor(t_edge / timer_s) * timer_s
+        k += 1
+    period = t_last - t_prev
+    if t_prev >= 0.0 and period > 0.0:
+        w_est = (2.0 * math.pi / teeth) / period
+    return k_end + 1, t_last, t_prev, w_est
+
+
+@_jit
+def sensor_read(w_est, t_last, t_now, teeth, bound):
+    """The estimate the controller reads at t_now: held, or (bound) capped by the speed at
+    which the next edge would already have arrived, pitch / (t_now - t_last)."""
+    if bound and t_last >= 0.0 and t_now > t_last:
+        return min(w_est, (2.0 * math.pi / teeth) / (t_now - t_last))
+    return w_est
+
+
+@_jit
+def select_high4(a, b, c, d):
+    """Largest of four wheel speeds (the vehicle is never slower than its fastest braked
+    wheel)."""
+    return max(max(a, b), max(c, d))
+
+
+@_jit
+def vref_slew(vref_prev, v_wheel, a_max, ts):
+    """Slew-limited reference: vref_k = max(v_wheel, vref_k-1 - a_max ts)."""
+    return max(v_wheel, vref_prev - a_max * ts)
+
+
+@_jit
+def accelerometer(a_true, bias, noise):
+    """Measured longitudinal acceleration: the true one plus bias and this sample's noise."""
+    return a_true + bias + noise
+
+
+@_jit
+def vref_accel(vref_prev, v_wheel, a_wheel, a_meas, ts, agree, agree_accel, released):
+    """Accelerometer reference: vref integrates a_meas over ts, never below the wheel speed.
+
+    It re-anchors to the wheel when the wheel is stable, its acceleration a_wheel (over the last
+    sample) within agree_accel of a_meas, and either the speeds agree within `agree` or the
+    wheel's brake is released (`released`: the ECU's pressure model near zero). Without the
+    stability test, a wheel slowing down a little faster than the vehicle would drag the
+    estimate down one sample at a time; without the release test, a bias that lifted the
+    estimate above a free wheel by more than `agree` would never be corrected.
+    """
+    v = max(vref_prev + a_meas * ts, v_wheel)
+    if abs(a_wheel - a_meas) <= agree_accel and (released or v - v_wheel <= agree):
+        return v_wheel
+    return v
+
+
+@_jit
+def orifice_advance(p, mode, h, kb, kd, p_supply, p_return):
+    """Pressure after h seconds in a fixed valve state, exact for dp/dt = k_b sqrt(p_s - p)
+    (build), -k_d sqrt(p - p_r) (dump), 0 (hold); clamped into [p_r, p_s] at the start."""
+    p = min(max(p, p_return), p_supply)
+    if mode == VALVE_BUILD:
+        r = math.sqrt(p_supply - p) - 0.5 * kb * h
+        return p_supply - r * r if r > 0.0 else p_supply
+    if mode == VALVE_DUMP:
+        r = math.sqrt(p - p_return) - 0.5 * kd * h
+        return p_return + r * r if r > 0.0 else p_return
+    return p
+
+
+@_jit
+def valve_mode_at(t, prev_mode, prev_start, prev_on, mode, start, on):
+    """Valve state at time t given the previous and the current pulse (state, start, length):
+    the current pulse rules from its start, the previous one before; after a pulse: hold."""
+    if t >= start:
+        return mode if t < start + on else VALVE_HOLD
+    if t >= prev_start and t < prev_start + prev_on:
+        return prev_mode
+    return VALVE_HOLD
+
+
+@_jit
+def modulator_advance(p, t0, h, prev_mode, prev_start, prev_on, mode, start, on, kb, kd,
+                      p_supply, p_return):
+    """Pressure at t0 + h from p at t0, exact through every valve switch inside the interval
+    (the pulse boundaries prev_start + prev_on, start, start + on)."""
+    t = t0
+    t_end = t0 + h
+    while t < t_end:
+        nxt = t_end
+        for b in (prev_start + prev_on, start, start + on):
+            if t < b < nxt:
+                nxt = b
+        m = valve_mode_at(t, prev_mode, prev_start, prev_on, mode, start, on)
+        p = orifice_advance(p, m, nxt - t, kb, kd, p_supply, p_return)
+        t = nxt
+    return p
+
+
+@_jit
+def quantize_on_time(on, ts, min_on):
+    """On-time rounded to the nearest admissible value: 0, [min_on, ts - min_on] or ts, so that
+    the pulse and the hold after it each last at least min_on (or do not happen)."""
+    if on >= ts - 0.5 * min_on:
+        return ts
+    if on > ts - min_on:
+        return ts - min_on
+    if on < 0.5 * min_on:
+        return 0.0
+    return max(on, min_on)
+
+
+@_jit
+def duty_pulse(rate, residual, p, ts, kb, kd, p_supply, p_return, min_on):
+    """Pulse (state, on-time, new residual) realizing the pressure change rate ts + residual
+    within one period (a sigma-delta quantizer: what one pulse misses, the next one adds).
+
+    The exact on-time of the orifice law goes through `quantize_on_time`. The residual is the
+    requested minus the realized change; a request beyond one period's reach saturates at the
+    whole period and clears the residual (no wind-up).
+    """
+    p = min(max(p, p_return), p_supply)
+    dp = rate * ts + residual
+    if dp > 0.0:
+        mode = VALVE_BUILD
+        target = min(p + dp, p_supply)
+        on = 2.0 * (math.sqrt(p_supply - p) - math.sqrt(p_supply - target)) / kb
+    elif dp < 0.0:
+        mode = VALVE_DUMP
+        target = max(p + dp, p_return)
+        on = 2.0 * (math.sqrt(p - p_return) - math.sqrt(target - p_return)) / kd
+    else:
+        return VALVE_HOLD, 0.0, 0.0
+    on_q = quantize_on_time(on, ts, min_on)
+    if on_q == ts:
+        return mode, ts, 0.0
+    if on_q == 0.0:
+        return VALVE_HOLD, 0.0, dp
+    return mode, on_q, dp - (orifice_advance(p, mode, on_q, kb, kd, p_supply, p_return) - p)
+
+
+@_jit
+def switching_pulse(u0, amplitude, ts, min_on):
+    """Pulse of a switching law that commands valve states directly (threshold ABS, bang-bang):
+    the sign of its held command u0 picks build / hold / dump, and a fraction |u0| / amplitude
+    of the full command (the threshold law's slow build) becomes a pulse of that fraction of
+    the period."""
+    if u0 == 0.0 or amplitude <= 0.0:
+        return VALVE_HOLD, 0.0
+    mode = VALVE_BUILD if u0 > 0.0 else VALVE_DUMP
+    on = quantize_on_time(min(abs(u0) / amplitude, 1.0) * ts, ts, min_on)
+    return (mode, on) if on > 0.0 else (VALVE_HOLD, 0.0)
+
+
+@_jit
+def cutout_latch(latched, v_ref, cutout_m_s):
+    """ABS off for the rest of the stop once the reference speed falls below the cut-out
+    (`latched` a bool, or 0.0 / 1.0 from a kernel's float state row)."""
+    return bool(latched) or v_ref < cutout_m_s
+
+
+@_jit
+def speed_schedule(v_ref, v0, floor):
+    """Gain factor of the speed schedule: kp, kd times max(v_ref / v0, floor)."""
+    return max(v_ref / v0, floor)

@@ -1,0 +1,88 @@
+"""The files of a tune (`tune --out`) and of the demo, written by a function that any command can
+call (`tune`, `demo`, and `reproduce` next): results in, files out, nothing printed.
+
+Here rather than in `tuning/`: the outputs include figures, and only reports, papers and the CLI
+may draw (computation modules never import matplotlib).
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from chassistune._io import write_json, write_text
+from chassistune.tuning.tune import TuneResult
+
+DEMO_PRESET = "paper-derlsp-ao"
+DEMO_METRICS = ("stop_time_s", "stop_distance_m", "bound_distance_m", "distance_ratio",
+                "wheel_lock_time_s")
+
+
+def write_tune_outputs(result: TuneResult, out_dir: str) -> list[str]:
+    """best_gains.json, tune.json, history.csv, convergence.png and one response plot per road
+    into `out_dir` (created if missing); the paths written, in that order."""
+    from chassistune.plots.convergence import plot_convergence
+    from chassistune.plots.registry import plot_trace
+
+    os.makedirs(out_dir, exist_ok=True)
+    written = []
+    path = os.path.join(out_dir, "best_gains.json")
+    write_json(path, result.best_gains)
+    written.append(path)
+    path = os.path.join(out_dir, "tune.json")
+    write_json(path, result.as_dict())
+    written.append(path)
+    path = os.path.join(out_dir, "history.csv")
+    rows = "\n".join(f"{i + 1},{n},{c!r}" for i, (n, c) in
+                     enumerate(zip(result.history_nfev, result.history, strict=True)))
+    write_text(path, "iteration,nfev,best_cost\n" + rows + "\n")
+    written.append(path)
+    path = os.path.join(out_dir, "convergence.png")
+    first = result.problem.scenarios[0]
+    plot_convergence({result.optimizer: [(result.history_nfev, result.history)]}, path,
+                     title=f"{first.plant} {first.controller.name} on "
+                     f"{', '.join(result.problem.roads)}: {result.problem.objective}")
+    written.append(path)
+    gains = np.array([result.best_gains[n] for n in result.problem.gain_names])
+    for sc in result.problem.scenarios:
+        path = os.path.join(out_dir, f"response-{sc.road}.png")
+        plot_trace(sc, sc.trace(gains), path)
+        written.append(path)
+    return written
+
+
+@dataclass(frozen=True)
+class DemoResult:
+    """The demo's table (one row per road and controller), the PID gains and the plots."""
+
+    rows: list[dict[str, Any]]
+    pid_gains: dict[str, float]
+    plots: list[str]
+
+
+def write_demo(out_dir: str) -> DemoResult:
+    """No ABS against the registry's hand-set PID on the derlsp-ao paper's three roads: the
+    table's rows, and one comparison plot per road in `out_dir` (created if missing)."""
+    from chassistune.controllers import catalogue
+    from chassistune.plots.abs_wheel import plot_comparison
+    from chassistune.scenarios.abs_wheel import PLANT
+
+    os.makedirs(out_dir, exist_ok=True)
+    pid = catalogue.get("abs-wheel", "pid").default_gains()
+    rows, plots = [], []
+    for road in PLANT.presets()[DEMO_PRESET].roads:
+        runs = []
+        for controller, gains in (("none", {}), ("pid", pid)):
+            sc = PLANT.scenario(DEMO_PRESET, road, controller)
+            tr = sc.trace(sc.gains_array(gains))
+            runs.append((controller, tr))
+            rows.append({"road": road, "controller": controller,
+                         **{k: tr.metrics[k] for k in DEMO_METRICS}})
+        path = os.path.join(out_dir, f"abs-wheel-{road}.png")
+        plot_comparison(sc, runs, path, title=f"abs-wheel, paper-derlsp-ao preset, {road}: "
+                        "no ABS vs PID (" + ", ".join(f"{k}={v:g}" for k, v in pid.items()) + ")")
+        plots.append(path)
+    return DemoResult(rows, pid, plots)
