@@ -182,25 +182,16 @@ class AbsVehicleScenario(Scenario):
         geo = geometry(pp)
         surfs = np.stack([surface_row(t.slip_opt, t.mu_peak, t.mu_lock,
                                       pp.cornering_stiffness_n_rad) for t in road.surfaces])
-        from chassistune.sim.abs_wheel_kernel import (
-            Q_ACCEL,
-            Q_AMPLITUDE,
-            Q_DECEL,
-            Q_SLIP_HIGH,
-            Q_SLOW,
-            Q_TS,
-        )
-        c = np.zeros(K.N_CONTROLLER_PARAMS)
-        c[Q_TS] = cp.get("ts_s", pp.dt_s)
-        c[Q_AMPLITUDE] = cp.get("amplitude", 0.0)
-        c[Q_DECEL] = cp.get("decel_threshold_m_s2", 0.0)
-        c[Q_ACCEL] = cp.get("accel_threshold_m_s2", 0.0)
-        c[Q_SLIP_HIGH] = cp.get("slip_margin", 0.0)
-        c[Q_SLOW] = cp.get("slow_fraction", 0.0)
+        c = K.CONTROLLER_LAYOUT.pack({
+            "ts_s": cp.get("ts_s", pp.dt_s), "amplitude": cp.get("amplitude", 0.0),
+            "decel_threshold_m_s2": cp.get("decel_threshold_m_s2", 0.0),
+            "accel_threshold_m_s2": cp.get("accel_threshold_m_s2", 0.0),
+            "slip_margin": cp.get("slip_margin", 0.0),
+            "slow_fraction": cp.get("slow_fraction", 0.0)})
         base = self.controller.name
         table = (fuzzy_table(base, str(cp["rulebase"])) if base in FUZZY_OUTPUTS
                  else _no_surface())
-        return p, geo, surfs, K.CONTROLLER_KINDS[base], c, table
+        return p, geo, surfs, K.CONTROLLER_KINDS.index(base), c, table
 
     def params(self) -> dict[str, Any]:
         out: dict[str, Any] = as_dict(self.plant_params)

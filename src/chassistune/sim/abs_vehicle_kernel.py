@@ -29,7 +29,14 @@ import math
 import numba
 import numpy as np
 
-from chassistune.fuzzy.gains import fuzzy_pid_gains
+from chassistune._branchfree import select
+from chassistune.controllers.fuzzy_pid import fuzzy_pid_gains
+from chassistune.controllers.pid import pid_step
+from chassistune.controllers.switching import (
+    no_abs_command,
+    threshold_step,
+    wheel_deceleration_sample,
+)
 from chassistune.plants.abs_vehicle import (
     GEO_A,
     GEO_B,
@@ -53,23 +60,28 @@ from chassistune.plants.abs_vehicle import (
     solve_loads,
 )
 from chassistune.plants.vehicle_roads import ROAD_MU_JUMP, ROAD_SPLIT
-from chassistune.sim.abs_wheel_kernel import (
-    C_FUZZY_PID,
-    C_NONE,
-    C_PID,
-    C_THRESHOLD,
-    N_CTRL,
-    Q_TS,
-    _abs_integrals,
-    _sampled_command,
+from chassistune.sim import abs_wheel_layout as WL
+from chassistune.sim.integrate import (
+    crossing_fraction,
+    error_integrals,
+    rk4_point,
+    rk4_update,
+    trapezoid,
 )
 from chassistune.sim.layout import Layout, Slot
 
 WHEELS = ("fl", "fr", "rl", "rr")
-CONTROLLER_KINDS = {"none": C_NONE, "pid": C_PID, "threshold": C_THRESHOLD,
-                    "fuzzy-pid": C_FUZZY_PID}
-"""Kernel codes of the wheel laws (shared with the single wheel's sampled switching laws)."""
-N_CONTROLLER_PARAMS = N_CTRL
+CONTROLLER_KINDS = ("none", "pid", "threshold", "fuzzy-pid")
+"""The kernel's runtime switch of the wheel law: controller name -> its index here."""
+C_NONE, C_PID, C_THRESHOLD, C_FUZZY_PID = range(len(CONTROLLER_KINDS))
+CONTROLLER_LAYOUT = WL.CONTROLLER
+"""The controller vector: the single wheel's (sample period, amplitude, threshold settings)."""
+Q_TS = CONTROLLER_LAYOUT["ts_s"]
+Q_AMPLITUDE = CONTROLLER_LAYOUT["amplitude"]
+Q_DECEL = CONTROLLER_LAYOUT["decel_threshold_m_s2"]
+Q_ACCEL = CONTROLLER_LAYOUT["accel_threshold_m_s2"]
+Q_SLIP_MARGIN = CONTROLLER_LAYOUT["slip_margin"]
+Q_SLOW = CONTROLLER_LAYOUT["slow_fraction"]
 
 PLANT_LAYOUT = Layout("abs-vehicle plant", (
     Slot("mass_kg", "kg"),
@@ -325,15 +337,15 @@ def _wheel_rates(w, q, qr, z, xf, e, fxw, dy, j, i, law, r_w, kq, inv_j, nf, gai
     J dw/dt = -R Fx - kq q (held at w = 0), T dqr/dt = K u - qr, dq/dt = qr held in [0, q_max],
     u = u0 + kp e + ki z + kd N (e - xf) with conditional integration. Branch-free."""
     dw = (-r_w * fxw - kq * q) * inv_j
-    dy[S_W + j, i] = 0.0 if ((w <= 0.0) & (dw < 0.0)) else dw
-    u = (law[LAW_U0, j, i] + law[LAW_KP, j, i] * e + law[LAW_KI, j, i] * z
-         + law[LAW_KD, j, i] * nf * (e - xf))
-    dy[S_QR + j, i] = (gain * u - qr) * inv_tau
+    dy[S_W + j, i] = select((w <= 0.0) & (dw < 0.0), 0.0, dw)
     q_hi = q >= q_max
     q_lo = q <= 0.0
-    dy[S_Q + j, i] = 0.0 if ((q_hi & (qr > 0.0)) | (q_lo & (qr < 0.0))) else qr
-    dy[S_Z + j, i] = 0.0 if ((q_hi & (e > 0.0)) | (q_lo & (e < 0.0))) else e
-    dy[S_XF + j, i] = nf * (e - xf)
+    u, dz, dxf = pid_step(e, z, xf, law[LAW_U0, j, i], law[LAW_KP, j, i], law[LAW_KI, j, i],
+                          law[LAW_KD, j, i], nf, q_hi, q_lo)
+    dy[S_QR + j, i] = (gain * u - qr) * inv_tau
+    dy[S_Q + j, i] = select((q_hi & (qr > 0.0)) | (q_lo & (qr < 0.0)), 0.0, qr)
+    dy[S_Z + j, i] = dz
+    dy[S_XF + j, i] = dxf
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -400,6 +412,22 @@ def _straight_wheel(vx, w, j, i, ls, r_w, vmin):
     return cf, min(max(sx, 0.0), 1.0)
 
 
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _pt(x, k_in, c, row, i):
+    """Stage point of state row `row` of lane i."""
+    return rk4_point(x[row, i], c, k_in[row, i])
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _lane_wheel_rates(x, k_in, c, j, i, e, fxw, k_out, law, r_w, kq, inv_j, nf, gain, inv_tau,
+                      q_max):
+    """`_wheel_rates` of wheel j of lane i at the stage point x + c k_in."""
+    _wheel_rates(_pt(x, k_in, c, S_W + j, i), _pt(x, k_in, c, S_Q + j, i),
+                 _pt(x, k_in, c, S_QR + j, i), _pt(x, k_in, c, S_Z + j, i),
+                 _pt(x, k_in, c, S_XF + j, i), e, fxw, k_out, j, i, law, r_w, kq, inv_j, nf, gain,
+                 inv_tau, q_max)
+
+
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def _stage(n, m, active, x, k_in, c, k_out, law, sidx, ls, guess, flag, p, geo, surfs,
            sc, y, wbuf, tgt, iters, inv):
@@ -446,15 +474,15 @@ def _stage(n, m, active, x, k_in, c, k_out, law, sidx, ls, guess, flag, p, geo, 
     inv_tau = inv[2]
     inv_st = inv[3]
     for i in range(n):
-        vx = x[S_VX, i] + c * k_in[S_VX, i]
-        vy = x[S_VY, i] + c * k_in[S_VY, i]
-        r = x[S_YR, i] + c * k_in[S_YR, i]
-        psi = x[S_PSI, i] + c * k_in[S_PSI, i]
-        delta = x[S_DELTA, i] + c * k_in[S_DELTA, i]
-        c0, s0 = _straight_wheel(vx, x[S_W, i] + c * k_in[S_W, i], 0, i, ls, r_w, vmin)
-        c1, s1 = _straight_wheel(vx, x[S_W + 1, i] + c * k_in[S_W + 1, i], 1, i, ls, r_w, vmin)
-        c2, s2 = _straight_wheel(vx, x[S_W + 2, i] + c * k_in[S_W + 2, i], 2, i, ls, r_w, vmin)
-        c3, s3 = _straight_wheel(vx, x[S_W + 3, i] + c * k_in[S_W + 3, i], 3, i, ls, r_w, vmin)
+        vx = _pt(x, k_in, c, S_VX, i)
+        vy = _pt(x, k_in, c, S_VY, i)
+        r = _pt(x, k_in, c, S_YR, i)
+        psi = _pt(x, k_in, c, S_PSI, i)
+        delta = _pt(x, k_in, c, S_DELTA, i)
+        c0, s0 = _straight_wheel(vx, _pt(x, k_in, c, S_W, i), 0, i, ls, r_w, vmin)
+        c1, s1 = _straight_wheel(vx, _pt(x, k_in, c, S_W + 1, i), 1, i, ls, r_w, vmin)
+        c2, s2 = _straight_wheel(vx, _pt(x, k_in, c, S_W + 2, i), 2, i, ls, r_w, vmin)
+        c3, s3 = _straight_wheel(vx, _pt(x, k_in, c, S_W + 3, i), 3, i, ls, r_w, vmin)
         num = 0.0
         num += c0 * fz00
         num += c1 * fz01
@@ -502,28 +530,20 @@ def _stage(n, m, active, x, k_in, c, k_out, law, sidx, ls, guess, flag, p, geo, 
         low = e3 < e2
         e2s = e3 if (select_low & low) else e2
         e3s = e2 if (select_low & ~low) else e3
-        _wheel_rates(x[S_W, i] + c * k_in[S_W, i], x[S_Q, i] + c * k_in[S_Q, i],
-                     x[S_QR, i] + c * k_in[S_QR, i], x[S_Z, i] + c * k_in[S_Z, i],
-                     x[S_XF, i] + c * k_in[S_XF, i], e0, fx0, k_out, 0, i, law, r_w, kq,
-                     inv_j, nf, gain, inv_tau, q_max)
-        _wheel_rates(x[S_W + 1, i] + c * k_in[S_W + 1, i], x[S_Q + 1, i] + c * k_in[S_Q + 1, i],
-                     x[S_QR + 1, i] + c * k_in[S_QR + 1, i], x[S_Z + 1, i] + c * k_in[S_Z + 1, i],
-                     x[S_XF + 1, i] + c * k_in[S_XF + 1, i], e1, fx1, k_out, 1, i, law,
-                     r_w, kq, inv_j, nf, gain, inv_tau, q_max)
-        _wheel_rates(x[S_W + 2, i] + c * k_in[S_W + 2, i], x[S_Q + 2, i] + c * k_in[S_Q + 2, i],
-                     x[S_QR + 2, i] + c * k_in[S_QR + 2, i], x[S_Z + 2, i] + c * k_in[S_Z + 2, i],
-                     x[S_XF + 2, i] + c * k_in[S_XF + 2, i], e2s, fx2, k_out, 2, i, law,
-                     r_w, kq, inv_j, nf, gain, inv_tau, q_max)
-        _wheel_rates(x[S_W + 3, i] + c * k_in[S_W + 3, i], x[S_Q + 3, i] + c * k_in[S_Q + 3, i],
-                     x[S_QR + 3, i] + c * k_in[S_QR + 3, i], x[S_Z + 3, i] + c * k_in[S_Z + 3, i],
-                     x[S_XF + 3, i] + c * k_in[S_XF + 3, i], e3s, fx3, k_out, 3, i, law,
-                     r_w, kq, inv_j, nf, gain, inv_tau, q_max)
+        _lane_wheel_rates(x, k_in, c, 0, i, e0, fx0, k_out, law, r_w, kq, inv_j, nf,
+                          gain, inv_tau, q_max)
+        _lane_wheel_rates(x, k_in, c, 1, i, e1, fx1, k_out, law, r_w, kq, inv_j, nf,
+                          gain, inv_tau, q_max)
+        _lane_wheel_rates(x, k_in, c, 2, i, e2s, fx2, k_out, law, r_w, kq, inv_j, nf,
+                          gain, inv_tau, q_max)
+        _lane_wheel_rates(x, k_in, c, 3, i, e3s, fx3, k_out, law, r_w, kq, inv_j, nf,
+                          gain, inv_tau, q_max)
         k_out[K_FLAG, i] = 0.0 if ok else 1.0
     for jj in range(m):
         i = active[jj]
         if k_out[K_FLAG, i] != 0.0:
             for s in range(N_STATE):
-                y[s] = x[s, i] + c * k_in[s, i]
+                y[s] = rk4_point(x[s, i], c, k_in[s, i])
             it = _rhs(y, k_out, i, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv)
             iters[i] = max(iters[i], it)
 
@@ -587,7 +607,6 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
                 law[LAW_KP, j, i] = gains[i, col0[j]]
                 law[LAW_KI, j, i] = gains[i, col0[j] + 1]
                 law[LAW_KD, j, i] = gains[i, col0[j] + 2]
-    scheduled = np.zeros(3)
     x = np.zeros((N_STATE, n))
     x[S_VX, :] = p[P_V0]
     for j in range(4):
@@ -671,19 +690,24 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
                     if ctrl_kind == C_FUZZY_PID:
                         ec = p[P_NF] * (e - x[S_XF + j, i])
                         g0 = col0[j]
-                        fuzzy_pid_gains(table, e, ec, gains[i, g0], gains[i, g0 + 1],
-                                        gains[i, g0 + 2], gains[i, g0 + 3], gains[i, g0 + 4],
-                                        gains[i, g0 + 5], gains[i, g0 + 6], gains[i, g0 + 7],
-                                        scheduled)
-                        law[LAW_KP, j, i] = scheduled[0]
-                        law[LAW_KI, j, i] = scheduled[1]
-                        law[LAW_KD, j, i] = scheduled[2]
-                    else:
+                        kp_s, ki_s, kd_s = fuzzy_pid_gains(
+                            table, e, ec, gains[i, g0], gains[i, g0 + 1], gains[i, g0 + 2],
+                            gains[i, g0 + 3], gains[i, g0 + 4], gains[i, g0 + 5],
+                            gains[i, g0 + 6], gains[i, g0 + 7])
+                        law[LAW_KP, j, i] = kp_s
+                        law[LAW_KI, j, i] = ki_s
+                        law[LAW_KD, j, i] = kd_s
+                    elif ctrl_kind == C_THRESHOLD:
                         if k > 0:
-                            aw[j, i] = (x[S_W + src, i] - w_sampled[src, i]) * r_w / ts
-                        target = surfs[sidx[src, i], SF_TARGET]
-                        law[LAW_U0, j, i], phase[j, i] = _sampled_command(
-                            ctrl_kind, c, phase[j, i], slip[src, i], target, aw[j, i])
+                            aw[j, i] = wheel_deceleration_sample(x[S_W + src, i],
+                                                                 w_sampled[src, i], r_w, ts)
+                        u0_s, ph = threshold_step(
+                            phase[j, i], slip[src, i], surfs[sidx[src, i], SF_TARGET], aw[j, i],
+                            c[Q_AMPLITUDE], c[Q_DECEL], c[Q_ACCEL], c[Q_SLIP_MARGIN], c[Q_SLOW])
+                        law[LAW_U0, j, i] = u0_s
+                        phase[j, i] = ph
+                    else:
+                        law[LAW_U0, j, i] = no_abs_command(c[Q_AMPLITUDE])
                 for j in range(4):
                     w_sampled[j, i] = x[S_W + j, i]
         _stage(n, m, active, x, k4, 0.0, k1, law, sidx, ls, guess, flag,
@@ -698,7 +722,7 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
         while jj < m:
             i = active[jj]
             for s in range(N_STATE):
-                x[s, i] += h6 * (k1[s, i] + 2.0 * k2[s, i] + 2.0 * k3[s, i] + k4[s, i])
+                x[s, i] = rk4_update(x[s, i], h6, k1[s, i], k2[s, i], k3[s, i], k4[s, i])
             for j in range(4):
                 x[S_W + j, i] = max(x[S_W + j, i], 0.0)
                 x[S_Q + j, i] = min(max(x[S_Q + j, i], 0.0), q_max)
@@ -707,10 +731,10 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
             sp_new = math.sqrt(vx * vx + vy * vy)
             sp_old = speed[i]
             stop = sp_new <= v_stop
-            frac = (sp_old - v_stop) / (sp_old - sp_new) if stop else 1.0
+            frac = crossing_fraction(sp_old, sp_new, v_stop, stop)
             h = frac * dt
             sp_end = v_stop if stop else sp_new
-            dist[i] += 0.5 * h * (sp_old + sp_end)
+            dist[i] += trapezoid(sp_old, sp_end, h)
             for j in range(4):
                 wbuf[j] = x[S_W + j, i]
             _kinematics(vx, vy, x[S_YR, i], x[S_DELTA, i], wbuf, p, geo, sc)
@@ -719,11 +743,11 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
                 s_new = sc[W_SLIP, j]
                 s_end = slip[j, i] + frac * (s_new - slip[j, i])
                 target = surfs[sidx[j, i], SF_TARGET]
-                d_iae, d_itae, d_ise = _abs_integrals(err[j, i], target - s_end, t, h)
+                d_iae, d_itae, d_ise = error_integrals(err[j, i], target - s_end, t, h)
                 iae[i] += d_iae
                 itae[i] += d_itae
                 ise[i] += d_ise
-                sint[j, i] += 0.5 * h * (slip[j, i] + s_end)
+                sint[j, i] += trapezoid(slip[j, i], s_end, h)
                 slip[j, i] = s_new
                 if sp_new > v_stop and x[S_W + j, i] * r_w < p[P_LOCK] * sc[W_VABS, j]:
                     locked[i] += dt
