@@ -18,7 +18,7 @@ import numpy as np
 from chassistune.controllers import vehicle_specs
 from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
-from chassistune.params import as_dict, override, to_float, validate
+from chassistune.params import as_dict, override, validate
 from chassistune.plants.abs_vehicle import (
     RK4_REAL_LIMIT,
     STEERING_MODES,
@@ -51,6 +51,7 @@ from chassistune.scenarios.base import (
     json_scalar,
     pick_preset,
 )
+from chassistune.scenarios.controller_params import kernel_gains, resolve_controller_params
 from chassistune.scenarios.registry import ABS_VEHICLE
 from chassistune.sim import abs_vehicle_kernel as K
 from chassistune.sim.batch import run_chunked
@@ -90,9 +91,6 @@ PRESETS: dict[str, _Preset] = {
 OBJECTIVE_COLUMNS = {"itae": K.M_ITAE, "iae": K.M_IAE, "ise": K.M_ISE, "distance": K.M_DIST,
                      "time": K.M_TIME}
 STATUS_NAMES = ("stopped", "hopeless", "timeout", "diverged")
-_NAN_IS_NONE = {"lock_time_fl_s", "lock_time_fr_s", "lock_time_rl_s", "lock_time_rr_s",
-                "spin_time_s", "all_locked_time_s", "all_locked_speed_m_s",
-                "all_locked_distance_m"}
 
 
 def road_bound(pp: VehicleParams, road: VehicleRoad) -> Bound:
@@ -204,16 +202,7 @@ class AbsVehicleScenario(Scenario):
         return out
 
     def _kernel_gains(self, gains: np.ndarray) -> np.ndarray:
-        g = np.asarray(gains, dtype=np.float64)
-        if g.ndim == 1:
-            g = g[None, :]
-        k = len(self.gain_names)
-        if g.ndim != 2 or g.shape[1] != k:
-            raise InputError("gains", f"expected shape (n, {k}) for {self.controller.name}, got "
-                             f"{tuple(np.shape(gains))}")
-        if k == 0:
-            return np.zeros((g.shape[0], 1))
-        return np.ascontiguousarray(g)
+        return kernel_gains(gains, self.controller)
 
     def raw(self, gains: np.ndarray, workers: int | None = None) -> np.ndarray:
         """The kernel's metrics matrix (n, N_METRICS) for a population of gain rows."""
@@ -262,13 +251,7 @@ class AbsVehicleScenario(Scenario):
         K.simulate_abs_vehicle(g, p, geo, surfs, ckind, c, table, tr, out)
         rows = int(out[0, K.M_NTRACE])
         signals = K.TRACE_LAYOUT.decode(tr[:rows])
-        metrics: dict[str, Any] = {}
-        for name, values in self.metrics_from_raw(out).items():
-            v = values[0]
-            metrics[name] = json_scalar(v)
-        for name in _NAN_IS_NONE:
-            if metrics.get(name) is not None and math.isnan(metrics[name]):
-                metrics[name] = None
+        metrics = {k: json_scalar(v[0]) for k, v in self.metrics_from_raw(out).items()}
         return Trace(signals, metrics, K.TRACE_LAYOUT.units)
 
 
@@ -314,27 +297,9 @@ class AbsVehiclePlant(Plant):
         road_spec, used_road, road_params = make_road(road_name, values)
         scoring, used_scoring = override(VehicleScoring(), values)
         used |= used_steering | used_road | used_scoring
-        ctrl_values: dict[str, Any] = {}
-        for ps in spec.params:
-            if isinstance(ps.default, str):
-                value = str(values.get(ps.name, ps.default))
-                if ps.choices and value not in ps.choices:
-                    raise InputError(f"params.{ps.name}", f"must be one of "
-                                     f"{', '.join(ps.choices)}, got {value!r}")
-                ctrl_values[ps.name] = value
-                used.add(ps.name)
-                continue
-            if ps.name in values:
-                ctrl_values[ps.name] = to_float(values[ps.name], f"params.{ps.name}")
-                used.add(ps.name)
-            elif isinstance(ps.default, float):
-                ctrl_values[ps.name] = ps.default
-            if ps.positive and ps.name in ctrl_values and not ctrl_values[ps.name] > 0:
-                raise InputError(f"params.{ps.name}", f"must be positive, got "
-                                 f"{ctrl_values[ps.name]:g}")
-        if "amplitude" in spec.param_names and "amplitude" not in ctrl_values:
-            # the driver's demand: reaches q_max in 0.15 s through the integrating actuator
-            ctrl_values["amplitude"] = plant_params.q_max / (0.15 * plant_params.actuator_gain)
+        # the driver's demand without ABS: reaches q_max in 0.15 s through the actuator
+        amplitude = plant_params.q_max / (0.15 * plant_params.actuator_gain)
+        ctrl_values = resolve_controller_params(spec, values, used, {}, amplitude)
         unknown = sorted(set(values) - used)
         if unknown:
             known = sorted(set(self.param_names()) | set(spec.param_names))
