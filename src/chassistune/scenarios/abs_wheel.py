@@ -40,8 +40,8 @@ from chassistune.scenarios.base import (
 from chassistune.scenarios.registry import ABS_WHEEL
 from chassistune.sim import abs_wheel_ecu_layout as EL
 from chassistune.sim import abs_wheel_kernel as K
-from chassistune.sim.abs_wheel_ecu_kernel import simulate_abs_wheel_ecu
 from chassistune.sim import abs_wheel_layout as KL
+from chassistune.sim.abs_wheel_ecu_kernel import simulate_abs_wheel_ecu
 from chassistune.sim.batch import run_chunked
 
 _POS = {"positive": True}

@@ -222,7 +222,7 @@ def _run(tire, lp, p, x, c0, c1, c2, c3, xc, xs, ys, table, grid, spacing, jitte
             else:
                 if cut:
                     mode, on = E.VALVE_BUILD, ts
-                elif kind == LAW_PID or kind == LAW_FUZZY_PID or kind == LAW_IMMUNE:
+                elif LAW_PID <= kind <= LAW_IMMUNE:  # the PID laws: a pressure rate
                     mode, on, resid = E.duty_pulse(gain * cmd, resid, q, ts, kb, kdv, q_max, 0.0,
                                                    min_on)
                 else:

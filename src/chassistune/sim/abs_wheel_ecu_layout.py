@@ -41,7 +41,8 @@ ECU = Layout("abs-wheel ecu", (
     Slot("amplitude", "-", "command of the switching laws and the driver's demand"),
 ))
 
-METRICS = Layout("abs-wheel ecu metrics", KL.METRICS.slots + (
+METRICS = Layout("abs-wheel ecu metrics", (
+    *KL.METRICS.slots,
     Slot("ecu_slip_iae", "s", "integral of |S_target - S_ecu| (the slip the ECU computed)"),
     Slot("cutout_time_s", "s", "time of the low-speed cut-out (NaN: never)"),
     Slot("valve_switches", "-", "valve state changes"),
@@ -50,18 +51,16 @@ METRICS = Layout("abs-wheel ecu metrics", KL.METRICS.slots + (
     Slot("pressure_min", "preset unit", "lowest brake pressure"),
     Slot("pressure_max", "preset unit", "highest brake pressure"),
     Slot("low_speed_slip_error", "-",
-         "largest |S_target - S| (true slip) at step ends with 1 < v < 9 m/s, before the cut-out"),
+         "largest |S_target - S| (true slip) at step ends with 1 < v < 9 m/s, before cut-out"),
 ))
 
-TRACE = Layout("abs-wheel ecu trace", KL.TRACE.slots + (
+TRACE = Layout("abs-wheel ecu trace", (
+    *KL.TRACE.slots,
     Slot("vref_m_s", "m/s"),
     Slot("wheel_speed_est_m_s", "m/s"),
     Slot("ecu_slip", "-"),
     Slot("valve_mode", "-"),
 ))
-
-RUN_METRICS = KL.RUN_METRICS + METRICS.names[len(KL.METRICS):]
-
 
 def pack_ecu(values: Mapping[str, float]) -> np.ndarray:
     """The kernel's ECU vector from every ECU slot by name."""
