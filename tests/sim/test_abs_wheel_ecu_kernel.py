@@ -175,3 +175,13 @@ def test_ideal_mode_is_the_ideal_kernel() -> None:
     assert sc.ecu is None
     assert sc.raw(PID_GAINS).shape[1] == len(KL.METRICS)
     assert EK.LOW_SPEED_BAND_M_S == (1.0, 9.0)
+
+
+def test_the_ecu_gap_study_config_plans() -> None:
+    from pathlib import Path
+
+    from chassistune.studies.spec import load_config, plan_study
+
+    path = Path(__file__).parents[2] / "examples" / "studies" / "ecu-gap.toml"
+    plan = plan_study(load_config(str(path)))
+    assert any(r.params.get("ecu") == "realistic" for r in plan.runs)
