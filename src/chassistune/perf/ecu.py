@@ -7,6 +7,8 @@ ideal kernel's simulations per second measured in the same run.
 
 from __future__ import annotations
 
+from functools import partial
+
 from chassistune.perf.abs import bench_population
 from chassistune.perf.timing import best_time
 from chassistune.scenarios.abs_wheel import PLANT
@@ -19,7 +21,7 @@ def figures(quick: bool = False) -> dict[str, float]:
     for mode in ("ideal", "realistic"):
         sc = PLANT.scenario("paper-derlsp-ao", "dry-concrete", "pid", {"ecu": mode})
         sc.raw(gains[:2], workers=1)  # compile / load the cache outside the timing
-        rates[mode] = len(gains) / best_time(lambda sc=sc: sc.raw(gains, workers=1),
+        rates[mode] = len(gains) / best_time(partial(sc.raw, gains, workers=1),
                                              3 if quick else 7)
     return {"abs_ecu_sims_per_s": rates["realistic"],
             "abs_ecu_ratio_to_ideal": rates["realistic"] / rates["ideal"]}
