@@ -8,10 +8,11 @@ import itertools
 
 import numpy as np
 import pytest
+from test_abs_wheel_kernel import CONTROLLERS, _population
 
 from chassistune.controllers import discrete as D
 from chassistune.errors import InputError
-from chassistune.scenarios.abs_wheel import PLANT, AbsWheelScenario
+from chassistune.scenarios.abs_wheel import PLANT
 from chassistune.sim import abs_wheel_ecu_kernel as EK
 from chassistune.sim import abs_wheel_ecu_layout as EL
 from chassistune.sim import abs_wheel_layout as KL
@@ -22,7 +23,6 @@ LIMIT = {"ecu": "realistic", "sensor": "ideal", "vref": "true", "ecu_delay_sampl
          "valves": "continuous", "abs_cutout_m_s": 0.5, "valve_dead_time_s": 0.0,
          "valve_min_on_s": 0.0}
 """The ideal limit of the realistic ECU (cut-out at v_stop = 0.5 m/s, dt 1 ms)."""
-CONTROLLERS = ["pid", "none", "bang-bang", "threshold", "fuzzy-pid", "fuzzy-immune-pid"]
 
 
 def _distance(road: str, params: dict[str, object]) -> float:
@@ -60,18 +60,6 @@ def test_fine_toothed_sensor_converges(teeth: int, timer_s: float, tol: float) -
         d = _distance(road, {**LIMIT, "ecu_ts_s": 1e-3, "sensor": "toothed",
                              "sensor_teeth": teeth, "sensor_timer_s": timer_s})
         assert d == pytest.approx(_distance(road, {}), rel=tol), road
-
-
-def _population(sc: AbsWheelScenario, n: int, seed: int) -> np.ndarray:
-    """n gain rows uniform in the tuning box, the first three scaled far outside it."""
-    bounds = [(g.lo, g.hi) for g in sc.controller.gains]
-    if not bounds:
-        return np.zeros((n, 0))
-    rng = np.random.default_rng(seed)
-    lo, hi = np.array(bounds).T
-    g = lo + (hi - lo) * rng.random((n, len(bounds)))
-    g[:3] *= rng.uniform(2.0, 50.0, (3, len(bounds)))
-    return g
 
 
 @pytest.mark.parametrize("controller", CONTROLLERS)

@@ -58,7 +58,8 @@ def ecu_mode(values: Mapping[str, object]) -> str:
     return mode
 
 
-def _table_points(values: Mapping[str, object]) -> int:
+def table_points(values: Mapping[str, object]) -> int:
+    """`fuzzy_table_points` (nodes per input of the ECU lookup table), checked."""
     if "fuzzy_table_points" not in values:
         return discrete.DEFAULT_TABLE_POINTS
     n = to_float(values["fuzzy_table_points"], "params.fuzzy_table_points")
@@ -94,7 +95,7 @@ def ecu_setup(values: Mapping[str, object], controller: str, ctrl_values: Mappin
         "cutout_m_s": p.abs_cutout_m_s, "scheduled": p.gain_schedule == "speed",
         "schedule_floor": p.gain_schedule_floor, "amplitude": amplitude,
     })
-    points = _table_points(values)
+    points = table_points(values)
     law = discrete.law(controller)
     table, grid = discrete.no_table()
     if law is not None and law.table_outputs:

@@ -34,7 +34,28 @@ from chassistune.controllers import discrete as D
 from chassistune.controllers import ecu as E
 from chassistune.controllers.switching import bang_bang_command
 from chassistune.sim import abs_wheel_ecu_layout as EL
-from chassistune.sim import abs_wheel_layout as L
+from chassistune.sim.abs_wheel_kernel import (
+    P_DT,
+    P_G,
+    P_HOPELESS_M,
+    P_INERTIA,
+    P_K,
+    P_KQ,
+    P_LOAD,
+    P_LOCK_RATIO,
+    P_MASS,
+    P_QMAX,
+    P_RADIUS,
+    P_TARGET,
+    P_TAU,
+    P_TMAX,
+    P_V0,
+    P_VSTOP,
+    STATUS_DIVERGED,
+    STATUS_HOPELESS,
+    STATUS_STOPPED,
+    STATUS_TIMEOUT,
+)
 from chassistune.sim.abs_wheel_model import wheel_rates, wheel_slip
 from chassistune.sim.abs_wheel_tires import KIND_TABLE, table_tuples, tire_law_mu
 from chassistune.sim.integrate import (
@@ -44,14 +65,6 @@ from chassistune.sim.integrate import (
     rk4_update,
     trapezoid,
 )
-
-P_MASS, P_INERTIA, P_RADIUS, P_V0 = (L.PLANT[n] for n in (
-    "mass_kg", "wheel_inertia_kg_m2", "wheel_radius_m", "v0_m_s"))
-P_G, P_K, P_TAU, P_KQ, P_QMAX = (L.PLANT[n] for n in (
-    "g_m_s2", "actuator_gain", "actuator_tau_s", "brake_gain", "q_max"))
-P_VSTOP, P_TMAX, P_DT, P_LOAD, P_TARGET = (L.PLANT[n] for n in (
-    "v_stop_m_s", "t_max_s", "dt_s", "load_fraction", "target_slip"))
-P_HOPELESS_M, P_LOCK_RATIO = L.PLANT["hopeless_distance_m"], L.PLANT["lock_ratio"]
 
 (X_LAW, X_M, X_DELAY, X_TOOTHED, X_TEETH, X_TIMER, X_BOUND, X_VREF, X_AMAX, X_BIAS, X_AGREE,
  X_PFREE, X_AGREE_A, X_VALVES, X_KB, X_KD, X_DEAD, X_MINON, X_CUTOUT, X_SCHED, X_FLOOR,
@@ -68,8 +81,6 @@ LAW_NONE, LAW_PID, LAW_FUZZY_PID, LAW_IMMUNE, LAW_THRESHOLD, LAW_BANGBANG = (
     "min_slip_unclipped", "ecu_slip_iae", "cutout_time_s", "valve_switches",
     "valve_min_interval_s", "vref_gap_max_m_s", "pressure_min", "pressure_max",
     "low_speed_slip_error"))
-STATUS_STOPPED, STATUS_HOPELESS, STATUS_TIMEOUT, STATUS_DIVERGED = (
-    L.STATUS_NAMES.index(n) for n in ("stopped", "hopeless", "timeout", "diverged"))
 (T_TIME, T_V, T_WHEEL_V, T_SLIP, T_TARGET, T_Q, T_TB, T_U, T_X, T_MU, T_VREF, T_WEST, T_ECU_SLIP,
  T_VALVE) = (EL.TRACE[n] for n in EL.TRACE.names)
 
@@ -115,6 +126,19 @@ def _valve_change(mode, t, cur, last_t, n_sw, min_iv):
     if last_t == last_t:
         min_iv = min(min_iv, t - last_t)
     return mode, t, n_sw + 1.0, min_iv
+
+
+@_jit
+def _retire_pulse(mode, start, on, ts, t_lim, cur, last_t, n_sw, min_iv):
+    """Account the state changes of a pulse (mode for `on` seconds from `start`, then hold) that
+    happen up to t_lim."""
+    if start <= t_lim:
+        cur, last_t, n_sw, min_iv = _valve_change(mode if on > 0.0 else E.VALVE_HOLD, start, cur,
+                                                  last_t, n_sw, min_iv)
+    if start + on <= t_lim:
+        cur, last_t, n_sw, min_iv = _valve_change(E.VALVE_HOLD if on < ts else mode, start + on,
+                                                  cur, last_t, n_sw, min_iv)
+    return cur, last_t, n_sw, min_iv
 
 
 @_jit
@@ -229,11 +253,8 @@ def _run(tire, lp, p, x, c0, c1, c2, c3, xc, xs, ys, table, grid, spacing, jitte
                     mode, on = E.switching_pulse(cmd, amp, ts, min_on)
                 # the retiring pulse's state changes, then the new pulse's
                 if tick > 0:
-                    valve, last_change, n_sw, min_iv = _valve_change(
-                        pm1 if po1 > 0.0 else E.VALVE_HOLD, ps1, valve, last_change, n_sw, min_iv)
-                    valve, last_change, n_sw, min_iv = _valve_change(
-                        E.VALVE_HOLD if po1 < ts else pm1, ps1 + po1, valve, last_change, n_sw,
-                        min_iv)
+                    valve, last_change, n_sw, min_iv = _retire_pulse(
+                        pm1, ps1, po1, ts, np.inf, valve, last_change, n_sw, min_iv)
                 pm0, ps0, po0 = pm1, ps1, po1
                 pm1, ps1, po1 = mode, t + dead, on
             tick += 1
@@ -332,12 +353,8 @@ def _run(tire, lp, p, x, c0, c1, c2, c3, xc, xs, ys, table, grid, spacing, jitte
             status, t_end = STATUS_HOPELESS, t + dt
             break
     if three_state:  # the last pulse's changes up to the end of the run
-        if ps1 <= t_end:
-            valve, last_change, n_sw, min_iv = _valve_change(
-                pm1 if po1 > 0.0 else E.VALVE_HOLD, ps1, valve, last_change, n_sw, min_iv)
-        if ps1 + po1 <= t_end:
-            valve, last_change, n_sw, min_iv = _valve_change(
-                E.VALVE_HOLD if po1 < ts else pm1, ps1 + po1, valve, last_change, n_sw, min_iv)
+        valve, last_change, n_sw, min_iv = _retire_pulse(pm1, ps1, po1, ts, t_end, valve,
+                                                         last_change, n_sw, min_iv)
     out[:] = 0.0
     out[M_STATUS] = status
     out[M_TIME] = t_end
