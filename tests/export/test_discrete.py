@@ -119,8 +119,13 @@ def test_immune_incremental_law_equals_the_positional_pid_at_fixed_gain() -> Non
 def test_sampled_threshold_loop_gives_the_kernels_stop_bit_for_bit() -> None:
     """The harness integrates the plant as the kernel does: with the kernel's sampled law in
     the loop the stop distance and time are the kernel's, exactly."""
-    for params in ({}, {"ts_s": 0.004}, {"dt_s": 5e-4, "ts_s": 0.002}):
-        ec = source.resolve(None, None, "threshold", {}, {**params, "hopeless_factor": 3.0})
+    cases = [(None, None, {}), (None, None, {"ts_s": 0.004}),
+             (None, None, {"dt_s": 5e-4, "ts_s": 0.002}),
+             (None, "burckhardt-wet-asphalt", {}),  # every tire law the kernel has
+             ("sldemo", "sldemo-table", {})]
+    for preset, road, params in cases:
+        ec = source.resolve(None, None, "threshold", {}, {**params, "hopeless_factor": 3.0},
+                            preset, road)
         run = vectors.stop(ec)
         kernel = ec.scenario.metrics(np.zeros((1, 0)))
         assert run.status == 0

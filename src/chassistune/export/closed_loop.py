@@ -81,9 +81,7 @@ def advance(x, acc, u, n, lc, p, tire):
     dt = lc[L_DT]
     hs = 0.5 * dt
     h6 = dt / 6.0
-    r_w = lc[L_RADIUS]
     v_stop = lc[L_VSTOP]
-    q_max = lc[L_QMAX]
     for _ in range(n):
         k = acc[A_STEP]
         if k >= lc[L_STEPS]:
@@ -101,13 +99,13 @@ def advance(x, acc, u, n, lc, p, tire):
                                          rk4_point(q, dt, k3q), rk4_point(r, dt, k3r), u, p, tire)
         vn = rk4_update(v, h6, k1v, k2v, k3v, k4v)
         wn = fmax(rk4_update(w, h6, k1w, k2w, k3w, k4w), 0.0)
-        qn = clip(rk4_update(q, h6, k1q, k2q, k3q, k4q), 0.0, q_max)
+        qn = clip(rk4_update(q, h6, k1q, k2q, k3q, k4q), 0.0, lc[L_QMAX])
         rn = rk4_update(r, h6, k1r, k2r, k3r, k4r)
         stop = vn <= v_stop
         h = crossing_fraction(v, vn, v_stop, stop) * dt
         acc[A_DIST] += trapezoid(v, select(stop, v_stop, vn), h)
         x[X_V], x[X_W], x[X_Q], x[X_R] = vn, wn, qn, rn
-        acc[A_SLIP] = clip((vn - wn * r_w) / vn, 0.0, 1.0)
+        acc[A_SLIP] = clip((vn - wn * lc[L_RADIUS]) / vn, 0.0, 1.0)
         acc[A_STEP] = k + 1.0
         check = vn + wn + rn
         if check - check != 0.0:
