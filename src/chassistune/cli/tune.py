@@ -29,6 +29,8 @@ if TYPE_CHECKING:
 @click.option("--iters", type=int, help="Iteration budget (default 100 unless --evals).")
 @click.option("--evals", type=int, help="Evaluation budget (exact).")
 @click.option("--seed", default=0, show_default=True, type=int, help="Run seed.")
+@click.option("--ecu", type=click.Choice(["ideal", "realistic"]),
+              help="abs-wheel: ideal controller or the realistic ECU (docs/ecu.md).")
 @click.option("--objective", help="Objective (ABS: itae, iae, ise, distance, time).")
 @click.option("--param", "params", multiple=True, metavar="NAME=VALUE",
               help="Override a plant, road, solver or controller parameter (repeatable).")
@@ -37,7 +39,7 @@ if TYPE_CHECKING:
 def tune_command(plant: str, preset: str | None, roads: tuple[str, ...], aggregate: str,
                  controller: str, optimizer: str, pop_size: int, iters: int | None,
                  evals: int | None, seed: int, objective: str | None, params: tuple[str, ...],
-                 as_json: bool, out_dir: str | None) -> None:
+                 as_json: bool, out_dir: str | None, ecu: str | None) -> None:
     """Tune the gains of a controller of PLANT with an optimizer.
 
     The box is the registry's tuning bounds (`chassistune list controllers`). The cost of every
@@ -60,8 +62,11 @@ def tune_command(plant: str, preset: str | None, roads: tuple[str, ...], aggrega
         parent = os.path.dirname(os.path.abspath(out_dir))
         if not os.path.isdir(parent):
             raise InputError("--out", f"folder {parent!r} does not exist")
-    problem = build_problem(plant, controller, preset, roads, objective, aggregate,
-                            parse_assignments(params, "--param"), None, seed)
+    values = parse_assignments(params, "--param")
+    if ecu:
+        values["ecu"] = ecu
+    problem = build_problem(plant, controller, preset, roads, objective, aggregate, values, None,
+                            seed)
     if as_json:
         result = run_optimizer(problem, optimizer, pop_size, iters, evals, seed)
     else:

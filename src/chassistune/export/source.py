@@ -16,7 +16,6 @@ time is rounded to a whole number of integration steps, as the kernel rounds `ts
 from __future__ import annotations
 
 import json
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -30,6 +29,7 @@ from chassistune.errors import InputError
 from chassistune.fuzzy.loader import load_rulebase
 from chassistune.params import to_float
 from chassistune.scenarios.abs_wheel import AbsWheelScenario
+from chassistune.scenarios.abs_wheel_ecu import table_points
 from chassistune.scenarios.registry import get_plant
 
 DEFAULT_ECU_TS_S = 5e-3
@@ -209,7 +209,7 @@ def resolve(
     table_outputs: tuple[str, ...] = ()
     if rulebase is not None:
         rb = load_rulebase(rulebase, "params.rulebase")
-        points = _table_points(export_values)
+        points = table_points(export_values)
         table, grid, bp = discrete.ecu_table(rb, points)
         table_inputs = tuple(v.name for v in rb.inputs)
         table_outputs = rb.output_names
@@ -230,13 +230,3 @@ def _sample_time(values: Mapping[str, object], ctrl: Mapping[str, Any], dt: floa
     else:
         ts = float(ctrl.get("ts_s", DEFAULT_ECU_TS_S))
     return max(1, round(ts / dt)) * dt
-
-
-def _table_points(values: Mapping[str, object]) -> int:
-    if "fuzzy_table_points" not in values:
-        return discrete.DEFAULT_TABLE_POINTS
-    n = to_float(values["fuzzy_table_points"], "params.fuzzy_table_points")
-    if not (n == math.floor(n) and 2 <= n <= 1025):
-        raise InputError("params.fuzzy_table_points", f"must be a whole number from 2 to 1025, "
-                         f"got {n:g}")
-    return int(n)
