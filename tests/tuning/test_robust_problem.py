@@ -198,3 +198,26 @@ def test_no_training_scenarios_is_nominal_tuning_validated_on_the_same_draws():
     np.testing.assert_array_equal(validation_set(rp.spec, 0).values,
                                   validation_set(robust.spec, 0).values)
     assert rp.validate(GAINS[0]).passed.tolist() == robust.validate(GAINS[0]).passed.tolist()
+
+
+def test_the_distance_ratio_objective_is_the_distance_cost_over_the_bound():
+    for road in ("dry-concrete", "wet-asphalt"):
+        sc = build_problem("abs-wheel", "pid", roads=[road], params={"v0_m_s": 24.0}).scenarios[0]
+        distance = sc.cost(GAINS, "distance")
+        ratio = sc.cost(GAINS, "distance_ratio")
+        ok = distance < 1e9
+        assert ok[:3].all() and not ok[3]
+        np.testing.assert_array_equal(ratio[ok], distance[ok] / sc.bound_distance_m)
+        assert ratio[3] == 1e9 and np.all(ratio[ok] >= 1.0)  # no run beats the adhesion bound
+
+
+def test_cvar_aggregates_across_roads_too():
+    roads = ["dry-concrete", "wet-asphalt", "burckhardt-snow"]
+    per_road = np.stack([build_problem("abs-wheel", "pid", roads=[r])(GAINS) for r in roads],
+                        axis=1)
+    for text, agg in (("cvar:0.5", Aggregate("cvar", 0.5)), ("max", Aggregate("max"))):
+        problem = build_problem("abs-wheel", "pid", roads=roads, aggregate=text)
+        assert problem.aggregate == text
+        np.testing.assert_array_equal(problem(GAINS), np.minimum(agg(per_road), 1e9))
+    with pytest.raises(InputError, match=r"^aggregate: cvar ALPHA must be in \(0, 1\]"):
+        build_problem("abs-wheel", "pid", aggregate="cvar:1.5")
