@@ -18,7 +18,8 @@ _FLAGS = {
     "preset": "--preset", "controller": "--controller", "objective": "--objective",
     "aggregate": "--aggregate", "seed": "--seed", "optimizer": "--optimizer", "pop_size": "--pop",
     "max_iter": "--iters", "max_evals": "--evals", "dim": "--dim", "plant": "PLANT",
-    "function": "FUNCTION",
+    "function": "FUNCTION", "vary": "--vary", "scenarios": "--scenarios", "sampler": "--sampler",
+    "validate": "--validate", "beta": "--beta",
 }
 """The command line's word for the head of a domain field path."""
 
