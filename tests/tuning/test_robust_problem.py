@@ -38,7 +38,8 @@ def spec(aggregate: str = "max", k: int = 8, validate: int = 0) -> UncertaintySp
 def test_max_over_k_scenarios_equals_the_max_of_k_single_scenario_runs_bit_for_bit():
     s = spec("max")
     rp = robust_problem(build_problem("abs-wheel", "pid"), s, seed=11)
-    singles = np.stack([build_problem("abs-wheel", "pid", params=row)(GAINS) for row in rp.training.rows()], axis=1)
+    singles = np.stack([build_problem("abs-wheel", "pid", params=row)(GAINS)
+                        for row in rp.training.rows()], axis=1)
     assert singles.shape == (4, 8)
     np.testing.assert_array_equal(rp(GAINS), singles.max(axis=1))
     np.testing.assert_array_equal(rp.costs(GAINS)[:, :, 0], singles)
