@@ -222,3 +222,20 @@ def test_cvar_aggregates_across_roads_too():
         np.testing.assert_array_equal(problem(GAINS), np.minimum(agg(per_road), 1e9))
     with pytest.raises(InputError, match=r"^aggregate: cvar ALPHA must be in \(0, 1\]"):
         build_problem("abs-wheel", "pid", aggregate="cvar:1.5")
+
+
+def test_chassistune_tune_with_uncertainty_does_what_tune_vary_does():
+    import chassistune
+
+    table = {"vary": {"mass_kg": "80:120", "mu_scale": [0.85, 1.15]}, "scenarios": 4,
+             "aggregate": "cvar:0.5", "validate": 10}
+    res = chassistune.tune("abs-wheel", "pid", "pso", pop_size=6, max_iter=2, seed=5,
+                           uncertainty=table)
+    nominal = build_problem("abs-wheel", "pid", seed=5)
+    s = spec_from_options(known_for(nominal), ["mass_kg=80:120", "mu_scale=0.85:1.15"], 4,
+                          "sobol", "cvar:0.5", 10)
+    same = tune_robust(nominal, s, "pso", pop_size=6, max_iter=2, seed=5)
+    assert res.result.best_gains == same.result.best_gains
+    np.testing.assert_array_equal(res.problem.training.values, same.problem.training.values)
+    assert res.as_dict()["validation"] == same.as_dict()["validation"]
+    assert res.validation is not None and res.validation.n == 10
