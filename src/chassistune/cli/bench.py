@@ -12,7 +12,7 @@ import click
 
 from chassistune.cli.common import echo_json, fmt
 
-AREAS = ("abs", "optimizer", "tuning", "fuzzy", "suspension", "robust")
+AREAS = ("abs", "optimizer", "tuning", "fuzzy", "suspension", "vehicle", "robust")
 
 
 @click.command("bench")
