@@ -9,7 +9,7 @@ from pathlib import Path
 
 from chassistune.studies.executors import SerialExecutor
 from chassistune.studies.runner import run_study
-from chassistune.studies.spec import plan_study, parse_config
+from chassistune.studies.spec import parse_config, plan_study
 from chassistune.studies.store import open_study
 
 CONFIG = Path(__file__).parents[2] / "examples" / "studies" / "robust-vs-nominal.toml"
