@@ -19,6 +19,8 @@ _FLAGS = {
     "aggregate": "--aggregate", "seed": "--seed", "optimizer": "--optimizer", "pop_size": "--pop",
     "max_iter": "--iters", "max_evals": "--evals", "dim": "--dim", "plant": "PLANT",
     "function": "FUNCTION", "source": "SOURCE", "out": "--out", "format": "--format",
+    "vary": "--vary", "scenarios": "--scenarios", "sampler": "--sampler", "validate": "--validate",
+    "beta": "--beta",
 }
 """The command line's word for the head of a domain field path."""
 

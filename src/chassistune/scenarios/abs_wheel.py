@@ -85,7 +85,11 @@ METRIC_COLUMNS = {name: KL.METRICS[name] for name in KL.RUN_METRICS}
 STATUS_NAMES = dict(enumerate(KL.STATUS_NAMES))
 OBJECTIVE_COLUMNS = {obj: KL.METRICS[name] for obj, name in (
     ("itae", "slip_itae"), ("iae", "slip_iae"), ("ise", "slip_ise"),
-    ("distance", "stop_distance_m"), ("time", "stop_time_s"))}
+    ("distance", "stop_distance_m"), ("time", "stop_time_s"),
+    ("distance_ratio", "stop_distance_m"))}
+PER_BOUND = frozenset({"distance_ratio"})
+"""Objectives divided by the scenario's adhesion-bound distance (stop distance / bound: scenarios
+of different speeds and roads compare on one scale; issue 17)."""
 
 
 class AbsWheelScenario(Scenario):
@@ -211,6 +215,8 @@ class AbsWheelScenario(Scenario):
         cost = raw[:, OBJECTIVE_COLUMNS[objective]] + (
             self.scoring.lock_penalty_per_s * raw[:, KL.METRICS["locked_time_s"]]
         )
+        if objective in PER_BOUND:
+            cost = cost / self.bound_distance_m
         stopped = KL.STATUS_NAMES.index("stopped")
         bad = (raw[:, KL.METRICS["status"]] != stopped) | ~np.isfinite(cost)
         return np.where(bad, PENALTY, np.minimum(cost, PENALTY))

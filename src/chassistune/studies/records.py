@@ -36,6 +36,9 @@ class RunResult:
     test_costs: dict[str, float] | None = None
     history: list[float] | None = None
     history_nfev: list[int] | None = None
+    robust: dict[str, Any] | None = None
+    """Robust runs: `uncertainty`, `training` (the winner's cost on each training scenario) and
+    `validation` (`tuning.robust.run.summary_fields`)."""
 
     @property
     def completed(self) -> bool:

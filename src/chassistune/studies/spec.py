@@ -19,7 +19,7 @@ import tomllib
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any
 
 import numpy as np
 from pydantic import (
@@ -37,6 +37,7 @@ from pydantic import (
 
 from chassistune._rng import child_seed, int_seed, make_rng
 from chassistune.errors import InputError
+from chassistune.tuning.robust.aggregate import parse_aggregate
 
 MAX_SEEDS = 100_000
 """Largest seed count (and seed index) a config may ask for."""
@@ -90,10 +91,12 @@ class ScenarioConfig(_Model):
     objective: Name | None = None
     roads: list[Name] | None = None
     tune_roads: list[Name] | None = None
-    aggregate: Literal["mean", "max"] = "mean"
+    aggregate: Name = "mean"
     test_roads: list[Name] | None = None
     params: dict[str, Value] = Field(default_factory=dict)
     bounds: dict[str, tuple[Finite, Finite]] = Field(default_factory=dict)
+    uncertainty: dict[str, Any] | None = None
+    """Robust tuning (issue 17): the `[uncertainty]` table (`tuning.robust.spec.parse_table`)."""
 
     @field_validator("roads", "tune_roads", "test_roads")
     @classmethod
@@ -186,6 +189,7 @@ class RunSpec(_Model):
     max_evals: int | None
     root_seed: int
     seed: int
+    uncertainty: dict[str, Any] | None = None
 
     @property
     def key(self) -> str:
@@ -199,7 +203,8 @@ class RunSpec(_Model):
 
     @property
     def spec_hash(self) -> str:
-        text = json.dumps(self.model_dump(mode="json"), sort_keys=True)
+        nominal = {"uncertainty"} if self.uncertainty is None else set()  # hashes as before
+        text = json.dumps(self.model_dump(mode="json", exclude=nominal), sort_keys=True)
         return hashlib.sha256(text.encode()).hexdigest()
 
     def seed_sequence(self) -> np.random.SeedSequence:
@@ -330,12 +335,13 @@ def _cells(sc: ScenarioConfig, default_road: str) -> Iterator[_Cell]:
         yield _Cell(group, f"{group}/{'+'.join(sc.tune_roads)}", tuple(sc.tune_roads))
 
 
-def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int) -> list[dict[str, Any]]:
+def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int,
+                      sequence: np.random.SeedSequence) -> list[dict[str, Any]]:
     """Build each cell's problem once (kept for the runs: `studies.problems`); the run-spec
-    fields of each cell. `seed` is the scenario seed of the study's first seed index."""
+    fields of each cell. `seed` is the scenario seed of the study's first seed index, `sequence`
+    its seed sequence (a robust problem's training set)."""
     from chassistune.scenarios.registry import get_plant
-    from chassistune.studies.problems import problem_key, remember
-    from chassistune.tuning.problem import build_problem
+    from chassistune.studies.problems import build, problem_key, remember
 
     try:
         plant = get_plant(sc.plant)
@@ -346,15 +352,19 @@ def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int) -> list[dict[st
         test_roads = tuple(sc.test_roads or every_road)
         out = []
         for cell in cells:
-            problem = build_problem(sc.plant, sc.controller, preset, list(cell.roads),
-                                    sc.objective, sc.aggregate, sc.params, sc.bounds, seed)
-            fields = {
-                "group": cell.group, "scenario": cell.name, "plant": sc.plant,
-                "preset": problem.scenarios[0].preset,
-                "controller": sc.controller, "objective": problem.objective, "roads": cell.roads,
-                "aggregate": sc.aggregate, "test_roads": test_roads, "params": dict(sc.params),
-                "bounds": dict(zip(problem.gain_names, problem.bounds, strict=True)),
+            fields: dict[str, Any] = {
+                "plant": sc.plant, "preset": preset, "controller": sc.controller,
+                "objective": sc.objective, "roads": cell.roads, "aggregate": sc.aggregate,
+                "params": dict(sc.params), "bounds": dict(sc.bounds),
+                "uncertainty": sc.uncertainty,
             }
+            problem = build(fields, seed, sequence)
+            fields.update({
+                "group": cell.group, "scenario": cell.name,
+                "preset": problem.scenarios[0].preset, "objective": problem.objective,
+                "aggregate": str(parse_aggregate(sc.aggregate)), "test_roads": test_roads,
+                "bounds": dict(zip(problem.gain_names, problem.bounds, strict=True)),
+            })
             remember(problem_key(fields, seed), problem)
             out.append(fields)
     except InputError as exc:
@@ -397,9 +407,9 @@ def _resolve_optimizer(index: int, opt: OptimizerConfig, budget: BudgetConfig,
 def plan_study(config: StudyConfig) -> StudyPlan:
     """Resolve every name and expand the grid into run specs (InputError on the first problem)."""
     cells: list[dict[str, Any]] = []
-    first_seed = int_seed(child_seed(config.study.seed, config.study.seeds[0]))
+    first = child_seed(config.study.seed, config.study.seeds[0])
     for i, sc in enumerate(config.scenarios):
-        resolved = _resolve_scenario(i, sc, first_seed)
+        resolved = _resolve_scenario(i, sc, int_seed(first), first)
         if any(c["group"] == resolved[0]["group"] for c in cells):
             raise InputError(f"scenarios[{i}].name", f"another scenario is also named "
                              f"{resolved[0]['group']!r}: give each scenario a distinct `name`")

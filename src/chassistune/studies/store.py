@@ -50,12 +50,13 @@ CREATE TABLE IF NOT EXISTS runs (
     test_costs TEXT,
     history TEXT,
     history_nfev TEXT,
+    robust TEXT,
     versions TEXT NOT NULL,
     finished_at TEXT NOT NULL
 );
 """
 
-_JSON_COLUMNS = ("best_gains", "metrics", "test_costs", "history", "history_nfev")
+_JSON_COLUMNS = ("best_gains", "metrics", "test_costs", "history", "history_nfev", "robust")
 
 
 @dataclass(frozen=True)
@@ -75,6 +76,8 @@ class RunRecord:
     history: list[float]
     history_nfev: list[int]
     versions: dict[str, str]
+    robust: dict[str, Any] | None = None
+    """Robust runs (an `[uncertainty]` table): the training summary and the validation."""
 
     @property
     def completed(self) -> bool:
@@ -121,6 +124,8 @@ class Store:
         conn = _connect(path, read_only=False)
         with conn:
             conn.executescript(_SCHEMA)
+            if "robust" not in _columns(conn):  # a store written before issue 17
+                conn.execute("ALTER TABLE runs ADD COLUMN robust TEXT")
             conn.execute("INSERT OR IGNORE INTO meta VALUES ('schema_version', ?)",
                          (SCHEMA_VERSION,))
         return cls(conn, path)
@@ -195,18 +200,24 @@ class Store:
 
     def records(self) -> Iterator[RunRecord]:
         """Every finished run, ordered by scenario, optimizer and seed."""
+        robust = "robust" if "robust" in _columns(self._conn) else "NULL"
         cur = self._conn.execute(
             "SELECT spec, status, error, best_cost, nfev, nit, wall_time_s, best_gains, metrics, "
-            "test_costs, history, history_nfev, versions FROM runs "
+            f"test_costs, history, history_nfev, versions, {robust} FROM runs "
             "ORDER BY scenario, optimizer, seed")
         for (spec, status, error, cost, nfev, nit, wall, gains, metrics, tests, hist, hist_n,
-             vers) in cur:
+             vers, rob) in cur:
             yield RunRecord(
                 spec=RunSpec.model_validate_json(spec), status=RunStatus(status), error=error,
                 best_cost=cost, nfev=nfev, nit=nit, wall_time_s=wall,
                 best_gains=_loads(gains, {}), metrics=_loads(metrics, {}),
                 test_costs=_loads(tests, {}), history=_loads(hist, []),
-                history_nfev=_loads(hist_n, []), versions=_loads(vers, {}))
+                history_nfev=_loads(hist_n, []), versions=_loads(vers, {}),
+                robust=_loads(rob, None))
+
+
+def _columns(conn: sqlite3.Connection) -> set[str]:
+    return {row[1] for row in conn.execute("PRAGMA table_info(runs)")}
 
 
 def _loads(text: str | None, empty: Any) -> Any:
