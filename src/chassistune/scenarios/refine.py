@@ -71,7 +71,7 @@ def _rel_change(coarse: float, fine: float) -> float:
 
 def refined_scenario(scenario: Scenario, factor: int) -> Scenario:
     """The same scenario (every parameter echoed by `params()`) at dt_s / factor."""
-    from chassistune.plants.registry import get_plant
+    from chassistune.scenarios.registry import get_plant
 
     values = {k: v for k, v in scenario.params().items() if k != "seed"}
     values["dt_s"] = float(values["dt_s"]) / factor
