@@ -36,6 +36,7 @@ class RunResult:
     test_costs: dict[str, float] | None = None
     history: list[float] | None = None
     history_nfev: list[int] | None = None
+    diagnostics: dict[str, Any] | None = None  # what the optimizer reports (IABC's scouts)
 
     @property
     def completed(self) -> bool:

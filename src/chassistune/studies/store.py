@@ -24,7 +24,7 @@ from chassistune.studies.records import RunResult, RunStatus
 from chassistune.studies.spec import RunSpec
 
 STORE_NAME = "study.sqlite"
-SCHEMA_VERSION = "1"
+SCHEMA_VERSION = "2"
 
 _STATUSES = ", ".join(f"'{s.value}'" for s in RunStatus)
 _SCHEMA = f"""
@@ -50,12 +50,14 @@ CREATE TABLE IF NOT EXISTS runs (
     test_costs TEXT,
     history TEXT,
     history_nfev TEXT,
+    diagnostics TEXT,
     versions TEXT NOT NULL,
     finished_at TEXT NOT NULL
 );
 """
 
-_JSON_COLUMNS = ("best_gains", "metrics", "test_costs", "history", "history_nfev")
+_JSON_COLUMNS = ("best_gains", "metrics", "test_costs", "history", "history_nfev",
+                 "diagnostics")
 
 
 @dataclass(frozen=True)
@@ -75,6 +77,7 @@ class RunRecord:
     history: list[float]
     history_nfev: list[int]
     versions: dict[str, str]
+    diagnostics: dict[str, Any]
 
     @property
     def completed(self) -> bool:
@@ -197,16 +200,17 @@ class Store:
         """Every finished run, ordered by scenario, optimizer and seed."""
         cur = self._conn.execute(
             "SELECT spec, status, error, best_cost, nfev, nit, wall_time_s, best_gains, metrics, "
-            "test_costs, history, history_nfev, versions FROM runs "
+            "test_costs, history, history_nfev, versions, diagnostics FROM runs "
             "ORDER BY scenario, optimizer, seed")
         for (spec, status, error, cost, nfev, nit, wall, gains, metrics, tests, hist, hist_n,
-             vers) in cur:
+             vers, diag) in cur:
             yield RunRecord(
                 spec=RunSpec.model_validate_json(spec), status=RunStatus(status), error=error,
                 best_cost=cost, nfev=nfev, nit=nit, wall_time_s=wall,
                 best_gains=_loads(gains, {}), metrics=_loads(metrics, {}),
                 test_costs=_loads(tests, {}), history=_loads(hist, []),
-                history_nfev=_loads(hist_n, []), versions=_loads(vers, {}))
+                history_nfev=_loads(hist_n, []), versions=_loads(vers, {}),
+                diagnostics=_loads(diag, {}))
 
 
 def _loads(text: str | None, empty: Any) -> Any:
