@@ -16,9 +16,11 @@ from chassistune.cli.demo import demo_command
 from chassistune.cli.fuzzy import fuzzy_group
 from chassistune.cli.list_cmd import list_command
 from chassistune.cli.optimize import optimize_command
+from chassistune.cli.reproduce import reproduce_command
 from chassistune.cli.simulate import simulate_command
 from chassistune.cli.study import study_group
 from chassistune.cli.tune import tune_command
+from chassistune.cli.warmup import warmup_command
 from chassistune.errors import InputError
 
 
@@ -33,7 +35,7 @@ def cli() -> None:
 
 
 for _command in (list_command, simulate_command, tune_command, optimize_command, study_group,
-                 fuzzy_group, bench_command, demo_command):
+                 fuzzy_group, bench_command, demo_command, reproduce_command, warmup_command):
     cli.add_command(_command)
 
 

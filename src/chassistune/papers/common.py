@@ -88,9 +88,10 @@ class Context:
     configs: Mapping[str, tuple[StudyConfig, StudyConfig]]
     quick: bool
 
-    def figure(self, name: str) -> Path:
+    def figure(self, paper: str, name: str) -> Path:
+        """The PNG path of figure `name` of `paper` (its folder created)."""
         self.figures_dir.mkdir(parents=True, exist_ok=True)
-        return self.figures_dir / f"{name}.png"
+        return self.figures_dir / f"{paper}_{name}.png"
 
 
 def budget_table(ctx: Context, names: Sequence[str]) -> Table:

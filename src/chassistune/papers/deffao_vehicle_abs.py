@@ -92,7 +92,7 @@ def build(ctx: Context) -> PaperSection:
                          "runs": len(finals[m])})
         word, evidence = order_verdict(finals, "DEFFAO")
         parts.append((word, f"{f}: {evidence}"))
-        path = ctx.figure(f"table4_convergence_{f}")
+        path = ctx.figure(KEY, f"table4_convergence_{f}")
         convergence_figure({m: data.runs(f"table4/{f}", m) for m in METHODS}, str(path),
                            f"Table 4 functions: {f} ({title})")
         sec.figures.append(Figure(path.stem, f"Convergence on {f} ({title})", path))
@@ -154,7 +154,7 @@ def _table5(ctx: Context, sec: PaperSection, checks: list[BoundCheck]) -> Verdic
                                     params)
             rows.append(_t5_row(road, label, tr.metrics, t_pub, d_pub, sc.bound_distance_m))
             if label.startswith("DEFFAO"):
-                path = ctx.figure(f"fig{fig.split()[1]}_{road}")
+                path = ctx.figure(KEY, f"fig{fig.split()[1]}_{road}")
                 plot_trace(sc, tr, str(path))
                 sec.figures.append(Figure(path.stem, f"{fig} redrawn ({road}): DEFFAO-fuzzy PID",
                                           path))

@@ -133,7 +133,7 @@ def build(ctx: Context) -> PaperSection:
             f"table{table.split()[1]}_{road}", f"{table} ({road}): paper beside ours",
             pd.DataFrame(rows), "Ours: the defaults and each optimizer's median run (100 kg); "
             "'all seeds': the range over seeds; bound: (v0^2 - v_stop^2)/(2 mu_peak g)."))
-        path = ctx.figure(f"fig{fig.split()[1]}_{road}")
+        path = ctx.figure(KEY, f"fig{fig.split()[1]}_{road}")
         from chassistune.plots.abs_wheel import plot_comparison
 
         plot_comparison(traces["PID"][0], [(k, traces[k][1]) for k in ORDER], str(path),
@@ -180,7 +180,7 @@ def _fig4(ctx: Context) -> Figure:
 
     sc, none = _trace("dry-concrete", "none", None, 100.0)
     _, pid = _trace("dry-concrete", "pid", None, 100.0)
-    path = ctx.figure("fig4_no_abs_vs_pid")
+    path = ctx.figure(KEY, "fig4_no_abs_vs_pid")
     plot_comparison(sc, [("no ABS", none), ("PID", pid)], str(path),
                     title="Fig. 4 redrawn: no ABS against the PID, dry concrete")
     return Figure(path.stem, "Fig. 4 redrawn: no ABS against PID (dry concrete)", path)
@@ -218,7 +218,7 @@ def _function_figures(ctx: Context) -> list[Figure]:
     for fig, labels in (("6", ("AO", "AO+2", "DERLSP-AO")),
                         ("7", ("DERLSP-AO", "AO", "MFO", "GWO"))):
         for f in FUNCTIONS:
-            path = ctx.figure(f"fig{fig}_{f}")
+            path = ctx.figure(KEY, f"fig{fig}_{f}")
             convergence_figure({o: data.runs(f"fig67/{f}", o) for o in labels}, str(path),
                                f"Fig. {fig} redrawn: {f}")
             out.append(Figure(path.stem, f"Fig. {fig} redrawn: convergence on {f}", path))

@@ -105,7 +105,7 @@ def build(ctx: Context) -> PaperSection:
                                 "stop time and distance, paper beside ours", pd.DataFrame(rows),
                                 "Tuned rows: the median run of the tuning seeds; the paper "
                                 "reads its settling times off its figures."))
-        path = ctx.figure(f"{fig.replace('. ', '').lower()}_{road}")
+        path = ctx.figure(KEY, f"{fig.replace('. ', '').lower()}_{road}")
         plot_comparison(traces[CLAIMED][0], [(k, t) for k, (_, t) in traces.items()], str(path),
                         title=f"{fig} redrawn: {road}")
         sec.figures.append(Figure(path.stem, f"{fig} redrawn ({road})", path))

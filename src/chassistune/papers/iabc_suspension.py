@@ -246,7 +246,7 @@ def _figures(ctx: Context, paper_runs: list[RunRecord],
              rows_gains: dict[str, np.ndarray]) -> list[Figure]:
     from chassistune.plots.overlay import Line, plot_overlay
 
-    path = ctx.figure("fig6_convergence")
+    path = ctx.figure(KEY, "fig6_convergence")
     convergence_figure({a: [r for r in paper_runs if r.spec.optimizer == a]
                         for a in ALGORITHMS}, str(path),
                        "Fig. 6 redrawn: Q (eq. 10), paper-iabc, paper's box")
@@ -259,7 +259,7 @@ def _figures(ctx: Context, paper_runs: list[RunRecord],
                           {k: tr.signals[k] for k in ("body_acc_m_s2", "susp_travel_m",
                                                       "tire_defl_m")},
                           baseline=name == "passive"))
-    path = ctx.figure("fig7_responses")
+    path = ctx.figure(KEY, "fig7_responses")
     plot_overlay([("body_acc_m_s2", "body acc. [m/s^2]"), ("susp_travel_m", "travel [m]"),
                   ("tire_defl_m", "tire defl. [m]")], lines, str(path),
                  "Fig. 7 redrawn: class B road (realization 0), 20 m/s")

@@ -27,8 +27,14 @@ from chassistune.papers.common import Context, PaperSection
 from chassistune.papers.report import ReportFiles, write_report
 from chassistune.reports.tables import StudyData, load_study
 from chassistune.studies.executors import Executor
-from chassistune.studies.runner import run_study
-from chassistune.studies.spec import StudyConfig, parse_config, plan_study, quick_config
+from chassistune.studies.runner import check_out_dir, pending_runs, run_study
+from chassistune.studies.spec import (
+    StudyConfig,
+    StudyPlan,
+    parse_config,
+    plan_study,
+    quick_config,
+)
 from chassistune.studies.store import open_study
 
 PAPERS: dict[str, ModuleType] = {
@@ -67,28 +73,55 @@ class Outcome:
     wall_time_s: float
 
 
-def run_studies(names: Sequence[str], quick: bool, out: Path, executor: Executor,
-                progress: Progress | None = None
-                ) -> tuple[dict[str, StudyData], dict[str, tuple[StudyConfig, StudyConfig]]]:
-    """Run (or resume) each study into OUT/studies/; the stores' data and (full, quick) configs."""
-    data: dict[str, StudyData] = {}
-    configs: dict[str, tuple[StudyConfig, StudyConfig]] = {}
-    plans = []
-    for name in names:
+@dataclass(frozen=True)
+class StudyRun:
+    """One study of a reproduction: its name, (full, quick) configs and the plan to run."""
+
+    name: str
+    configs: tuple[StudyConfig, StudyConfig]
+    plan: StudyPlan
+
+    def folder(self, out: Path) -> Path:
+        return out / "studies" / self.plan.config.study.name
+
+
+def plan_reproduction(which: str, quick: bool) -> list[StudyRun]:
+    """The studies of paper `which` (or `all`), validated and planned."""
+    runs = []
+    for name in study_names(paper_keys(which)):
         full = shipped_config(name)
-        configs[name] = (full, quick_config(full))
-        plans.append((name, plan_study(configs[name][1] if quick else full)))
+        configs = (full, quick_config(full))
+        runs.append(StudyRun(name, configs, plan_study(configs[1] if quick else full)))
+    return runs
+
+
+def check_reproduction(which: str, quick: bool, out: str | Path) -> list[StudyRun]:
+    """Refuse, before anything is written, an output folder that cannot take the reproduction
+    (not a folder, or holding runs of other configs); the planned studies."""
+    out = Path(out)
+    check_out_dir(out)
+    runs = plan_reproduction(which, quick)
+    for r in runs:
+        if r.folder(out).exists():
+            check_out_dir(r.folder(out))
+            pending_runs(r.plan, r.folder(out))
+    return runs
+
+
+def run_studies(runs: Sequence[StudyRun], out: Path, executor: Executor,
+                progress: Progress | None = None) -> dict[str, StudyData]:
+    """Run (or resume) each study into OUT/studies/; the stores' data by study name."""
+    data: dict[str, StudyData] = {}
     (out / "studies").mkdir(parents=True, exist_ok=True)
-    for name, plan in plans:
-        folder = out / "studies" / plan.config.study.name
-        outcome = run_study(plan, folder, executor)
+    for r in runs:
+        outcome = run_study(r.plan, r.folder(out), executor)
         if progress is not None:
-            progress(f"{plan.config.study.name}: {outcome.completed} run(s) now, "
+            progress(f"{r.plan.config.study.name}: {outcome.completed} run(s) now, "
                      f"{outcome.skipped} done before, {outcome.failed} failed "
                      f"({outcome.wall_time_s:.1f} s)")
-        with open_study(folder) as store:
-            data[name] = load_study(store)
-    return data, configs
+        with open_study(r.folder(out)) as store:
+            data[r.name] = load_study(store)
+    return data
 
 
 def reproduce(which: str, quick: bool, out: str | Path, executor: Executor,
@@ -96,10 +129,10 @@ def reproduce(which: str, quick: bool, out: str | Path, executor: Executor,
     """Run the studies of paper `which` (or `all`) and write the report into `out`."""
     t0 = time.perf_counter()
     out = Path(out)
-    keys = paper_keys(which)
-    data, configs = run_studies(study_names(keys), quick, out, executor, progress)
-    ctx = Context(out / "figures", data, configs, quick)
-    sections = [PAPERS[k].build(ctx) for k in keys]
+    runs = check_reproduction(which, quick, out)
+    data = run_studies(runs, out, executor, progress)
+    ctx = Context(out / "figures", data, {r.name: r.configs for r in runs}, quick)
+    sections = [PAPERS[k].build(ctx) for k in paper_keys(which)]
     wall = time.perf_counter() - t0
     files = write_report(out, sections, quick, wall)
     return Outcome(files, sections, wall)
