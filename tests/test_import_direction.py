@@ -103,7 +103,7 @@ def test_the_parser_sees_top_level_and_lazy_imports() -> None:
     ("plants", "chassistune.sim.batch", False),
     ("sim", "chassistune.plants.tires", True),
     ("scenarios", "chassistune.tuning.problem", False),
-    ("controllers", "chassistune.fuzzy.gains", True),
+    ("controllers", "chassistune.fuzzy.surface", True),
     ("fuzzy", "chassistune.controllers.specs", False),
     ("tuning", "chassistune.plots.registry", False),
     ("reports", "chassistune.plots.registry", True),

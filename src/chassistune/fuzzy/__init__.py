@@ -3,14 +3,13 @@
 - `load_rulebase(name_or_path)`: a built-in (`deffao`, `classic`, `immune`) or a TOML file.
 - `evaluate(rb, x)` / `evaluate_named(rb, {...})`: exact Mamdani min/max inference, centroid.
 - `compiled(rb)` -> `CompiledSurface`: lookup surfaces, cached per rule base; `.table` goes to the
-  compiled helpers `surface_lookup`, `surface_value`, `fuzzy_pid_gains`, `immune_gain`,
-  `incremental_pid_du`.
+  compiled helpers `surface_lookup`, `surface_value` (and, inlined in kernels, `surface_output`)
+  and to the fuzzy control laws in `chassistune.controllers`.
 
 See docs/fuzzy.md.
 """
 
 from chassistune.fuzzy.engine import evaluate, evaluate_named
-from chassistune.fuzzy.gains import fuzzy_pid_gains, immune_gain, incremental_pid_du
 from chassistune.fuzzy.loader import builtin_names, load_rulebase
 from chassistune.fuzzy.rulebase import RuleBase, Variable
 from chassistune.fuzzy.schema import rulebase_from_dict
@@ -35,9 +34,6 @@ __all__ = [
     "compiled",
     "evaluate",
     "evaluate_named",
-    "fuzzy_pid_gains",
-    "immune_gain",
-    "incremental_pid_du",
     "load_rulebase",
     "rulebase_from_dict",
     "surface_lookup",

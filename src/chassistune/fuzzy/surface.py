@@ -27,9 +27,10 @@ Tables for compiled code. `CompiledSurface.table` is the tuple
 - `fine` float64, flat: block b holds (r + 1, r + 1, n_out) node values in C order, node (p, q) of
   cell (i, j) at (lo0 + (i + p / r) step0, lo1 + (j + q / r) step1);
 - `lo0, step0, lo1, step1` floats.
-Pass it whole to `surface_lookup(table, x0, x1, out)` or `surface_value(table, k, x0, x1)`: compiled
-code never needs to know the layout. Inputs outside the grid are clipped to it (as the exact
-engine clips to the universe); NaN inputs give NaN outputs.
+Pass it whole to `surface_lookup(table, x0, x1, out)` or `surface_value(table, k, x0, x1)`, or,
+inside a kernel, to the inlined `surface_output` / `surface_cell` + `cell_output` (bitwise the
+same numbers, no call): compiled code never needs to know the layout. Inputs outside the grid
+are clipped to it (as the exact engine clips to the universe); NaN inputs give NaN outputs.
 """
 
 from __future__ import annotations
@@ -129,40 +130,48 @@ def _locate(lo: float, step: float, n: int, x: float) -> tuple[int, float]:  # p
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _cell(table: SurfaceTable, x0: float, x1: float):  # pragma: no cover
-    """The node array (coarse, or the refined block) holding (x0, x1), its cell and fractions."""
+def surface_cell(table: SurfaceTable, x0: float, x1: float):  # pragma: no cover
+    """Where (x0, x1) falls: (nodes, o, row, f0, f1) with `nodes` a flat node array (the coarse
+    values or the refined blocks), `o` the flat index of the cell's node (i, j, output 0), `row`
+    the flat distance to node (i + 1, j) and f0, f1 the fractions in the cell. Inputs must not be
+    NaN (check before calling); outside the grid they are clipped to it."""
     values, block, block_start, block_r, fine, lo0, step0, lo1, step1 = table
-    i, f0 = _locate(lo0, step0, values.shape[0], x0)
-    j, f1 = _locate(lo1, step1, values.shape[1], x1)
+    n0, n1, n_out = values.shape
+    i, f0 = _locate(lo0, step0, n0, x0)
+    j, f1 = _locate(lo1, step1, n1, x1)
     b = block[i, j]
     if b < 0:
-        return values, i, j, f0, f1
+        return values.reshape(values.size), (i * n1 + j) * n_out, n1 * n_out, f0, f1
     r = block_r[b]
-    n_out = values.shape[2]
-    start = block_start[b]
-    sub = fine[start : start + (r + 1) * (r + 1) * n_out].reshape((r + 1, r + 1, n_out))
     p, g0 = _locate(0.0, 1.0, r + 1, f0 * r)
     q, g1 = _locate(0.0, 1.0, r + 1, f1 * r)
-    return sub, p, q, g0, g1
+    return fine, block_start[b] + (p * (r + 1) + q) * n_out, (r + 1) * n_out, g0, g1
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _bilinear(
-    v: NDArray[np.float64], i: int, j: int, f0: float, f1: float, k: int
+def cell_output(
+    nodes: NDArray[np.float64], o: int, row: int, n_out: int, f0: float, f1: float, k: int
 ) -> float:  # pragma: no cover
-    """Bilinear interpolation of output k in cell (i, j) of the node array v (.., .., n_out)."""
-    return (v[i, j, k] * (1.0 - f1) + v[i, j + 1, k] * f1) * (1.0 - f0) + (
-        v[i + 1, j, k] * (1.0 - f1) + v[i + 1, j + 1, k] * f1
+    """Bilinear interpolation of output k in the cell found by `surface_cell`."""
+    a = o + k
+    return (nodes[a] * (1.0 - f1) + nodes[a + n_out] * f1) * (1.0 - f0) + (
+        nodes[a + row] * (1.0 - f1) + nodes[a + row + n_out] * f1
     ) * f0
+
+
+@njit(cache=True, nogil=True, inline="always")
+def surface_output(table: SurfaceTable, k: int, x0: float, x1: float) -> float:  # pragma: no cover
+    """Output k at (x0, x1), clipped to the grid; NaN in, NaN out (inlined into the caller)."""
+    if x0 != x0 or x1 != x1:
+        return np.nan
+    nodes, o, row, f0, f1 = surface_cell(table, x0, x1)
+    return cell_output(nodes, o, row, table[0].shape[2], f0, f1, k)
 
 
 @njit(cache=True, nogil=True)
 def surface_value(table: SurfaceTable, k: int, x0: float, x1: float) -> float:  # pragma: no cover
     """Output k of the compiled surface at (x0, x1), clipped to the grid; NaN in, NaN out."""
-    if x0 != x0 or x1 != x1:
-        return np.nan
-    v, i, j, f0, f1 = _cell(table, x0, x1)
-    return _bilinear(v, i, j, f0, f1, k)
+    return surface_output(table, k, x0, x1)
 
 
 @njit(cache=True, nogil=True)
@@ -174,9 +183,9 @@ def surface_lookup(
     if x0 != x0 or x1 != x1:
         out[:n_out] = np.nan
         return
-    v, i, j, f0, f1 = _cell(table, x0, x1)
+    nodes, o, row, f0, f1 = surface_cell(table, x0, x1)
     for k in range(n_out):
-        out[k] = _bilinear(v, i, j, f0, f1, k)
+        out[k] = cell_output(nodes, o, row, n_out, f0, f1, k)
 
 
 @njit(cache=True, nogil=True)

@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 from skfuzzy import control as ctrl
 
 from chassistune._rng import make_rng
-from chassistune.fuzzy.gains import fuzzy_pid_gains
+from chassistune.controllers.fuzzy_pid import fuzzy_pid_gains
 from chassistune.fuzzy.loader import load_rulebase
 from chassistune.fuzzy.surface import SurfaceTable, compile_rulebase
 from chassistune.perf.timing import best_time
@@ -85,11 +85,11 @@ def skfuzzy_evaluate(
 def _gain_loop(
     table: SurfaceTable, e: NDArray[np.float64], de: NDArray[np.float64]
 ) -> float:  # pragma: no cover
-    out = np.empty(3)
     total = 0.0
     for p in range(e.size):
-        fuzzy_pid_gains(table, e[p], de[p], KE, KEC, KU[0], KU[1], KU[2], K0[0], K0[1], K0[2], out)
-        total += out[0] + out[1] + out[2]
+        kp, ki, kd = fuzzy_pid_gains(table, e[p], de[p], KE, KEC, KU[0], KU[1], KU[2], K0[0],
+                                     K0[1], K0[2])
+        total += kp + ki + kd
     return total
 
 

@@ -32,6 +32,7 @@ from chassistune.scenarios.base import (
 )
 from chassistune.scenarios.registry import ABS_WHEEL
 from chassistune.sim import abs_wheel_kernel as K
+from chassistune.sim import abs_wheel_layout as KL
 from chassistune.sim.batch import run_chunked
 
 _POS = {"positive": True}
@@ -47,9 +48,7 @@ class Scoring:
     """Stop a candidate early once its distance exceeds this many times the bound."""
 
 
-KERNEL_KIND = {"none": K.C_NONE, "pid": K.C_PID, "bang-bang": K.C_BANGBANG,
-               "threshold": K.C_THRESHOLD, "fuzzy-pid": K.C_FUZZY_PID,
-               "fuzzy-immune-pid": K.C_IMMUNE}
+KERNEL_KIND = {name: i for i, name in enumerate(KL.CONTROLLER_KINDS)}
 FUZZY_OUTPUTS = {"fuzzy-pid": 3, "fuzzy-immune-pid": 1}
 """How many outputs each fuzzy controller reads from its rule base (two inputs: e, de/dt)."""
 
@@ -73,23 +72,11 @@ def fuzzy_table(controller: str, rulebase: str) -> tuple[Any, ...]:
                          f"{len(rb.outputs)} outputs")
     return compiled(rb).table
 
-METRIC_COLUMNS = {
-    "stop_time_s": K.M_TIME,
-    "stop_distance_m": K.M_DIST,
-    "wheel_lock_time_s": K.M_LOCK_T,
-    "slip_iae": K.M_IAE,
-    "slip_itae": K.M_ITAE,
-    "slip_ise": K.M_ISE,
-    "mean_slip": K.M_MEAN_SLIP,
-    "peak_slip": K.M_PEAK_SLIP,
-    "locked_time_s": K.M_LOCKED_S,
-    "slip_clip_max": K.M_CLIP,
-    "min_slip_unclipped": K.M_MIN_SLIP,
-}
-STATUS_NAMES = {K.STATUS_STOPPED: "stopped", K.STATUS_HOPELESS: "hopeless",
-                K.STATUS_TIMEOUT: "timeout", K.STATUS_DIVERGED: "diverged"}
-OBJECTIVE_COLUMNS = {"itae": K.M_ITAE, "iae": K.M_IAE, "ise": K.M_ISE,
-                     "distance": K.M_DIST, "time": K.M_TIME}
+METRIC_COLUMNS = {name: KL.METRICS[name] for name in KL.RUN_METRICS}
+STATUS_NAMES = dict(enumerate(KL.STATUS_NAMES))
+OBJECTIVE_COLUMNS = {obj: KL.METRICS[name] for obj, name in (
+    ("itae", "slip_itae"), ("iae", "slip_iae"), ("ise", "slip_ise"),
+    ("distance", "stop_distance_m"), ("time", "stop_time_s"))}
 
 
 class AbsWheelScenario(Scenario):
@@ -128,33 +115,14 @@ class AbsWheelScenario(Scenario):
         self._kernel_args = self._pack()
 
     def _pack(self) -> tuple[Any, ...]:
-        pp = self.plant_params
-        p = np.zeros(K.N_PLANT)
-        p[K.P_MASS] = pp.mass_kg
-        p[K.P_INERTIA] = pp.wheel_inertia_kg_m2
-        p[K.P_RADIUS] = pp.wheel_radius_m
-        p[K.P_V0] = pp.v0_m_s
-        p[K.P_G] = pp.g_m_s2
-        p[K.P_K] = pp.actuator_gain
-        p[K.P_TAU] = pp.actuator_tau_s
-        p[K.P_KQ] = pp.brake_gain
-        p[K.P_QMAX] = pp.q_max
-        p[K.P_VSTOP] = pp.v_stop_m_s
-        p[K.P_TMAX] = pp.t_max_s
-        p[K.P_DT] = pp.dt_s
-        p[K.P_LOAD] = pp.load_fraction
-        p[K.P_TARGET] = self.target_slip
-        p[K.P_HOPELESS_M] = self.scoring.hopeless_factor * self.bound_distance_m
-        p[K.P_LOCK_RATIO] = pp.lock_ratio
-        p[K.P_NFILTER] = self.controller_params.get("n_filter", 100.0)
         cp = self.controller_params
-        c = np.zeros(K.N_CTRL)
-        c[K.Q_TS] = cp.get("ts_s", self.plant_params.dt_s)
-        c[K.Q_AMPLITUDE] = cp.get("amplitude", 0.0)
-        c[K.Q_DECEL] = cp.get("decel_threshold_m_s2", 0.0)
-        c[K.Q_ACCEL] = cp.get("accel_threshold_m_s2", 0.0)
-        c[K.Q_SLIP_HIGH] = cp.get("slip_margin", 0.0)
-        c[K.Q_SLOW] = cp.get("slow_fraction", 0.0)
+        p = KL.pack_plant({
+            **as_dict(self.plant_params),
+            "target_slip": self.target_slip,
+            "hopeless_distance_m": self.scoring.hopeless_factor * self.bound_distance_m,
+            "n_filter": cp.get("n_filter", 100.0),
+        })
+        c = KL.pack_controller({"ts_s": self.plant_params.dt_s, **cp})
         kind, coef, xs, ys = self.tire.kernel_data()
         name = self.controller.name
         table = (fuzzy_table(name, str(self.controller_params["rulebase"]))
@@ -187,22 +155,18 @@ class AbsWheelScenario(Scenario):
     def raw(self, gains: np.ndarray, workers: int | None = None) -> np.ndarray:
         """The kernel's metrics matrix (n, N_METRICS) for a population of gain rows."""
         p, kind, coef, xs, ys, ckind, c, table = self._kernel_args
-        empty = np.zeros((0, K.N_TRACE))
+        empty = np.zeros((0, len(KL.TRACE)))
 
         def call(g: np.ndarray, out: np.ndarray) -> None:
             K.simulate_abs_wheel(g, p, kind, coef, xs, ys, ckind, c, table, empty, out)
 
-        return run_chunked(call, self._kernel_gains(gains), K.N_METRICS, workers)
+        return run_chunked(call, self._kernel_gains(gains), len(KL.METRICS), workers)
 
     def metrics_from_raw(self, raw: np.ndarray) -> dict[str, np.ndarray]:
-        out = {name: raw[:, col].copy() for name, col in METRIC_COLUMNS.items()}
-        status = raw[:, K.M_STATUS].astype(int)
-        out["stopped"] = status == K.STATUS_STOPPED
-        names = np.array([STATUS_NAMES[k] for k in range(len(STATUS_NAMES))])
-        out["status"] = names[status]
+        out = KL.decode_metrics(raw)
         out["bound_distance_m"] = np.full(raw.shape[0], self.bound_distance_m)
         out["bound_time_s"] = np.full(raw.shape[0], self.bound_time_s)
-        out["distance_ratio"] = raw[:, K.M_DIST] / self.bound_distance_m
+        out["distance_ratio"] = out["stop_distance_m"] / self.bound_distance_m
         return out
 
     def metrics(self, gains: np.ndarray) -> dict[str, np.ndarray]:
@@ -214,9 +178,10 @@ class AbsWheelScenario(Scenario):
             raise InputError("objective", f"unknown objective {objective!r} for abs-wheel "
                              f"(known: {', '.join(OBJECTIVE_COLUMNS)})")
         cost = raw[:, OBJECTIVE_COLUMNS[objective]] + (
-            self.scoring.lock_penalty_per_s * raw[:, K.M_LOCKED_S]
+            self.scoring.lock_penalty_per_s * raw[:, KL.METRICS["locked_time_s"]]
         )
-        bad = (raw[:, K.M_STATUS] != K.STATUS_STOPPED) | ~np.isfinite(cost)
+        stopped = KL.STATUS_NAMES.index("stopped")
+        bad = (raw[:, KL.METRICS["status"]] != stopped) | ~np.isfinite(cost)
         return np.where(bad, PENALTY, np.minimum(cost, PENALTY))
 
     def cost(self, gains: np.ndarray, objective: str | None = None) -> np.ndarray:
@@ -226,21 +191,11 @@ class AbsWheelScenario(Scenario):
         p, kind, coef, xs, ys, ckind, c, table = self._kernel_args
         g = self._kernel_gains(np.asarray(gains, dtype=np.float64).reshape(1, -1))
         n_rows = math.ceil(self.plant_params.t_max_s / self.plant_params.dt_s) + 2
-        tr = np.zeros((n_rows, K.N_TRACE))
-        out = np.zeros((1, K.N_METRICS))
+        tr = np.zeros((n_rows, len(KL.TRACE)))
+        out = np.zeros((1, len(KL.METRICS)))
         K.simulate_abs_wheel(g, p, kind, coef, xs, ys, ckind, c, table, tr, out)
-        m = int(out[0, K.M_NTRACE])
-        cols = {
-            "time_s": K.T_TIME, "vehicle_speed_m_s": K.T_V, "wheel_speed_m_s": K.T_WHEEL_V,
-            "slip": K.T_SLIP, "target_slip": K.T_TARGET, "pressure": K.T_Q,
-            "brake_torque_n_m": K.T_TB, "command": K.T_U, "distance_m": K.T_X, "mu": K.T_MU,
-        }
-        signals = {name: tr[:m, col].copy() for name, col in cols.items()}
         metrics = {k: json_scalar(v[0]) for k, v in self.metrics_from_raw(out).items()}
-        units = {"time_s": "s", "vehicle_speed_m_s": "m/s", "wheel_speed_m_s": "m/s",
-                 "slip": "-", "target_slip": "-", "pressure": "preset unit",
-                 "brake_torque_n_m": "N m", "command": "-", "distance_m": "m", "mu": "-"}
-        return Trace(signals, metrics, units)
+        return Trace(KL.decode_trace(tr, out[0]), metrics, KL.TRACE.units)
 
 
 

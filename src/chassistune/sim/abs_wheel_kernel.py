@@ -1,380 +1,457 @@
-"""Compiled closed-loop simulation of the single-wheel ABS (DESIGN 3.1) over a population.
+"""Compiled closed-loop simulation of the single-wheel ABS (DESIGN 3.1) over a population, in
+persistent SIMD lanes (issue 11).
 
-One kernel serves every controller of the plant (an integer selects the control law) and both
-paths: a batch of n gain rows, or one row with a trace (a single run is a batch of one).
+Plant (seed 000 eqs. 1-4, 9-10; `sim.abs_wheel_model`), with Fz = lf M g the wheel load:
+    M dv/dt = -mu(S) Fz,   I dw/dt = R mu(S) Fz - kq q  (w >= 0),   S = (v - w R)/v,
+    T dr/dt = K u - r,   dq/dt = r with q held in [0, q_max].
+Control u: the continuous PID of `controllers.pid` (filtered derivative, conditional integration)
+with gains fixed (PID) or scheduled at each sample (fuzzy PID), plus a held command u0 of the
+sampled laws (none, bang-bang, threshold, fuzzy immune PID), evaluated every `ts_s` (a whole
+number of steps) so that the controller does not change when the step is refined.
 
-Plant (seed 000 eqs. 1-4, 9-10), with Fz = lf M g the wheel load (lf = 1 except sldemo's quirk):
-    M dv/dt = -mu(S) Fz,   I dw/dt = R mu(S) Fz - kq q  (w >= 0: held at 0 while Tb >= R Fx),
-    S = (v - w R)/v,   T dr/dt = K u - r,   dq/dt = r with q held in [0, q_max].
-Control u: a continuous PID with filtered derivative and conditional integration (DESIGN 4),
-    u = u0 + kp e + ki z + kd N (e - xf),  dz/dt = e (unless the pressure saturates in the
-    direction e pushes),  dxf/dt = N (e - xf),  e = S_target - S,
-plus a sampled part u0 for the switching laws (no ABS, bang-bang, threshold): evaluated every
-`ts_s` (a whole number of steps) and held in between, so that the controller does not change
-when the integration step is refined.
+Integration: classic RK4 at a fixed step on (v, w, q, r, z, xf) (`sim.integrate`); distance and
+the slip integrals (IAE, ITAE, ISE, mean slip) by exact quadrature of the step-end values; the
+stop at v_stop located by linear interpolation inside the last step.
 
-Integration: classic RK4 at a fixed step on (v, w, q, r, z, xf); distance and the slip integrals
-(IAE, ITAE, ISE, mean slip) by quadrature of the step-end values, exact for a slip error linear
-over the step (a sign change inside a step costs no first-order error); the stop at v_stop is
-located by linear interpolation inside the last step.
+Lanes. Every per-candidate quantity lives in ONE flat array `st` of rows of LANES values (row r
+of lane l at r * LANES + l: a compile-time-constant stride). Each iteration runs one fused RK4
+step for a whole number of 8-wide vectors of lanes (`_lane_steps`): straight-line code, no calls,
+no branches (selects), every stage in registers, so that LLVM vectorizes across lanes (a test
+checks the packed instructions). Rare events run in scalar passes outside the vector loop: a
+sampled controller's tick (before the step) and a finished run (after it), whose lane is
+refilled from the queue of candidates or, when the queue is empty, filled with the last live
+lane (the live lanes stay packed at the front). Each lane has its own step counter, so t = k dt
+is what a one-candidate loop computes, and every number is bitwise independent of the lane,
+the population and the thread count.
 
-Speed: the RK4 stages run stage by stage over all running candidates (short independent loop
-bodies the CPU overlaps; one candidate's stages form a long dependent chain), and finished
-candidates leave the index list of running ones. Float division follows numpy's error model (no
-Python zero-division checks in the loops).
+Per-row plant parameters. The plant vector `plant` is (1, N) for all candidates or (n, N), one
+row per candidate (robust tuning): a lane takes its row when it is filled, and the vector loop
+reads only lane rows (`R_RW` ... `R_HOPELESS`). dt, t_max, the target slip and the tire are
+shared. Per-row plant parameters cost nothing extra in the vector loop.
+
+Entry points: one cached module-level function per tire law (`simulate_bilinear`,
+`simulate_burckhardt`, `simulate_table`); `simulate_abs_wheel` picks one. The controller kind is
+a runtime integer.
 """
 
 from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
+from numba import njit
 
-from chassistune.fuzzy.gains import fuzzy_pid_gains, immune_gain, incremental_pid_du
-from chassistune.plants.tires import tire_mu
+from chassistune._branchfree import clip, fmax, fmin, select, stack_copy
+from chassistune.controllers.fuzzy_pid import fuzzy_pid_gains
+from chassistune.controllers.immune_pid import immune_pid_step
+from chassistune.controllers.pid import pid_step
+from chassistune.controllers.switching import (
+    bang_bang_command,
+    no_abs_command,
+    threshold_step,
+    wheel_deceleration_sample,
+)
+from chassistune.sim import abs_wheel_layout as L
+from chassistune.sim.abs_wheel_model import wheel_rates, wheel_slip
+from chassistune.sim.abs_wheel_tires import (
+    KIND_BILINEAR,
+    KIND_BURCKHARDT,
+    KIND_TABLE,
+    TABLE_CAP,
+    table_tuples,
+    tire_law_mu,
+)
+from chassistune.sim.integrate import (
+    crossing_fraction,
+    error_integrals,
+    rk4_point,
+    rk4_update,
+    trapezoid,
+)
 
-# plant parameter vector
-P_MASS, P_INERTIA, P_RADIUS, P_V0, P_G, P_K, P_TAU, P_KQ, P_QMAX = 0, 1, 2, 3, 4, 5, 6, 7, 8
-P_VSTOP, P_TMAX, P_DT, P_LOAD, P_TARGET, P_HOPELESS_M, P_LOCK_RATIO = 9, 10, 11, 12, 13, 14, 15
-P_NFILTER = 16
-N_PLANT = 17
+# slots of the declared layouts (numba freezes these module integers as constants)
+P_MASS, P_INERTIA, P_RADIUS, P_V0 = (L.PLANT[n] for n in (
+    "mass_kg", "wheel_inertia_kg_m2", "wheel_radius_m", "v0_m_s"))
+P_G, P_K, P_TAU, P_KQ, P_QMAX = (L.PLANT[n] for n in (
+    "g_m_s2", "actuator_gain", "actuator_tau_s", "brake_gain", "q_max"))
+P_VSTOP, P_TMAX, P_DT, P_LOAD, P_TARGET = (L.PLANT[n] for n in (
+    "v_stop_m_s", "t_max_s", "dt_s", "load_fraction", "target_slip"))
+P_HOPELESS_M, P_LOCK_RATIO, P_NFILTER = (L.PLANT[n] for n in (
+    "hopeless_distance_m", "lock_ratio", "n_filter"))
 
-# controller kinds and parameter vector
-C_NONE, C_PID, C_BANGBANG, C_THRESHOLD, C_FUZZY_PID, C_IMMUNE = 0, 1, 2, 3, 4, 5
-Q_TS, Q_AMPLITUDE, Q_DECEL, Q_ACCEL, Q_SLIP_HIGH, Q_SLOW = 0, 1, 2, 3, 4, 5
-N_CTRL = 6
+C_NONE, C_PID, C_BANGBANG, C_THRESHOLD, C_FUZZY_PID, C_IMMUNE = (
+    L.CONTROLLER_KINDS.index(n) for n in (
+        "none", "pid", "bang-bang", "threshold", "fuzzy-pid", "fuzzy-immune-pid"))
+Q_TS, Q_AMPLITUDE, Q_DECEL, Q_ACCEL, Q_SLIP_HIGH, Q_SLOW = (L.CONTROLLER[n] for n in (
+    "ts_s", "amplitude", "decel_threshold_m_s2", "accel_threshold_m_s2", "slip_margin",
+    "slow_fraction"))
 
-# metrics columns
-(M_STATUS, M_TIME, M_DIST, M_LOCK_T, M_IAE, M_ITAE, M_ISE, M_MEAN_SLIP, M_PEAK_SLIP,
- M_LOCKED_S, M_CLIP, M_NTRACE, M_MIN_SLIP) = range(13)
-N_METRICS = 13
-STATUS_STOPPED, STATUS_HOPELESS, STATUS_TIMEOUT, STATUS_DIVERGED = 0, 1, 2, 3
+(M_STATUS, M_TIME, M_DIST, M_LOCK_T, M_IAE, M_ITAE, M_ISE, M_MEAN_SLIP, M_PEAK_SLIP, M_LOCKED_S,
+ M_CLIP, M_NTRACE, M_MIN_SLIP) = (L.METRICS[n] for n in (
+    "status", "stop_time_s", "stop_distance_m", "wheel_lock_time_s", "slip_iae", "slip_itae",
+    "slip_ise", "mean_slip", "peak_slip", "locked_time_s", "slip_clip_max", "trace_rows",
+    "min_slip_unclipped"))
+N_METRICS = len(L.METRICS)
+STATUS_STOPPED, STATUS_HOPELESS, STATUS_TIMEOUT, STATUS_DIVERGED = (
+    L.STATUS_NAMES.index(n) for n in ("stopped", "hopeless", "timeout", "diverged"))
 
-# state rows
-S_V, S_W, S_Q, S_R, S_Z, S_XF = 0, 1, 2, 3, 4, 5
-N_STATE = 6
+(T_TIME, T_V, T_WHEEL_V, T_SLIP, T_TARGET, T_Q, T_TB, T_U, T_X, T_MU) = (L.TRACE[n] for n in (
+    "time_s", "vehicle_speed_m_s", "wheel_speed_m_s", "slip", "target_slip", "pressure",
+    "brake_torque_n_m", "command", "distance_m", "mu"))
+N_TRACE = len(L.TRACE)
 
-# trace columns
-(T_TIME, T_V, T_WHEEL_V, T_SLIP, T_Q, T_TB, T_U, T_X, T_MU, T_TARGET) = range(10)
-N_TRACE = 10
+LANES = 32
+"""Candidates in flight per kernel call (a multiple of VECTOR)."""
+VECTOR = 8
+"""Lanes per vector iteration (8 doubles: one zmm register; two ymm)."""
 
-# threshold ABS phases
-PH_BUILD, PH_HOLD, PH_DUMP, PH_RECOVER, PH_SLOW = 0, 1, 2, 3, 4
+# Lane rows: states, metrics, bookkeeping, controller state, the lane's plant parameters.
+(R_V, R_W, R_Q, R_R, R_Z, R_XF,
+ R_SLIP, R_DIST, R_IAE, R_ITAE, R_ISE, R_SINT, R_CLIP, R_MINSLIP, R_PEAK, R_LOCKED, R_LOCK_T,
+ R_STEP, R_STATUS, R_TEND, R_ENDED, R_U1,
+ R_KP, R_KI, R_KD, R_U0, R_E1, R_E2, R_AW, R_WS, R_PHASE,
+ R_RW, R_FZ, R_INV_M, R_INV_I, R_KQ, R_GAIN, R_INV_TAU, R_QMAX, R_NF, R_VSTOP, R_LOCK_RATIO,
+ R_HOPELESS) = range(43)
+N_ROWS = 43
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _rhs(v, w, q, r, z, xf, u0, kp, ki, kd, r_w, target, fz, inv_m, inv_i, kq, gain, inv_tau,
-         q_max, nf, kind, coef, xs, ys):
-    """Derivatives of (v, w, q, r, z, xf) and the command u at one state (fz = wheel load)."""
-    s = (v - w * r_w) / v
-    s = min(max(s, 0.0), 1.0)  # guard only: physics keeps S in [0, 1]
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _rates(law, v, w, q, r, z, xf, u0, kp, ki, kd, target, r_w, fz, inv_m, inv_i, kq, gain,
+           inv_tau, q_max, nf, c0, c1, c2, c3, xc, xs, ys):
+    """Derivatives of (v, w, q, r, z, xf) and the command u of the wheel under the PID."""
+    s = wheel_slip(v, w, r_w)
     e = target - s
-    fx = tire_mu(kind, coef, xs, ys, s) * fz
-    dv = -fx * inv_m
-    dw = (r_w * fx - kq * q) * inv_i
-    dw = 0.0 if (w <= 0.0 and dw < 0.0) else dw
-    u = u0 + kp * e + ki * z + kd * nf * (e - xf)
-    dr = (gain * u - r) * inv_tau
-    q_hi = q >= q_max
-    q_lo = q <= 0.0
-    dq = 0.0 if ((q_hi and r > 0.0) or (q_lo and r < 0.0)) else r
-    dz = 0.0 if ((q_hi and e > 0.0) or (q_lo and e < 0.0)) else e
-    return dv, dw, dq, dr, dz, nf * (e - xf), u
+    fx = tire_law_mu(law, s, c0, c1, c2, c3, xc, xs, ys) * fz
+    u, dz, dxf = pid_step(e, z, xf, u0, kp, ki, kd, nf, q >= q_max, q <= 0.0)
+    dv, dw, dq, dr, _, _ = wheel_rates(w, q, r, fx, u, r_w, inv_m, inv_i, kq, gain, inv_tau,
+                                       q_max)
+    return dv, dw, dq, dr, dz, dxf, u
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy")
-def _stage(m, active, x, k_in, c, k_out, u_out, u0, kp, ki, kd, p, kind, coef, xs, ys):
-    """One RK4 stage for the running candidates: k_out = f(x + c k_in)."""
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _lane_step(st, l, law, dt, hs, h6, target, n_steps, t_timeout, live, c0, c1, c2, c3, xc, xs,
+               ys):
+    """One fused RK4 step of lane l with its metrics and end flags; returns 1 if a live lane
+    ended. Straight-line code: the body of the vector loop."""
+    v = st[R_V * LANES + l]
+    w = st[R_W * LANES + l]
+    q = st[R_Q * LANES + l]
+    r = st[R_R * LANES + l]
+    z = st[R_Z * LANES + l]
+    xf = st[R_XF * LANES + l]
+    u0 = st[R_U0 * LANES + l]
+    kp = st[R_KP * LANES + l]
+    ki = st[R_KI * LANES + l]
+    kd = st[R_KD * LANES + l]
+    r_w = st[R_RW * LANES + l]
+    fz = st[R_FZ * LANES + l]
+    inv_m = st[R_INV_M * LANES + l]
+    inv_i = st[R_INV_I * LANES + l]
+    kq = st[R_KQ * LANES + l]
+    gain = st[R_GAIN * LANES + l]
+    inv_tau = st[R_INV_TAU * LANES + l]
+    q_max = st[R_QMAX * LANES + l]
+    nf = st[R_NF * LANES + l]
+    v_stop = st[R_VSTOP * LANES + l]
+    k = st[R_STEP * LANES + l]
+    t = k * dt
+
+    k1v, k1w, k1q, k1r, k1z, k1x, u1 = _rates(
+        law, v, w, q, r, z, xf, u0, kp, ki, kd, target, r_w, fz, inv_m, inv_i, kq, gain,
+        inv_tau, q_max, nf, c0, c1, c2, c3, xc, xs, ys)
+    k2v, k2w, k2q, k2r, k2z, k2x, _ = _rates(
+        law, rk4_point(v, hs, k1v), rk4_point(w, hs, k1w), rk4_point(q, hs, k1q),
+        rk4_point(r, hs, k1r), rk4_point(z, hs, k1z), rk4_point(xf, hs, k1x), u0, kp, ki, kd,
+        target, r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max, nf, c0, c1, c2, c3, xc, xs, ys)
+    k3v, k3w, k3q, k3r, k3z, k3x, _ = _rates(
+        law, rk4_point(v, hs, k2v), rk4_point(w, hs, k2w), rk4_point(q, hs, k2q),
+        rk4_point(r, hs, k2r), rk4_point(z, hs, k2z), rk4_point(xf, hs, k2x), u0, kp, ki, kd,
+        target, r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max, nf, c0, c1, c2, c3, xc, xs, ys)
+    k4v, k4w, k4q, k4r, k4z, k4x, _ = _rates(
+        law, rk4_point(v, dt, k3v), rk4_point(w, dt, k3w), rk4_point(q, dt, k3q),
+        rk4_point(r, dt, k3r), rk4_point(z, dt, k3z), rk4_point(xf, dt, k3x), u0, kp, ki, kd,
+        target, r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max, nf, c0, c1, c2, c3, xc, xs, ys)
+    vn = rk4_update(v, h6, k1v, k2v, k3v, k4v)
+    wn = fmax(rk4_update(w, h6, k1w, k2w, k3w, k4w), 0.0)
+    qn = clip(rk4_update(q, h6, k1q, k2q, k3q, k4q), 0.0, q_max)
+    rn = rk4_update(r, h6, k1r, k2r, k3r, k4r)
+    zn = rk4_update(z, h6, k1z, k2z, k3z, k4z)
+    xfn = rk4_update(xf, h6, k1x, k2x, k3x, k4x)
+
+    slip = st[R_SLIP * LANES + l]
+    s_raw = (vn - wn * r_w) / vn
+    s_new = clip(s_raw, 0.0, 1.0)
+    stop = vn <= v_stop
+    frac = crossing_fraction(v, vn, v_stop, stop)
+    h = frac * dt
+    s_end = slip + frac * (s_new - slip)
+    dist = st[R_DIST * LANES + l] + trapezoid(v, select(stop, v_stop, vn), h)
+    d_iae, d_itae, d_ise = error_integrals(target - slip, target - s_end, t, h)
+    itae = st[R_ITAE * LANES + l] + d_itae
+    st[R_IAE * LANES + l] += d_iae
+    st[R_ISE * LANES + l] += d_ise
+    st[R_SINT * LANES + l] += trapezoid(slip, s_end, h)
+    st[R_CLIP * LANES + l] = fmax(st[R_CLIP * LANES + l], abs(s_raw - s_new))
+    st[R_MINSLIP * LANES + l] = fmin(st[R_MINSLIP * LANES + l], s_raw)
+    st[R_PEAK * LANES + l] = fmax(st[R_PEAK * LANES + l], s_new)
+    locked = (vn > v_stop) & (wn * r_w < st[R_LOCK_RATIO * LANES + l] * vn)
+    st[R_LOCKED * LANES + l] += select(locked, dt, 0.0)
+    lock_t = st[R_LOCK_T * LANES + l]
+    st[R_LOCK_T * LANES + l] = select(locked & (lock_t != lock_t), t + dt, lock_t)
+
+    check = vn + wn + rn + zn + xfn + itae
+    diverged = check - check != 0.0
+    hopeless = dist > st[R_HOPELESS * LANES + l]
+    timeout = k + 1.0 >= n_steps
+    st[R_STATUS * LANES + l] = select(diverged, STATUS_DIVERGED, select(
+        stop, STATUS_STOPPED, select(hopeless, STATUS_HOPELESS, STATUS_TIMEOUT)))
+    st[R_TEND * LANES + l] = select(diverged, t, select(
+        stop, t + h, select(hopeless, t + dt, t_timeout)))
+    ended = diverged | stop | hopeless | timeout
+    st[R_ENDED * LANES + l] = select(ended, 1.0, 0.0)
+    st[R_V * LANES + l] = vn
+    st[R_W * LANES + l] = wn
+    st[R_Q * LANES + l] = qn
+    st[R_R * LANES + l] = rn
+    st[R_Z * LANES + l] = zn
+    st[R_XF * LANES + l] = xfn
+    st[R_SLIP * LANES + l] = s_new
+    st[R_DIST * LANES + l] = dist
+    st[R_ITAE * LANES + l] = itae
+    st[R_STEP * LANES + l] = k + 1.0
+    st[R_U1 * LANES + l] = u1
+    return ended & (l < live)
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _lane_steps(st, width, law, dt, hs, h6, target, n_steps, t_timeout, live, c0, c1, c2, c3,
+                xc, xs, ys):
+    """One step of lanes 0 .. width - 1 (a whole number of vectors); 1 if a live lane ended."""
+    any_end = 0
+    for b in range(width // VECTOR):
+        for j in range(VECTOR):
+            any_end |= _lane_step(st, b * VECTOR + j, law, dt, hs, h6, target, n_steps,
+                                  t_timeout, live, c0, c1, c2, c3, xc, xs, ys)
+    return any_end
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _fill_lane(st, l, i, gains, plant, ctrl_kind, target):
+    """Start candidate i in lane l: initial state, zero metrics, its gains and plant row."""
+    p = plant[min(i, plant.shape[0] - 1)]
+    for row in range(N_ROWS):
+        st[row * LANES + l] = 0.0
     r_w = p[P_RADIUS]
-    target = p[P_TARGET]
-    fz = p[P_LOAD] * p[P_MASS] * p[P_G]
-    inv_m = 1.0 / p[P_MASS]
-    inv_i = 1.0 / p[P_INERTIA]
-    kq = p[P_KQ]
-    gain = p[P_K]
-    inv_tau = 1.0 / p[P_TAU]
-    q_max = p[P_QMAX]
-    nf = p[P_NFILTER]
-    for j in range(m):
-        i = active[j]
-        dv, dw, dq, dr, dz, dxf, u = _rhs(
-            x[S_V, i] + c * k_in[S_V, i], x[S_W, i] + c * k_in[S_W, i],
-            x[S_Q, i] + c * k_in[S_Q, i], x[S_R, i] + c * k_in[S_R, i],
-            x[S_Z, i] + c * k_in[S_Z, i], x[S_XF, i] + c * k_in[S_XF, i],
-            u0[i], kp[i], ki[i], kd[i], r_w, target, fz, inv_m, inv_i, kq, gain, inv_tau, q_max,
-            nf, kind, coef, xs, ys)
-        k_out[S_V, i] = dv
-        k_out[S_W, i] = dw
-        k_out[S_Q, i] = dq
-        k_out[S_R, i] = dr
-        k_out[S_Z, i] = dz
-        k_out[S_XF, i] = dxf
-        u_out[i] = u
+    st[R_V * LANES + l] = p[P_V0]
+    st[R_W * LANES + l] = p[P_V0] / r_w
+    st[R_WS * LANES + l] = p[P_V0] / r_w  # wheel speed at the last sample (threshold law)
+    st[R_XF * LANES + l] = target  # derivative filter starts at e(0): no derivative kick
+    st[R_E1 * LANES + l] = target  # immune PID: e(k-1), e(k-2) start at e(0): no kick
+    st[R_E2 * LANES + l] = target
+    st[R_LOCK_T * LANES + l] = np.nan
+    if ctrl_kind == C_PID:
+        st[R_KP * LANES + l] = gains[i, 0]
+        st[R_KI * LANES + l] = gains[i, 1]
+        st[R_KD * LANES + l] = gains[i, 2]
+    st[R_RW * LANES + l] = r_w
+    st[R_FZ * LANES + l] = p[P_LOAD] * p[P_MASS] * p[P_G]
+    st[R_INV_M * LANES + l] = 1.0 / p[P_MASS]
+    st[R_INV_I * LANES + l] = 1.0 / p[P_INERTIA]
+    st[R_KQ * LANES + l] = p[P_KQ]
+    st[R_GAIN * LANES + l] = p[P_K]
+    st[R_INV_TAU * LANES + l] = 1.0 / p[P_TAU]
+    st[R_QMAX * LANES + l] = p[P_QMAX]
+    st[R_NF * LANES + l] = p[P_NFILTER]
+    st[R_VSTOP * LANES + l] = p[P_VSTOP]
+    st[R_LOCK_RATIO * LANES + l] = p[P_LOCK_RATIO]
+    st[R_HOPELESS * LANES + l] = p[P_HOPELESS_M]
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _abs_integrals(a, b, t, h):
-    """Integrals over [t, t + h] of |e|, (t) |e| and e^2 for e linear from a to b."""
-    aa = abs(a)
-    bb = abs(b)
-    if a * b >= 0.0:
-        iae = 0.5 * h * (aa + bb)
-        itae = t * iae + h * h * (aa / 6.0 + bb / 3.0)
-    else:  # the error crosses zero at t + h1
-        h1 = h * aa / (aa + bb)
-        h2 = h - h1
-        iae = 0.5 * (aa * h1 + bb * h2)
-        itae = aa * (0.5 * t * h1 + h1 * h1 / 6.0) + bb * (0.5 * (t + h1) * h2 + h2 * h2 / 3.0)
-    ise = h * (a * a + a * b + b * b) / 3.0
-    return iae, itae, ise
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _finish_lane(st, l, out_row):
+    """Write the metrics row of the run that ended in lane l."""
+    t_end = st[R_TEND * LANES + l]
+    out_row[:] = 0.0
+    out_row[M_STATUS] = st[R_STATUS * LANES + l]
+    out_row[M_TIME] = t_end
+    out_row[M_DIST] = st[R_DIST * LANES + l]
+    out_row[M_LOCK_T] = st[R_LOCK_T * LANES + l]
+    out_row[M_IAE] = st[R_IAE * LANES + l]
+    out_row[M_ITAE] = st[R_ITAE * LANES + l]
+    out_row[M_ISE] = st[R_ISE * LANES + l]
+    out_row[M_MEAN_SLIP] = st[R_SINT * LANES + l] / t_end if t_end > 0.0 else 0.0
+    out_row[M_PEAK_SLIP] = st[R_PEAK * LANES + l]
+    out_row[M_LOCKED_S] = st[R_LOCKED * LANES + l]
+    out_row[M_CLIP] = st[R_CLIP * LANES + l]
+    out_row[M_MIN_SLIP] = st[R_MINSLIP * LANES + l]
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _sampled_command(ctrl_kind, c, phase, s, target, aw):
-    """Zero-order-hold command u0 of the switching laws and the next threshold phase."""
-    amp = c[Q_AMPLITUDE]
-    if ctrl_kind == C_NONE:
-        return amp, phase
-    if ctrl_kind == C_BANGBANG:
-        err = target - s
-        if err > 0.0:
-            return amp, phase
-        if err < 0.0:
-            return -amp, phase
-        return 0.0, phase
-    if ctrl_kind == C_THRESHOLD:
-        a_minus = c[Q_DECEL]
-        a_plus = c[Q_ACCEL]
-        s_high = target + c[Q_SLIP_HIGH]
-        ph = phase
-        if ph == PH_BUILD and aw < -a_minus:
-            ph = PH_HOLD
-        elif ph == PH_HOLD:
-            if s > s_high:
-                ph = PH_DUMP
-            elif aw > -a_minus:
-                ph = PH_SLOW
-        elif ph == PH_DUMP and aw > 0.0:
-            ph = PH_RECOVER
-        elif ph == PH_RECOVER and aw < a_plus and s < s_high:
-            ph = PH_SLOW
-        elif ph == PH_SLOW:
-            if s > s_high:
-                ph = PH_DUMP
-            elif aw < -a_minus:
-                ph = PH_HOLD
-        if ph == PH_BUILD:
-            return amp, ph
-        if ph == PH_DUMP:
-            return -amp, ph
-        if ph == PH_SLOW:
-            return amp * c[Q_SLOW], ph
-        return 0.0, ph
-    return 0.0, phase
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _tick(st, l, gains, i, ctrl_kind, c, table, target, ts, first):
+    """A sampled controller's update in lane l (candidate i) at a sample instant."""
+    slip = st[R_SLIP * LANES + l]
+    e = target - slip
+    g = gains[i]
+    if ctrl_kind == C_FUZZY_PID:
+        ec = st[R_NF * LANES + l] * (e - st[R_XF * LANES + l])  # filtered de/dt
+        kp, ki, kd = fuzzy_pid_gains(table, e, ec, g[0], g[1], g[2], g[3], g[4], g[5], g[6],
+                                     g[7])
+        st[R_KP * LANES + l] = kp
+        st[R_KI * LANES + l] = ki
+        st[R_KD * LANES + l] = kd
+    elif ctrl_kind == C_IMMUNE:
+        e1 = st[R_E1 * LANES + l]
+        st[R_U0 * LANES + l] = immune_pid_step(table, e, e1, st[R_E2 * LANES + l],
+                                               st[R_U0 * LANES + l], ts, first, g[0], g[1], g[2],
+                                               g[3], g[4], g[5])
+        st[R_E2 * LANES + l] = e1
+        st[R_E1 * LANES + l] = e
+    elif ctrl_kind == C_BANGBANG:
+        st[R_U0 * LANES + l] = bang_bang_command(e, c[Q_AMPLITUDE])
+    elif ctrl_kind == C_THRESHOLD:
+        w = st[R_W * LANES + l]
+        if not first:
+            st[R_AW * LANES + l] = wheel_deceleration_sample(w, st[R_WS * LANES + l],
+                                                             st[R_RW * LANES + l], ts)
+        st[R_WS * LANES + l] = w
+        u0, phase = threshold_step(int(st[R_PHASE * LANES + l]), slip, target,
+                                   st[R_AW * LANES + l], c[Q_AMPLITUDE], c[Q_DECEL],
+                                   c[Q_ACCEL], c[Q_SLIP_HIGH], c[Q_SLOW])
+        st[R_U0 * LANES + l] = u0
+        st[R_PHASE * LANES + l] = phase
+    else:
+        st[R_U0 * LANES + l] = no_abs_command(c[Q_AMPLITUDE])
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _immune_command(g, table, e, e1, e2, u_prev, ts, first):
-    """Fuzzy immune PID (seed 004 eqs. 6-10, DESIGN 4), g = (k_immune, eta, ki, kd, ke, kec).
-
-    The controller starts from rest (u = 0 and e = 0 before the first sample) without a
-    derivative kick: the first sample adds kp1 e + ki ts e only."""
-    ec = 0.0 if first else (e - e1) / ts
-    kp1 = immune_gain(table, e, ec, g[4], g[5], g[0], g[1])
-    if first:
-        return u_prev + incremental_pid_du(kp1, g[2], 0.0, ts, e, 0.0, 0.0)
-    return u_prev + incremental_pid_du(kp1, g[2], g[3], ts, e, e1, e2)
-
-
-@numba.njit(cache=True, nogil=True, error_model="numpy")
-def simulate_abs_wheel(gains, p, tire_kind, tire_coef, tire_xs, tire_ys, ctrl_kind, c, table,
-                       trace, out):
-    """Simulate every row of `gains` (n, G: the controller's gains in registry order).
-
-    `table` is a compiled fuzzy surface (`chassistune.fuzzy.surface`) for the fuzzy laws, any
-    surface otherwise. Fuzzy PID gains: ke, kec, ku_p, ku_i, ku_d, kp0, ki0, kd0; fuzzy immune
-    PID gains: k_immune, eta, ki, kd, ke, kec.
-
-    Writes the metrics row of each candidate into `out` (n, N_METRICS); when `trace` has rows
-    (n must be 1), also the time series (columns T_*), one row per step.
-    """
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _simulate(law, gains, plant, coef, xc_tuple, xs_tuple, ys_tuple, ctrl_kind, c, table, trace,
+              out):
+    """The lane loop (see the module docstring); `law` is a constant of each entry point."""
+    xc = stack_copy(xc_tuple)
+    xs = stack_copy(xs_tuple)
+    ys = stack_copy(ys_tuple)
     n = gains.shape[0]
-    dt = p[P_DT]
+    p0 = plant[0]
+    dt = p0[P_DT]
     hs = 0.5 * dt
     h6 = dt / 6.0
-    r_w = p[P_RADIUS]
-    v_stop = p[P_VSTOP]
-    q_max = p[P_QMAX]
-    target = p[P_TARGET]
-    n_steps = math.ceil(p[P_TMAX] / dt - 1e-9)
-    kp = np.zeros(n)  # gains of the continuous PID part (scheduled by the fuzzy PID)
-    ki = np.zeros(n)
-    kd = np.zeros(n)
-    if ctrl_kind == C_PID:
-        kp[:] = gains[:, 0]
-        ki[:] = gains[:, 1]
-        kd[:] = gains[:, 2]
-    scheduled = np.zeros(3)
-    e_prev = np.full(n, target)  # immune PID: e(k-1), e(k-2); starting at e(0): no kick
-    e_prev2 = np.full(n, target)
-    x = np.zeros((N_STATE, n))
-    x[S_V, :] = p[P_V0]
-    x[S_W, :] = p[P_V0] / r_w
-    x[S_XF, :] = target  # derivative filter starts at e(0): no derivative kick
-    k1 = np.zeros((N_STATE, n))
-    k2 = np.zeros((N_STATE, n))
-    k3 = np.zeros((N_STATE, n))
-    k4 = np.zeros((N_STATE, n))
-    u0 = np.zeros(n)
-    u_first = np.zeros(n)
-    u_tmp = np.zeros(n)
-    slip = np.zeros(n)  # clipped slip at the last step end
-    dist = np.zeros(n)
-    iae = np.zeros(n)
-    itae = np.zeros(n)
-    ise = np.zeros(n)
-    sint = np.zeros(n)
-    aw = np.zeros(n)  # wheel circumferential acceleration over the last sample period
-    w_sampled = np.full(n, p[P_V0] / r_w)  # wheel speed at the last sample
+    target = p0[P_TARGET]
+    n_steps = math.ceil(p0[P_TMAX] / dt - 1e-9)
+    t_timeout = n_steps * dt
     steps_per_sample = max(1, round(c[Q_TS] / dt))
-    phase = np.zeros(n, dtype=np.int64)
-    status = np.full(n, float(STATUS_TIMEOUT))
-    t_end = np.full(n, n_steps * dt)
-    lock_t = np.full(n, np.nan)
-    locked = np.zeros(n)
-    clipmax = np.zeros(n)
-    minslip = np.zeros(n)
-    peakslip = np.zeros(n)
-    active = np.arange(n)
-    m = n
+    ts = steps_per_sample * dt
+    c0, c1, c2, c3 = coef[0], coef[1], coef[2], coef[3]
+    st = np.zeros(N_ROWS * LANES)
+    lane_of = np.full(LANES, -1)  # candidate in each lane
+    live = min(n, LANES)
+    for l in range(live):
+        _fill_lane(st, l, l, gains, plant, ctrl_kind, target)
+        lane_of[l] = l
+    queued = live  # next candidate to start
     n_trace = trace.shape[0]
+    rows = 1
     if n_trace > 0:
         trace[0, :] = 0.0
-        trace[0, T_V] = p[P_V0]
-        trace[0, T_WHEEL_V] = p[P_V0]
+        trace[0, T_V] = p0[P_V0]
+        trace[0, T_WHEEL_V] = p0[P_V0]
         trace[0, T_TARGET] = target
-    rows = 1
-    for k in range(n_steps):
-        if m == 0:
-            break
-        t = k * dt
-        if ctrl_kind != C_PID and k % steps_per_sample == 0:  # sampled laws: own period ts
-            ts = steps_per_sample * dt
-            for j in range(m):
-                i = active[j]
-                if ctrl_kind == C_FUZZY_PID:
-                    e = target - slip[i]
-                    ec = p[P_NFILTER] * (e - x[S_XF, i])  # filtered de/dt
-                    g = gains[i]
-                    fuzzy_pid_gains(table, e, ec, g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7],
-                                    scheduled)
-                    kp[i] = scheduled[0]
-                    ki[i] = scheduled[1]
-                    kd[i] = scheduled[2]
-                elif ctrl_kind == C_IMMUNE:
-                    u0[i] = _immune_command(gains[i], table, target - slip[i], e_prev[i],
-                                            e_prev2[i], u0[i], ts, k == 0)
-                    e_prev2[i] = e_prev[i]
-                    e_prev[i] = target - slip[i]
+    trace_status = float(STATUS_TIMEOUT)
+    trace_t_end = t_timeout
+    while live > 0:
+        if ctrl_kind != C_PID:  # sampled laws: each lane at its own sample instants
+            for l in range(live):
+                k = int(st[R_STEP * LANES + l])
+                if k % steps_per_sample == 0:
+                    _tick(st, l, gains, lane_of[l], ctrl_kind, c, table, target, ts, k == 0)
+        width = -(-live // VECTOR) * VECTOR
+        if _lane_steps(st, width, law, dt, hs, h6, target, n_steps, t_timeout, live, c0, c1, c2,
+                       c3, xc, xs, ys):
+            for l in range(live - 1, -1, -1):  # high to low: lanes moved down are done
+                if st[R_ENDED * LANES + l] == 0.0:
+                    continue
+                i = lane_of[l]
+                _finish_lane(st, l, out[i])
+                if i == 0:
+                    trace_status = st[R_STATUS * LANES + l]
+                    trace_t_end = st[R_TEND * LANES + l]
+                if queued < n:
+                    _fill_lane(st, l, queued, gains, plant, ctrl_kind, target)
+                    lane_of[l] = queued
+                    queued += 1
                 else:
-                    if k > 0:
-                        aw[i] = (x[S_W, i] - w_sampled[i]) * r_w / ts
-                    w_sampled[i] = x[S_W, i]
-                    u0[i], phase[i] = _sampled_command(ctrl_kind, c, phase[i], slip[i], target,
-                                                       aw[i])
-        _stage(m, active, x, k4, 0.0, k1, u_first, u0, kp, ki, kd, p, tire_kind, tire_coef,
-               tire_xs, tire_ys)
-        _stage(m, active, x, k1, hs, k2, u_tmp, u0, kp, ki, kd, p, tire_kind, tire_coef,
-               tire_xs, tire_ys)
-        _stage(m, active, x, k2, hs, k3, u_tmp, u0, kp, ki, kd, p, tire_kind, tire_coef,
-               tire_xs, tire_ys)
-        _stage(m, active, x, k3, dt, k4, u_tmp, u0, kp, ki, kd, p, tire_kind, tire_coef,
-               tire_xs, tire_ys)
-        j = 0
-        while j < m:
-            i = active[j]
-            vi = x[S_V, i]
-            wi = x[S_W, i]
-            vn = vi + h6 * (k1[S_V, i] + 2.0 * k2[S_V, i] + 2.0 * k3[S_V, i] + k4[S_V, i])
-            wn = max(wi + h6 * (k1[S_W, i] + 2.0 * k2[S_W, i] + 2.0 * k3[S_W, i] + k4[S_W, i]),
-                     0.0)
-            qn = x[S_Q, i] + h6 * (k1[S_Q, i] + 2.0 * k2[S_Q, i] + 2.0 * k3[S_Q, i] + k4[S_Q, i])
-            qn = min(max(qn, 0.0), q_max)
-            rn = x[S_R, i] + h6 * (k1[S_R, i] + 2.0 * k2[S_R, i] + 2.0 * k3[S_R, i] + k4[S_R, i])
-            zn = x[S_Z, i] + h6 * (k1[S_Z, i] + 2.0 * k2[S_Z, i] + 2.0 * k3[S_Z, i] + k4[S_Z, i])
-            xfn = x[S_XF, i] + h6 * (k1[S_XF, i] + 2.0 * k2[S_XF, i] + 2.0 * k3[S_XF, i]
-                                     + k4[S_XF, i])
-            s_raw = (vn - wn * r_w) / vn
-            s_new = min(max(s_raw, 0.0), 1.0)
-            stop = vn <= v_stop
-            frac = (vi - v_stop) / (vi - vn) if stop else 1.0
-            h = frac * dt
-            v_end = v_stop if stop else vn
-            s_end = slip[i] + frac * (s_new - slip[i])
-            dist[i] += 0.5 * h * (vi + v_end)
-            d_iae, d_itae, d_ise = _abs_integrals(target - slip[i], target - s_end, t, h)
-            iae[i] += d_iae
-            itae[i] += d_itae
-            ise[i] += d_ise
-            sint[i] += 0.5 * h * (slip[i] + s_end)
-            clipmax[i] = max(clipmax[i], abs(s_raw - s_new))
-            minslip[i] = min(minslip[i], s_raw)
-            peakslip[i] = max(peakslip[i], s_new)
-            if vn > v_stop and wn * r_w < p[P_LOCK_RATIO] * vn:
-                locked[i] += dt
-                if lock_t[i] != lock_t[i]:
-                    lock_t[i] = t + dt
-            x[S_V, i] = vn
-            x[S_W, i] = wn
-            x[S_Q, i] = qn
-            x[S_R, i] = rn
-            x[S_Z, i] = zn
-            x[S_XF, i] = xfn
-            slip[i] = s_new
-            check = vn + wn + rn + zn + xfn + itae[i]
-            ended = True
-            if check - check != 0.0:
-                status[i] = STATUS_DIVERGED
-                t_end[i] = t
-            elif stop:
-                status[i] = STATUS_STOPPED
-                t_end[i] = t + h
-            elif dist[i] > p[P_HOPELESS_M]:
-                status[i] = STATUS_HOPELESS
-                t_end[i] = t + dt
-            else:
-                ended = False
-            if ended:  # leave the running list (order does not matter: candidates are independent)
-                m -= 1
-                active[j] = active[m]
-                active[m] = i
-            else:
-                j += 1
-        if n_trace > 0 and rows < n_trace:
-            trace[rows, T_TIME] = min(t + dt, t_end[0])
-            trace[rows, T_V] = max(x[S_V, 0], v_stop) if status[0] == STATUS_STOPPED else x[S_V, 0]
-            trace[rows, T_WHEEL_V] = x[S_W, 0] * r_w
-            trace[rows, T_SLIP] = slip[0]
-            trace[rows, T_Q] = x[S_Q, 0]
-            trace[rows, T_TB] = p[P_KQ] * x[S_Q, 0]
-            trace[rows, T_U] = u_first[0]
-            trace[rows, T_X] = dist[0]
-            trace[rows, T_MU] = tire_mu(tire_kind, tire_coef, tire_xs, tire_ys, slip[0])
+                    live -= 1
+                    if l < live:  # keep the live lanes packed at the front
+                        for row in range(N_ROWS):
+                            st[row * LANES + l] = st[row * LANES + live]
+                        lane_of[l] = lane_of[live]
+        if n_trace > 0 and rows < n_trace:  # one candidate, in lane 0
+            t = (st[R_STEP * LANES] - 1.0) * dt
+            trace[rows, T_TIME] = min(t + dt, trace_t_end)
+            v = st[R_V * LANES]
+            trace[rows, T_V] = max(v, p0[P_VSTOP]) if trace_status == STATUS_STOPPED else v
+            trace[rows, T_WHEEL_V] = st[R_W * LANES] * st[R_RW * LANES]
+            trace[rows, T_SLIP] = st[R_SLIP * LANES]
+            trace[rows, T_Q] = st[R_Q * LANES]
+            trace[rows, T_TB] = st[R_KQ * LANES] * st[R_Q * LANES]
+            trace[rows, T_U] = st[R_U1 * LANES]
+            trace[rows, T_X] = st[R_DIST * LANES]
+            trace[rows, T_MU] = tire_law_mu(law, st[R_SLIP * LANES], c0, c1, c2, c3, xc, xs, ys)
             trace[rows, T_TARGET] = target
             rows += 1
-    for i in range(n):
-        out[i, :] = 0.0
-        out[i, M_STATUS] = status[i]
-        out[i, M_TIME] = t_end[i]
-        out[i, M_DIST] = dist[i]
-        out[i, M_LOCK_T] = lock_t[i]
-        out[i, M_IAE] = iae[i]
-        out[i, M_ITAE] = itae[i]
-        out[i, M_ISE] = ise[i]
-        out[i, M_MEAN_SLIP] = sint[i] / t_end[i] if t_end[i] > 0.0 else 0.0
-        out[i, M_PEAK_SLIP] = peakslip[i]
-        out[i, M_LOCKED_S] = locked[i]
-        out[i, M_CLIP] = clipmax[i]
-        out[i, M_MIN_SLIP] = minslip[i]
-        out[i, M_NTRACE] = rows if n_trace > 0 else 0.0
+    if n_trace > 0:
+        out[0, M_NTRACE] = rows
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def simulate_bilinear(gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out):
+    """`simulate_abs_wheel` for a bilinear tire (seed 000 eq. 5)."""
+    _simulate(KIND_BILINEAR, gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def simulate_burckhardt(gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out):
+    """`simulate_abs_wheel` for a Burckhardt tire."""
+    _simulate(KIND_BURCKHARDT, gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def simulate_table(gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out):
+    """`simulate_abs_wheel` for a piecewise-linear table tire (sldemo)."""
+    _simulate(KIND_TABLE, gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out)
+
+
+ENTRY_POINTS = {KIND_BILINEAR: simulate_bilinear, KIND_BURCKHARDT: simulate_burckhardt,
+                KIND_TABLE: simulate_table}
+_NO_TABLE = table_tuples(np.array([0.0, 1.0]), np.array([0.0, 0.0]))
+
+
+def simulate_abs_wheel(
+    gains: np.ndarray,
+    plant: np.ndarray,
+    tire_kind: int,
+    tire_coef: np.ndarray,
+    tire_xs: np.ndarray,
+    tire_ys: np.ndarray,
+    ctrl_kind: int,
+    c: np.ndarray,
+    table: tuple[np.ndarray, ...],
+    trace: np.ndarray,
+    out: np.ndarray,
+) -> None:
+    """Simulate every row of `gains` (n, G: the controller's gains in registry order).
+
+    `plant`: the PLANT vector (N,) or rows (1 or n, N); `tire_*`: `TireCurve.kernel_data()`;
+    `ctrl_kind`: index in CONTROLLER_KINDS; `c`: the CONTROLLER vector; `table`: a compiled fuzzy
+    surface (`CompiledSurface.table`) for the fuzzy laws, any surface otherwise. Fuzzy PID gains:
+    ke, kec, ku_p, ku_i, ku_d, kp0, ki0, kd0; fuzzy immune PID gains: k_immune, eta, ki, kd, ke,
+    kec. Writes the metrics row of each candidate into `out` (n, N_METRICS); when `trace` has
+    rows (n must be 1), also the time series (TRACE columns), one row per step.
+    """
+    coef4 = np.zeros(4)
+    coef4[: len(tire_coef)] = tire_coef
+    xc, xs, ys = table_tuples(tire_xs, tire_ys) if tire_kind == KIND_TABLE else _NO_TABLE
+    rows = np.ascontiguousarray(np.atleast_2d(plant), dtype=np.float64)
+    ENTRY_POINTS[tire_kind](gains, rows, coef4, xc, xs, ys, ctrl_kind, c, table, trace, out)
+
+
+__all__ = ["ENTRY_POINTS", "LANES", "TABLE_CAP", "simulate_abs_wheel"]

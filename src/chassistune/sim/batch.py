@@ -1,8 +1,11 @@
 """Run a compiled batch kernel over chunks of candidates on a thread pool.
 
-The kernels compute each candidate independently of the others (no reduction across candidates,
-no vector lanes shared between them), so a candidate's numbers do not depend on which chunk it
-lands in: results are bitwise identical for any worker count. Kernels must be nogil.
+The kernels compute each candidate independently of the others: no reduction across candidates,
+and vector lanes (the ABS kernel's persistent SIMD lanes) apply the same IEEE operations to each
+lane as scalar code would (no fastmath, no reassociation, no implicit contraction), so a
+candidate's numbers do not depend on its lane, its neighbours or the chunk it lands in: results
+are bitwise identical for any worker count. Kernels must be nogil. Chunks of at least MIN_CHUNK
+candidates: a lane kernel runs whole vectors of 8 lanes, so tiny chunks waste lanes.
 """
 
 from __future__ import annotations

@@ -29,18 +29,14 @@ from chassistune.plants.quarter_car import (
     closed_loop,
 )
 from chassistune.sim.layout import Layout, Slot
+from chassistune.sim.quarter_car_kernel import RMS_SLOTS
 
 W_ROAD = NOISE_INTENSITY
 """Intensity of the road's white noise: W = 1/2, one-sided PSD 1 (DESIGN 3.4)."""
 
 EXACT = Layout("quarter-car exact stationary results", (
-    Slot("body_acc_rms", "m/s^2", "stationary RMS of the body acceleration"),
-    Slot("susp_travel_rms", "m", "stationary RMS of the suspension travel"),
-    Slot("tire_defl_rms", "m", "stationary RMS of the tire deflection"),
-    Slot("force_rms", "N", "stationary RMS of the actuator force"),
-    Slot("stable", "-", "1 if the closed loop is Hurwitz"),
-))
-"""Columns of exact_rms_batch's output."""
+    *RMS_SLOTS, Slot("stable", "-", "1 if the closed loop is Hurwitz")))
+"""Columns of exact_rms_batch's output: the simulation's RMS columns, then the stability flag."""
 E_ACC, E_TRAVEL, E_TIRE, E_FORCE, E_STABLE = (EXACT[n] for n in EXACT.names)
 N_EXACT = len(EXACT)
 

@@ -28,16 +28,14 @@ from chassistune.sim.lti import discretize_zoh
 
 PLANT = Layout("quarter-car plant vector", tuple(Slot(*s) for s in PLANT_SLOTS))
 OUTPUTS = Layout("quarter-car outputs (trace rows)", tuple(Slot(*s) for s in OUTPUT_SLOTS))
+N_RMS = 4
+"""Outputs 0..3 (acc, travel, tire, force) are accumulated, into result columns 0..3."""
+RMS_SLOTS = tuple(Slot(f"{name}_rms", unit, f"RMS of the {meaning}")
+                  for name, unit, meaning in OUTPUT_SLOTS[:N_RMS])
 RESULT = Layout("quarter-car simulation results", (
-    Slot("body_acc_rms", "m/s^2", "RMS of the body acceleration"),
-    Slot("susp_travel_rms", "m", "RMS of the suspension travel"),
-    Slot("tire_defl_rms", "m", "RMS of the tire deflection"),
-    Slot("force_rms", "N", "RMS of the actuator force"),
-    Slot("diverged", "-", "1 if the state left |x| < DIVERGED_ABOVE or turned NaN"),
-))
+    *RMS_SLOTS, Slot("diverged", "-", "1 if the state left |x| < DIVERGED_ABOVE or turned NaN")))
 R_ACC, R_TRAVEL, R_TIRE, R_FORCE, R_DIVERGED = (RESULT[n] for n in RESULT.names)
 N_RESULT = len(RESULT)
-N_RMS = 4  # outputs 0..3 (acc, travel, tire, force) are accumulated, into result columns 0..3
 
 DIVERGED_ABOVE = 1e6
 BLOCK = 64

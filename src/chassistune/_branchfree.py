@@ -1,0 +1,78 @@
+"""Branch-free scalar selects for compiled loops that must vectorize.
+
+numba lowers `a if c else b` and chains of `min`/`max` to control flow that LLVM's loop
+vectorizer may refuse; these helpers emit one LLVM `select` each, so a loop body built from them
+stays straight-line. `fmax` and `fmin` reproduce numba's built-in `max`/`min` on two floats bit
+for bit (NaN and signed-zero cases included): max(a, b) is `b if b > a else a`, min(a, b) is
+`b if b < a else a`. Combine conditions with `&` and `|` (not `and`/`or`, which short-circuit).
+
+`stack_copy(t)` copies a tuple of floats to the stack and returns a pointer: `p[i]` with a
+data-dependent i is then one load (a gather in a vector loop) from memory that the compiler knows
+nothing else writes, where indexing the tuple itself compiles to a switch and indexing an
+argument array may alias the loop's stores.
+"""
+
+from __future__ import annotations
+
+from llvmlite import ir
+from numba import njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic
+
+
+@intrinsic
+def _llvm_select(typingctx, cond, a, b):
+    sig = types.float64(types.boolean, types.float64, types.float64)
+
+    def codegen(context, builder, signature, args):
+        return builder.select(args[0], args[1], args[2])
+
+    return sig, codegen
+
+
+@njit(cache=True, nogil=True, inline="always")
+def select(cond: bool, a: float, b: float) -> float:  # pragma: no cover - compiled
+    """`a if cond else b` for floats, as one LLVM select (both sides are evaluated)."""
+    return _llvm_select(cond, a, b)  # type: ignore[call-arg]
+
+
+@njit(cache=True, nogil=True, inline="always")
+def fmax(a: float, b: float) -> float:  # pragma: no cover - compiled
+    """numba's max(a, b) on floats: b if b > a else a."""
+    return select(b > a, b, a)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def fmin(a: float, b: float) -> float:  # pragma: no cover - compiled
+    """numba's min(a, b) on floats: b if b < a else a."""
+    return select(b < a, b, a)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def clip(x: float, lo: float, hi: float) -> float:  # pragma: no cover - compiled
+    """min(max(x, lo), hi), bit for bit."""
+    return fmin(fmax(x, lo), hi)
+
+
+@intrinsic
+def _stack_copy(typingctx, tup):
+    if not (isinstance(tup, types.UniTuple) and tup.dtype == types.float64):
+        return None
+    sig = types.CPointer(types.float64)(tup)
+
+    def codegen(context, builder, signature, args):
+        slot = cgutils.alloca_once(builder, ir.ArrayType(ir.DoubleType(), tup.count))
+        for i in range(tup.count):
+            index = [ir.Constant(ir.IntType(32), 0), ir.Constant(ir.IntType(32), i)]
+            ptr = builder.gep(slot, index)
+            builder.store(builder.extract_value(args[0], i), ptr)
+        return builder.bitcast(slot, ir.DoubleType().as_pointer())
+
+    return sig, codegen
+
+
+@njit(cache=True, nogil=True, inline="always")
+def stack_copy(tup):  # pragma: no cover - compiled
+    """A pointer to a stack copy of a tuple of float64 (valid in the calling kernel; call it
+    once, outside loops: each call makes its own copy)."""
+    return _stack_copy(tup)  # type: ignore[call-arg]
