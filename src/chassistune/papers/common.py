@@ -111,9 +111,14 @@ def budget_table(ctx: Context, names: Sequence[str]) -> Table:
                  "run marked 'this report'.")
 
 
+def final_costs(runs: Sequence[RunRecord]) -> np.ndarray:
+    """Final best cost of each completed run (NaN where none was recorded)."""
+    return np.array([np.nan if r.best_cost is None else r.best_cost for r in runs])
+
+
 def median_run(runs: Sequence[RunRecord]) -> RunRecord:
     """The run whose final cost is the (lower) median: its optimizer's representative."""
-    order = np.argsort([r.best_cost for r in runs], kind="stable")
+    order = np.argsort(final_costs(runs), kind="stable")
     return runs[int(order[(len(runs) - 1) // 2])]
 
 

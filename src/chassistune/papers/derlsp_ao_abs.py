@@ -123,7 +123,8 @@ def build(ctx: Context) -> PaperSection:
                 "controller": label, "paper stop time (s)": t_pub[label],
                 "ours stop time (s)": m["stop_time_s"], "paper distance (m)": d_pub[label],
                 "ours distance (m)": m["stop_distance_m"],
-                "ours distance, all seeds (m)": f"{dist[label].min():.4g} - {dist[label].max():.4g}",
+                "ours distance, all seeds (m)":
+                    f"{dist[label].min():.4g} - {dist[label].max():.4g}",
                 "ours 200 kg distance (m)": traces200[label][1].metrics["stop_distance_m"],
                 "bound (m)": bound, "paper / bound": d_pub[label] / bound,
                 "ours / bound": m["stop_distance_m"] / bound,

@@ -27,6 +27,7 @@ from chassistune.papers.common import (
     Table,
     Verdict,
     budget_table,
+    final_costs,
     median_run,
     percent,
 )
@@ -167,11 +168,12 @@ def build(ctx: Context) -> PaperSection:
         e = exact_table(preset, pair)
         imp_rows.append({"source": f"ours exact, {cell}",
                          **{m: percent(e[0, j], e[1, j]) for j, m in enumerate(METRICS)}})
-        best = min((r for a in ALGORITHMS for r in cell_runs[a]), key=lambda r: r.best_cost)
+        pool = [r for a in ALGORITHMS for r in cell_runs[a]]
+        best = pool[int(np.argmin(final_costs(pool)))]
         box = list(best.spec.bounds.values())
         q_star[cell] = _polished_optimum(preset, _gains(best), box)
         for a in ALGORITHMS:
-            finals = np.array([r.best_cost for r in cell_runs[a]])
+            finals = final_costs(cell_runs[a])
             scouts = [int(r.diagnostics.get("scouts", 0)) for r in cell_runs[a]]
             summary.append({"cell": cell, "optimizer": a, **stats.summary(finals),
                             "scouts (all runs)": sum(scouts), "nfev": cell_runs[a][0].nfev})
@@ -200,8 +202,7 @@ def build(ctx: Context) -> PaperSection:
     # verdicts
     e_pair = exact_table("paper-iabc", np.vstack([rows_gains["ABC-PID"], rows_gains["IABC-PID"]]))
     ours_imp = [percent(e_pair[0, j], e_pair[1, j]) for j in range(3)]
-    rs = stats.rank_sum(np.array([r.best_cost for r in runs["IABC"]]),
-                        np.array([r.best_cost for r in runs["ABC"]]))
+    rs = stats.rank_sum(final_costs(runs["IABC"]), final_costs(runs["ABC"]))
     if all(o >= c for o, c in zip(ours_imp, claimed, strict=True)):
         word = HOLDS
     elif all(o > 0 for o in ours_imp) and rs.sign == "+":
@@ -213,7 +214,7 @@ def build(ctx: Context) -> PaperSection:
         "ours (exact, median runs, paper's box): " + " / ".join(f"{v:.3g} %" for v in ours_imp)
         + f"; final Q IABC vs ABC rank-sum {rs.sign} (p = {rs.p_value:.2g}, "
         f"{len(runs['IABC'])} runs each)"))
-    q_ten = np.array([r.best_cost for r in ten["IABC"]])
+    q_ten = final_costs(ten["IABC"])
     q_opt = q_star[PAPER_CELL]
     sec.verdicts.append(Verdict(
         KEY, f"Q = {q_paper} (IABC-PID)", FAILS if q_paper < q_opt - 1e-6 else HOLDS,

@@ -155,9 +155,10 @@ class ScenarioConfig(_Model):
             plant_keys = ("plant", "preset", "controller", "objective", "roads", "tune_roads",
                           "test_roads")
             extra = [k for k in plant_keys if getattr(self, k) is not None]
-            if extra or self.params or self.bounds:
+            extra += [k for k in ("params", "bounds") if getattr(self, k)]
+            if extra:
                 raise ValueError("a `functions` scenario takes no plant settings, got "
-                                 f"{', '.join(extra + [k for k in ('params', 'bounds') if getattr(self, k)])}")
+                                 f"{', '.join(extra)}")
             if not self.functions or len(set(self.functions)) != len(self.functions):
                 raise ValueError("`functions` must list distinct benchmark functions")
         elif self.plant is None or self.controller is None:

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from chassistune._io import dumps
+from chassistune._io import atomic_path, dumps
 from chassistune.errors import InputError
 from chassistune.studies.records import RunResult, RunStatus
 from chassistune.studies.spec import RunSpec
@@ -84,6 +84,11 @@ class RunRecord:
         return self.status is RunStatus.COMPLETED
 
 
+def _init_schema(conn: sqlite3.Connection) -> None:
+    conn.executescript(_SCHEMA)
+    conn.execute("INSERT OR IGNORE INTO meta VALUES ('schema_version', ?)", (SCHEMA_VERSION,))
+
+
 def store_path(study_dir: str | Path) -> Path:
     return Path(study_dir) / STORE_NAME
 
@@ -121,11 +126,15 @@ class Store:
         """Open DIR/study.sqlite for writing, creating the folder and the schema if needed."""
         os.makedirs(study_dir, exist_ok=True)
         path = store_path(study_dir)
+        if not path.exists():  # built aside and renamed: a kill never leaves a store without
+            with atomic_path(path) as tmp:  # its schema
+                fresh = sqlite3.connect(tmp)
+                with fresh:
+                    _init_schema(fresh)
+                fresh.close()
         conn = _connect(path, read_only=False)
         with conn:
-            conn.executescript(_SCHEMA)
-            conn.execute("INSERT OR IGNORE INTO meta VALUES ('schema_version', ?)",
-                         (SCHEMA_VERSION,))
+            _init_schema(conn)
         return cls(conn, path)
 
     @classmethod
