@@ -180,3 +180,7 @@ register(ControllerSpec(
     "classic sky-hook damper u = -c_sky zs' (body absolute velocity), beside the passive damper",
     gains=(GainSpec("c_sky", "N s/m", 1000.0, 0.0, 1e4, "sky-hook damping coefficient"),),
 ))
+
+
+# -- abs-vehicle: the wheel laws' vehicle entries (gains, bounds, defaults) ---------------------
+from chassistune.controllers import vehicle_specs as _vehicle_specs  # noqa: E402, F401

@@ -19,6 +19,16 @@ ABS_WHEEL = PlantSpec(
                  "locked_time_s"),
     plot="chassistune.plots.abs_wheel:plot_trace",
 )
+ABS_VEHICLE = PlantSpec(
+    name="abs-vehicle",
+    version=1,
+    description="7-DOF vehicle ABS (deffao-vehicle-abs): four braked wheels, load transfer, "
+                "combined-slip tires, uniform, mu-jump and split-mu roads, optional driver",
+    default_preset="paper-deffao",
+    key_metrics=("stop_distance_m", "distance_ratio", "stop_time_s", "slip_itae",
+                 "locked_time_s"),
+    plot="chassistune.plots.abs_vehicle:plot_trace",
+)
 QUARTER_CAR = PlantSpec(
     name="quarter-car",
     version=1,
@@ -50,6 +60,7 @@ def unregister(name: str) -> None:
 
 register(ABS_WHEEL, "chassistune.scenarios.abs_wheel:PLANT")
 register(QUARTER_CAR, "chassistune.scenarios.quarter_car:PLANT")
+register(ABS_VEHICLE, "chassistune.scenarios.abs_vehicle:PLANT")
 
 
 def plant_names() -> list[str]:

@@ -1,0 +1,118 @@
+"""Roads of the vehicle ABS (DESIGN 3.2, 3.3): uniform, `mu-jump` and `split-mu`, built by name from
+the bilinear surfaces (seed 000 Table 1, seed 003 Table 1).
+
+Which surface is under wheel i follows its contact point's global position:
+- `mu-jump`: the first surface until the contact point's global X reaches the jump, the second
+  after; x_jump_m is measured from the front axle's start (global X_jump = lf + x_jump_m with the
+  CG starting at X = 0);
+- `split-mu`: the left surface under the car's left wheels, the right one under its right wheels
+  (`split_by = "body"`, default: DESIGN 3.3's "by side"), or, with `split_by = "road"`, the left
+  surface where the contact point's global Y >= split_y_m (0: the car starts centred on the split
+  line) and the right one elsewhere;
+- uniform roads: one surface everywhere.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+from chassistune.errors import InputError
+from chassistune.params import override
+from chassistune.plants.roads import BILINEAR_ROADS
+from chassistune.plants.tires import BilinearTire
+
+ROAD_UNIFORM, ROAD_MU_JUMP, ROAD_SPLIT = 0, 1, 2
+SPLIT_BY = ("body", "road")
+
+
+@dataclass(frozen=True)
+class MuJumpParams:
+    """Surfaces before and after the jump, and where it is (from the front axle's start)."""
+
+    first_surface: str = "ice"
+    second_surface: str = "dry-concrete"
+    x_jump_m: float = field(default=25.0, metadata={"nonnegative": True})
+
+
+@dataclass(frozen=True)
+class SplitMuParams:
+    """Surfaces left and right: by the wheel's side of the car (`split_by = "body"`), or by the
+    contact point's global Y against the split line y = split_y_m (`split_by = "road"`)."""
+
+    left_surface: str = "dry-concrete"
+    right_surface: str = "ice"
+    split_by: str = "body"
+    split_y_m: float = 0.0
+
+
+@dataclass(frozen=True)
+class VehicleRoad:
+    """A resolved road: its kind, its two surfaces (equal on uniform roads) and geometry."""
+
+    name: str
+    kind: int
+    surface_names: tuple[str, str]
+    surfaces: tuple[BilinearTire, BilinearTire]
+    x_jump_m: float = 0.0
+    split_by: str = "body"
+    split_y_m: float = 0.0
+
+    def description(self) -> str:
+        a, b = self.surface_names
+        if self.kind == ROAD_MU_JUMP:
+            return f"{a} for {self.x_jump_m:g} m from the front axle's start, then {b}"
+        if self.kind == ROAD_SPLIT:
+            return f"{a} left of y = {self.split_y_m:g} m, {b} right"
+        return a
+
+
+def road_names() -> dict[str, str]:
+    """Road name -> description."""
+    out = {n: f"uniform bilinear S_T={s}, mu_h={h}, mu_g={g}: {d}"
+           for n, (s, h, g, d) in BILINEAR_ROADS.items()}
+    out["mu-jump"] = ("docking road: ice for 25 m from the front axle's start, then dry concrete "
+                      "(first_surface, second_surface, x_jump_m)")
+    out["split-mu"] = ("split road: dry concrete left, ice right (left_surface, right_surface, "
+                       "split_y_m)")
+    return out
+
+
+def surface(name: str, field_name: str) -> BilinearTire:
+    """A bilinear surface by name, or InputError naming the field."""
+    if name not in BILINEAR_ROADS:
+        raise InputError(field_name, f"unknown surface {name!r} (known: "
+                         f"{', '.join(BILINEAR_ROADS)})")
+    s, h, g, _ = BILINEAR_ROADS[name]
+    return BilinearTire(s, h, g)
+
+
+def make_road(name: str, values: Mapping[str, object]) -> tuple[VehicleRoad, set[str], dict[
+        str, object]]:
+    """The road `name` with its parameter overrides; returns (road, names used, params echo)."""
+    if name == "mu-jump":
+        jump, used = override(MuJumpParams(), values)
+        pair = (surface(jump.first_surface, "params.first_surface"),
+                surface(jump.second_surface, "params.second_surface"))
+        road = VehicleRoad(name, ROAD_MU_JUMP, (jump.first_surface, jump.second_surface), pair,
+                           x_jump_m=jump.x_jump_m)
+        return road, used, {"first_surface": jump.first_surface,
+                            "second_surface": jump.second_surface, "x_jump_m": jump.x_jump_m}
+    if name == "split-mu":
+        split, used = override(SplitMuParams(), values)
+        if split.split_by not in SPLIT_BY:
+            raise InputError("params.split_by", f"must be body or road, got {split.split_by!r}")
+        pair = (surface(split.left_surface, "params.left_surface"),
+                surface(split.right_surface, "params.right_surface"))
+        road = VehicleRoad(name, ROAD_SPLIT, (split.left_surface, split.right_surface), pair,
+                           split_by=split.split_by, split_y_m=split.split_y_m)
+        return road, used, {"left_surface": split.left_surface,
+                            "right_surface": split.right_surface, "split_by": split.split_by,
+                            "split_y_m": split.split_y_m}
+    if name not in BILINEAR_ROADS:
+        raise InputError("road", f"unknown road {name!r} for abs-vehicle (known: "
+                         f"{', '.join(road_names())})")
+    tire, used = override(surface(name, "road"), values)
+    road = VehicleRoad(name, ROAD_UNIFORM, (name, name), (tire, tire))
+    return road, used, {"slip_opt": tire.slip_opt, "mu_peak": tire.mu_peak,
+                        "mu_lock": tire.mu_lock}

@@ -1,0 +1,316 @@
+"""The 7-DOF vehicle ABS scenario and plant (`abs-vehicle`, DESIGN 3.3; seed 003).
+
+Resolves preset + road + wheel controller + overrides into the kernel's declared inputs
+(`chassistune.sim.abs_vehicle_kernel` layouts), evaluates populations in one kernel call, and
+decodes metrics and traces by name.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from chassistune.controllers import vehicle_specs
+from chassistune.controllers.specs import ControllerSpec
+from chassistune.errors import InputError
+from chassistune.params import as_dict, override, validate
+from chassistune.plants.abs_vehicle import (
+    RK4_REAL_LIMIT,
+    STEERING_MODES,
+    Bound,
+    SteeringParams,
+    VehicleParams,
+    geometry,
+    mu_jump_bound,
+    split_mu_bound,
+    surface_row,
+    uniform_bound,
+    wheel_mode_rate,
+)
+from chassistune.plants.presets import PresetInfo
+from chassistune.plants.vehicle_roads import (
+    ROAD_MU_JUMP,
+    ROAD_SPLIT,
+    MuJumpParams,
+    SplitMuParams,
+    VehicleRoad,
+    make_road,
+    road_names,
+)
+from chassistune.scenarios.abs_wheel import FUZZY_OUTPUTS, _no_surface, fuzzy_table
+from chassistune.scenarios.base import (
+    PENALTY,
+    Plant,
+    Scenario,
+    Trace,
+    json_scalar,
+    pick_preset,
+)
+from chassistune.scenarios.controller_params import kernel_gains, resolve_controller_params
+from chassistune.scenarios.registry import ABS_VEHICLE
+from chassistune.sim import abs_vehicle_kernel as K
+from chassistune.sim.batch import run_chunked
+
+PLANT_NAME = ABS_VEHICLE.name
+
+
+@dataclass(frozen=True)
+class VehicleScoring:
+    """How runs become costs and yaw metrics (DESIGN 3.3, 5)."""
+
+    lock_penalty_per_s: float = field(default=100.0, metadata={"nonnegative": True})
+    hopeless_factor: float = field(default=3.0, metadata={"positive": True})
+    """Stop a candidate early once its path exceeds this many times the bound."""
+    yaw_window_s: float = field(default=1.0, metadata={"positive": True})
+
+
+@dataclass(frozen=True)
+class _Preset:
+    info: PresetInfo
+    params: VehicleParams
+
+
+PRESETS: dict[str, _Preset] = {
+    "paper-deffao": _Preset(
+        PresetInfo(
+            "paper-deffao",
+            "seed 003 Table 2: m = 1110 kg total, Iz = 1440 kg m^2 (printed 1.44), J = 0.6 kg "
+            "m^2, R = 0.4 m, lf/lr = 1.04/1.56 m, v0 = 120 km/h, g = 9.8; ours: h = 0.5 m, "
+            "tracks 1.5 m, C = 60 kN/rad, kq = 1, q_max = 2500 on all wheels, K = 100, T = 0.01 s",
+            ("dry-concrete", "mu-jump", "split-mu", "ice"),
+        ),
+        VehicleParams(),
+    ),
+}
+
+OBJECTIVE_COLUMNS = {"itae": K.M_ITAE, "iae": K.M_IAE, "ise": K.M_ISE, "distance": K.M_DIST,
+                     "time": K.M_TIME}
+STATUS_NAMES = ("stopped", "hopeless", "timeout", "diverged")
+
+
+def road_bound(pp: VehicleParams, road: VehicleRoad) -> Bound:
+    """The exact bound of DESIGN 3.3 for this road."""
+    a, b = (t.mu_peak for t in road.surfaces)
+    if road.kind == ROAD_MU_JUMP:
+        return mu_jump_bound(pp, a, b, road.x_jump_m)
+    if road.kind == ROAD_SPLIT:
+        return split_mu_bound(pp, a, b)
+    return uniform_bound(pp, a)
+
+
+def check_step(pp: VehicleParams, road: VehicleRoad) -> None:
+    """Refuse a (dt_s, v_stop_m_s) pair past RK4's stability limit of the wheel mode."""
+    rise = max(t.mu_peak / t.slip_opt for t in road.surfaces)
+    mu = max(t.mu_peak for t in road.surfaces)
+    lam = wheel_mode_rate(pp, rise, mu)
+    if lam * pp.dt_s > RK4_REAL_LIMIT:
+        dt_max = RK4_REAL_LIMIT / lam
+        v_min = pp.v_stop_m_s * lam * pp.dt_s / RK4_REAL_LIMIT
+        raise InputError("params.dt_s", f"dt_s = {pp.dt_s:g} s with v_stop_m_s = "
+                         f"{pp.v_stop_m_s:g} m/s is past RK4's stability limit of the wheel mode "
+                         f"(|lambda| dt = {lam * pp.dt_s:.2f} > {RK4_REAL_LIMIT}): use dt_s <= "
+                         f"{dt_max:.3g} or v_stop_m_s >= {v_min:.3g}")
+
+
+def _check_consistency(pp: VehicleParams, road: VehicleRoad) -> None:
+    if pp.v0_m_s <= pp.v_stop_m_s:
+        raise InputError("params.v0_m_s", f"must exceed v_stop_m_s = {pp.v_stop_m_s:g}, "
+                         f"got {pp.v0_m_s:g}")
+    if pp.t_max_s < 10 * pp.dt_s:
+        raise InputError("params.t_max_s", f"must be at least 10 steps, got {pp.t_max_s:g}")
+    if pp.t_max_s / pp.dt_s > 5e7:
+        raise InputError("params.dt_s", "too many steps (t_max_s / dt_s above 5e7)")
+    check_step(pp, road)
+
+
+class AbsVehicleScenario(Scenario):
+    """A resolved abs-vehicle scenario; evaluates populations of gain rows in one kernel call."""
+
+    objectives = tuple(OBJECTIVE_COLUMNS)
+    default_objective = "itae"
+
+    def __init__(self, preset: str, road: VehicleRoad, road_params: dict[str, object],
+                 controller: ControllerSpec, plant_params: VehicleParams,
+                 steering: SteeringParams, controller_params: dict[str, Any],
+                 scoring: VehicleScoring, seed: int) -> None:
+        self.plant = PLANT_NAME
+        self.preset = preset
+        self.road = road.name
+        self.road_spec = road
+        self.road_params = road_params
+        self.controller = controller
+        self.plant_params = plant_params
+        self.steering = steering
+        self.controller_params = controller_params
+        self.scoring = scoring
+        self.seed = seed
+        bound = road_bound(plant_params, road)
+        self.bound_distance_m = bound.distance_m
+        self.bound_time_s = bound.time_s
+        self.target_slips = tuple(t.slip_opt for t in road.surfaces)
+        self._kernel_args = self._pack()
+
+    def _pack(self) -> tuple[Any, ...]:
+        pp, st, cp = self.plant_params, self.steering, self.controller_params
+        road = self.road_spec
+        values = {
+            "mass_kg": pp.mass_kg, "yaw_inertia_kg_m2": pp.yaw_inertia_kg_m2,
+            "wheel_inertia_kg_m2": pp.wheel_inertia_kg_m2, "wheel_radius_m": pp.wheel_radius_m,
+            "v0_m_s": pp.v0_m_s, "actuator_gain": pp.actuator_gain,
+            "actuator_tau_s": pp.actuator_tau_s, "brake_gain": pp.brake_gain,
+            "q_max": pp.q_max, "v_stop_m_s": pp.v_stop_m_s, "t_max_s": pp.t_max_s,
+            "dt_s": pp.dt_s, "lock_ratio": pp.lock_ratio, "min_speed_m_s": pp.min_speed_m_s,
+            "hopeless_m": self.scoring.hopeless_factor * self.bound_distance_m,
+            "n_filter": cp.get("n_filter", 100.0), "road_kind": road.kind,
+            "x_jump_global_m": pp.cg_to_front_m + road.x_jump_m, "split_y_m": road.split_y_m,
+            "split_by_road": 1.0 if road.split_by == "road" else 0.0,
+            "driver": 1.0 if st.steering == "driver" else 0.0, "heading_gain": st.heading_gain,
+            "yaw_rate_gain_s": st.yaw_rate_gain_s, "max_steer_rad": st.max_steer_rad,
+            "steer_tau_s": st.steer_tau_s,
+            "select_low": 1.0 if cp.get("rear") == "select-low" else 0.0,
+            "axle_gains": 1.0 if cp.get("axle_gains") == "per-axle" else 0.0,
+            "yaw_window_s": self.scoring.yaw_window_s,
+        }
+        p = K.PLANT_LAYOUT.pack(values)
+        geo = geometry(pp)
+        surfs = np.stack([surface_row(t.slip_opt, t.mu_peak, t.mu_lock,
+                                      pp.cornering_stiffness_n_rad) for t in road.surfaces])
+        c = K.CONTROLLER_LAYOUT.pack({
+            "ts_s": cp.get("ts_s", pp.dt_s), "amplitude": cp.get("amplitude", 0.0),
+            "decel_threshold_m_s2": cp.get("decel_threshold_m_s2", 0.0),
+            "accel_threshold_m_s2": cp.get("accel_threshold_m_s2", 0.0),
+            "slip_margin": cp.get("slip_margin", 0.0),
+            "slow_fraction": cp.get("slow_fraction", 0.0)})
+        base = self.controller.name
+        table = (fuzzy_table(base, str(cp["rulebase"])) if base in FUZZY_OUTPUTS
+                 else _no_surface())
+        return p, geo, surfs, K.CONTROLLER_KINDS.index(base), c, table
+
+    def params(self) -> dict[str, Any]:
+        out: dict[str, Any] = as_dict(self.plant_params)
+        out.update(as_dict(self.steering))
+        out.update(self.road_params)
+        out["target_slips"] = list(self.target_slips)
+        out.update(self.controller_params)
+        out.update(as_dict(self.scoring))
+        out["seed"] = self.seed
+        return out
+
+    def _kernel_gains(self, gains: np.ndarray) -> np.ndarray:
+        return kernel_gains(gains, self.controller)
+
+    def raw(self, gains: np.ndarray, workers: int | None = None) -> np.ndarray:
+        """The kernel's metrics matrix (n, N_METRICS) for a population of gain rows."""
+        p, geo, surfs, ckind, c, table = self._kernel_args
+        empty = np.zeros((0, K.N_TRACE))
+
+        def call(g: np.ndarray, out: np.ndarray) -> None:
+            K.simulate_abs_vehicle(g, p, geo, surfs, ckind, c, table, empty, out)
+
+        return run_chunked(call, self._kernel_gains(gains), K.N_METRICS, workers)
+
+    def metrics_from_raw(self, raw: np.ndarray) -> dict[str, np.ndarray]:
+        names = tuple(n for n in K.METRIC_LAYOUT.names if n not in ("status", "spun", "n_trace"))
+        out: dict[str, np.ndarray] = K.METRIC_LAYOUT.decode(raw, names)
+        status = raw[:, K.M_STATUS].astype(int)
+        out["stopped"] = status == K.STATUS_STOPPED
+        out["status"] = np.array(STATUS_NAMES)[status]
+        out["spun"] = raw[:, K.M_SPUN] != 0.0
+        out["bound_distance_m"] = np.full(raw.shape[0], self.bound_distance_m)
+        out["bound_time_s"] = np.full(raw.shape[0], self.bound_time_s)
+        out["distance_ratio"] = raw[:, K.M_DIST] / self.bound_distance_m
+        return out
+
+    def metrics(self, gains: np.ndarray) -> dict[str, np.ndarray]:
+        return self.metrics_from_raw(self.raw(gains))
+
+    def cost_from_raw(self, raw: np.ndarray, objective: str | None = None) -> np.ndarray:
+        objective = objective or self.default_objective
+        if objective not in OBJECTIVE_COLUMNS:
+            raise InputError("objective", f"unknown objective {objective!r} for abs-vehicle "
+                             f"(known: {', '.join(OBJECTIVE_COLUMNS)})")
+        cost = raw[:, OBJECTIVE_COLUMNS[objective]] + (
+            self.scoring.lock_penalty_per_s * raw[:, K.M_LOCKED])
+        bad = (raw[:, K.M_STATUS] != K.STATUS_STOPPED) | ~np.isfinite(cost)
+        return np.where(bad, PENALTY, np.minimum(cost, PENALTY))
+
+    def cost(self, gains: np.ndarray, objective: str | None = None) -> np.ndarray:
+        return self.cost_from_raw(self.raw(gains), objective)
+
+    def trace(self, gains: np.ndarray) -> Trace:
+        p, geo, surfs, ckind, c, table = self._kernel_args
+        g = self._kernel_gains(np.asarray(gains, dtype=np.float64).reshape(1, -1))
+        n_rows = math.ceil(self.plant_params.t_max_s / self.plant_params.dt_s) + 2
+        tr = np.zeros((n_rows, K.N_TRACE))
+        out = np.zeros((1, K.N_METRICS))
+        K.simulate_abs_vehicle(g, p, geo, surfs, ckind, c, table, tr, out)
+        rows = int(out[0, K.M_NTRACE])
+        signals = K.TRACE_LAYOUT.decode(tr[:rows])
+        metrics = {k: json_scalar(v[0]) for k, v in self.metrics_from_raw(out).items()}
+        return Trace(signals, metrics, K.TRACE_LAYOUT.units)
+
+
+class AbsVehiclePlant(Plant):
+    """The 7-DOF vehicle ABS plant."""
+
+    spec = ABS_VEHICLE
+
+    def presets(self) -> dict[str, PresetInfo]:
+        return {n: p.info for n, p in PRESETS.items()}
+
+    def roads(self) -> dict[str, str]:
+        return road_names()
+
+    def controllers(self) -> list[ControllerSpec]:
+        return [vehicle_specs.get(n) for n in vehicle_specs.names()]
+
+    def param_names(self) -> list[str]:
+        """Every `--param` name of the plant, road and solver (controllers add their own)."""
+        names: list[str] = []
+        for cls in (VehicleParams, SteeringParams, VehicleScoring, MuJumpParams, SplitMuParams):
+            names += [f.name for f in dataclasses.fields(cls)]
+        return [*names, "slip_opt", "mu_peak", "mu_lock"]
+
+    def scenario(
+        self,
+        preset: str | None = None,
+        road: str | None = None,
+        controller: str = "none",
+        params: Mapping[str, object] | None = None,
+        seed: int = 0,
+    ) -> AbsVehicleScenario:
+        preset = pick_preset(PLANT_NAME, preset, self.default_preset, PRESETS)
+        pre = PRESETS[preset]
+        road_name = road or pre.info.roads[0]
+        spec = vehicle_specs.get(controller)
+        values = dict(params or {})
+        plant_params, used = override(pre.params, values)
+        steering, used_steering = override(SteeringParams(), values)
+        if steering.steering not in STEERING_MODES:
+            raise InputError("params.steering", f"must be fixed or driver, got "
+                             f"{steering.steering!r}")
+        road_spec, used_road, road_params = make_road(road_name, values)
+        scoring, used_scoring = override(VehicleScoring(), values)
+        used |= used_steering | used_road | used_scoring
+        # the driver's demand without ABS: reaches q_max in 0.15 s through the actuator
+        amplitude = plant_params.q_max / (0.15 * plant_params.actuator_gain)
+        ctrl_values = resolve_controller_params(spec, values, used, {}, amplitude)
+        unknown = sorted(set(values) - used)
+        if unknown:
+            known = sorted(set(self.param_names()) | set(spec.param_names))
+            raise InputError(f"params.{unknown[0]}", f"unknown parameter for abs-vehicle with "
+                             f"{spec.name} on {road_name} (known: {', '.join(known)})")
+        if ctrl_values.get("axle_gains") == "per-axle":
+            spec = vehicle_specs.per_axle(spec)
+        plant_params = validate(plant_params, "params.")
+        _check_consistency(plant_params, road_spec)
+        return AbsVehicleScenario(preset, road_spec, road_params, spec, plant_params, steering,
+                                  ctrl_values, scoring, seed)
+
+
+PLANT = AbsVehiclePlant()

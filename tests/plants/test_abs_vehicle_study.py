@@ -1,0 +1,40 @@
+"""Paper 003's Table 5 study configs: valid, planned on the vehicle, and the quick one runs."""
+
+from __future__ import annotations
+
+import json
+import sqlite3
+from importlib import resources
+
+import pytest
+
+from chassistune.studies.executors import SerialExecutor
+from chassistune.studies.runner import run_study
+from chassistune.studies.spec import load_plan
+
+STUDIES = resources.files("chassistune") / "data" / "studies"
+
+
+@pytest.mark.parametrize("name", ["deffao-vehicle-abs", "deffao-vehicle-abs-quick"])
+def test_the_table_5_configs_plan_runs_of_the_vehicle_fuzzy_pid(name):
+    plan = load_plan(str(STUDIES / f"{name}.toml"))
+    assert {r.optimizer_name for r in plan.runs} == {"ao", "deffao"}
+    for run in plan.runs:
+        assert run.plant == "abs-vehicle" and run.controller == "fuzzy-pid"
+        assert run.roads == ("dry-concrete", "mu-jump", "split-mu")
+        assert run.test_roads == run.roads and run.params == {"steering": "driver"}
+
+
+def test_the_quick_table_5_study_runs_and_records_every_road(tmp_path):
+    plan = load_plan(str(STUDIES / "deffao-vehicle-abs-quick.toml"))
+    outcome = run_study(plan, tmp_path, SerialExecutor())
+    assert outcome.completed == len(plan.runs) and outcome.failed == 0
+    with sqlite3.connect(outcome.store) as con:
+        rows = con.execute("select metrics, test_costs from runs").fetchall()
+    for metrics, test_costs in rows:
+        per_road = json.loads(metrics)
+        assert set(per_road) == {"dry-concrete", "mu-jump", "split-mu"}
+        for m in per_road.values():
+            assert m["stopped"] and m["stop_distance_m"] >= m["bound_distance_m"]
+            assert not m["spun"]  # the driver holds the car on split-mu
+        assert all(v < 1e9 for v in json.loads(test_costs).values())

@@ -1,0 +1,136 @@
+"""The vehicle ABS kernel: batch rows equal single runs bit for bit, options, costs, bad input."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from chassistune.errors import InputError
+from chassistune.scenarios.abs_vehicle import PLANT
+from chassistune.scenarios.base import PENALTY
+from chassistune.sim import abs_vehicle_kernel as K
+
+
+def population(sc, n: int = 50) -> np.ndarray:
+    b = np.array(sc.controller.bounds())
+    return np.random.default_rng(12345).uniform(b[:, 0], b[:, 1], (n, len(b)))
+
+
+@pytest.mark.parametrize("road,controller,params", [
+    ("dry-concrete", "pid", {}),
+    ("split-mu", "fuzzy-pid", {"rear": "select-low"}),
+    ("mu-jump", "pid", {"steering": "driver", "axle_gains": "per-axle"}),
+])
+def test_batch_row_equals_single_run_bit_for_bit(road, controller, params):
+    sc = PLANT.scenario(None, road, controller, params)
+    gains = population(sc)
+    batch = sc.raw(gains, workers=1)
+    threaded = sc.raw(gains, workers=3)
+    np.testing.assert_array_equal(batch, threaded)
+    for i in range(gains.shape[0]):
+        np.testing.assert_array_equal(sc.raw(gains[i:i + 1], workers=1)[0], batch[i])
+    # the traced run (trace mode of the same kernel) gives the same metrics
+    tr = sc.trace(gains[7])
+    assert tr.metrics["stop_distance_m"] == batch[7, K.M_DIST]
+    assert tr.metrics["slip_itae"] == batch[7, K.M_ITAE]
+
+
+def test_per_axle_gains_equal_to_shared_gains_give_the_shared_run():
+    shared = PLANT.scenario(None, "mu-jump", "pid")
+    axle = PLANT.scenario(None, "mu-jump", "pid", {"axle_gains": "per-axle"})
+    assert axle.gain_names == ("kp_f", "ki_f", "kd_f", "kp_r", "ki_r", "kd_r")
+    g = shared.gains_array(None)
+    np.testing.assert_array_equal(axle.raw(np.concatenate([g, g])[None, :]), shared.raw(g))
+    soft_rear = axle.raw(np.concatenate([g, g * 0.5])[None, :])
+    assert soft_rear[0, K.M_DIST] != shared.raw(g)[0, K.M_DIST]
+
+
+def test_costs_are_finite_and_bad_runs_get_the_penalty():
+    sc = PLANT.scenario(None, "dry-concrete", "pid", {"t_max_s": 2.0})  # too short to stop
+    gains = np.array([[1200.0, 0.0, 20.0], [np.nan, 0.0, 20.0]])
+    cost = sc.cost(gains)
+    assert np.all(cost == PENALTY)
+    ok = PLANT.scenario(None, "dry-concrete", "pid").cost(gains)
+    assert np.isfinite(ok[0]) and ok[0] < PENALTY and ok[1] == PENALTY
+    fuzzy = PLANT.scenario(None, "mu-jump", "fuzzy-pid")
+    box = population(fuzzy, 8)
+    for objective in fuzzy.objectives:
+        cost = fuzzy.cost(box, objective)
+        assert np.all(np.isfinite(cost)) and np.all(cost <= PENALTY)
+
+
+def test_layouts_declare_every_kernel_slot_once():
+    assert len(K.METRIC_LAYOUT) == K.N_METRICS and len(K.TRACE_LAYOUT) == K.N_TRACE
+    assert K.S_XF + 4 == K.N_STATE
+    sc = PLANT.scenario(None, "dry-concrete", "pid")
+    tr = sc.trace(sc.gains_array(None))
+    assert set(tr.signals) == set(K.TRACE_LAYOUT.names)
+    assert tr.units["load_fl_n"] == "N"
+
+
+@pytest.mark.parametrize("params,field", [
+    ({"dt_s": "0.002"}, "params.dt_s"),
+    ({"v_stop_m_s": "0.5"}, "params.dt_s"),
+    ({"steering": "wheel"}, "params.steering"),
+    ({"rear": "select-high"}, "params.rear"),
+    ({"first_surface": "mud"}, "params.first_surface"),
+    ({"mass_kg": "-1"}, "params.mass_kg"),
+    ({"bogus": "1"}, "params.bogus"),
+])
+def test_bad_parameters_are_refused_naming_the_field(params, field):
+    road = "mu-jump" if "first_surface" in params else "dry-concrete"
+    with pytest.raises(InputError) as err:
+        PLANT.scenario(None, road, "pid", params)
+    assert field in str(err.value)
+
+
+def test_the_stability_limit_follows_dt_and_v_stop():
+    PLANT.scenario(None, "dry-concrete", "pid", {"v_stop_m_s": 0.5, "dt_s": 2.5e-4})
+    PLANT.scenario(None, "ice", "pid", {"v_stop_m_s": 0.5})  # ice: a 4.4x softer wheel mode
+    with pytest.raises(InputError, match="stability"):
+        PLANT.scenario(None, "mu-jump", "pid", {"v_stop_m_s": 0.5})
+
+
+@pytest.mark.parametrize("args,field", [
+    (("--param", "v_stop_m_s=0.5"), "dt_s"),
+    (("--road", "split-mu", "--param", "split_by=diagonal"), "split_by"),
+    (("--gains", "kp=1,kz=2"), "--gains"),
+])
+def test_cli_bad_input_is_one_line_and_exit_2(cli, args, field):
+    r = cli("simulate", "abs-vehicle", "--controller", "pid", *args)
+    assert r.code == 2
+    lines = r.err.strip().splitlines()
+    assert len(lines) == 1 and field in lines[0] and "Traceback" not in r.err
+    assert r.out == ""
+
+
+def test_cli_simulate_json_and_plot(cli, tmp_path):
+    import json
+
+    png = tmp_path / "car.png"
+    r = cli("simulate", "abs-vehicle", "--road", "split-mu", "--controller", "pid", "--param",
+            "steering=driver", "--json", "--plot", str(png))
+    assert r.code == 0, r.err
+    doc = json.loads(r.out)
+    assert doc["plant"] == "abs-vehicle" and doc["preset"] == "paper-deffao"
+    assert doc["params"]["steering"] == "driver" and doc["params"]["left_surface"] == "dry-concrete"
+    assert doc["metrics"]["stopped"] and not doc["metrics"]["spun"]
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.slow
+def test_general_path_agrees_with_an_independent_scipy_integration():
+    """Split-mu (yaw, lateral slip, Newton loads): the kernel's RK4 at 1 ms against scipy's RK45
+    at rtol 1e-8 on the plain-Python right-hand side of perf/vehicle.py (loads by fixed-point
+    iteration, the tire written out separately)."""
+    from chassistune.perf.vehicle import reference_solution
+
+    sc = PLANT.scenario(None, "split-mu", "pid", {"t_max_s": 0.6})
+    g = sc.gains_array(None)
+    sol = reference_solution(sc, g, rtol=1e-8, atol=1e-9)
+    s = sc.trace(g).signals
+    assert sol.t[-1] == pytest.approx(s["time_s"][-1], abs=1e-12)
+    for row, name in ((0, "vx_m_s"), (1, "vy_m_s"), (2, "yaw_rate_rad_s"), (3, "x_m"),
+                      (4, "y_m"), (5, "heading_rad"), (26, "distance_m")):
+        assert s[name][-1] == pytest.approx(sol.y[row, -1], rel=1e-5), name
+    assert abs(s["yaw_rate_rad_s"][-1]) > 0.3  # a real yaw, not a trivial agreement
