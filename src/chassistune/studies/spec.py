@@ -95,6 +95,10 @@ class BudgetConfig(_Model):
         return data
 
 
+MISSING = "missing required field: "
+"""Prefix of a validator's error that names a missing field (reported at that field's path)."""
+
+
 class ScenarioConfig(_Model):
     """`[[scenarios]]`: what is tuned, on which roads, scored how; or, with `functions`, the
     benchmark functions an optimizer comparison minimizes (no plant, controller or roads)."""
@@ -161,8 +165,10 @@ class ScenarioConfig(_Model):
                                  f"{', '.join(extra)}")
             if not self.functions or len(set(self.functions)) != len(self.functions):
                 raise ValueError("`functions` must list distinct benchmark functions")
-        elif self.plant is None or self.controller is None:
-            raise ValueError("a scenario needs `plant` and `controller` (or `functions`)")
+        else:
+            for key in ("plant", "controller"):
+                if getattr(self, key) is None:
+                    raise ValueError(f"{MISSING}{key}")
         return self
 
 
@@ -308,6 +314,9 @@ def _first_error(exc: ValidationError) -> InputError:
         problem = "missing required field"
     else:
         problem = str(err["msg"]).removeprefix("Value error, ")
+        if problem.startswith(MISSING):  # a field required by the scenario's kind
+            return InputError(_where((*err["loc"], problem.removeprefix(MISSING))),
+                              "missing required field")
         problem = problem[:1].lower() + problem[1:]
         value = err.get("input")
         if kind != "value_error" and isinstance(value, str | int | float | bool):
