@@ -18,15 +18,12 @@ from __future__ import annotations
 
 import argparse
 import json
-from dataclasses import fields
 
 import numpy as np
 
-from chassistune.scenarios.base import PENALTY
-from chassistune.tuning.problem import TuningProblem, build_problem
+from chassistune.tuning.problem import build_problem
 from chassistune.tuning.robust.aggregate import parse_aggregate
 from chassistune.tuning.robust.problem import (
-    RobustProblem,
     controller_sensitivity,
     known_for,
     robust_problem,
@@ -36,24 +33,6 @@ from chassistune.tuning.robust.spec import PassCriterion, UncertaintySpec, parse
 from chassistune.tuning.tune import run_optimizer
 
 VARY = ["mass_kg=80:120", "mu_scale=0.85:1.15", "v0_m_s=20:35", "actuator_tau_s=0.007:0.013"]
-
-
-class NominalPerBound(TuningProblem):
-    """abs-wheel objective `distance_ratio` (stop distance / adhesion bound), until the scenario
-    offers it: the `distance` cost divided by the scenario's bound, penalties kept."""
-
-    def __call__(self, gains: np.ndarray) -> np.ndarray:
-        c = super().__call__(gains)
-        return np.where(c < PENALTY, c / self.scenarios[0].bound_distance_m, c)
-
-
-class RobustPerBound(RobustProblem):
-    """The same per scenario of the training set."""
-
-    def costs(self, gains: np.ndarray) -> np.ndarray:
-        c = super().costs(gains)
-        bounds = np.array([[sc.bound_distance_m for sc in row] for row in self.grid])
-        return np.where(c < PENALTY, c / bounds[None], c)
 
 
 def main() -> None:
@@ -77,19 +56,12 @@ def main() -> None:
     ap.add_argument("--plot", default="")
     a = ap.parse_args()
 
-    per_bound = a.objective == "distance_ratio"
-    nominal = build_problem(a.plant, a.controller,
-                            objective="distance" if per_bound else a.objective)
+    nominal = build_problem(a.plant, a.controller, objective=a.objective)
     criterion = (PassCriterion(False, True, 0.0, a.max_cost) if a.max_cost > 0
                  else PassCriterion())
     spec = UncertaintySpec(parse_vary(a.vary or VARY, known_for(nominal)), a.scenarios, "sobol",
                            parse_aggregate(a.aggregate), a.validate, criterion=criterion)
     robust = robust_problem(nominal, spec, seed=a.seed)
-    if per_bound:
-        nominal = NominalPerBound(**{f.name: getattr(nominal, f.name)
-                                     for f in fields(TuningProblem)})
-        robust = RobustPerBound(**{f.name: getattr(robust, f.name)
-                                   for f in fields(RobustProblem)})
     draws = validation_set(spec, a.validation_seed)
     out = {}
     for label, problem in (("nominal", nominal), ("robust", robust)):

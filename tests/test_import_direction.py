@@ -2,7 +2,7 @@
 included, is parsed and checked against the layers
 
     plants, controllers (-> fuzzy), fuzzy, optimizers, benchmarks  <-  sim  <-  scenarios
-    <-  tuning  <-  studies  <-  reports  <-  papers  <-  cli
+    <-  tuning  <-  studies  <-  reports, export  <-  papers  <-  cli
 
 plots are imported by reports, papers and cli only; nothing imports cli; matplotlib is imported in
 plots only. The shared helpers at the top of the package (errors, params, stats, _registry, ...)
@@ -24,7 +24,7 @@ RANK = {
     "scenarios": 2,
     "tuning": 3, "simulate": 3,
     "studies": 4,
-    "reports": 5, "perf": 5, "plots": 5,
+    "reports": 5, "perf": 5, "plots": 5, "export": 5,
     "papers": 6,
     "cli": 7,
 }
@@ -109,6 +109,10 @@ def test_the_parser_sees_top_level_and_lazy_imports() -> None:
     ("reports", "chassistune.plots.registry", True),
     ("studies", "chassistune.cli.common", False),
     ("sim", "matplotlib.pyplot", False),
+    ("export", "chassistune.studies.store", True),
+    ("export", "chassistune.reports.outputs", False),
+    ("export", "chassistune.cli.common", False),
+    ("studies", "chassistune.export.source", False),
 ])
 def test_the_rules_refuse_what_the_design_forbids(importer: str, target: str,
                                                    allowed: bool) -> None:

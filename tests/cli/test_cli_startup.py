@@ -10,7 +10,7 @@ import pytest
 
 from chassistune.cli.main import cli
 
-COMMANDS = {"list", "simulate", "tune", "optimize", "study", "fuzzy", "bench", "demo",
+COMMANDS = {"list", "simulate", "tune", "optimize", "study", "fuzzy", "export", "bench", "demo",
             "reproduce", "warmup"}
 
 PROBE = """
@@ -46,6 +46,7 @@ def test_no_arguments_prints_the_multi_line_help(cli) -> None:  # type: ignore[n
 
 
 @pytest.mark.parametrize("args", [("--help",), ("--version",), ("study", "--help"),
+                                  ("export", "--help"),
                                   ("list", "plants"), ("list", "plants", "--json"),
                                   ("list", "controllers")])
 def test_fast_paths_import_no_numba(args: tuple[str, ...]) -> None:

@@ -9,7 +9,6 @@ import pytest
 from chassistune.errors import InputError
 from chassistune.tuning.problem import build_problem
 from chassistune.tuning.robust.aggregate import Aggregate, parse_aggregate
-from chassistune.tuning.robust.plant_params import draw_params
 from chassistune.tuning.robust.problem import (
     controller_sensitivity,
     known_for,
@@ -39,8 +38,8 @@ def spec(aggregate: str = "max", k: int = 8, validate: int = 0) -> UncertaintySp
 def test_max_over_k_scenarios_equals_the_max_of_k_single_scenario_runs_bit_for_bit():
     s = spec("max")
     rp = robust_problem(build_problem("abs-wheel", "pid"), s, seed=11)
-    singles = np.stack([build_problem("abs-wheel", "pid", params=draw_params(
-        rp.scenarios[0], {}, row))(GAINS) for row in rp.training.rows()], axis=1)
+    singles = np.stack([build_problem("abs-wheel", "pid", params=row)(GAINS)
+                        for row in rp.training.rows()], axis=1)
     assert singles.shape == (4, 8)
     np.testing.assert_array_equal(rp(GAINS), singles.max(axis=1))
     np.testing.assert_array_equal(rp.costs(GAINS)[:, :, 0], singles)
@@ -67,11 +66,11 @@ def test_every_candidate_sees_the_same_k_scenarios():
     np.testing.assert_array_equal(whole, np.minimum(agg(rp.costs(GAINS)), 1e9))
 
 
-@pytest.mark.parametrize("road", ["wet-asphalt", "burckhardt-dry-asphalt"])
+@pytest.mark.parametrize("road", ["wet-asphalt", "burckhardt-dry-asphalt", "sldemo-table"])
 def test_mu_scale_multiplies_the_whole_curve_and_the_bound_follows(road):
     nominal = build_problem("abs-wheel", "pid", roads=[road]).scenarios[0]
     scaled = build_problem("abs-wheel", "pid", roads=[road],
-                           params=draw_params(nominal, {}, {"mu_scale": 0.8})).scenarios[0]
+                           params={"mu_scale": 0.8}).scenarios[0]
     s = np.linspace(0.0, 1.0, 101)
     np.testing.assert_allclose(scaled.tire.mu(s), 0.8 * nominal.tire.mu(s), rtol=1e-14,
                                atol=1e-16)
@@ -79,12 +78,12 @@ def test_mu_scale_multiplies_the_whole_curve_and_the_bound_follows(road):
     assert scaled.bound_distance_m == pytest.approx(nominal.bound_distance_m / 0.8, rel=1e-12)
 
 
-def test_mu_scale_is_not_offered_on_a_table_road_and_unknown_names_are_refused():
+def test_mu_scale_is_offered_on_every_road_and_unknown_names_are_refused():
     sldemo = build_problem("abs-wheel", "pid", preset="sldemo")
-    assert "mu_scale" not in known_for(sldemo)
-    assert "mass_kg" in known_for(sldemo)
-    with pytest.raises(InputError, match=r"^vary\.mu_scale: unknown uncertain parameter"):
-        parse_vary(["mu_scale=0.9:1.1"], known_for(sldemo))
+    assert {"mu_scale", "mass_kg"} <= set(known_for(sldemo))
+    assert "slips" not in known_for(sldemo)
+    with pytest.raises(InputError, match=r"^vary\.mu_scale: range \[-0\.1, 1\.1\] outside"):
+        parse_vary(["mu_scale=-0.1:1.1"], known_for(sldemo))
     with pytest.raises(InputError, match=r"^vary\.dt_s: unknown uncertain parameter"):
         parse_vary(["dt_s=0.001:0.002"], known_for(build_problem("abs-wheel", "pid")))
 
@@ -200,3 +199,43 @@ def test_no_training_scenarios_is_nominal_tuning_validated_on_the_same_draws():
     np.testing.assert_array_equal(validation_set(rp.spec, 0).values,
                                   validation_set(robust.spec, 0).values)
     assert rp.validate(GAINS[0]).passed.tolist() == robust.validate(GAINS[0]).passed.tolist()
+
+
+def test_the_distance_ratio_objective_is_the_distance_cost_over_the_bound():
+    for road in ("dry-concrete", "wet-asphalt"):
+        sc = build_problem("abs-wheel", "pid", roads=[road], params={"v0_m_s": 24.0}).scenarios[0]
+        distance = sc.cost(GAINS, "distance")
+        ratio = sc.cost(GAINS, "distance_ratio")
+        ok = distance < 1e9
+        assert ok[:3].all() and not ok[3]
+        np.testing.assert_array_equal(ratio[ok], distance[ok] / sc.bound_distance_m)
+        assert ratio[3] == 1e9 and np.all(ratio[ok] >= 1.0)  # no run beats the adhesion bound
+
+
+def test_cvar_aggregates_across_roads_too():
+    roads = ["dry-concrete", "wet-asphalt", "burckhardt-snow"]
+    per_road = np.stack([build_problem("abs-wheel", "pid", roads=[r])(GAINS) for r in roads],
+                        axis=1)
+    for text, agg in (("cvar:0.5", Aggregate("cvar", 0.5)), ("max", Aggregate("max"))):
+        problem = build_problem("abs-wheel", "pid", roads=roads, aggregate=text)
+        assert problem.aggregate == text
+        np.testing.assert_array_equal(problem(GAINS), np.minimum(agg(per_road), 1e9))
+    with pytest.raises(InputError, match=r"^aggregate: cvar ALPHA must be in \(0, 1\]"):
+        build_problem("abs-wheel", "pid", aggregate="cvar:1.5")
+
+
+def test_chassistune_tune_with_uncertainty_does_what_tune_vary_does():
+    import chassistune
+
+    table = {"vary": {"mass_kg": "80:120", "mu_scale": [0.85, 1.15]}, "scenarios": 4,
+             "aggregate": "cvar:0.5", "validate": 10}
+    res = chassistune.tune("abs-wheel", "pid", "pso", pop_size=6, max_iter=2, seed=5,
+                           uncertainty=table)
+    nominal = build_problem("abs-wheel", "pid", seed=5)
+    s = spec_from_options(known_for(nominal), ["mass_kg=80:120", "mu_scale=0.85:1.15"], 4,
+                          "sobol", "cvar:0.5", 10)
+    same = tune_robust(nominal, s, "pso", pop_size=6, max_iter=2, seed=5)
+    assert res.result.best_gains == same.result.best_gains
+    np.testing.assert_array_equal(res.problem.training.values, same.problem.training.values)
+    assert res.as_dict()["validation"] == same.as_dict()["validation"]
+    assert res.validation is not None and res.validation.n == 10

@@ -12,7 +12,7 @@ import click
 
 from chassistune.cli.common import echo_json, fmt
 
-AREAS = ("abs", "optimizer", "tuning", "fuzzy", "suspension", "vehicle")
+AREAS = ("abs", "optimizer", "tuning", "fuzzy", "suspension", "vehicle", "ecu", "robust")
 
 
 @click.command("bench")

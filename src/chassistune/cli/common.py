@@ -18,16 +18,22 @@ _FLAGS = {
     "preset": "--preset", "controller": "--controller", "objective": "--objective",
     "aggregate": "--aggregate", "seed": "--seed", "optimizer": "--optimizer", "pop_size": "--pop",
     "max_iter": "--iters", "max_evals": "--evals", "dim": "--dim", "plant": "PLANT",
-    "function": "FUNCTION",
+    "function": "FUNCTION", "source": "SOURCE", "out": "--out", "format": "--format",
+    "vary": "--vary", "scenarios": "--scenarios", "sampler": "--sampler", "validate": "--validate",
+    "beta": "--beta",
 }
 """The command line's word for the head of a domain field path."""
 
+_COMMAND_FLAGS = {"export": {"plant": "--plant"}}
+"""Where a command spells a head otherwise (export takes the plant as an option)."""
 
-def cli_field(field: str) -> str:
+
+def cli_field(field: str, command: str | None = None) -> str:
     """The command-line words for a domain field path (the one mapping): `params.v0_m_s` ->
-    `--param v0_m_s`, `gains.kp` -> `--gains kp`, `roads` -> `--road`; others unchanged."""
+    `--param v0_m_s`, `gains.kp` -> `--gains kp`, `roads` -> `--road`, `plant` -> `PLANT` (or
+    `--plant` in the command `export`); others unchanged."""
     head, dot, rest = field.partition(".")
-    flag = _FLAGS.get(head)
+    flag = _COMMAND_FLAGS.get(command or "", {}).get(head) or _FLAGS.get(head)
     if flag is None:
         return field
     return f"{flag} {rest}" if dot else flag

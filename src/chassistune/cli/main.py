@@ -13,6 +13,7 @@ import click
 
 from chassistune.cli.bench import bench_command
 from chassistune.cli.demo import demo_command
+from chassistune.cli.export import export_command
 from chassistune.cli.fuzzy import fuzzy_group
 from chassistune.cli.list_cmd import list_command
 from chassistune.cli.optimize import optimize_command
@@ -35,7 +36,8 @@ def cli() -> None:
 
 
 for _command in (list_command, simulate_command, tune_command, optimize_command, study_group,
-                 fuzzy_group, bench_command, demo_command, reproduce_command, warmup_command):
+                 fuzzy_group, export_command, bench_command, demo_command, reproduce_command,
+                 warmup_command):
     cli.add_command(_command)
 
 
@@ -53,8 +55,10 @@ def main(argv: list[str] | None = None) -> None:
     except InputError as exc:
         from chassistune.cli.common import cli_field
 
-        click.echo(f"chassistune: error: {cli_field(exc.field)}: {_one_line(exc.problem)}",
-                   err=True)
+        # the command's name: the first word that is not an option (the group's take no value)
+        command = next((a for a in args if not a.startswith("-")), None)
+        click.echo(f"chassistune: error: {cli_field(exc.field, command)}: "
+                   f"{_one_line(exc.problem)}", err=True)
         sys.exit(2)
     except click.UsageError as exc:
         param = getattr(exc, "param", None)

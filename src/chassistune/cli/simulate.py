@@ -56,12 +56,14 @@ def _print_metrics(metrics: dict[str, object]) -> None:
               help="Controller gains (default: the registry's defaults).")
 @click.option("--seed", default=0, show_default=True, type=int,
               help="Seed of any random draw (road realizations).")
+@click.option("--ecu", type=click.Choice(["ideal", "realistic"]),
+              help="abs-wheel: ideal controller or the realistic ECU (docs/ecu.md).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
 @click.option("--plot", "plot_path", metavar="FILE.png", help="Draw the response into FILE.png.")
 @click.option("--csv", "csv_path", metavar="FILE.csv", help="Write the time series to FILE.csv.")
 def simulate_command(plant: str, preset: str | None, road: str | None, controller: str,
                      params: tuple[str, ...], gains: tuple[str, ...], seed: int, as_json: bool,
-                     plot_path: str | None, csv_path: str | None) -> None:
+                     plot_path: str | None, csv_path: str | None, ecu: str | None) -> None:
     """Simulate one closed-loop run of PLANT and report its metrics.
 
     PLANT is one of the plants of `chassistune list plants` (abs-wheel, quarter-car). Units are SI.
@@ -76,8 +78,10 @@ def simulate_command(plant: str, preset: str | None, road: str | None, controlle
         get_plant(plant)  # raises the one-line error listing the plants
     check_output_file(plot_path, "--plot", ".png")
     check_output_file(csv_path, "--csv", ".csv")
-    result = simulate(plant, preset=preset, road=road, controller=controller,
-                      params=parse_assignments(params, "--param"),
+    values = parse_assignments(params, "--param")
+    if ecu:
+        values["ecu"] = ecu
+    result = simulate(plant, preset=preset, road=road, controller=controller, params=values,
                       gains=parse_assignments(gains, "--gains"), seed=seed)
     if plot_path:
         plot_trace(result.scenario, result.trace, plot_path)

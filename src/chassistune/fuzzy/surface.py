@@ -131,32 +131,42 @@ def _locate(lo: float, step: float, n: int, x: float) -> tuple[int, float]:  # p
 
 @njit(cache=True, nogil=True, inline="always")
 def surface_cell(table: SurfaceTable, x0: float, x1: float):  # pragma: no cover
-    """Where (x0, x1) falls: (nodes, o, row, f0, f1) with `nodes` a flat node array (the coarse
-    values or the refined blocks), `o` the flat index of the cell's node (i, j, output 0), `row`
-    the flat distance to node (i + 1, j) and f0, f1 the fractions in the cell. Inputs must not be
-    NaN (check before calling); outside the grid they are clipped to it."""
-    values, block, block_start, block_r, fine, lo0, step0, lo1, step1 = table
+    """Where (x0, x1) falls: (b, i, j, o, row, f0, f1). b < 0: coarse cell (i, j); else refined
+    block b, whose cell node (p, q, output 0) is fine[o] and node (p + 1, q) is `row` further;
+    f0, f1: the fractions in the cell. Inputs must not be NaN (check before calling); outside the
+    grid they are clipped to it."""
+    values, block, block_start, block_r, _fine, lo0, step0, lo1, step1 = table
     n0, n1, n_out = values.shape
     i, f0 = _locate(lo0, step0, n0, x0)
     j, f1 = _locate(lo1, step1, n1, x1)
     b = block[i, j]
     if b < 0:
-        return values.reshape(values.size), (i * n1 + j) * n_out, n1 * n_out, f0, f1
+        return b, i, j, 0, 0, f0, f1
     r = block_r[b]
     p, g0 = _locate(0.0, 1.0, r + 1, f0 * r)
     q, g1 = _locate(0.0, 1.0, r + 1, f1 * r)
-    return fine, block_start[b] + (p * (r + 1) + q) * n_out, (r + 1) * n_out, g0, g1
+    return b, i, j, block_start[b] + (p * (r + 1) + q) * n_out, (r + 1) * n_out, g0, g1
 
 
 @njit(cache=True, nogil=True, inline="always")
 def cell_output(
-    nodes: NDArray[np.float64], o: int, row: int, n_out: int, f0: float, f1: float, k: int
+    table: SurfaceTable, b: int, i: int, j: int, o: int, row: int, f0: float, f1: float, k: int
 ) -> float:  # pragma: no cover
     """Bilinear interpolation of output k in the cell found by `surface_cell`."""
-    a = o + k
-    return (nodes[a] * (1.0 - f1) + nodes[a + n_out] * f1) * (1.0 - f0) + (
-        nodes[a + row] * (1.0 - f1) + nodes[a + row + n_out] * f1
-    ) * f0
+    values = table[0]
+    fine = table[4]
+    if b < 0:
+        v00 = values[i, j, k]
+        v01 = values[i, j + 1, k]
+        v10 = values[i + 1, j, k]
+        v11 = values[i + 1, j + 1, k]
+    else:
+        n_out = values.shape[2]
+        v00 = fine[o + k]
+        v01 = fine[o + n_out + k]
+        v10 = fine[o + row + k]
+        v11 = fine[o + row + n_out + k]
+    return (v00 * (1.0 - f1) + v01 * f1) * (1.0 - f0) + (v10 * (1.0 - f1) + v11 * f1) * f0
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -164,8 +174,8 @@ def surface_output(table: SurfaceTable, k: int, x0: float, x1: float) -> float: 
     """Output k at (x0, x1), clipped to the grid; NaN in, NaN out (inlined into the caller)."""
     if x0 != x0 or x1 != x1:
         return np.nan
-    nodes, o, row, f0, f1 = surface_cell(table, x0, x1)
-    return cell_output(nodes, o, row, table[0].shape[2], f0, f1, k)
+    b, i, j, o, row, f0, f1 = surface_cell(table, x0, x1)
+    return cell_output(table, b, i, j, o, row, f0, f1, k)
 
 
 @njit(cache=True, nogil=True)
@@ -183,9 +193,9 @@ def surface_lookup(
     if x0 != x0 or x1 != x1:
         out[:n_out] = np.nan
         return
-    nodes, o, row, f0, f1 = surface_cell(table, x0, x1)
+    b, i, j, o, row, f0, f1 = surface_cell(table, x0, x1)
     for k in range(n_out):
-        out[k] = cell_output(nodes, o, row, n_out, f0, f1, k)
+        out[k] = cell_output(table, b, i, j, o, row, f0, f1, k)
 
 
 @njit(cache=True, nogil=True)

@@ -1,18 +1,34 @@
-"""ABS figures: `abs_sims_per_s`, `abs_max_rel_err`, `abs_speedup_vs_solve_ivp` (DESIGN 8).
+"""ABS figures (DESIGN 8): speed, accuracy over presets and the tuning box, speed of the fuzzy
+controllers, cost per candidate-step against the population size.
 
-Population: 50 gain triples 10 ** U(log10 lo, log10 hi) with (lo, hi) = (10, 3162), (1, 1000),
-(0.01, 10) for kp, ki, kd from make_rng(12345); preset paper-derlsp-ao, PID, dry concrete,
-simulated to v_stop on one core. The baseline is what a Python user writes today: the same closed
-loop as a scipy `solve_ivp` RK45 right-hand side (max_step 1e-3, terminal event at v_stop).
+Population (`bench_population`): 50 gain triples 10 ** U(log10 lo, log10 hi) with (lo, hi) =
+(10, 3162), (1, 1000), (0.01, 10) for kp, ki, kd from make_rng(12345); preset
+paper-derlsp-ao, PID, dry concrete, simulated to v_stop on one core. Speeds are best-of-n wall
+times (`*_sims_per_s`) and, since the machine is shared, also thread CPU times (`*_cpu`); every
+ratio is measured in the same run. Baselines: scipy `solve_ivp` RK45 (max_step 1e-3, terminal
+event at v_stop), what a Python user writes today, and the stage-by-stage kernel that preceded
+the persistent lanes (`_abs_kernel_previous`, temporary), timed interleaved with the lane kernel.
+
+Accuracy: relative error of stop distance and slip ITAE against the same run at dt/100, over the
+runs that stop at both steps (`abs_max_rel_err`: the population above; `_presets`: the PID with
+its default gains and the population on every preset and road at the preset's default step;
+`_box`: 200 gain vectors uniform in the PID's tuning bounds on each preset's first road).
 """
 
 from __future__ import annotations
+
+import time
+from collections.abc import Callable
 
 import numpy as np
 
 from chassistune._rng import make_rng
 from chassistune.perf.timing import best_time
+from chassistune.plants.abs_wheel import PRESETS
 from chassistune.scenarios.abs_wheel import PLANT, AbsWheelScenario
+from chassistune.sim import abs_wheel_layout as KL
+
+ERROR_COLUMNS = ("stop_distance_m", "slip_itae")
 
 
 def bench_population() -> np.ndarray:
@@ -21,6 +37,97 @@ def bench_population() -> np.ndarray:
     lo = np.log10([10.0, 1.0, 0.01])
     hi = np.log10([3162.0, 1000.0, 10.0])
     return np.asarray(10 ** rng.uniform(lo, hi, (50, 3)))
+
+
+def box_population(scenario: AbsWheelScenario, n: int, seed: int) -> np.ndarray:
+    """n gain rows uniform in the controller's tuning bounds."""
+    lo, hi = np.array([(g.lo, g.hi) for g in scenario.controller.gains]).T
+    return lo + (hi - lo) * make_rng(seed).random((n, lo.size))
+
+
+def best_cpu_time(fn: Callable[[], object], repeats: int) -> float:
+    """Shortest thread CPU time of `repeats` calls (time descheduled on a shared machine is not
+    counted)."""
+    best = float("inf")
+    for _ in range(repeats):
+        t0 = time.thread_time()
+        fn()
+        best = min(best, time.thread_time() - t0)
+    return best
+
+
+def rel_errors(scenario: AbsWheelScenario, gains: np.ndarray, refine: int = 100) -> np.ndarray:
+    """Per candidate, the larger relative error of ERROR_COLUMNS against dt / refine; NaN where
+    a run does not stop at both steps."""
+    fine = PLANT.scenario(scenario.preset, scenario.road, scenario.controller.name,
+                          {"dt_s": scenario.plant_params.dt_s / refine})
+    ours, ref = scenario.raw(gains), fine.raw(gains)
+    stopped = KL.STATUS_NAMES.index("stopped")
+    both = (ours[:, KL.METRICS["status"]] == stopped) & (ref[:, KL.METRICS["status"]] == stopped)
+    err = np.zeros(len(gains))
+    for name in ERROR_COLUMNS:
+        c = KL.METRICS[name]
+        err = np.maximum(err, np.abs(ours[:, c] - ref[:, c]) / np.abs(ref[:, c]))
+    return np.where(both, err, np.nan)
+
+
+def preset_errors(box: bool = False) -> dict[str, float]:
+    """Worst relative error per 'preset/road' (see the module docstring); box: the tuning-box
+    population on each preset's first road."""
+    out: dict[str, float] = {}
+    for name, preset in PRESETS.items():
+        for road in preset.info.roads[:1] if box else preset.info.roads:
+            sc = PLANT.scenario(name, road, "pid")
+            if box:
+                gains = box_population(sc, 200, 7)
+            else:
+                default = [[g.default for g in sc.controller.gains]]
+                gains = np.vstack([default, bench_population()])
+            out[f"{name}/{road}"] = float(np.nanmax(rel_errors(sc, gains)))
+    return out
+
+
+def population_costs(sizes: tuple[int, ...] = (1, 10, 50, 200, 1000)) -> dict[int, float]:
+    """Thread CPU ns per candidate-step of the PID on dry concrete against the population size
+    (the bench population tiled)."""
+    sc = PLANT.scenario("paper-derlsp-ao", "dry-concrete", "pid")
+    base = bench_population()
+    out = {}
+    for n in sizes:
+        gains = np.resize(base, (n, 3))
+        steps = float(np.sum(sc.raw(gains, workers=1)[:, KL.METRICS["stop_time_s"]])) / (
+            sc.plant_params.dt_s)
+
+        def run(g: np.ndarray = gains) -> None:
+            sc.raw(g, workers=1)
+
+        out[n] = 1e9 * best_cpu_time(run, 3 if n >= 200 else 7) / steps
+    return out
+
+
+def _controller_speed(controller: str, repeats: int) -> tuple[float, float]:
+    """(wall, cpu) sims/s of 50 gain rows uniform in the controller's bounds (dry concrete)."""
+    sc = PLANT.scenario("paper-derlsp-ao", "dry-concrete", controller)
+    gains = box_population(sc, 50, 12345)
+    sc.raw(gains[:2], workers=1)
+    wall = best_time(lambda: sc.raw(gains, workers=1), repeats)
+    cpu = best_cpu_time(lambda: sc.raw(gains, workers=1), repeats)
+    return len(gains) / wall, len(gains) / cpu
+
+
+def _previous_kernel_speed(sc: AbsWheelScenario, gains: np.ndarray, repeats: int) -> float:
+    """CPU sims/s of the stage-by-stage kernel before the lanes, same scenario and gains."""
+    from chassistune.perf import _abs_kernel_previous as previous
+
+    p, kind, coef, xs, ys, ckind, c, table = sc._kernel_args
+    out = np.zeros((len(gains), len(KL.METRICS)))
+
+    def call() -> None:
+        previous.simulate_abs_wheel(gains, p, kind, coef, xs, ys, ckind, c, table,
+                                    np.zeros((0, len(KL.TRACE))), out)
+
+    call()
+    return len(gains) / best_cpu_time(call, repeats)
 
 
 def solve_ivp_run(scenario: AbsWheelScenario, gains: np.ndarray) -> tuple[float, float]:
@@ -57,26 +164,34 @@ def solve_ivp_run(scenario: AbsWheelScenario, gains: np.ndarray) -> tuple[float,
 
 
 def figures(quick: bool = False) -> dict[str, float]:
-    """Measure the three ABS figures in this run."""
+    """Measure the ABS figures in this run."""
+    repeats = 3 if quick else 7
     gains = bench_population()
     sc = PLANT.scenario("paper-derlsp-ao", "dry-concrete", "pid")
     sc.raw(gains[:2], workers=1)  # compile / load the cache outside the timing
-    t_kernel = best_time(lambda: sc.raw(gains, workers=1), 3 if quick else 7)
-    sims_per_s = len(gains) / t_kernel
-    ref = PLANT.scenario("paper-derlsp-ao", "dry-concrete", "pid",
-                         {"dt_s": sc.plant_params.dt_s / 100}).raw(gains)
-    ours = sc.raw(gains, workers=1)
-    errs = []
-    for col in ("stop_distance_m", "slip_itae"):
-        from chassistune.scenarios.abs_wheel import METRIC_COLUMNS
-
-        c = METRIC_COLUMNS[col]
-        errs.append(np.max(np.abs(ours[:, c] - ref[:, c]) / np.abs(ref[:, c])))
+    sims_per_s = len(gains) / best_time(lambda: sc.raw(gains, workers=1), repeats)
+    previous = _previous_kernel_speed(sc, sc._kernel_gains(gains), repeats)
+    cpu = len(gains) / best_cpu_time(lambda: sc.raw(gains, workers=1), repeats)
     subset = gains[: 2 if quick else 5]
     t_ivp = best_time(lambda: [solve_ivp_run(sc, g) for g in subset], 1) / len(subset)
-    return {
+    fuzzy_wall, fuzzy_cpu = _controller_speed("fuzzy-pid", repeats)
+    immune_wall, immune_cpu = _controller_speed("fuzzy-immune-pid", repeats)
+    out = {
         "abs_sims_per_s": sims_per_s,
-        "abs_max_rel_err": float(max(errs)),
+        "abs_sims_per_s_cpu": cpu,
+        "abs_previous_kernel_sims_per_s_cpu": previous,
+        "abs_speedup_vs_previous_kernel": cpu / previous,
+        "abs_max_rel_err": float(np.nanmax(rel_errors(sc, gains))),
+        "abs_max_rel_err_presets": max(preset_errors().values()),
+        "abs_max_rel_err_box": max(preset_errors(box=True).values()),
         "abs_speedup_vs_solve_ivp": sims_per_s * t_ivp,
         "abs_solve_ivp_sims_per_s": 1.0 / t_ivp,
+        "abs_fuzzy_pid_sims_per_s": fuzzy_wall,
+        "abs_fuzzy_pid_sims_per_s_cpu": fuzzy_cpu,
+        "abs_immune_sims_per_s": immune_wall,
+        "abs_immune_sims_per_s_cpu": immune_cpu,
     }
+    if not quick:
+        for n, ns in population_costs().items():
+            out[f"abs_ns_per_candidate_step_pop_{n}"] = ns
+    return out

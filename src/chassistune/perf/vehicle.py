@@ -43,7 +43,7 @@ def reference_rhs(scenario: AbsVehicleScenario, gains: np.ndarray
     side = [0, 1, 0, 1] if road.kind == 2 else [0, 0, 0, 0]
     stiff = pp.cornering_stiffness_n_rad
     nf = float(scenario.controller_params.get("n_filter", 100.0))
-    table = scenario._kernel_args[5]
+    table = scenario.fuzzy_surface
     fuzzy = len(gains) == 8
     out = np.zeros(3)
 

@@ -51,15 +51,15 @@ def friction_roads() -> dict[str, str]:
 
 
 def tire_for_road(road: str, values: Mapping[str, object]) -> tuple[TireCurve, set[str]]:
-    """The road's tire curve with overrides (slip_opt/mu_peak/mu_lock or c1/c2/c3) applied, and
-    the names of `values` used."""
+    """The road's tire curve with overrides (slip_opt/mu_peak/mu_lock or c1/c2/c3, and mu_scale
+    on every road) applied, and the names of `values` used."""
     base: TireCurve
     surface = road[len(BURCKHARDT_PREFIX):]
     if road in BILINEAR_ROADS:
         s, h, g, _ = BILINEAR_ROADS[road]
         base = BilinearTire(s, h, g)
-    elif road == "sldemo-table":
-        return SLDEMO_TABLE, set()
+    elif road == "sldemo-table":  # its table is fixed; only the scale of the curve varies
+        return override(SLDEMO_TABLE, {k: v for k, v in values.items() if k == "mu_scale"})
     elif road.startswith(BURCKHARDT_PREFIX) and surface in BURCKHARDT_SURFACES:
         base = BurckhardtTire(*BURCKHARDT_SURFACES[surface])
     else:

@@ -8,6 +8,10 @@ are data, not code paths:
   (0, 0), (S_T, mu_h), (1, mu_g);
 * Burckhardt: mu = c1 (1 - exp(-c2 S)) - c3 S;
 * a piecewise-linear table (MathWorks' sldemo_absbrake mu-slip table).
+
+Every curve has `mu_scale` (default 1, positive), a road parameter multiplying the whole curve
+mu(S) (a road slicker or grippier than its nominal curve; issue 17): bilinear mu_h and mu_g,
+Burckhardt c1 and c3, a table's mus. The peak slip stays; the peak friction scales.
 """
 
 from __future__ import annotations
@@ -105,15 +109,16 @@ class BilinearTire(TireCurve):
     slip_opt: float = field(metadata=_POS)
     mu_peak: float = field(metadata=_POS)
     mu_lock: float = field(metadata=_NONNEG)
+    mu_scale: float = field(default=1.0, metadata=_POS)
 
     def __post_init__(self) -> None:
         if not 0.0 < self.slip_opt < 1.0:
             raise InputError("params.slip_opt", f"must be in (0, 1), got {self.slip_opt:g}")
 
     def kernel_data(self) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
-        xs = np.array([0.0, self.slip_opt, 1.0])
-        ys = np.array([0.0, self.mu_peak, self.mu_lock])
-        st, h, g = self.slip_opt, self.mu_peak, self.mu_lock
+        st, h, g = self.slip_opt, self.mu_peak * self.mu_scale, self.mu_lock * self.mu_scale
+        xs = np.array([0.0, st, 1.0])
+        ys = np.array([0.0, h, g])
         coef = np.array([st, h / st, (h - g * st) / (1.0 - st), (h - g) / (1.0 - st)])
         return KIND_BILINEAR, coef, xs, ys
 
@@ -125,9 +130,11 @@ class BurckhardtTire(TireCurve):
     c1: float = field(metadata=_POS)
     c2: float = field(metadata=_POS)
     c3: float = field(metadata=_NONNEG)
+    mu_scale: float = field(default=1.0, metadata=_POS)
 
     def kernel_data(self) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
-        return KIND_BURCKHARDT, np.array([self.c1, self.c2, self.c3]), np.zeros(2), np.zeros(2)
+        coef = np.array([self.c1 * self.mu_scale, self.c2, self.c3 * self.mu_scale])
+        return KIND_BURCKHARDT, coef, np.zeros(2), np.zeros(2)
 
 
 @dataclass(frozen=True)
@@ -136,9 +143,10 @@ class TableTire(TireCurve):
 
     slips: tuple[float, ...]
     mus: tuple[float, ...]
+    mu_scale: float = field(default=1.0, metadata=_POS)
 
     def kernel_data(self) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
-        return KIND_TABLE, np.zeros(3), np.array(self.slips), np.array(self.mus)
+        return KIND_TABLE, np.zeros(3), np.array(self.slips), np.array(self.mus) * self.mu_scale
 
 
 SLDEMO_TABLE = TableTire(

@@ -1,10 +1,13 @@
 """Tuned on road X, tested on road Y: the cost of each run's best gains on every test road of its
 scenario (stored by the run), beside the plant's generalization metrics (stop distance over its
-bound and locked time for the ABS), re-simulated here from the stored gains and scenario seed."""
+bound and locked time for the ABS), re-simulated here from the stored gains and scenario seed;
+and robust versus nominal tuning (issue 17): training and validation figures of the runs with an
+`[uncertainty]` table."""
 
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -76,3 +79,47 @@ def matrix(cell: pd.DataFrame, labels: list[tuple[str, str]]) -> pd.DataFrame:
     out = pd.DataFrame(columns)
     out.columns = pd.MultiIndex.from_tuples(list(columns))
     return out
+
+
+ROBUST_COLUMNS = ["group", "optimizer", "tuned_on", "tuning", "n", "training_worst_cost",
+                  "validation_draws", "validation_failures", "pass_rate",
+                  "validation_worst", "validation_mean", "certificate"]
+
+
+def _arm(robust: dict[str, Any]) -> str:
+    """'nominal' (K = 0: tuned on the nominal plant, validated on the uncertainty) or
+    'robust K=16 max'."""
+    u = robust["uncertainty"]
+    return "nominal" if u["scenarios"] == 0 else f"robust K={u['scenarios']} {u['aggregate']}"
+
+
+def robustness_table(data: StudyData) -> pd.DataFrame:
+    """Robust versus nominal (issue 17): one row per (group, optimizer, tuned on, tuning arm) of
+    the runs with an `[uncertainty]` table: medians over seeds of the winner's worst training
+    cost and of its worst and mean validation figure (the distance ratio when the plant has one,
+    else the cost), the validation draws and failures summed over seeds, and the certificate
+    (failure probability <= eps at confidence 1 - beta) when no draw of any seed failed."""
+    rows = []
+    runs = [r for r in data.records if r.completed and r.robust is not None]
+    keys = dict.fromkeys((r.spec.group, r.spec.optimizer, r.spec.road, _arm(r.robust))
+                         for r in runs if r.robust is not None)
+    for group, opt, road, arm in keys:
+        cell = [r.robust for r in runs if r.robust is not None and _arm(r.robust) == arm
+                and (r.spec.group, r.spec.optimizer, r.spec.road) == (group, opt, road)]
+        vals = [c["validation"] for c in cell if c["validation"] is not None]
+        kind = "distance_ratio" if vals and "worst_distance_ratio" in vals[0] else "cost"
+        n_draws = sum(v["n"] for v in vals)
+        fails = sum(v["failures"] for v in vals)
+        certs = [v["certificate"] for v in vals]
+        cert = (f"p_fail <= {max(c['eps'] for c in certs):.3%} at {1 - certs[0]['beta']:.0%}"
+                if certs and all(certs) else "")
+        rows.append({
+            "group": group, "optimizer": opt, "tuned_on": road, "tuning": arm, "n": len(cell),
+            "training_worst_cost": _median([max(c["training"]["costs"]) for c in cell]),
+            "validation_draws": n_draws, "validation_failures": fails,
+            "pass_rate": 1.0 - fails / n_draws if n_draws else math.nan,
+            "validation_worst": _median([v[f"worst_{kind}"] for v in vals]),
+            "validation_mean": _median([v[f"mean_{kind}"] for v in vals]),
+            "certificate": cert,
+        })
+    return pd.DataFrame(rows, columns=ROBUST_COLUMNS)

@@ -17,7 +17,7 @@ import pandas as pd
 
 from chassistune.reports import study_setup, tables
 from chassistune.reports.gains import gains_table
-from chassistune.reports.generalization import generalization_table, matrix
+from chassistune.reports.generalization import generalization_table, matrix, robustness_table
 from chassistune.reports.html import FLAG, CodeView, Download, Item, Section, TableView
 from chassistune.reports.plant_view import plant_view
 from chassistune.reports.responses import ResponseSet, response_sets
@@ -225,13 +225,20 @@ def comparison_section(data: tables.StudyData, reference: str, a: Assets) -> Sec
 def generalization_section(data: tables.StudyData, a: Assets) -> Section | None:
     """Per group and optimizer: tuned on X (rows), tested on Y (column groups): cost beside the
     plant's generalization metrics."""
-    gen = generalization_table(data)
-    if gen.empty:
+    gen, rob = generalization_table(data), robustness_table(data)
+    if gen.empty and rob.empty:
         return None
-    source = a.csv(gen, "generalization")
     section = Section("Generalization across roads",
                       "Tuned on road X (rows), tested on road Y (column groups): medians over "
-                      "seeds of each run's best gains tested on Y.")
+                      "seeds of each run's best gains tested on Y. Robust versus nominal: "
+                      "tuned on K scenarios of the uncertainty (nominal: K = 0), validated on "
+                      "the same fresh draws.")
+    if not rob.empty:
+        section.items.append(a.table(rob, "Robust versus nominal", "Medians over seeds; draws "
+                                     "and failures summed.", a.csv(rob, "robustness")))
+    if gen.empty:
+        return section
+    source = a.csv(gen, "generalization")
     for (group, opt), cell in gen.groupby(["group", "optimizer"], sort=False):
         spec = next(r.spec for r in data.records if r.spec.group == group)
         labels = [("median_cost", spec.objective)] + [

@@ -191,6 +191,12 @@ class AbsVehicleScenario(Scenario):
                  else _no_surface())
         return p, geo, surfs, K.CONTROLLER_KINDS.index(base), c, table
 
+    @property
+    def fuzzy_surface(self) -> tuple[Any, ...]:
+        """The compiled rule-base surface the wheel laws read (a placeholder for other laws)."""
+        table: tuple[Any, ...] = self._kernel_args[5]
+        return table
+
     def params(self) -> dict[str, Any]:
         out: dict[str, Any] = as_dict(self.plant_params)
         out.update(as_dict(self.steering))

@@ -22,6 +22,13 @@ from chassistune.plants.abs_wheel import PRESETS, AbsWheelParams, check_consiste
 from chassistune.plants.presets import PresetInfo
 from chassistune.plants.roads import friction_roads, tire_for_road
 from chassistune.plants.tires import TireCurve
+from chassistune.scenarios.abs_wheel_ecu import (
+    ECU_PARAM_NAMES,
+    EcuSetup,
+    ecu_mode,
+    ecu_setup,
+    law_params,
+)
 from chassistune.scenarios.base import (
     PENALTY,
     Plant,
@@ -31,8 +38,10 @@ from chassistune.scenarios.base import (
     pick_preset,
 )
 from chassistune.scenarios.registry import ABS_WHEEL
+from chassistune.sim import abs_wheel_ecu_layout as EL
 from chassistune.sim import abs_wheel_kernel as K
 from chassistune.sim import abs_wheel_layout as KL
+from chassistune.sim.abs_wheel_ecu_kernel import simulate_abs_wheel_ecu
 from chassistune.sim.batch import run_chunked
 
 _POS = {"positive": True}
@@ -76,7 +85,11 @@ METRIC_COLUMNS = {name: KL.METRICS[name] for name in KL.RUN_METRICS}
 STATUS_NAMES = dict(enumerate(KL.STATUS_NAMES))
 OBJECTIVE_COLUMNS = {obj: KL.METRICS[name] for obj, name in (
     ("itae", "slip_itae"), ("iae", "slip_iae"), ("ise", "slip_ise"),
-    ("distance", "stop_distance_m"), ("time", "stop_time_s"))}
+    ("distance", "stop_distance_m"), ("time", "stop_time_s"),
+    ("distance_ratio", "stop_distance_m"))}
+PER_BOUND = frozenset({"distance_ratio"})
+"""Objectives divided by the scenario's adhesion-bound distance (stop distance / bound: scenarios
+of different speeds and roads compare on one scale; issue 17)."""
 
 
 class AbsWheelScenario(Scenario):
@@ -96,6 +109,7 @@ class AbsWheelScenario(Scenario):
         target_slip: float,
         scoring: Scoring,
         seed: int,
+        ecu: EcuSetup | None = None,
     ) -> None:
         self.plant = "abs-wheel"
         self.preset = preset
@@ -106,6 +120,8 @@ class AbsWheelScenario(Scenario):
         self.controller_params = controller_params
         self.scoring = scoring
         self.seed = seed
+        self.ecu = ecu
+        """None: the ideal kernel; else the realistic ECU (`--ecu realistic`, issue 15)."""
         self.mu_peak, self.slip_at_peak, _ = tire.peak()
         self.target_slip = target_slip
         pp = plant_params
@@ -138,6 +154,8 @@ class AbsWheelScenario(Scenario):
         out.update(self.controller_params)
         out.update(as_dict(self.scoring))
         out["seed"] = self.seed
+        if self.ecu is not None:
+            out.update(self.ecu.echo())
         return out
 
     def _kernel_gains(self, gains: np.ndarray) -> np.ndarray:
@@ -154,6 +172,8 @@ class AbsWheelScenario(Scenario):
 
     def raw(self, gains: np.ndarray, workers: int | None = None) -> np.ndarray:
         """The kernel's metrics matrix (n, N_METRICS) for a population of gain rows."""
+        if self.ecu is not None:
+            return self._raw_ecu(gains, workers)
         p, kind, coef, xs, ys, ckind, c, table = self._kernel_args
         empty = np.zeros((0, len(KL.TRACE)))
 
@@ -162,8 +182,23 @@ class AbsWheelScenario(Scenario):
 
         return run_chunked(call, self._kernel_gains(gains), len(KL.METRICS), workers)
 
+    def _ecu_call(self, gains: np.ndarray, trace: np.ndarray, out: np.ndarray) -> None:
+        """The realistic kernel on gain rows (issue 15)."""
+        assert self.ecu is not None
+        p, kind, coef, xs, ys, *_ = self._kernel_args
+        lp = law_params(self.controller.name, self.gain_names, gains, self.controller_params,
+                        self.target_slip, self.ecu.params.ecu_ts_s,
+                        self.plant_params.wheel_radius_m)
+        simulate_abs_wheel_ecu(lp, p, self.ecu.vector, kind, coef, xs, ys, self.ecu.table,
+                               self.ecu.grid, self.ecu.noise, trace, out)
+
+    def _raw_ecu(self, gains: np.ndarray, workers: int | None) -> np.ndarray:
+        empty = np.zeros((0, len(EL.TRACE)))
+        return run_chunked(lambda g, out: self._ecu_call(g, empty, out),
+                           self._kernel_gains(gains), len(EL.METRICS), workers)
+
     def metrics_from_raw(self, raw: np.ndarray) -> dict[str, np.ndarray]:
-        out = KL.decode_metrics(raw)
+        out = KL.decode_metrics(raw) if self.ecu is None else EL.decode_metrics(raw)
         out["bound_distance_m"] = np.full(raw.shape[0], self.bound_distance_m)
         out["bound_time_s"] = np.full(raw.shape[0], self.bound_time_s)
         out["distance_ratio"] = out["stop_distance_m"] / self.bound_distance_m
@@ -180,6 +215,8 @@ class AbsWheelScenario(Scenario):
         cost = raw[:, OBJECTIVE_COLUMNS[objective]] + (
             self.scoring.lock_penalty_per_s * raw[:, KL.METRICS["locked_time_s"]]
         )
+        if objective in PER_BOUND:
+            cost = cost / self.bound_distance_m
         stopped = KL.STATUS_NAMES.index("stopped")
         bad = (raw[:, KL.METRICS["status"]] != stopped) | ~np.isfinite(cost)
         return np.where(bad, PENALTY, np.minimum(cost, PENALTY))
@@ -191,6 +228,12 @@ class AbsWheelScenario(Scenario):
         p, kind, coef, xs, ys, ckind, c, table = self._kernel_args
         g = self._kernel_gains(np.asarray(gains, dtype=np.float64).reshape(1, -1))
         n_rows = math.ceil(self.plant_params.t_max_s / self.plant_params.dt_s) + 2
+        if self.ecu is not None:
+            tr = np.zeros((n_rows, len(EL.TRACE)))
+            out = np.zeros((1, len(EL.METRICS)))
+            self._ecu_call(np.asarray(gains, dtype=np.float64).reshape(1, -1), tr, out)
+            metrics = {k: json_scalar(v[0]) for k, v in self.metrics_from_raw(out).items()}
+            return Trace(EL.decode_trace(tr, out[0]), metrics, EL.TRACE.units)
         tr = np.zeros((n_rows, len(KL.TRACE)))
         out = np.zeros((1, len(KL.METRICS)))
         K.simulate_abs_wheel(g, p, kind, coef, xs, ys, ckind, c, table, tr, out)
@@ -226,7 +269,9 @@ class AbsWheelPlant(Plant):
         road = road or pre.info.roads[0]
         spec = catalogue.get(ABS_WHEEL.name, controller)
         values = dict(params or {})
+        mode = ecu_mode(values)
         plant_params, used = override(pre.params, values)
+        used.add("ecu")
         tire, used_tire = tire_for_road(road, values)
         scoring, used_scoring = override(Scoring(), values)
         used |= used_tire | used_scoring
@@ -255,19 +300,25 @@ class AbsWheelPlant(Plant):
             if not 0.0 < target < 1.0:
                 raise InputError("params.target_slip", f"must be in (0, 1), got {target:g}")
             used.add("target_slip")
+        if mode == "realistic":
+            used |= ECU_PARAM_NAMES & set(values)
         unknown = sorted(set(values) - used)
         if unknown:
             known = sorted(
                 {f.name for f in dataclasses.fields(AbsWheelParams)}
                 | {f.name for f in dataclasses.fields(tire)}
                 | {f.name for f in dataclasses.fields(Scoring)}
-                | set(spec.param_names) | {"target_slip"}
+                | set(spec.param_names) | {"target_slip", "ecu"}
+                | (ECU_PARAM_NAMES if mode == "realistic" else set())
             )
             raise InputError(f"params.{unknown[0]}", f"unknown parameter for abs-wheel with "
                              f"{spec.name} on {road} (known: {', '.join(known)})")
         check_consistency(plant_params)
-        return AbsWheelScenario(preset, road, spec, validate(plant_params, "params."), tire,
-                                ctrl_values, target, scoring, seed)
+        plant_params = validate(plant_params, "params.")
+        ecu = (ecu_setup(values, spec.name, ctrl_values, plant_params, seed)
+               if mode == "realistic" else None)
+        return AbsWheelScenario(preset, road, spec, plant_params, tire, ctrl_values, target,
+                                scoring, seed, ecu)
 
 
 PLANT = AbsWheelPlant()

@@ -291,19 +291,20 @@ def _tick(st, l, gains, i, ctrl_kind, c, table, target, ts, first):
     """A sampled controller's update in lane l (candidate i) at a sample instant."""
     slip = st[R_SLIP * LANES + l]
     e = target - slip
-    g = gains[i]
     if ctrl_kind == C_FUZZY_PID:
         ec = st[R_NF * LANES + l] * (e - st[R_XF * LANES + l])  # filtered de/dt
-        kp, ki, kd = fuzzy_pid_gains(table, e, ec, g[0], g[1], g[2], g[3], g[4], g[5], g[6],
-                                     g[7])
+        kp, ki, kd = fuzzy_pid_gains(table, e, ec, gains[i, 0], gains[i, 1], gains[i, 2],
+                                     gains[i, 3], gains[i, 4], gains[i, 5], gains[i, 6],
+                                     gains[i, 7])
         st[R_KP * LANES + l] = kp
         st[R_KI * LANES + l] = ki
         st[R_KD * LANES + l] = kd
     elif ctrl_kind == C_IMMUNE:
         e1 = st[R_E1 * LANES + l]
         st[R_U0 * LANES + l] = immune_pid_step(table, e, e1, st[R_E2 * LANES + l],
-                                               st[R_U0 * LANES + l], ts, first, g[0], g[1], g[2],
-                                               g[3], g[4], g[5])
+                                               st[R_U0 * LANES + l], ts, first, gains[i, 0],
+                                               gains[i, 1], gains[i, 2], gains[i, 3],
+                                               gains[i, 4], gains[i, 5])
         st[R_E2 * LANES + l] = e1
         st[R_E1 * LANES + l] = e
     elif ctrl_kind == C_BANGBANG:
@@ -361,7 +362,7 @@ def _simulate(law, gains, plant, coef, xc_tuple, xs_tuple, ys_tuple, ctrl_kind, 
         if ctrl_kind != C_PID:  # sampled laws: each lane at its own sample instants
             for l in range(live):
                 k = int(st[R_STEP * LANES + l])
-                if k % steps_per_sample == 0:
+                if steps_per_sample == 1 or k % steps_per_sample == 0:
                     _tick(st, l, gains, lane_of[l], ctrl_kind, c, table, target, ts, k == 0)
         width = -(-live // VECTOR) * VECTOR
         if _lane_steps(st, width, law, dt, hs, h6, target, n_steps, t_timeout, live, c0, c1, c2,

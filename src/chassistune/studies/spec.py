@@ -19,7 +19,7 @@ import tomllib
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any
 
 import numpy as np
 from pydantic import (
@@ -37,6 +37,7 @@ from pydantic import (
 
 from chassistune._rng import child_seed, int_seed, make_rng
 from chassistune.errors import InputError
+from chassistune.tuning.robust.aggregate import parse_aggregate
 
 MAX_SEEDS = 100_000
 """Largest seed count (and seed index) a config may ask for."""
@@ -112,10 +113,12 @@ class ScenarioConfig(_Model):
     objective: Name | None = None
     roads: list[Name] | None = None
     tune_roads: list[Name] | None = None
-    aggregate: Literal["mean", "max"] = "mean"
+    aggregate: Name = "mean"
     test_roads: list[Name] | None = None
     params: dict[str, Value] = Field(default_factory=dict)
     bounds: dict[str, tuple[Finite, Finite]] = Field(default_factory=dict)
+    uncertainty: dict[str, Any] | None = None
+    """Robust tuning (issue 17): the `[uncertainty]` table (`tuning.robust.spec.parse_table`)."""
 
     @field_validator("roads", "tune_roads", "test_roads")
     @classmethod
@@ -157,7 +160,7 @@ class ScenarioConfig(_Model):
     def _kind(self) -> ScenarioConfig:
         if self.functions is not None:
             plant_keys = ("plant", "preset", "controller", "objective", "roads", "tune_roads",
-                          "test_roads")
+                          "test_roads", "uncertainty")
             extra = [k for k in plant_keys if getattr(self, k) is not None]
             extra += [k for k in ("params", "bounds") if getattr(self, k)]
             if extra:
@@ -246,6 +249,7 @@ class RunSpec(_Model):
     max_evals: int | None
     root_seed: int
     seed: int
+    uncertainty: dict[str, Any] | None = None
 
     @property
     def key(self) -> str:
@@ -259,7 +263,8 @@ class RunSpec(_Model):
 
     @property
     def spec_hash(self) -> str:
-        text = json.dumps(self.model_dump(mode="json"), sort_keys=True)
+        nominal = {"uncertainty"} if self.uncertainty is None else set()  # hashes as before
+        text = json.dumps(self.model_dump(mode="json", exclude=nominal), sort_keys=True)
         return hashlib.sha256(text.encode()).hexdigest()
 
     def seed_sequence(self) -> np.random.SeedSequence:
@@ -415,12 +420,13 @@ def _resolve_functions(index: int, sc: ScenarioConfig, functions: list[str]
     return out
 
 
-def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int) -> list[dict[str, Any]]:
+def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int,
+                      sequence: np.random.SeedSequence) -> list[dict[str, Any]]:
     """Build each cell's problem once (kept for the runs: `studies.problems`); the run-spec
-    fields of each cell. `seed` is the scenario seed of the study's first seed index."""
+    fields of each cell. `seed` is the scenario seed of the study's first seed index, `sequence`
+    its seed sequence (a robust problem's training set)."""
     from chassistune.scenarios.registry import get_plant
-    from chassistune.studies.problems import problem_key, remember
-    from chassistune.tuning.problem import build_problem
+    from chassistune.studies.problems import build, problem_key, remember
 
     if sc.functions is not None:
         return _resolve_functions(index, sc, sc.functions)
@@ -434,15 +440,19 @@ def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int) -> list[dict[st
         test_roads = tuple(sc.test_roads or every_road)
         out = []
         for cell in cells:
-            problem = build_problem(plant_name, controller, preset, list(cell.roads),
-                                    sc.objective, sc.aggregate, sc.params, sc.bounds, seed)
-            fields = {
-                "group": cell.group, "scenario": cell.name, "plant": plant_name,
-                "preset": problem.scenarios[0].preset,
-                "controller": controller, "objective": problem.objective, "roads": cell.roads,
-                "aggregate": sc.aggregate, "test_roads": test_roads, "params": dict(sc.params),
-                "bounds": dict(zip(problem.gain_names, problem.bounds, strict=True)),
+            fields: dict[str, Any] = {
+                "plant": plant_name, "preset": preset, "controller": controller,
+                "objective": sc.objective, "roads": cell.roads, "aggregate": sc.aggregate,
+                "params": dict(sc.params), "bounds": dict(sc.bounds),
+                "uncertainty": sc.uncertainty,
             }
+            problem = build(fields, seed, sequence)
+            fields.update({
+                "group": cell.group, "scenario": cell.name,
+                "preset": problem.scenarios[0].preset, "objective": problem.objective,
+                "aggregate": str(parse_aggregate(sc.aggregate)), "test_roads": test_roads,
+                "bounds": dict(zip(problem.gain_names, problem.bounds, strict=True)),
+            })
             remember(problem_key(fields, seed), problem)
             out.append(fields)
     except InputError as exc:
@@ -492,9 +502,9 @@ def plan_study(config: StudyConfig) -> StudyPlan:
     """Resolve every name and expand the grid into run specs (InputError on the first problem)."""
     cells: list[dict[str, Any]] = []
     budgets: list[BudgetConfig] = []
-    first_seed = int_seed(child_seed(config.study.seed, config.study.seeds[0]))
+    first = child_seed(config.study.seed, config.study.seeds[0])
     for i, sc in enumerate(config.scenarios):
-        resolved = _resolve_scenario(i, sc, first_seed)
+        resolved = _resolve_scenario(i, sc, int_seed(first), first)
         budgets += [sc.budget or config.budget] * len(resolved)
         if any(c["group"] == resolved[0]["group"] for c in cells):
             raise InputError(f"scenarios[{i}].name", f"another scenario is also named "

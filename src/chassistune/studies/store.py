@@ -24,7 +24,7 @@ from chassistune.studies.records import RunResult, RunStatus
 from chassistune.studies.spec import RunSpec
 
 STORE_NAME = "study.sqlite"
-SCHEMA_VERSION = "2"
+SCHEMA_VERSION = "1"
 
 _STATUSES = ", ".join(f"'{s.value}'" for s in RunStatus)
 _SCHEMA = f"""
@@ -50,13 +50,14 @@ CREATE TABLE IF NOT EXISTS runs (
     test_costs TEXT,
     history TEXT,
     history_nfev TEXT,
+    robust TEXT,
     diagnostics TEXT,
     versions TEXT NOT NULL,
     finished_at TEXT NOT NULL
 );
 """
 
-_JSON_COLUMNS = ("best_gains", "metrics", "test_costs", "history", "history_nfev",
+_JSON_COLUMNS = ("best_gains", "metrics", "test_costs", "history", "history_nfev", "robust",
                  "diagnostics")
 
 
@@ -78,6 +79,8 @@ class RunRecord:
     history_nfev: list[int]
     versions: dict[str, str]
     diagnostics: dict[str, Any]
+    robust: dict[str, Any] | None = None
+    """Robust runs (an `[uncertainty]` table): the training summary and the validation."""
 
     @property
     def completed(self) -> bool:
@@ -86,6 +89,9 @@ class RunRecord:
 
 def _init_schema(conn: sqlite3.Connection) -> None:
     conn.executescript(_SCHEMA)
+    for column in ("robust", "diagnostics"):  # a store written before issues 17 and 14
+        if column not in _columns(conn):
+            conn.execute(f"ALTER TABLE runs ADD COLUMN {column} TEXT")
     conn.execute("INSERT OR IGNORE INTO meta VALUES ('schema_version', ?)", (SCHEMA_VERSION,))
 
 
@@ -207,19 +213,27 @@ class Store:
 
     def records(self) -> Iterator[RunRecord]:
         """Every finished run, ordered by scenario, optimizer and seed."""
+        have = _columns(self._conn)
+        robust = "robust" if "robust" in have else "NULL"
+        diagnostics = "diagnostics" if "diagnostics" in have else "NULL"
         cur = self._conn.execute(
             "SELECT spec, status, error, best_cost, nfev, nit, wall_time_s, best_gains, metrics, "
-            "test_costs, history, history_nfev, versions, diagnostics FROM runs "
+            f"test_costs, history, history_nfev, versions, {robust}, {diagnostics} FROM runs "
             "ORDER BY scenario, optimizer, seed")
         for (spec, status, error, cost, nfev, nit, wall, gains, metrics, tests, hist, hist_n,
-             vers, diag) in cur:
+             vers, rob, diag) in cur:
             yield RunRecord(
                 spec=RunSpec.model_validate_json(spec), status=RunStatus(status), error=error,
                 best_cost=cost, nfev=nfev, nit=nit, wall_time_s=wall,
                 best_gains=_loads(gains, {}), metrics=_loads(metrics, {}),
                 test_costs=_loads(tests, {}), history=_loads(hist, []),
                 history_nfev=_loads(hist_n, []), versions=_loads(vers, {}),
-                diagnostics=_loads(diag, {}))
+                diagnostics=_loads(diag, {}),
+                robust=_loads(rob, None))
+
+
+def _columns(conn: sqlite3.Connection) -> set[str]:
+    return {row[1] for row in conn.execute("PRAGMA table_info(runs)")}
 
 
 def _loads(text: str | None, empty: Any) -> Any:

@@ -62,12 +62,14 @@ def _run(spec: RunSpec) -> dict[str, Any]:
     from chassistune.scenarios.registry import get_plant
     from chassistune.studies.problems import problem_for
     from chassistune.tuning.functions import FUNCTION_KIND
+    from chassistune.tuning.robust.problem import RobustProblem
+    from chassistune.tuning.robust.run import robust_summary
     from chassistune.tuning.tune import run_optimizer
 
     if spec.plant == FUNCTION_KIND:
         return _run_function(spec)
     seed = spec.scenario_seed
-    problem = problem_for(spec.model_dump(), seed)
+    problem = problem_for(spec.model_dump(), seed, spec.seed_sequence())
     hyper: dict[str, Any] = dict(spec.hyperparameters)
     result = run_optimizer(problem, spec.optimizer_name, spec.pop_size, spec.max_iter,
                            spec.max_evals, spec.optimizer_rng(), **hyper)
@@ -79,7 +81,11 @@ def _run(spec: RunSpec) -> dict[str, Any]:
         sc = tuned.get(road) or plant.scenario(spec.preset, road, spec.controller, spec.params,
                                                seed)
         test_costs[road] = float(sc.cost(best, spec.objective)[0])
+    robust = None
+    if isinstance(problem, RobustProblem):  # training summary and validation (issue 17)
+        robust = robust_summary(problem, best[0])
     return {
+        "robust": robust,
         "best_gains": result.best_gains,
         "best_cost": result.best_cost,
         "nfev": result.nfev,

@@ -1,8 +1,8 @@
 """A tuning problem: the gains of one controller scored on one or several roads (DESIGN 5).
 
 The box comes from the controller registry (or the caller's override); the cost of a population
-is one kernel call per road, aggregated by mean or max across roads (one controller for several
-roads is a first-class option).
+is one kernel call per road, aggregated across roads by mean, max or cvar:ALPHA
+(`tuning.robust.aggregate`; one controller for several roads is a first-class option).
 """
 
 from __future__ import annotations
@@ -15,8 +15,7 @@ import numpy as np
 from chassistune.errors import InputError
 from chassistune.scenarios.base import PENALTY, Scenario
 from chassistune.scenarios.registry import get_plant
-
-AGGREGATES = ("mean", "max")
+from chassistune.tuning.robust.aggregate import parse_aggregate
 
 
 @dataclass
@@ -38,9 +37,8 @@ class TuningProblem:
 
     def __call__(self, gains: np.ndarray) -> np.ndarray:
         """Costs of an (n, k) population, shape (n,), finite and at most PENALTY."""
-        costs = np.stack([s.cost(gains, self.objective) for s in self.scenarios])
-        agg = costs.mean(axis=0) if self.aggregate == "mean" else costs.max(axis=0)
-        return np.minimum(agg, PENALTY)
+        costs = np.stack([s.cost(gains, self.objective) for s in self.scenarios], axis=1)
+        return np.minimum(parse_aggregate(self.aggregate)(costs), PENALTY)
 
 
 def build_problem(
@@ -55,8 +53,7 @@ def build_problem(
     seed: int = 0,
 ) -> TuningProblem:
     """Resolve the scenarios (one per road; default the preset's first road) and the box."""
-    if aggregate not in AGGREGATES:
-        raise InputError("aggregate", f"must be mean or max, got {aggregate!r}")
+    aggregate = str(parse_aggregate(aggregate))
     p = get_plant(plant)
     road_list: list[str | None] = list(roads) if roads else [None]
     if len(set(road_list)) != len(road_list):

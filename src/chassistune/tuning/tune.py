@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any, overload
 
 import numpy as np
 
@@ -13,6 +13,10 @@ from chassistune.errors import InputError
 from chassistune.optimizers.driver import OptimizeResult, drive
 from chassistune.optimizers.registry import make
 from chassistune.tuning.problem import TuningProblem, build_problem
+
+if TYPE_CHECKING:
+    from chassistune.tuning.robust.run import RobustTuneResult
+    from chassistune.tuning.robust.spec import UncertaintySpec
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -89,6 +93,25 @@ def run_optimizer(
     )
 
 
+@overload
+def tune(plant: str, controller: str, optimizer: str = ..., preset: str | None = ...,
+         roads: Sequence[str] | str | None = ..., objective: str | None = ...,
+         aggregate: str = ..., pop_size: int = ..., max_iter: int | None = ...,
+         max_evals: int | None = ..., seed: int = ..., params: Mapping[str, object] | None = ...,
+         bounds: Mapping[str, tuple[float, float]] | None = ...,
+         progress: Progress | None = ..., uncertainty: None = ..., **hyper: Any) -> TuneResult: ...
+
+
+@overload
+def tune(plant: str, controller: str, optimizer: str = ..., preset: str | None = ...,
+         roads: Sequence[str] | str | None = ..., objective: str | None = ...,
+         aggregate: str = ..., pop_size: int = ..., max_iter: int | None = ...,
+         max_evals: int | None = ..., seed: int = ..., params: Mapping[str, object] | None = ...,
+         bounds: Mapping[str, tuple[float, float]] | None = ...,
+         progress: Progress | None = ..., *,
+         uncertainty: UncertaintySpec | Mapping[str, Any], **hyper: Any) -> RobustTuneResult: ...
+
+
 def tune(
     plant: str,
     controller: str,
@@ -104,16 +127,38 @@ def tune(
     params: Mapping[str, object] | None = None,
     bounds: Mapping[str, tuple[float, float]] | None = None,
     progress: Callable[[int, int, float], None] | None = None,
+    uncertainty: UncertaintySpec | Mapping[str, Any] | None = None,
     **hyper: Any,
-) -> TuneResult:
+) -> TuneResult | RobustTuneResult:
     """Tune `controller` of `plant` on `roads` with `optimizer` (defaults of DESIGN 7).
 
-    Without a budget, 100 iterations. The same seed gives the same result.
+    Without a budget, 100 iterations. The same seed gives the same result. With `uncertainty`
+    (an `UncertaintySpec`, or the study's `[uncertainty]` table as a dict: {"vary": {"mass_kg":
+    "80:120"}, "scenarios": 16, "aggregate": "max", "validate": 300}) the controller is tuned
+    over the K training scenarios drawn from `seed` and validated, like `tune --vary`: the
+    result is a `RobustTuneResult` (`.result` the tuning, `.validation`, `.as_dict()`).
     """
     if max_iter is None and max_evals is None:
         max_iter = 100
     road_list = [roads] if isinstance(roads, str) else roads
     problem = build_problem(plant, controller, preset, road_list, objective, aggregate, params,
                             bounds, seed)
+    if uncertainty is not None:
+        from chassistune.tuning.robust.run import tune_robust
+
+        return tune_robust(problem, robust_spec(problem, uncertainty), optimizer, pop_size,
+                           max_iter, max_evals, seed, params, progress, **hyper)
     return run_optimizer(problem, optimizer, pop_size, max_iter, max_evals, seed, progress,
                          **hyper)
+
+
+def robust_spec(nominal: TuningProblem,
+                uncertainty: UncertaintySpec | Mapping[str, Any]) -> UncertaintySpec:
+    """An `UncertaintySpec` as given, or parsed from an `[uncertainty]` table against the
+    parameters every scenario of `nominal` may vary."""
+    from chassistune.tuning.robust.problem import known_for
+    from chassistune.tuning.robust.spec import UncertaintySpec, parse_table
+
+    if isinstance(uncertainty, UncertaintySpec):
+        return uncertainty
+    return parse_table(uncertainty, known_for(nominal))

@@ -5,11 +5,9 @@ thresholds such as dt_s, t_max_s, v_stop_m_s and lock_ratio are not). Valid rang
 parameter dataclasses' field metadata (positive: (0, inf); non-negative: [0, inf); unit
 interval: [0, 1]).
 
-`mu_scale` (abs-wheel, default 1) multiplies the whole mu-slip curve. Until the road model has it
-as a parameter of its own it is applied here as overrides of the curve's parameters: bilinear
-mu_peak and mu_lock, Burckhardt c1 and c3, each times mu_scale (table roads such as sldemo's have
-no such parameters and do not offer mu_scale). The peak slip, hence the target slip, stays; the
-adhesion bound, hence `distance_ratio`, follows the scaled peak.
+`mu_scale` (abs-wheel, default 1) is a road parameter of every tire curve (`plants.tires`): it
+multiplies the whole mu-slip curve. The peak slip, hence the target slip, stays; the adhesion
+bound, hence `distance_ratio`, follows the scaled peak.
 """
 
 from __future__ import annotations
@@ -26,11 +24,6 @@ from chassistune.tuning.robust.spec import ParamRange
 NOT_UNCERTAIN = frozenset({"dt_s", "t_max_s", "v_stop_m_s", "lock_ratio", "load_fraction",
                            "duration_s", "n0_cycles_per_m"})
 """Solver settings, thresholds and model conventions: not physical uncertainties."""
-
-MU_SCALE = "mu_scale"
-MU_SCALED_FIELDS = {"BilinearTire": ("mu_peak", "mu_lock"), "BurckhardtTire": ("c1", "c3")}
-"""Fields of each tire curve that scale with mu_scale (the whole curve is linear in them)."""
-MU_SCALE_RANGE = ParamRange(0.0, math.inf, lo_open=True)
 
 
 def field_range(f: dataclasses.Field[Any]) -> ParamRange:
@@ -53,36 +46,16 @@ def ranges_of(obj: Any) -> dict[str, ParamRange]:
 def known_ranges(scenario: Scenario) -> dict[str, ParamRange]:
     """Parameters of this scenario's plant, road and actuator that may vary, with valid ranges."""
     if scenario.plant == "abs-wheel":
-        tire = scenario.tire  # type: ignore[attr-defined]
         out = ranges_of(scenario.plant_params)  # type: ignore[attr-defined]
-        out.update(ranges_of(tire))
+        out.update(ranges_of(scenario.tire))  # type: ignore[attr-defined]
         if "slip_opt" in out:
             out["slip_opt"] = ParamRange(0.0, 1.0, lo_open=True, hi_open=True)
-        if type(tire).__name__ in MU_SCALED_FIELDS:
-            out[MU_SCALE] = MU_SCALE_RANGE
         return out
     if scenario.plant == "quarter-car":
         out = ranges_of(scenario.vehicle)  # type: ignore[attr-defined]
         out.update(ranges_of(scenario.road_params))  # type: ignore[attr-defined]
         return out
     raise ValueError(f"no uncertain parameters declared for plant {scenario.plant!r}")
-
-
-def mu_scale_overrides(tire: Any, scale: float, values: Mapping[str, object]) -> dict[str, float]:
-    """The curve-parameter overrides that multiply `tire`'s whole mu-slip curve by `scale`
-    (a value already in `values`, e.g. a varied mu_peak, is the one scaled)."""
-    fields = MU_SCALED_FIELDS[type(tire).__name__]
-    return {f: float(values.get(f, getattr(tire, f))) * scale for f in fields}  # type: ignore[arg-type]
-
-
-def draw_params(nominal: Scenario, base: Mapping[str, object],
-                draw: Mapping[str, float]) -> dict[str, object]:
-    """The `--param` mapping of one draw: the run's own parameters, the draw's values over them,
-    and mu_scale turned into curve-parameter overrides."""
-    values: dict[str, object] = {**base, **{k: v for k, v in draw.items() if k != MU_SCALE}}
-    if MU_SCALE in draw:
-        values.update(mu_scale_overrides(nominal.tire, draw[MU_SCALE], values))  # type: ignore[attr-defined]
-    return values
 
 
 def scenario_builder(nominal: Scenario, base: Mapping[str, object]
@@ -92,6 +65,6 @@ def scenario_builder(nominal: Scenario, base: Mapping[str, object]
 
     def build(draw: Mapping[str, float]) -> Scenario:
         return plant.scenario(nominal.preset, nominal.road, nominal.controller.name,
-                              draw_params(nominal, base, draw), nominal.seed)  # type: ignore[attr-defined]
+                              {**base, **draw}, nominal.seed)  # type: ignore[attr-defined]
 
     return build

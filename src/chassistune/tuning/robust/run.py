@@ -33,21 +33,37 @@ class RobustTuneResult:
     validation: ValidationResult | None
 
     def as_dict(self) -> dict[str, Any]:
-        spec = self.problem.spec
-        out = self.result.as_dict()
-        out["uncertainty"] = {
+        return {**self.result.as_dict(), **summary_fields(self.problem, self.training_costs,
+                                                          self.validation)}
+
+
+def summary_fields(problem: RobustProblem, training_costs: np.ndarray,
+                   validation: ValidationResult | None) -> dict[str, Any]:
+    """`uncertainty`, `training` (the draws and the winner's cost on each scenario x road) and
+    `validation` (None when N = 0): what a robust run adds to the `tune --json` object."""
+    spec = problem.spec
+    return {
+        "uncertainty": {
             "vary": [p.describe() for p in spec.params],
             "scenarios": spec.scenarios,
             "sampler": spec.sampler,
             "aggregate": str(spec.aggregate),
-        }
-        out["training"] = {
-            "names": list(self.problem.training.names),
-            "values": self.problem.training.values,
-            "costs": self.training_costs,
-        }
-        out["validation"] = None if self.validation is None else self.validation.as_dict()
-        return out
+        },
+        "training": {
+            "names": list(problem.training.names),
+            "values": problem.training.values,
+            "costs": np.asarray(training_costs).ravel(),
+        },
+        "validation": None if validation is None else validation.as_dict(),
+    }
+
+
+def robust_summary(problem: RobustProblem, gains: np.ndarray) -> dict[str, Any]:
+    """`summary_fields` of one winner: its training costs and its validation (N = spec.validate
+    draws of the run's validation stream)."""
+    best = np.asarray(gains, dtype=np.float64)
+    validation = problem.validate(best) if problem.spec.validate else None
+    return summary_fields(problem, problem.costs(best[None, :])[0], validation)
 
 
 def tune_robust(

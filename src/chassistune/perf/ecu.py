@@ -1,0 +1,27 @@
+"""ECU figures (issue 15): `abs_ecu_sims_per_s`, the realistic ECU on the `abs_sims_per_s`
+population (`perf.abs.bench_population`: 50 PID gain triples, paper-derlsp-ao, dry concrete, one
+core) with the default `EcuParams` (48-tooth sensor, 5 ms, one sample of delay, slew-limited
+reference, three-state valves, cut-out 2 m/s), and `abs_ecu_ratio_to_ideal`, its ratio to the
+ideal kernel's simulations per second measured in the same run.
+"""
+
+from __future__ import annotations
+
+from functools import partial
+
+from chassistune.perf.abs import bench_population
+from chassistune.perf.timing import best_time
+from chassistune.scenarios.abs_wheel import PLANT
+
+
+def figures(quick: bool = False) -> dict[str, float]:
+    """Measure the ECU figures in this run."""
+    gains = bench_population()
+    rates = {}
+    for mode in ("ideal", "realistic"):
+        sc = PLANT.scenario("paper-derlsp-ao", "dry-concrete", "pid", {"ecu": mode})
+        sc.raw(gains[:2], workers=1)  # compile / load the cache outside the timing
+        rates[mode] = len(gains) / best_time(partial(sc.raw, gains, workers=1),
+                                             3 if quick else 7)
+    return {"abs_ecu_sims_per_s": rates["realistic"],
+            "abs_ecu_ratio_to_ideal": rates["realistic"] / rates["ideal"]}

@@ -1,0 +1,67 @@
+"""Shared by the export tests: exported controllers with their vectors, and C builds via ctypes."""
+
+from __future__ import annotations
+
+import ctypes
+import shutil
+import subprocess
+from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from chassistune.export import c99, source, vectors
+from chassistune.export.source import ExportedController
+
+LAWS = ("pid", "fuzzy-pid", "fuzzy-immune-pid", "threshold")
+CONTINUOUS = ("pid", "fuzzy-pid", "fuzzy-immune-pid")
+CC = shutil.which("cc")
+needs_cc = pytest.mark.skipif(CC is None, reason="no C compiler (cc) on this machine")
+
+
+@dataclass(frozen=True, eq=False)
+class Case:
+    ec: ExportedController
+    inputs: np.ndarray
+    u: np.ndarray
+
+
+@cache
+def case(controller: str) -> Case:
+    """The registry-default export of `controller` with its recorded test vectors."""
+    ec = source.resolve(None, None, controller, {}, {})
+    inputs, u = vectors.record(ec)
+    return Case(ec, inputs, u)
+
+
+class CLaw:
+    """The exported C compiled into a shared library, called through ctypes."""
+
+    def __init__(self, folder: Path, flags: tuple[str, ...]) -> None:
+        lib = folder / "libcontroller.so"
+        subprocess.run([str(CC), *flags, "-Wall", "-Wextra", "-pedantic", "-Werror", "-shared",
+                        "-fPIC", "-o", str(lib), str(folder / c99.SOURCE)], check=True)
+        self._lib = ctypes.CDLL(str(lib))
+        self._lib.ct_step.restype = ctypes.c_double
+        self._state = ctypes.create_string_buffer(4096)  # ct_state is a few hundred bytes
+
+    def reset(self) -> None:
+        self._lib.ct_init(self._state)
+
+    def __call__(self, inputs: np.ndarray) -> float:
+        row = np.ascontiguousarray(inputs, dtype=np.float64)
+        return float(self._lib.ct_step(self._state, row.ctypes.data_as(
+            ctypes.POINTER(ctypes.c_double))))
+
+    def run(self, inputs: np.ndarray) -> np.ndarray:
+        self.reset()
+        return np.array([self(row) for row in inputs])
+
+
+def write_c(ec: ExportedController, folder: Path) -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / c99.HEADER).write_text(c99.header(ec))
+    (folder / c99.SOURCE).write_text(c99.source(ec))
+    return folder

@@ -1,0 +1,25 @@
+"""Step-refinement check of a winner: exact at factor 1, converging, warning above 1e-3."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from chassistune.scenarios.abs_wheel import PLANT
+from chassistune.scenarios.refine import refined_scenario, step_refinement
+
+
+def test_refined_scenario_rebuilds_the_same_scenario() -> None:
+    sc = PLANT.scenario("sldemo", "sldemo-table", "bang-bang", {"ts_s": 2e-3})
+    same = refined_scenario(sc, 1)
+    g = np.zeros((1, 0))
+    assert same.raw(g).tobytes() == sc.raw(g).tobytes()
+    assert refined_scenario(sc, 4).plant_params.dt_s == sc.plant_params.dt_s / 4
+
+
+def test_smooth_candidate_is_converged_and_chattering_one_warns() -> None:
+    sc = PLANT.scenario("paper-derlsp-ao", "dry-concrete", "pid")
+    smooth = step_refinement(sc, np.array([500.0, 10.0, 1.0]))
+    assert smooth.max_rel_change < 1e-3 and smooth.warning is None
+    assert smooth.as_dict()["cost_refined"] > 0.0
+    chatter = step_refinement(sc, np.array([1e4, 1e4, 1e3]))  # issue 11: 1-5 % off at 1 ms
+    assert chatter.max_rel_change > 1e-3 and "dt/4" in (chatter.warning or "")
