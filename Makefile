@@ -1,11 +1,12 @@
-# Two set-up-free entry points: `make demo` (the main job) and `make test` (the suite).
-# Each creates .venv on first use and installs the project with what it needs.
+# Two set-up-free entry points: `make reproduce` (the main job) and `make test` (the suite).
+# Each creates .venv on first use, installs the project with what it needs and compiles every
+# kernel (`chassistune warmup`, cached on disk).
 PY ?= python3.11
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed-stamp
 
-.PHONY: demo test lint bench clean-venv
+.PHONY: reproduce demo test lint bench clean-venv
 
 $(STAMP): pyproject.toml
 	@command -v $(PY) >/dev/null 2>&1 || { echo "make: $(PY) not found; set PY=python3.X (>= 3.11)" >&2; exit 2; }
@@ -13,7 +14,11 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install -q --upgrade pip
 	$(BIN)/python -m pip install -q -e '.[test]'
 	$(BIN)/python -m pip install -q --no-deps mealpy==3.0.3 opfunu==1.0.4
+	$(BIN)/chassistune warmup
 	touch $(STAMP)
+
+reproduce: $(STAMP)
+	$(BIN)/chassistune reproduce all --quick --out reproduce-output
 
 demo: $(STAMP)
 	$(BIN)/chassistune demo --out demo-output

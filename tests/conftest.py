@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 
 import pytest
 
@@ -27,3 +28,26 @@ def cli(capsys: pytest.CaptureFixture[str]) -> Callable[..., CliResult]:
         return CliResult(code, captured.out, captured.err)
 
     return run
+
+
+@dataclass(frozen=True)
+class Reproduced:
+    """The quick reproduction of all four papers, run once per test session."""
+
+    out: Path
+    stdout: str
+
+
+@pytest.fixture(scope="session")
+def reproduced(tmp_path_factory: pytest.TempPathFactory) -> Reproduced:
+    """`chassistune reproduce all --quick` into a temporary folder (shared by the tests of
+    tests/papers and the browser test of tests/reports)."""
+    import contextlib
+    import io
+
+    out = tmp_path_factory.mktemp("reproduce") / "report"
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf), pytest.raises(SystemExit) as exc:
+        main(["reproduce", "all", "--quick", "--out", str(out)])
+    assert exc.value.code == 0
+    return Reproduced(out, buf.getvalue())

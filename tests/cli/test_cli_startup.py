@@ -10,7 +10,8 @@ import pytest
 
 from chassistune.cli.main import cli
 
-COMMANDS = {"list", "simulate", "tune", "optimize", "study", "fuzzy", "export", "bench", "demo"}
+COMMANDS = {"list", "simulate", "tune", "optimize", "study", "fuzzy", "export", "bench", "demo",
+            "reproduce", "warmup"}
 
 PROBE = """
 import sys

@@ -10,14 +10,18 @@ import pytest
 
 from chassistune.studies.executors import SerialExecutor
 from chassistune.studies.runner import run_study
-from chassistune.studies.spec import load_plan
+from chassistune.studies.spec import load_config, plan_study, quick_config
 
 STUDIES = resources.files("chassistune") / "data" / "studies"
 
 
-@pytest.mark.parametrize("name", ["deffao-vehicle-abs", "deffao-vehicle-abs-quick"])
-def test_the_table_5_configs_plan_runs_of_the_vehicle_fuzzy_pid(name):
-    plan = load_plan(str(STUDIES / f"{name}.toml"))
+CONFIG = str(STUDIES / "deffao-vehicle-abs.toml")
+
+
+@pytest.mark.parametrize("quick", [False, True])
+def test_the_table_5_configs_plan_runs_of_the_vehicle_fuzzy_pid(quick):
+    config = load_config(CONFIG)
+    plan = plan_study(quick_config(config) if quick else config)
     assert {r.optimizer_name for r in plan.runs} == {"ao", "deffao"}
     for run in plan.runs:
         assert run.plant == "abs-vehicle" and run.controller == "fuzzy-pid"
@@ -26,7 +30,7 @@ def test_the_table_5_configs_plan_runs_of_the_vehicle_fuzzy_pid(name):
 
 
 def test_the_quick_table_5_study_runs_and_records_every_road(tmp_path):
-    plan = load_plan(str(STUDIES / "deffao-vehicle-abs-quick.toml"))
+    plan = plan_study(quick_config(load_config(CONFIG)))
     outcome = run_study(plan, tmp_path, SerialExecutor())
     assert outcome.completed == len(plan.runs) and outcome.failed == 0
     with sqlite3.connect(outcome.store) as con:

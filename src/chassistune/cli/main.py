@@ -17,9 +17,11 @@ from chassistune.cli.export import export_command
 from chassistune.cli.fuzzy import fuzzy_group
 from chassistune.cli.list_cmd import list_command
 from chassistune.cli.optimize import optimize_command
+from chassistune.cli.reproduce import reproduce_command
 from chassistune.cli.simulate import simulate_command
 from chassistune.cli.study import study_group
 from chassistune.cli.tune import tune_command
+from chassistune.cli.warmup import warmup_command
 from chassistune.errors import InputError
 
 
@@ -34,7 +36,8 @@ def cli() -> None:
 
 
 for _command in (list_command, simulate_command, tune_command, optimize_command, study_group,
-                 fuzzy_group, export_command, bench_command, demo_command):
+                 fuzzy_group, export_command, bench_command, demo_command, reproduce_command,
+                 warmup_command):
     cli.add_command(_command)
 
 

@@ -23,6 +23,7 @@ from chassistune.reports.plant_view import plant_view
 from chassistune.reports.responses import ResponseSet, response_sets
 from chassistune.reports.versus import BETTER, SAME, WORSE, metrics_by_optimizer, verdict_of_sign
 from chassistune.studies.store import RunRecord
+from chassistune.tuning.functions import FUNCTION_KIND
 
 ASSETS = "report"
 
@@ -114,6 +115,8 @@ def setup_section(data: tables.StudyData, config: Mapping[str, Any], store_file:
     for group, spec in study_setup.scenario_specs(data).items():
         section.items.append(a.table(study_setup.scenario_table(data, group),
                                      f"Scenario {group}"))
+        if spec.plant == FUNCTION_KIND:  # a benchmark function has no parameters
+            continue
         params = study_setup.parameter_table(spec)
         section.items.append(a.table(
             params, f"Parameters, {group}",
@@ -150,7 +153,7 @@ def scenario_section(data: tables.StudyData, sc: str, index: int, reference: str
         f"Best cost found per run over the completed runs; reference {reference}. "
         f"{VERDICT_NOTE}", sources["summary"], sources["rank_sum"]))
     name = f"{index:02d}-{slug(sc)}"
-    for rs_ in response_sets(data, sc):
+    for rs_ in response_sets(data, sc) if spec.plant != FUNCTION_KIND else []:
         section.items.append(figures.responses(rs_, f"responses-{name}-{slug(rs_.road)}"))
     gains = gains_table(data, sc)
     if not gains.empty and spec.bounds:

@@ -90,17 +90,22 @@ def study_table(data: StudyData, config: Mapping[str, Any], store_file: Path) ->
 def optimizer_table(data: StudyData) -> pd.DataFrame:
     """Per optimizer: algorithm, every hyperparameter (defaults filled in), budget asked and the
     evaluations and iterations actually spent (min, median, max over its completed runs)."""
+    from chassistune.optimizers.peers import PEERS
     from chassistune.optimizers.registry import hyperparameters
 
     rows = []
     for opt in data.optimizers:
         runs = [r for r in data.records if r.spec.optimizer == opt]
         spec = runs[0].spec
-        hyper = hyperparameters(spec.optimizer_name, **spec.hyperparameters).as_dict()
+        if spec.optimizer_name in PEERS:
+            hyper_text = "the peer's settings (chassistune.optimizers.peers)"
+        else:
+            hyper = hyperparameters(spec.optimizer_name, **spec.hyperparameters).as_dict()
+            hyper_text = ", ".join(f"{k} = {v}" for k, v in hyper.items()) or "none"
         done = [r for r in runs if r.completed]
         rows.append({
             "optimizer": opt, "algorithm": spec.optimizer_name,
-            "hyperparameters": ", ".join(f"{k} = {v}" for k, v in hyper.items()) or "none",
+            "hyperparameters": hyper_text,
             "population": spec.pop_size,
             "iterations asked": spec.max_iter if spec.max_iter is not None else "",
             "evaluations asked": spec.max_evals if spec.max_evals is not None else "",

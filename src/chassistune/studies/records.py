@@ -36,6 +36,7 @@ class RunResult:
     test_costs: dict[str, float] | None = None
     history: list[float] | None = None
     history_nfev: list[int] | None = None
+    diagnostics: dict[str, Any] | None = None  # what the optimizer reports (IABC's scouts)
     robust: dict[str, Any] | None = None
     """Robust runs: `uncertainty`, `training` (the winner's cost on each training scenario) and
     `validation` (`tuning.robust.run.summary_fields`)."""

@@ -81,13 +81,35 @@ class StudySection(_Model):
         raise ValueError(f"expected a seed count or a list of seed indices, got {v!r}")
 
 
+class BudgetConfig(_Model):
+    """`[budget]`: population and iterations and/or evaluations (defaults as `tune`)."""
+
+    pop_size: Count = 30
+    iterations: Count | None = None
+    evaluations: Count | None = None
+
+    @model_validator(mode="before")
+    @classmethod
+    def _some_budget(cls, data: Any) -> Any:
+        if isinstance(data, dict) and "iterations" not in data and "evaluations" not in data:
+            return {**data, "iterations": 100}
+        return data
+
+
+MISSING = "missing required field: "
+"""Prefix of a validator's error that names a missing field (reported at that field's path)."""
+
+
 class ScenarioConfig(_Model):
-    """`[[scenarios]]`: what is tuned, on which roads, scored how."""
+    """`[[scenarios]]`: what is tuned, on which roads, scored how; or, with `functions`, the
+    benchmark functions an optimizer comparison minimizes (no plant, controller or roads)."""
 
     name: Name | None = None
-    plant: Name
+    plant: Name | None = None
     preset: Name | None = None
-    controller: Name
+    controller: Name | None = None
+    functions: list[Name] | None = None
+    budget: BudgetConfig | None = None
     objective: Name | None = None
     roads: list[Name] | None = None
     tune_roads: list[Name] | None = None
@@ -134,6 +156,25 @@ class ScenarioConfig(_Model):
         return v
 
 
+    @model_validator(mode="after")
+    def _kind(self) -> ScenarioConfig:
+        if self.functions is not None:
+            plant_keys = ("plant", "preset", "controller", "objective", "roads", "tune_roads",
+                          "test_roads", "uncertainty")
+            extra = [k for k in plant_keys if getattr(self, k) is not None]
+            extra += [k for k in ("params", "bounds") if getattr(self, k)]
+            if extra:
+                raise ValueError("a `functions` scenario takes no plant settings, got "
+                                 f"{', '.join(extra)}")
+            if not self.functions or len(set(self.functions)) != len(self.functions):
+                raise ValueError("`functions` must list distinct benchmark functions")
+        else:
+            for key in ("plant", "controller"):
+                if getattr(self, key) is None:
+                    raise ValueError(f"{MISSING}{key}")
+        return self
+
+
 class OptimizerConfig(_Model):
     """`[[optimizers]]`: a registered optimizer, an optional label and hyperparameters."""
 
@@ -142,19 +183,14 @@ class OptimizerConfig(_Model):
     hyperparameters: dict[str, HyperValue] = Field(default_factory=dict)
 
 
-class BudgetConfig(_Model):
-    """`[budget]`: population and iterations and/or evaluations (defaults as `tune`)."""
+class QuickConfig(_Model):
+    """`[quick]`: the reduced run of `reproduce --quick`: seed count and budget overrides that
+    replace those of `[budget]` and of every scenario's `budget`."""
 
-    pop_size: Count = 30
+    seeds: Count
+    pop_size: Count | None = None
     iterations: Count | None = None
     evaluations: Count | None = None
-
-    @model_validator(mode="before")
-    @classmethod
-    def _some_budget(cls, data: Any) -> Any:
-        if isinstance(data, dict) and "iterations" not in data and "evaluations" not in data:
-            return {**data, "iterations": 100}
-        return data
 
 
 class StudyConfig(_Model):
@@ -164,6 +200,30 @@ class StudyConfig(_Model):
     scenarios: Annotated[list[ScenarioConfig], Field(min_length=1)]
     optimizers: Annotated[list[OptimizerConfig], Field(min_length=1)]
     budget: BudgetConfig = Field(default_factory=BudgetConfig)
+    quick: QuickConfig | None = None
+
+
+def _quick_budget(b: BudgetConfig, q: QuickConfig) -> BudgetConfig:
+    if q.iterations is None and q.evaluations is None:
+        iters, evals = b.iterations, b.evaluations
+    else:
+        iters, evals = q.iterations, q.evaluations
+    return BudgetConfig(pop_size=q.pop_size or b.pop_size, iterations=iters, evaluations=evals)
+
+
+def quick_config(config: StudyConfig) -> StudyConfig:
+    """The config's `[quick]` version: study `<name>-quick` with its seeds and budgets."""
+    q = config.quick
+    if q is None:
+        raise InputError("quick", f"study {config.study.name!r} has no [quick] table")
+    return config.model_copy(update={
+        "study": config.study.model_copy(update={"name": f"{config.study.name}-quick",
+                                                 "seeds": tuple(range(q.seeds))}),
+        "budget": _quick_budget(config.budget, q),
+        "scenarios": [sc.model_copy(update={"budget": _quick_budget(sc.budget, q)})
+                      if sc.budget is not None else sc for sc in config.scenarios],
+        "quick": None,
+    })
 
 
 class RunSpec(_Model):
@@ -259,6 +319,9 @@ def _first_error(exc: ValidationError) -> InputError:
         problem = "missing required field"
     else:
         problem = str(err["msg"]).removeprefix("Value error, ")
+        if problem.startswith(MISSING):  # a field required by the scenario's kind
+            return InputError(_where((*err["loc"], problem.removeprefix(MISSING))),
+                              "missing required field")
         problem = problem[:1].lower() + problem[1:]
         value = err.get("input")
         if kind != "value_error" and isinstance(value, str | int | float | bool):
@@ -326,13 +389,35 @@ class _Cell:
     roads: tuple[str, ...]
 
 
-def _cells(sc: ScenarioConfig, default_road: str) -> Iterator[_Cell]:
-    group = sc.name or f"{sc.plant}-{sc.controller}"
+def _cells(sc: ScenarioConfig, plant: str, controller: str,
+           default_road: str) -> Iterator[_Cell]:
+    group = sc.name or f"{plant}-{controller}"
     roads = sc.roads if sc.roads is not None else ([] if sc.tune_roads else [default_road])
     for road in roads:
         yield _Cell(group, f"{group}/{road}", (road,))
     if sc.tune_roads:
         yield _Cell(group, f"{group}/{'+'.join(sc.tune_roads)}", tuple(sc.tune_roads))
+
+
+def _resolve_functions(index: int, sc: ScenarioConfig, functions: list[str]
+                       ) -> list[dict[str, Any]]:
+    """The run-spec fields of a benchmark-function scenario: one cell per function."""
+    from chassistune.tuning.functions import FUNCTION_KIND, build_function_problem
+
+    group = sc.name or "functions"
+    out = []
+    for k, name in enumerate(functions):
+        try:
+            problem = build_function_problem(name, 0)
+        except InputError as exc:
+            raise InputError(f"scenarios[{index}].functions[{k}]", exc.problem) from None
+        out.append({
+            "group": group, "scenario": f"{group}/{problem.function.name}",
+            "plant": FUNCTION_KIND, "preset": "", "controller": "", "objective": "value",
+            "roads": (problem.function.name,), "aggregate": "mean", "test_roads": (),
+            "params": {}, "bounds": dict(zip(problem.gain_names, problem.bounds, strict=True)),
+        })
+    return out
 
 
 def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int,
@@ -343,17 +428,20 @@ def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int,
     from chassistune.scenarios.registry import get_plant
     from chassistune.studies.problems import build, problem_key, remember
 
+    if sc.functions is not None:
+        return _resolve_functions(index, sc, sc.functions)
+    plant_name, controller = str(sc.plant), str(sc.controller)  # both set (`_kind`)
     try:
-        plant = get_plant(sc.plant)
+        plant = get_plant(plant_name)
         preset = sc.preset or plant.default_preset
         default_road = plant.presets()[preset].roads[0] if preset in plant.presets() else ""
-        cells = list(_cells(sc, default_road))
+        cells = list(_cells(sc, plant_name, controller, default_road))
         every_road = list(dict.fromkeys(r for c in cells for r in c.roads))
         test_roads = tuple(sc.test_roads or every_road)
         out = []
         for cell in cells:
             fields: dict[str, Any] = {
-                "plant": sc.plant, "preset": preset, "controller": sc.controller,
+                "plant": plant_name, "preset": preset, "controller": controller,
                 "objective": sc.objective, "roads": cell.roads, "aggregate": sc.aggregate,
                 "params": dict(sc.params), "bounds": dict(sc.bounds),
                 "uncertainty": sc.uncertainty,
@@ -372,7 +460,7 @@ def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int,
     for road in test_roads:
         if road not in every_road:
             try:
-                plant.scenario(preset, road, sc.controller, sc.params, seed)
+                plant.scenario(preset, road, controller, sc.params, seed)
             except InputError as exc:
                 raise InputError(f"scenarios[{index}].test_roads", exc.problem) from None
     return out
@@ -381,9 +469,15 @@ def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int,
 def _resolve_optimizer(index: int, opt: OptimizerConfig, budget: BudgetConfig,
                        bounds: list[tuple[float, float]]) -> None:
     """Construct the optimizer once (no evaluation) so that every setting is checked."""
+    from chassistune.optimizers.peers import PEERS
     from chassistune.optimizers.registry import get, make
 
     where = f"optimizers[{index}]"
+    if opt.name in PEERS:
+        if opt.hyperparameters:
+            raise InputError(f"{where}.hyperparameters", f"the peer {opt.name} runs with the "
+                             "settings of optimizers.peers; give no hyperparameters")
+        return
     try:
         get(opt.name)
     except InputError as exc:
@@ -407,9 +501,11 @@ def _resolve_optimizer(index: int, opt: OptimizerConfig, budget: BudgetConfig,
 def plan_study(config: StudyConfig) -> StudyPlan:
     """Resolve every name and expand the grid into run specs (InputError on the first problem)."""
     cells: list[dict[str, Any]] = []
+    budgets: list[BudgetConfig] = []
     first = child_seed(config.study.seed, config.study.seeds[0])
     for i, sc in enumerate(config.scenarios):
         resolved = _resolve_scenario(i, sc, int_seed(first), first)
+        budgets += [sc.budget or config.budget] * len(resolved)
         if any(c["group"] == resolved[0]["group"] for c in cells):
             raise InputError(f"scenarios[{i}].name", f"another scenario is also named "
                              f"{resolved[0]['group']!r}: give each scenario a distinct `name`")
@@ -421,15 +517,14 @@ def plan_study(config: StudyConfig) -> StudyPlan:
             raise InputError(f"optimizers[{j}].label", f"{label!r} is used twice: give each "
                              "optimizer entry a distinct `label`")
         labels.append(label)
-        for c in cells:
-            _resolve_optimizer(j, opt, config.budget, list(c["bounds"].values()))
-    b = config.budget
+        for c, b in zip(cells, budgets, strict=True):
+            _resolve_optimizer(j, opt, b, list(c["bounds"].values()))
     runs = tuple(
         RunSpec(study=config.study.name, optimizer=label, optimizer_name=opt.name.lower(),
                 hyperparameters=dict(opt.hyperparameters), pop_size=b.pop_size,
                 max_iter=b.iterations, max_evals=b.evaluations, root_seed=config.study.seed,
                 seed=s, **c)
-        for c in cells
+        for c, b in zip(cells, budgets, strict=True)
         for opt, label in zip(config.optimizers, labels, strict=True)
         for s in config.study.seeds
     )

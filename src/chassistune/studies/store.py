@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from chassistune._io import dumps
+from chassistune._io import atomic_path, dumps
 from chassistune.errors import InputError
 from chassistune.studies.records import RunResult, RunStatus
 from chassistune.studies.spec import RunSpec
@@ -51,12 +51,14 @@ CREATE TABLE IF NOT EXISTS runs (
     history TEXT,
     history_nfev TEXT,
     robust TEXT,
+    diagnostics TEXT,
     versions TEXT NOT NULL,
     finished_at TEXT NOT NULL
 );
 """
 
-_JSON_COLUMNS = ("best_gains", "metrics", "test_costs", "history", "history_nfev", "robust")
+_JSON_COLUMNS = ("best_gains", "metrics", "test_costs", "history", "history_nfev", "robust",
+                 "diagnostics")
 
 
 @dataclass(frozen=True)
@@ -76,12 +78,21 @@ class RunRecord:
     history: list[float]
     history_nfev: list[int]
     versions: dict[str, str]
+    diagnostics: dict[str, Any]
     robust: dict[str, Any] | None = None
     """Robust runs (an `[uncertainty]` table): the training summary and the validation."""
 
     @property
     def completed(self) -> bool:
         return self.status is RunStatus.COMPLETED
+
+
+def _init_schema(conn: sqlite3.Connection) -> None:
+    conn.executescript(_SCHEMA)
+    for column in ("robust", "diagnostics"):  # a store written before issues 17 and 14
+        if column not in _columns(conn):
+            conn.execute(f"ALTER TABLE runs ADD COLUMN {column} TEXT")
+    conn.execute("INSERT OR IGNORE INTO meta VALUES ('schema_version', ?)", (SCHEMA_VERSION,))
 
 
 def store_path(study_dir: str | Path) -> Path:
@@ -121,13 +132,15 @@ class Store:
         """Open DIR/study.sqlite for writing, creating the folder and the schema if needed."""
         os.makedirs(study_dir, exist_ok=True)
         path = store_path(study_dir)
+        if not path.exists():  # built aside and renamed: a kill never leaves a store without
+            with atomic_path(path) as tmp:  # its schema
+                fresh = sqlite3.connect(tmp)
+                with fresh:
+                    _init_schema(fresh)
+                fresh.close()
         conn = _connect(path, read_only=False)
         with conn:
-            conn.executescript(_SCHEMA)
-            if "robust" not in _columns(conn):  # a store written before issue 17
-                conn.execute("ALTER TABLE runs ADD COLUMN robust TEXT")
-            conn.execute("INSERT OR IGNORE INTO meta VALUES ('schema_version', ?)",
-                         (SCHEMA_VERSION,))
+            _init_schema(conn)
         return cls(conn, path)
 
     @classmethod
@@ -200,19 +213,22 @@ class Store:
 
     def records(self) -> Iterator[RunRecord]:
         """Every finished run, ordered by scenario, optimizer and seed."""
-        robust = "robust" if "robust" in _columns(self._conn) else "NULL"
+        have = _columns(self._conn)
+        robust = "robust" if "robust" in have else "NULL"
+        diagnostics = "diagnostics" if "diagnostics" in have else "NULL"
         cur = self._conn.execute(
             "SELECT spec, status, error, best_cost, nfev, nit, wall_time_s, best_gains, metrics, "
-            f"test_costs, history, history_nfev, versions, {robust} FROM runs "
+            f"test_costs, history, history_nfev, versions, {robust}, {diagnostics} FROM runs "
             "ORDER BY scenario, optimizer, seed")
         for (spec, status, error, cost, nfev, nit, wall, gains, metrics, tests, hist, hist_n,
-             vers, rob) in cur:
+             vers, rob, diag) in cur:
             yield RunRecord(
                 spec=RunSpec.model_validate_json(spec), status=RunStatus(status), error=error,
                 best_cost=cost, nfev=nfev, nit=nit, wall_time_s=wall,
                 best_gains=_loads(gains, {}), metrics=_loads(metrics, {}),
                 test_costs=_loads(tests, {}), history=_loads(hist, []),
                 history_nfev=_loads(hist_n, []), versions=_loads(vers, {}),
+                diagnostics=_loads(diag, {}),
                 robust=_loads(rob, None))
 
 

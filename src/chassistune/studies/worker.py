@@ -34,13 +34,40 @@ def versions() -> dict[str, str]:
     return out
 
 
+def _run_function(spec: RunSpec) -> dict[str, Any]:
+    """A benchmark-function run: our optimizer through the driver, or a peer."""
+    from chassistune.optimizers.driver import drive
+    from chassistune.optimizers.peers import PEERS, run_peer
+    from chassistune.optimizers.registry import make
+    from chassistune.tuning.functions import build_function_problem
+
+    problem = build_function_problem(spec.roads[0], spec.scenario_seed)
+    if spec.optimizer_name in PEERS:
+        result = run_peer(spec.optimizer_name, problem, problem.bounds, spec.pop_size,
+                          spec.max_iter, spec.max_evals, spec.seed_sequence())
+    else:
+        hyper: dict[str, Any] = dict(spec.hyperparameters)
+        result = drive(make(spec.optimizer_name, problem.bounds, spec.pop_size,
+                            spec.optimizer_rng(), max_iter=spec.max_iter,
+                            max_evals=spec.max_evals, **hyper), problem)
+    return {
+        "best_gains": dict(zip(problem.gain_names, result.x.tolist(), strict=True)),
+        "best_cost": result.fun, "nfev": result.nfev, "nit": result.nit,
+        "history": result.history, "history_nfev": result.history_nfev,
+        "metrics": {}, "test_costs": {}, "diagnostics": result.diagnostics,
+    }
+
+
 def _run(spec: RunSpec) -> dict[str, Any]:
     from chassistune.scenarios.registry import get_plant
     from chassistune.studies.problems import problem_for
+    from chassistune.tuning.functions import FUNCTION_KIND
     from chassistune.tuning.robust.problem import RobustProblem
     from chassistune.tuning.robust.run import robust_summary
     from chassistune.tuning.tune import run_optimizer
 
+    if spec.plant == FUNCTION_KIND:
+        return _run_function(spec)
     seed = spec.scenario_seed
     problem = problem_for(spec.model_dump(), seed, spec.seed_sequence())
     hyper: dict[str, Any] = dict(spec.hyperparameters)
@@ -67,6 +94,7 @@ def _run(spec: RunSpec) -> dict[str, Any]:
         "history_nfev": result.history_nfev,
         "metrics": result.metrics,
         "test_costs": test_costs,
+        "diagnostics": result.diagnostics,
     }
 
 

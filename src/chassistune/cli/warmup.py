@@ -1,0 +1,19 @@
+"""`chassistune warmup`: compile every kernel now (cached on disk) instead of at first use."""
+
+from __future__ import annotations
+
+import time
+
+import click
+
+
+@click.command("warmup")
+def warmup_command() -> None:
+    """Compile every plant's and controller's kernels (numba's disk cache; `make` runs this at
+    installation, so that the first `reproduce` or `tune` starts at once)."""
+    from chassistune.scenarios.warmup import warm_up
+
+    t0 = time.perf_counter()
+    done = warm_up(lambda pair: click.echo(f"compiled {pair}", err=True))
+    click.echo(f"warmup: {len(done)} plant/controller pairs compiled or loaded from the cache "
+               f"in {time.perf_counter() - t0:.1f} s")

@@ -1,0 +1,123 @@
+"""`chassistune reproduce all --quick` end to end (one session-scoped run): every listed table and
+figure is written, every stopping distance of ours respects its physical bound, the papers'
+numbers appear exactly as published, and the verdict table has one row per claim."""
+
+from __future__ import annotations
+
+import math
+
+import pandas as pd
+import pytest
+
+from chassistune.papers import published
+from chassistune.papers.common import VERDICTS
+
+TABLES = [
+    "verdicts", "bounds",
+    *(f"derlsp-ao-abs_{t}" for t in ("setting", "budgets", "table2_dry-concrete",
+                                      "table3_wet-asphalt", "table4_ice", "figs6_7_functions",
+                                      "verdicts")),
+    *(f"iabc-suspension_{t}" for t in ("setting", "budgets", "table2", "improvement", "final_q",
+                                        "convergence", "verdicts")),
+    *(f"deffao-vehicle-abs_{t}" for t in ("setting", "budgets", "table4", "table5", "verdicts")),
+    *(f"fuzzy-immune-abs_{t}" for t in ("setting", "budgets", "Fig4_asphalt-0.8",
+                                         "Fig5_dirt-0.2", "verdicts")),
+]
+FIGURES = [
+    "derlsp-ao-abs_fig4_no_abs_vs_pid", "derlsp-ao-abs_fig10_dry-concrete",
+    "derlsp-ao-abs_fig11_wet-asphalt", "derlsp-ao-abs_fig12_ice",
+    *(f"derlsp-ao-abs_fig{n}_{f}" for n in (6, 7) for f in ("F4", "F5", "F6", "F14")),
+    "iabc-suspension_fig6_convergence", "iabc-suspension_fig7_responses",
+    *(f"deffao-vehicle-abs_table4_convergence_{f}" for f in ("F2", "F3", "F5", "F8", "F21")),
+    "deffao-vehicle-abs_fig7_dry-concrete", "deffao-vehicle-abs_fig8_mu-jump",
+    "deffao-vehicle-abs_fig9_split-mu",
+    "fuzzy-immune-abs_fig4_asphalt-0.8", "fuzzy-immune-abs_fig5_dirt-0.2",
+]
+CLAIMS = {"derlsp-ao-abs": 6, "iabc-suspension": 4, "deffao-vehicle-abs": 3,
+          "fuzzy-immune-abs": 3}
+"""Claims of issue 14, item 4, per paper."""
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+
+
+def _table(reproduced, name: str) -> pd.DataFrame:
+    return pd.read_csv(reproduced.out / "tables" / f"{name}.csv")
+
+
+def test_every_listed_table_and_figure_is_written(reproduced) -> None:
+    for name in TABLES:
+        assert len(_table(reproduced, name)) > 0, name
+    for name in FIGURES:
+        path = reproduced.out / "figures" / f"{name}.png"
+        assert path.read_bytes()[:8] == PNG_MAGIC, name
+    assert (reproduced.out / "verdicts.csv").is_file()
+    html = (reproduced.out / "report.html").read_text(encoding="utf-8")
+    assert html.count("data:image/png;base64,") >= len(FIGURES)
+    assert "report.html" in reproduced.stdout
+
+
+def test_every_stopping_distance_of_ours_respects_its_bound(reproduced) -> None:
+    checked = 0
+    for csv in (reproduced.out / "tables").glob("*.csv"):
+        df = pd.read_csv(csv)
+        if "ours distance (m)" in df and "bound (m)" in df:
+            assert (df["ours distance (m)"] >= df["bound (m)"] * (1 - 1e-12)).all(), csv.name
+            checked += len(df)
+    assert checked >= 5 * 3 + 4 * 3 + 7 * 2  # papers 000 and 003: three roads, 004: two
+
+
+def test_the_tables_hold_the_papers_numbers_exactly_as_published(reproduced) -> None:
+    for table, road in (("table2_dry-concrete", "dry-concrete"), ("table3_wet-asphalt",
+                                                                  "wet-asphalt"),
+                        ("table4_ice", "ice")):
+        df = _table(reproduced, f"derlsp-ao-abs_{table}").set_index("controller")
+        for q, col in (("stop_distance_m", "paper distance (m)"),
+                       ("stop_time_s", "paper stop time (s)")):
+            for label, value in published.lookup("derlsp-ao-abs", q, road).as_dict().items():
+                assert df.loc[label, col] == value
+    t2 = _table(reproduced, "iabc-suspension_table2").set_index("controller")
+    for m in ("body_acc_rms", "susp_travel_rms", "tire_defl_rms"):
+        for label, value in published.lookup("iabc-suspension", m, "iso-b").as_dict().items():
+            assert t2.loc[label, f"paper {m}"] == value
+    t4 = _table(reproduced, "deffao-vehicle-abs_table4")
+    for q in published.quantities("deffao-vehicle-abs"):
+        if q.source == "Table 4":
+            for label, value in q.as_dict().items():
+                rows = t4[t4["method"] == label]["paper best"].tolist()
+                assert value in rows, (q.name, label)
+    t5 = _table(reproduced, "deffao-vehicle-abs_table5").set_index(["road", "controller"])
+    for road in ("dry-concrete", "mu-jump", "split-mu"):
+        for q, col in (("stop_distance_m", "paper distance (m)"),
+                       ("stop_time_s", "paper stop time (s)")):
+            for label, value in published.lookup("deffao-vehicle-abs", q, road).as_dict().items():
+                assert t5.loc[(road, label), col] == value
+    imp = _table(reproduced, "iabc-suspension_improvement").iloc[0]
+    claimed = published.lookup("iabc-suspension", "improvement_iabc_vs_abc_percent").values
+    assert tuple(imp[["body_acc_rms", "susp_travel_rms", "tire_defl_rms"]]) == claimed
+
+
+def test_the_verdict_table_has_one_row_per_claim(reproduced) -> None:
+    df = pd.read_csv(reproduced.out / "verdicts.csv")
+    assert df.groupby("paper").size().to_dict() == CLAIMS
+    assert set(df["verdict"]) <= set(VERDICTS)
+    assert not df.duplicated(["paper", "claim"]).any() and df["evidence"].str.len().min() > 10
+    assert df.equals(_table(reproduced, "verdicts"))
+    # the physical bounds are checkable without our runs: every paper with distances breaks them
+    bounds = df[df["claim"].str.contains("physically possible")]
+    assert set(bounds["paper"]) == {"derlsp-ao-abs", "deffao-vehicle-abs", "fuzzy-immune-abs"}
+    assert (bounds["verdict"] == "does not hold").all()
+
+
+def test_published_distances_below_the_bound_are_flagged(reproduced) -> None:
+    df = _table(reproduced, "bounds")
+    ratio = df["published (m)"] / df["bound (m)"]
+    assert ((ratio < 1) == (df["possible"] == "no")).all()
+    assert not math.isnan(ratio.max())
+
+
+@pytest.mark.parametrize("paper", ["derlsp-ao-abs", "fuzzy-immune-abs"])
+def test_one_paper_alone_reuses_nothing_and_refuses_a_bad_folder(cli, tmp_path, paper) -> None:
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    res = cli("reproduce", paper, "--quick", "--out", str(blocker))
+    assert res.code == 2 and res.err.count("\n") == 1 and "--out" in res.err
+    assert blocker.read_text() == "x"
