@@ -596,6 +596,7 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
     window = p[P_WINDOW]
     n_steps = math.ceil(p[P_TMAX] / dt - 1e-9)
     select_low = p[P_SELECT_LOW] != 0.0
+    moving_surfaces = p[P_ROAD] in (ROAD_MU_JUMP, ROAD_SPLIT)  # else sidx, ls fixed from t = 0
     n_g = gains.shape[1] // 2 if p[P_AXLE] != 0.0 else gains.shape[1]
     law = np.zeros((N_LAW, 4, n))
     col0 = np.zeros(4, dtype=np.int64)  # first gain column of each wheel
@@ -663,6 +664,7 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
     t_end = np.full(n, n_steps * dt)
     steps_per_sample = max(1, round(c[Q_TS] / dt))
     active = np.arange(n)
+    running = np.ones(n, dtype=np.bool_)
     m = n
     n_trace = trace.shape[0]
     rows = 0
@@ -718,14 +720,17 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
                p, geo, surfs, sc, y, wbuf, tgt, iters, inv)
         _stage(n, m, active, x, k3, dt, k4, law, sidx, ls, guess, flag,
                p, geo, surfs, sc, y, wbuf, tgt, iters, inv)
+        for s in range(N_STATE):  # branch-free over every lane; ended lanes keep their state
+            for i in range(n):
+                x[s, i] = select(running[i], rk4_update(x[s, i], h6, k1[s, i], k2[s, i],
+                                                        k3[s, i], k4[s, i]), x[s, i])
+        for j in range(4):
+            for i in range(n):
+                x[S_W + j, i] = max(x[S_W + j, i], 0.0)
+                x[S_Q + j, i] = min(max(x[S_Q + j, i], 0.0), q_max)
         jj = 0
         while jj < m:
             i = active[jj]
-            for s in range(N_STATE):
-                x[s, i] = rk4_update(x[s, i], h6, k1[s, i], k2[s, i], k3[s, i], k4[s, i])
-            for j in range(4):
-                x[S_W + j, i] = max(x[S_W + j, i], 0.0)
-                x[S_Q + j, i] = min(max(x[S_Q + j, i], 0.0), q_max)
             vx = x[S_VX, i]
             vy = x[S_VY, i]
             sp_new = math.sqrt(vx * vx + vy * vy)
@@ -758,7 +763,8 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
                 all_t[i] = t + dt
                 all_v[i] = sp_new
                 all_d[i] = dist[i]
-            _update_surfaces(x, i, p, geo, sidx, surfs, ls)
+            if moving_surfaces:
+                _update_surfaces(x, i, p, geo, sidx, surfs, ls)
             for j in range(4):
                 err[j, i] = surfs[sidx[j, i], SF_TARGET] - slip[j, i]
             r_now = x[S_YR, i]
@@ -789,6 +795,7 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
             else:
                 ended = False
             if ended:
+                running[i] = False
                 m -= 1
                 active[jj] = active[m]
                 active[m] = i
