@@ -381,7 +381,7 @@ def _simulate(law, gains, plant, coef, xc_tuple, xs_tuple, ys_tuple, ctrl_kind, 
     steps_per_sample = max(1, round(c[Q_TS] / dt))
     ts = steps_per_sample * dt
     c0, c1, c2, c3 = coef[0], coef[1], coef[2], coef[3]
-    rk3 = ctrl_kind == C_PID or ctrl_kind == C_NONE  # noqa: SIM109
+    rk3 = (ctrl_kind == C_PID) | (ctrl_kind == C_NONE)
     st = np.zeros(N_ROWS * LANES)
     lane_of = np.full(LANES, -1)  # candidate in each lane
     live = min(n, LANES)
