@@ -6,6 +6,10 @@ stays straight-line. `fmax` and `fmin` reproduce numba's built-in `max`/`min` on
 for bit (NaN and signed-zero cases included): max(a, b) is `b if b > a else a`, min(a, b) is
 `b if b < a else a`. Combine conditions with `&` and `|` (not `and`/`or`, which short-circuit).
 
+`fma(a, b, c)` is a b + c rounded once (llvm.fma: vfmadd on x86 with FMA, the same number on
+every CPU and in vector and scalar code alike); the kernels never let the compiler contract on
+its own (no fastmath), so a fused operation appears only where it is written.
+
 `stack_copy(t)` copies a tuple of floats to the stack and returns a pointer: `p[i]` with a
 data-dependent i is then one load (a gather in a vector loop) from memory that the compiler knows
 nothing else writes, where indexing the tuple itself compiles to a switch and indexing an
@@ -76,3 +80,21 @@ def stack_copy(tup):  # pragma: no cover - compiled
     """A pointer to a stack copy of a tuple of float64 (valid in the calling kernel; call it
     once, outside loops: each call makes its own copy)."""
     return _stack_copy(tup)  # type: ignore[call-arg]
+
+
+@intrinsic
+def _llvm_fma(typingctx, a, b, c):
+    sig = types.float64(types.float64, types.float64, types.float64)
+
+    def codegen(context, builder, signature, args):
+        d = ir.DoubleType()
+        fn = builder.module.declare_intrinsic("llvm.fma", [d], ir.FunctionType(d, [d, d, d]))
+        return builder.call(fn, args)
+
+    return sig, codegen
+
+
+@njit(cache=True, nogil=True, inline="always")
+def fma(a: float, b: float, c: float) -> float:  # pragma: no cover - compiled
+    """a b + c with one rounding (IEEE fusedMultiplyAdd)."""
+    return _llvm_fma(a, b, c)  # type: ignore[call-arg]
