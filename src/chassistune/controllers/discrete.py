@@ -20,9 +20,9 @@ The laws (e = target_slip - slip throughout):
       d_k = N (e_k - xf_k)                                           (filtered de/dt)
       u_k = kp e_k + ki z_k + kd d_k
       z_k+1 = z_k + ts e_k, unless (pressure_at_max and e_k > 0) or (pressure_at_min and e_k < 0)
-- `fuzzy-pid` (seed 003): the same PID with kp, ki, kd scheduled every sample from the table at
+- `fuzzy-pid` (Tian 2025): the same PID with kp, ki, kd scheduled every sample from the table at
   (ke e_k, kec d_k): kp = kp0 + ku_p T_kp(ke e_k, kec d_k), likewise ki, kd.
-- `fuzzy-immune-pid` (seed 004 eqs. 6-10, the kernel's arithmetic): ec_k = (e_k - e_k-1) / ts
+- `fuzzy-immune-pid` (Ding 2023 eqs. 6-10, the kernel's arithmetic): ec_k = (e_k - e_k-1) / ts
   (0 at k = 0), kp1 = k_immune (1 - eta T_f(ke e_k, kec ec_k)),
       u_k = u_k-1 + kp1 (e_k - e_k-1) + ki ts e_k + kd (e_k - 2 e_k-1 + e_k-2) / ts,
   starting from rest (u = 0, e = 0 before k = 0, no derivative term at k = 0); after k = 0,

@@ -1,4 +1,4 @@
-"""Fuzzy self-tuning PID (seed 003 section 3, Fig. 3; DESIGN 4): gain schedule of a PID.
+"""Fuzzy self-tuning PID (deffao-vehicle-abs section 3, Fig. 3; DESIGN 4): gain schedule of a PID.
 
 The inputs e and de/dt are scaled by the quantization factors `ke`, `kec` into the rule base's
 universe (and clipped to it); its three outputs (deffao: magnitudes in [0, 1]; classic: signed
@@ -25,7 +25,7 @@ from chassistune.fuzzy.surface import cell_output, surface_cell
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def fuzzy_pid_gains(table, e, de, ke, kec, ku_p, ku_i, ku_d, kp0, ki0, kd0):
-    """Scheduled (kp, ki, kd) at (e, de) (seed 003 Fig. 3)."""
+    """Scheduled (kp, ki, kd) at (e, de) (deffao-vehicle-abs Fig. 3)."""
     x0 = ke * e
     x1 = kec * de
     if x0 != x0 or x1 != x1:

@@ -1,4 +1,4 @@
-"""Fuzzy immune PID (seed 004 eqs. 6-10; DESIGN 4): an incremental PID whose proportional gain
+"""Fuzzy immune PID (Ding 2023 eqs. 6-10; DESIGN 4): an incremental PID whose proportional gain
 follows an immune feedback law.
 
     kp1 = k_immune (1 - eta f(ke e, kec ec))                            (eq. 9, f: rule base)
@@ -29,19 +29,19 @@ from chassistune.fuzzy.surface import surface_output
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def immune_gain(table, e, ec, ke, kec, k_immune, eta):
-    """Immune proportional gain kp1 = k_immune (1 - eta f(ke e, kec ec)) (seed 004 eq. 9)."""
+    """Immune proportional gain kp1 = k_immune (1 - eta f(ke e, kec ec)) (Ding 2023 eq. 9)."""
     return k_immune * (1.0 - eta * surface_output(table, 0, ke * e, kec * ec))
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def incremental_pid_du(kp1, ki, kd, ts, e0, e1, e2):
-    """Control increment of the discrete PID (seed 004 eq. 10 as DESIGN 4 reads it)."""
+    """Control increment of the discrete PID (fuzzy-immune-abs eq. 10 as DESIGN 4 reads it)."""
     return kp1 * (e0 - e1) + ki * ts * e0 + kd * (e0 - 2.0 * e1 + e2) / ts
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def immune_pid_step(table, e, e1, e2, u_prev, ts, first, k_immune, eta, ki, kd, ke, kec):
-    """Next command u_k of the fuzzy immune PID (seed 004 eqs. 9-10), from rest at `first`."""
+    """Next command u_k of the fuzzy immune PID (Ding 2023 eqs. 9-10), from rest at `first`."""
     ec = select(first, 0.0, (e - e1) / ts)
     kp1 = immune_gain(table, e, ec, ke, kec, k_immune, eta)
     e1_ = select(first, 0.0, e1)

@@ -1,5 +1,5 @@
 """Continuous PID on the slip error with a filtered derivative and conditional integration
-(DESIGN 4; seed 000 eq. 12).
+(DESIGN 4; derlsp-ao-abs eq. 12).
 
     u = u0 + kp e + ki z + kd N (e - xf),   dz/dt = e (0 while the actuator saturates in the
     direction e pushes),   dxf/dt = N (e - xf).

@@ -1,7 +1,7 @@
 """Wheel controllers of the vehicle ABS (`abs-vehicle`, DESIGN 3.3, 4): gains, bounds, defaults.
 
 The laws are the single wheel's, one per wheel on the slip error of the surface under it; one gain
-set is shared by the four wheels (as seed 003 tunes it) unless `axle_gains = "per-axle"`, which
+set is shared by the four wheels (as Tian 2025 tunes it) unless `axle_gains = "per-axle"`, which
 doubles every gain into a front (`_f`) and a rear (`_r`) copy.
 
 Vehicle defaults of their own. With J = 0.6 kg m^2 the rear wheels carry about 1230 N while

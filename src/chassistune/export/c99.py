@@ -78,7 +78,7 @@ double ct_step(ct_state *s, const double *in)
 }
 """,
     "fuzzy-immune-pid": """\
-/* seed 004 eq. 10 as DESIGN 4 reads it: the increment of the incremental PID */
+/* fuzzy-immune-abs eq. 10 as DESIGN 4 reads it: the increment of the incremental PID */
 static double ct_incremental_du(double kp1, double ki, double kd, double ts, double e0,
                                 double e1, double e2)
 {

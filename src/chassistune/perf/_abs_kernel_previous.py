@@ -7,7 +7,7 @@ Compiled closed-loop simulation of the single-wheel ABS (DESIGN 3.1) over a popu
 One kernel serves every controller of the plant (an integer selects the control law) and both
 paths: a batch of n gain rows, or one row with a trace (a single run is a batch of one).
 
-Plant (seed 000 eqs. 1-4, 9-10), with Fz = lf M g the wheel load (lf = 1 except sldemo's quirk):
+Plant (Tian et al. eqs. 1-4, 9-10), with Fz = lf M g the wheel load (lf = 1 except sldemo's quirk):
     M dv/dt = -mu(S) Fz,   I dw/dt = R mu(S) Fz - kq q  (w >= 0: held at 0 while Tb >= R Fx),
     S = (v - w R)/v,   T dr/dt = K u - r,   dq/dt = r with q held in [0, q_max].
 Control u: a continuous PID with filtered derivative and conditional integration (DESIGN 4),
@@ -55,7 +55,7 @@ def fuzzy_pid_gains(
     kd0: float,
     out,
 ) -> None:  # pragma: no cover - compiled
-    """Write the scheduled gains kp, ki, kd into out[0:3] (seed 003 Fig. 3; DESIGN 4).
+    """Write the scheduled gains kp, ki, kd into out[0:3] (deffao-vehicle-abs Fig. 3; DESIGN 4).
 
     `table` must have three outputs in the order kp, ki, kd (deffao) or dkp, dki, dkd (classic).
     """
@@ -69,7 +69,7 @@ def fuzzy_pid_gains(
 def immune_gain(
     table, e: float, ec: float, ke: float, kec: float, k_immune: float, eta: float
 ) -> float:  # pragma: no cover - compiled
-    """Immune proportional gain kp1 = k_immune (1 - eta f(ke e, kec ec)) (seed 004 eq. 9)."""
+    """Immune proportional gain kp1 = k_immune (1 - eta f(ke e, kec ec)) (Ding 2023 eq. 9)."""
     return k_immune * (1.0 - eta * surface_value(table, 0, ke * e, kec * ec))
 
 
@@ -77,7 +77,7 @@ def immune_gain(
 def incremental_pid_du(
     kp1: float, ki: float, kd: float, ts: float, e0: float, e1: float, e2: float
 ) -> float:  # pragma: no cover - compiled
-    """Control increment of the discrete PID (seed 004 eq. 10 as DESIGN 4 reads it).
+    """Control increment of the discrete PID (fuzzy-immune-abs eq. 10 as DESIGN 4 reads it).
 
     e0, e1, e2 are the errors at samples k, k-1, k-2; ts the controller's sample period.
     """
@@ -226,7 +226,7 @@ def _sampled_command(ctrl_kind, c, phase, s, target, aw):
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _immune_command(g, table, e, e1, e2, u_prev, ts, first):
-    """Fuzzy immune PID (seed 004 eqs. 6-10, DESIGN 4), g = (k_immune, eta, ki, kd, ke, kec).
+    """Fuzzy immune PID (Ding 2023 eqs. 6-10, DESIGN 4), g = (k_immune, eta, ki, kd, ke, kec).
 
     The controller starts from rest (u = 0 and e = 0 before the first sample) without a
     derivative kick: the first sample adds kp1 e + ki ts e only."""

@@ -1,4 +1,4 @@
-"""7-DOF vehicle ABS physics (`abs-vehicle`, DESIGN 3.3; seed 003 Table 2).
+"""7-DOF vehicle ABS physics (`abs-vehicle`, DESIGN 3.3; deffao-vehicle-abs Table 2).
 
 Parameters (frozen dataclasses, preset `paper-deffao`), the combined-slip tire, the load/force loop
 solved exactly at every evaluation, and the exact stopping bounds. The closed loop itself is
@@ -53,13 +53,13 @@ class VehicleParams:
     """Vehicle, brake and solver parameters, SI (q in the preset's pressure unit, Tb = kq q)."""
 
     mass_kg: float = field(default=1110.0, metadata=_POS)
-    """Total mass, used in every equation (seed 003 Table 2)."""
+    """Total mass, used in every equation (deffao-vehicle-abs Table 2)."""
     front_unsprung_kg: float = field(default=60.0, metadata=_NONNEG)
-    """Seed 003's m1: recorded, unused by the planar model."""
+    """Paper deffao-vehicle-abs's m1: recorded, unused by the planar model."""
     rear_unsprung_kg: float = field(default=60.0, metadata=_NONNEG)
-    """Seed 003's m2: recorded, unused by the planar model."""
+    """Paper deffao-vehicle-abs's m2: recorded, unused by the planar model."""
     yaw_inertia_kg_m2: float = field(default=1440.0, metadata=_POS)
-    """Printed 1.44 kg m^2 in seed 003 Table 2, read as 1440."""
+    """Printed 1.44 kg m^2 in deffao-vehicle-abs Table 2, read as 1440."""
     wheel_inertia_kg_m2: float = field(default=0.6, metadata=_POS)
     wheel_radius_m: float = field(default=0.4, metadata=_POS)
     cg_to_front_m: float = field(default=1.04, metadata=_POS)
@@ -124,7 +124,7 @@ def load_coefficients(pp: VehicleParams) -> tuple[np.ndarray, np.ndarray, np.nda
 
 def surface_row(slip_opt: float, mu_peak: float, mu_lock: float, stiffness_n_rad: float
                 ) -> np.ndarray:
-    """One surface row (SF_* columns) of a bilinear curve (seed 000 eq. 5)."""
+    """One surface row (SF_* columns) of a bilinear curve (derlsp-ao-abs eq. 5)."""
     st, h, g = slip_opt, mu_peak, mu_lock
     row = np.zeros(N_SURFACE)
     row[SF_ST] = st

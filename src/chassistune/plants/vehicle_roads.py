@@ -1,5 +1,5 @@
 """Roads of the vehicle ABS (DESIGN 3.2, 3.3): uniform, `mu-jump` and `split-mu`, built by name from
-the bilinear surfaces (seed 000 Table 1, seed 003 Table 1).
+the bilinear surfaces (derlsp-ao-abs Table 1, deffao-vehicle-abs Table 1).
 
 Which surface is under wheel i follows its contact point's global position:
 - `mu-jump`: the first surface until the contact point's global X reaches the jump, the second

@@ -1,4 +1,4 @@
-"""The 7-DOF vehicle ABS scenario and plant (`abs-vehicle`, DESIGN 3.3; seed 003).
+"""The 7-DOF vehicle ABS scenario and plant (`abs-vehicle`, DESIGN 3.3; deffao-vehicle-abs).
 
 Resolves preset + road + wheel controller + overrides into the kernel's declared inputs
 (`chassistune.sim.abs_vehicle_kernel` layouts), evaluates populations in one kernel call, and
@@ -79,7 +79,7 @@ PRESETS: dict[str, _Preset] = {
     "paper-deffao": _Preset(
         PresetInfo(
             "paper-deffao",
-            "seed 003 Table 2: m = 1110 kg total, Iz = 1440 kg m^2 (printed 1.44), J = 0.6 kg "
+            "Tian 2025 Table 2: m = 1110 kg total, Iz = 1440 kg m^2 (printed 1.44), J = 0.6 kg "
             "m^2, R = 0.4 m, lf/lr = 1.04/1.56 m, v0 = 120 km/h, g = 9.8; ours: h = 0.5 m, "
             "tracks 1.5 m, C = 60 kN/rad, kq = 1, q_max = 2500 on all wheels, K = 100, T = 0.01 s",
             ("dry-concrete", "mu-jump", "split-mu", "ice"),

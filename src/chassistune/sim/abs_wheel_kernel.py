@@ -1,7 +1,7 @@
 """Compiled closed-loop simulation of the single-wheel ABS (DESIGN 3.1) over a population, in
 persistent SIMD lanes (issue 11).
 
-Plant (seed 000 eqs. 1-4, 9-10; `sim.abs_wheel_model`), with Fz = lf M g the wheel load:
+Plant (derlsp-ao-abs eqs. 1-4, 9-10; `sim.abs_wheel_model`), with Fz = lf M g the wheel load:
     M dv/dt = -mu(S) Fz,   I dw/dt = R mu(S) Fz - kq q  (w >= 0),   S = (v - w R)/v,
     T dr/dt = K u - r,   dq/dt = r with q held in [0, q_max].
 Control u: the continuous PID of `controllers.pid` (filtered derivative, conditional integration)
@@ -450,7 +450,7 @@ def _simulate(law, gains, plant, coef, xc_tuple, xs_tuple, ys_tuple, ctrl_kind, 
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def simulate_bilinear(gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out):
-    """`simulate_abs_wheel` for a bilinear tire (seed 000 eq. 5)."""
+    """`simulate_abs_wheel` for a bilinear tire (derlsp-ao-abs eq. 5)."""
     _simulate(KIND_BILINEAR, gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out)
 
 

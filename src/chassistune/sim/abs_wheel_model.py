@@ -1,4 +1,4 @@
-"""Right-hand side of the single-wheel ABS plant (DESIGN 3.1; seed 000 eqs. 1-4, 9-10), scalar
+"""Right-hand side of the single-wheel ABS plant (DESIGN 3.1; derlsp-ao-abs eqs. 1-4, 9-10), scalar
 and branch-free for the compiled kernels (numba, inline="always").
 
     M dv/dt = -mu(S) Fz,   I dw/dt = R mu(S) Fz - kq q   (w >= 0: held at 0 while Tb >= R Fx),
