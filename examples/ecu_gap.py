@@ -3,13 +3,17 @@
 Every ABS controller of the papers (PID, fuzzy PID, fuzzy immune PID) tuned per road with the
 ideal controller, evaluated with the realistic ECU, and tuned with the realistic ECU; the threshold
 ABS with its registry defaults; the reference estimators compared; the ECU period swept from 1 to
-20 ms. "Realistic" is the default ECU with the accelerometer reference (the default slew-limited
-one lets every controller lock the wheel: its column shows that). Prints the markdown tables of
-docs/ecu.md. Cells: distance over the adhesion bound,
-r13h_epsilon (k_M of the ABS-off search, which no ECU touches), true-slip ITAE (s^2, up to the
-cut-out in realistic mode).
+20 ms. "Realistic" is the default ECU (accelerometer reference; the slew-limited one lets every
+controller lock the wheel: its column shows that). Prints the markdown tables of docs/ecu.md.
+Cells: distance over the adhesion bound, r13h_epsilon (k_M of the ABS-off search, which no ECU
+touches), true-slip ITAE (s^2, up to the cut-out in realistic mode).
 
-    PYTHONPATH=src python examples/ecu_gap.py [--pop 8] [--iters 8] [--seed 0]
+With `--study DIR` (a finished `chassistune study run examples/studies/ecu-gap.toml --out DIR`)
+the gains are the study's: per scenario and road, those of the seed with the lowest cost; the
+reference and period tables then also show the PID tuned with that reference or period.
+Without it, a small tuning here (derlsp-ao, `--pop`, `--iters`, `--seed`).
+
+    PYTHONPATH=src python examples/ecu_gap.py [--study DIR] [--pop 8] [--iters 8] [--seed 0]
 """
 
 from __future__ import annotations
@@ -21,12 +25,13 @@ import numpy as np
 
 from chassistune.scenarios.abs_wheel import PLANT
 from chassistune.scenarios.r13h import adhesion_coefficient, r13h_epsilon
+from chassistune.studies.store import open_study
 from chassistune.tuning.tune import tune
 
 PRESET = "paper-derlsp-ao"
 ROADS = ("dry-concrete", "wet-asphalt", "ice")
 TUNED = ("pid", "fuzzy-pid", "fuzzy-immune-pid")
-REALISTIC = {"ecu": "realistic", "vref": "accel"}
+REALISTIC = {"ecu": "realistic"}
 SLEW = {"ecu": "realistic", "vref": "slew-limited"}
 
 
@@ -50,6 +55,19 @@ def evaluate(controller: str, road: str, gains: Mapping[str, float],
             float(m["slip_itae"][0]) if ok else float("inf"))
 
 
+def study_gains(study_dir: str) -> dict[tuple[str, str], dict[str, float]]:
+    """Per (scenario, road): the best gains of the completed seed with the lowest cost."""
+    best: dict[tuple[str, str], tuple[float, dict[str, float]]] = {}
+    with open_study(study_dir) as store:
+        for rec in store.records():
+            if not rec.completed or rec.best_cost is None:
+                continue
+            key = (rec.spec.group, rec.spec.roads[0])
+            if key not in best or rec.best_cost < best[key][0]:
+                best[key] = (rec.best_cost, rec.best_gains)
+    return {k: g for k, (_, g) in best.items()}
+
+
 def _fmt(row: tuple[float, float, float]) -> str:
     return f"{row[0]:.3f} / {row[1]:.3f} / {row[2]:.3g}"
 
@@ -59,12 +77,18 @@ def main() -> None:
     ap.add_argument("--pop", type=int, default=8)
     ap.add_argument("--iters", type=int, default=8)
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--study", help="gains from this finished ecu-gap study folder")
     a = ap.parse_args()
     adhesion = {road: adhesion_coefficient(PRESET, road) for road in ROADS}
+    from_study = study_gains(a.study) if a.study else {}
     best: dict[tuple[str, str, str], dict[str, float]] = {}
 
     def tuned(controller: str, road: str, params: Mapping[str, object], key: str
               ) -> dict[str, float]:
+        """Gains of `controller` tuned on `road` with `params`; `key` names the study scenario's
+        suffix (ideal, realistic, vref-true, vref-slew, ts-1ms, ...)."""
+        if a.study:
+            return from_study[f"{controller}-{key}", road]
         if (controller, road, key) not in best:
             best[controller, road, key] = tune(
                 "abs-wheel", controller, "derlsp-ao", PRESET, road, "itae", pop_size=a.pop,
@@ -88,30 +112,40 @@ def main() -> None:
         print(f"| threshold (defaults), {road} | " + " | ".join(_fmt(c) for c in cells)
               + " | - |")
 
+    vref_keys = {"true": "vref-true", "slew-limited": "vref-slew", "accel": "realistic"}
     print("\n| reference, controller | " + " | ".join(ROADS) + " |")
     print("|---|---|---|---|")
     for vref in ("true", "slew-limited", "accel"):
-        for controller in ("pid", "threshold"):
-            cells = []
+        params = {**REALISTIC, "vref": vref}
+        rows = [("pid tuned with accel", "pid", "realistic"), ("threshold", "threshold", "")]
+        if a.study:
+            rows.insert(1, ("pid tuned with this reference", "pid", vref_keys[vref]))
+        for label, controller, key in rows:
+            texts = []
             for road in ROADS:
-                params = {**REALISTIC, "vref": vref}
-                g = (tuned("pid", road, REALISTIC, "realistic") if controller == "pid" else {})
+                g = tuned(controller, road, params, key) if key else {}
                 sc = PLANT.scenario(PRESET, road, controller, params)
                 m = sc.metrics(sc.gains_array(dict(g))[None, :])
-                cells.append(f"{m['distance_ratio'][0]:.3f} (gap {m['vref_gap_max_m_s'][0]:.2f}"
+                texts.append(f"{m['distance_ratio'][0]:.3f} (gap {m['vref_gap_max_m_s'][0]:.2f}"
                              " m/s)")
-            print(f"| {vref}, {controller} | " + " | ".join(cells) + " |")
+            print(f"| {vref}, {label} | " + " | ".join(texts) + " |")
 
-    print("\n| ecu_ts_s | PID ideal-tuned | PID realistic-tuned (5 ms) | threshold |")
-    print("|---|---|---|---|")
+    print("\n| ecu_ts_s | PID ideal-tuned | PID realistic-tuned (5 ms) | "
+          + ("PID tuned at this period | " if a.study else "") + "threshold |")
+    print("|---|---|---|---|" + ("---|" if a.study else ""))
     road = "wet-asphalt"
     for ts in (1e-3, 2e-3, 5e-3, 10e-3, 20e-3):
         p = _period(ts)
         cells = [evaluate("pid", road, tuned("pid", road, {}, "ideal"), p, adhesion[road]),
                  evaluate("pid", road, tuned("pid", road, REALISTIC, "realistic"), p,
-                          adhesion[road]),
-                 evaluate("threshold", road, {}, p, adhesion[road])]
+                          adhesion[road])]
+        if a.study:
+            key = "realistic" if ts == 5e-3 else f"ts-{ts * 1e3:g}ms"
+            cells.append(evaluate("pid", road, tuned("pid", road, p, key), p, adhesion[road]))
+        cells.append(evaluate("threshold", road, {}, p, adhesion[road]))
         print(f"| {ts * 1e3:g} ms | " + " | ".join(_fmt(c) for c in cells) + " |")
+    if a.study:
+        best = {(name, road, "study"): g for (name, road), g in from_study.items()}
     print("\ngains:", {f"{k[0]}/{k[1]}/{k[2]}": {n: float(np.round(v, 4)) for n, v in g.items()}
                        for k, g in best.items()})
 

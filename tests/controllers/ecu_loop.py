@@ -81,8 +81,8 @@ def _run(road, gains, plant, modes, ecu, spacing, jitter, accel_noise):
                 s_true = min(max((v - w * r_w) / v, 0.0), 1.0)
                 a_meas = E.accelerometer(-_mu(s_true, st, mh, mg) * g, bias,
                                          accel_noise[tick % accel_noise.shape[0]])
-                vref = E.vref_accel(vref, vw, a_wheel, a_meas, ts, agree, agree_accel,
-                                    q <= p_free)
+                vref, _ = E.vref_accel(vref, vw, a_wheel, a_meas, ts, agree, agree_accel,
+                                       q <= p_free, 0, 1)  # re-anchors on one sample
             if v > 5.0:
                 gap = max(gap, abs(v - vref))
             e = st - (vref - vw) / vref

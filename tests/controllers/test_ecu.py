@@ -261,9 +261,9 @@ def test_select_high_and_accelerometer_reference() -> None:
     for _ in range(400):  # 2 s at -5 m/s^2, the wheel far below (slipping): no anchoring
         v_true -= 5.0 * ts
         a_meas = E.accelerometer(-5.0, bias, 0.0)
-        vref = E.vref_accel(vref, 0.5 * v_true, -5.0, a_meas, ts, 0.3, 0.5, False)
+        vref = E.vref_accel(vref, 0.5 * v_true, -5.0, a_meas, ts, 0.3, 0.5, False, 0, 1)[0]
     assert vref - v_true == pytest.approx(bias * 2.0, rel=1e-9)
-    vref = E.vref_accel(vref, v_true, -5.0, a_meas, ts, 0.3, 0.5, False)  # agrees: anchor
+    vref = E.vref_accel(vref, v_true, -5.0, a_meas, ts, 0.3, 0.5, False, 0, 1)[0]  # anchors
     assert vref == v_true
 
 
@@ -275,7 +275,7 @@ def test_accelerometer_reference_ignores_a_wheel_slowing_down() -> None:
     for _ in range(100):
         v_true -= 8.0 * ts
         wheel -= 15.0 * ts
-        vref = E.vref_accel(vref, wheel, -15.0, -8.0, ts, 0.3, 0.5, False)
+        vref = E.vref_accel(vref, wheel, -15.0, -8.0, ts, 0.3, 0.5, False, 0, 1)[0]
     assert vref == pytest.approx(v_true, abs=1e-9)
     assert v_true - wheel > 3.0
 
@@ -289,10 +289,25 @@ def test_accelerometer_reference_reanchors_on_a_released_wheel() -> None:
     a_meas = E.accelerometer(0.0, 0.1, 0.0)
     vref = v + 0.4
     for _ in range(1000):  # 5 s
-        vref = E.vref_accel(vref, v, 0.0, a_meas, ts, 0.3, 0.5, False)
+        vref = E.vref_accel(vref, v, 0.0, a_meas, ts, 0.3, 0.5, False, 0, 1)[0]
     assert vref - v == pytest.approx(0.9, rel=1e-9)
-    assert E.vref_accel(vref, v, 20.0, a_meas, ts, 0.3, 0.5, True) > v  # spinning up
-    assert E.vref_accel(vref, v, 0.0, a_meas, ts, 0.3, 0.5, True) == v
+    assert E.vref_accel(vref, v, 20.0, a_meas, ts, 0.3, 0.5, True, 0, 1)[0] > v  # spinning up
+    assert E.vref_accel(vref, v, 0.0, a_meas, ts, 0.3, 0.5, True, 0, 1)[0] == v
+
+
+def test_accelerometer_reference_reanchors_only_after_a_run_of_agreeing_samples() -> None:
+    """The end of a release on ice: the wheel (13 % slip, brake released) agrees with the
+    vehicle's acceleration for one sample, then spins up again: with hold_samples = 4 the
+    estimate is not dragged onto it; four agreeing samples in a row re-anchor it."""
+    ts, v, wheel = 5e-3, 23.6, 20.5
+    vref, held = E.vref_accel(v, wheel, -1.0, -0.9, ts, 0.3, 0.5, True, 0, 4)
+    assert (vref, held) == (pytest.approx(v - 0.9 * ts), 1)
+    vref, held = E.vref_accel(vref, wheel, 30.0, -0.9, ts, 0.3, 0.5, True, held, 4)
+    assert held == 0 and vref > wheel + 3.0
+    for i in range(4):
+        vref, held = E.vref_accel(vref, wheel, -1.0, -0.9, ts, 0.3, 0.5, True, held, 4)
+        assert (vref == wheel) == (i == 3)
+    assert E.vref_accel(v, wheel, -1.0, -0.9, ts, 0.3, 0.5, True, 0, 1)[0] == wheel
 
 
 def test_cutout_latches_and_schedule_scales() -> None:
@@ -337,7 +352,7 @@ def test_modulator_and_vref_never_produce_nan(rate: float, p: float, ts: float, 
     assert P_R <= q <= P_S
     assert math.isfinite(E.vref_slew(v, 0.5 * v, abs(a), ts))
     assert math.isfinite(E.vref_accel(v, 0.5 * v, a, E.accelerometer(a, 0.1, noise), ts, 0.3,
-                                      0.5, frac > 0.25))
+                                      0.5, frac > 0.25, 0, 4)[0])
     assert math.isfinite(E.speed_schedule(v, 30.0, 0.05))
 
 

@@ -16,18 +16,21 @@ def _epsilon(controller: str, road: str, vref: str) -> float:
                         adhesion=adhesion_coefficient(PRESET, road)).epsilon
 
 
-@pytest.mark.parametrize("road", ["dry-concrete", "wet-asphalt"])
-def test_threshold_abs_passes_with_the_accelerometer_reference(road: str) -> None:
-    """Measured 0.850 on dry concrete, 0.883 on wet asphalt (ideal ECU: 0.957, 0.962)."""
+@pytest.mark.parametrize("road", ["dry-concrete", "wet-asphalt", "ice"])
+def test_threshold_abs_passes_with_the_default_reference(road: str) -> None:
+    """The default reference (accelerometer, re-anchored after 20 ms of agreement): measured
+    0.846 on dry concrete, 0.864 on wet asphalt, 0.811 on ice (ideal ECU: 0.957, 0.962, 0.983;
+    before the 20 ms rule the threshold ABS locked the wheel on ice, epsilon 0)."""
     assert 0.75 <= _epsilon("threshold", road, "accel") < 1.0
 
 
-def test_no_controller_exceeds_one_and_the_slew_reference_locks_the_wheel() -> None:
-    """On ice with the accelerometer reference the threshold ABS locks the wheel above 15 km/h
-    (epsilon 0; 0.977 with the true speed); with the slew-limited reference every controller
-    locks it on dry concrete (the reference drifts onto the wheel, docs/ecu.md)."""
+@pytest.mark.parametrize("road", ["dry-concrete", "wet-asphalt", "ice"])
+def test_no_controller_exceeds_one_and_the_slew_reference_locks_the_wheel(road: str) -> None:
+    """With the default reference no controller locks the wheel (epsilon > 0.5; the continuous
+    slip controllers on ice score 0.61-0.72: the accelerometer bias lifts the reference over the
+    45 s stop) nor exceeds 1; with the slew-limited reference every controller locks it (the
+    reference drifts onto the wheel, docs/ecu.md)."""
     for controller in CONTROLLERS:
-        assert _epsilon(controller, "dry-concrete", "accel") <= 1.0
-        assert _epsilon(controller, "dry-concrete", "slew-limited") == 0.0
-    assert _epsilon("threshold", "ice", "accel") == 0.0
-    assert 0.75 <= _epsilon("threshold", "ice", "true") <= 1.0
+        assert 0.5 < _epsilon(controller, road, "accel") <= 1.0
+        assert _epsilon(controller, road, "slew-limited") == 0.0
+    assert 0.75 <= _epsilon("threshold", road, "true") <= 1.0

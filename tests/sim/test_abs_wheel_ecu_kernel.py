@@ -173,3 +173,87 @@ def test_the_ecu_gap_study_config_plans() -> None:
     path = Path(__file__).parents[2] / "examples" / "studies" / "ecu-gap.toml"
     plan = plan_study(load_config(str(path)))
     assert any(r.params.get("ecu") == "realistic" for r in plan.runs)
+
+
+@pytest.mark.parametrize("road", ["dry-concrete", "ice"])
+def test_sensor_estimate_within_the_edge_timing_bound_on_the_trace(road: str) -> None:
+    """Default realistic ECU (48 teeth, 1 us timer): at every tick that has two captured edges
+    t_a < t_b, the estimate pitch / (t_b - t_a) is the mean wheel speed over the true edge
+    period, stretched by at most one timer tick tau each way: it lies in
+    [min w (1 - tau/T), max w (1 + tau/T)] over [t_a - tau, t_b + tau] (T = t_b - t_a; min and
+    max over the trace rows bracketing the window, widened by the largest change between two
+    rows). Also the issue's form: |w_est - w(t)| <= w_mean tau / (T - tau) + alpha_max (t - t_a)
+    (alpha_max the largest |dw/dt| on the trace up to t, plus one row's change)."""
+    sc = PLANT.scenario(PRESET, road, "threshold", {"ecu": "realistic"})
+    s = sc.trace(sc.gains_array(None)).signals
+    t, w, est = s["time_s"], s["wheel_speed_m_s"], s["wheel_speed_est_m_s"]
+    ta, tb = s["edge_prev_s"], s["edge_last_s"]
+    tau = sc.ecu.params.sensor_timer_s
+    pitch_m = 2.0 * np.pi / sc.ecu.params.sensor_teeth * sc.plant_params.wheel_radius_m
+    dw = np.abs(np.diff(w))
+    alpha = np.concatenate([[0.0], np.maximum.accumulate(dw / np.diff(t))])
+    checked = 0
+    for i in np.flatnonzero(ta >= 0.0):
+        period = tb[i] - ta[i]
+        assert est[i] == pytest.approx(pitch_m / period, rel=1e-12)
+        lo = max(np.searchsorted(t, ta[i] - tau) - 1, 0)
+        hi = min(np.searchsorted(t, tb[i] + tau) + 1, t.size)
+        slack = dw[lo:hi - 1].max() if hi - lo > 1 else 0.0
+        assert est[i] >= (w[lo:hi].min() - slack) * (1.0 - tau / period) - 1e-12
+        assert est[i] <= (w[lo:hi].max() + slack) * (1.0 + tau / period) + 1e-12
+        age_bound = est[i] * tau / (period - tau) + (alpha[i] + slack / 1e-3) * (t[i] - ta[i])
+        assert abs(est[i] - w[i]) <= age_bound + slack
+        checked += 1
+    assert checked > 0.9 * np.count_nonzero(t < t[-1] - 0.1)
+    # the bound is not vacuous: the estimate does differ from the true speed
+    assert np.max(np.abs(est - w)) > 1e-3
+
+
+def test_spacing_error_shows_as_periodic_noise_of_the_tooth_pattern() -> None:
+    """A free-rolling wheel (PID with zero gains: no brake, constant speed w) with tooth
+    spacing errors d_k (std 0.05 pitch, drawn from the run's seed): the estimate at each tick
+    is pitch w / (pitch + d_k - d_k-1) for the last edge k before the tick (to one timer tick),
+    a function of the tooth index only: periodic with the revolution, with components up to
+    the tooth frequency; its relative spread is about sqrt(2) 0.05. Without spacing errors
+    the estimate is w to the timer resolution (tau w / pitch = 4.6e-4 here)."""
+    base = {"ecu": "realistic", "valves": "continuous", "vref": "true"}
+    for sigma in (0.05, 0.0):
+        sc = PLANT.scenario(PRESET, "dry-concrete", "pid",
+                            {**base, "sensor_spacing_error": sigma}, seed=7)
+        s = sc.trace(np.zeros(3)).signals
+        r = sc.plant_params.wheel_radius_m
+        w = sc.plant_params.v0_m_s / r
+        assert np.all(s["wheel_speed_m_s"] == pytest.approx(w * r, rel=1e-12))
+        teeth = sc.ecu.params.sensor_teeth
+        pitch = 2.0 * np.pi / teeth
+        d = sc.ecu.noise[0] if sigma > 0.0 else np.zeros(teeth)
+        ticks = s["edge_prev_s"] >= 0.0
+        t_tick = s["edge_last_s"][ticks]
+        k = np.rint(w * t_tick / pitch).astype(int)  # |d_k| <= 0.45 pitch
+        period = (pitch + d[k % teeth] - d[(k - 1) % teeth]) / w
+        expected = pitch / period * r
+        tol = expected * 2.0 * sc.ecu.params.sensor_timer_s / period + 1e-12
+        assert np.all(np.abs(s["wheel_speed_est_m_s"][ticks] - expected) <= tol)
+        spread = np.std(s["wheel_speed_est_m_s"][ticks] / (w * r) - 1.0)
+        if sigma > 0.0:
+            assert spread == pytest.approx(np.sqrt(2.0) * sigma, rel=0.35)
+            assert len(np.unique(k % teeth)) == teeth  # every tooth seen: the pattern repeats
+        else:  # the timer alone: one tick of the pitch period
+            assert spread < sc.ecu.params.sensor_timer_s * w / pitch
+
+
+@pytest.mark.parametrize("road", ["dry-concrete", "wet-asphalt", "ice"])
+def test_default_reference_gives_sensible_stops(road: str) -> None:
+    """The default realistic ECU (accelerometer reference): the threshold ABS and the PID with
+    the registry gains stop without locking the wheel, within 20 % (threshold) and 40 % (PID;
+    the accelerometer bias of 0.1 m/s^2 lifts the reference over a 45 s stop on ice) of the
+    adhesion bound, and the reference stays within 2.5 m/s of the truth before the cut-out.
+    With the slew-limited reference the same runs drift by 8-26 m/s (test above)."""
+    for controller, ratio in (("threshold", 1.2), ("pid", 1.4)):
+        sc = PLANT.scenario(PRESET, road, controller, {"ecu": "realistic"})
+        assert sc.ecu.params.vref == "accel"
+        m = sc.metrics(sc.gains_array(None)[None, :])
+        assert m["status"][0] == "stopped"
+        assert np.isnan(m["wheel_lock_time_s"][0])
+        assert 1.0 < m["distance_ratio"][0] < ratio
+        assert m["vref_gap_max_m_s"][0] < 2.5

@@ -32,8 +32,9 @@ VALVE_DUMP = -1
 VALVE_HOLD = 0
 VALVE_BUILD = 1
 
-_BISECTIONS = 52
-"""Halvings of the step in the edge-time search (2^-52 of the step: float resolution)."""
+_BISECTIONS = 60
+"""Most iterations of the edge-time search (a halving each at worst: float resolution)."""
+_EPS = 2.0 ** -52
 
 _jit = numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 
@@ -55,20 +56,42 @@ def hermite_angle(s, theta0, theta1, w0, w1, dt):
 
 
 @_jit
+def hermite_rate(s, theta0, theta1, w0, w1, dt):
+    """d/ds of `hermite_angle`."""
+    s2 = s * s
+    return ((6.0 * s2 - 6.0 * s) * (theta0 - theta1) + (3.0 * s2 - 4.0 * s + 1.0) * dt * w0
+            + (3.0 * s2 - 2.0 * s) * dt * w1)
+
+
+@_jit
 def crossing_fraction(target, theta0, theta1, w0, w1, dt):
-    """Fraction s of the step where the interpolated angle reaches `target` (bisection).
+    """Fraction s of the step where the interpolated angle reaches `target`: safeguarded
+    Newton from the linear guess, inside a bracket [lo, hi] that every iterate narrows (a
+    bisection step whenever Newton would leave it), to float resolution (_BISECTIONS halvings
+    at most).
 
     theta0 < target <= theta1; the first crossing of a monotone interpolant (w0, w1 >= 0 and
     the angle increment between their bounds keep it monotone)."""
     lo = 0.0
     hi = 1.0
+    s = min(max((target - theta0) / (theta1 - theta0), 0.0), 1.0)
     for _ in range(_BISECTIONS):
-        mid = 0.5 * (lo + hi)
-        if hermite_angle(mid, theta0, theta1, w0, w1, dt) < target:
-            lo = mid
+        f = hermite_angle(s, theta0, theta1, w0, w1, dt) - target
+        if f < 0.0:
+            lo = s
         else:
-            hi = mid
-    return hi
+            hi = s
+        if f == 0.0 or hi - lo <= 4.0 * _EPS:
+            break
+        d = hermite_rate(s, theta0, theta1, w0, w1, dt)
+        nxt = s - f / d if d > 0.0 else -1.0
+        if not lo < nxt < hi:
+            nxt = 0.5 * (lo + hi)
+        elif abs(nxt - s) <= _EPS:
+            s = nxt
+            break
+        s = nxt
+    return s
 
 
 @_jit
@@ -144,20 +167,27 @@ def accelerometer(a_true, bias, noise):
 
 
 @_jit
-def vref_accel(vref_prev, v_wheel, a_wheel, a_meas, ts, agree, agree_accel, released):
+def vref_accel(vref_prev, v_wheel, a_wheel, a_meas, ts, agree, agree_accel, released, held,
+               hold_samples):
     """Accelerometer reference: vref integrates a_meas over ts, never below the wheel speed.
 
-    It re-anchors to the wheel when the wheel is stable, its acceleration a_wheel (over the last
-    sample) within agree_accel of a_meas, and either the speeds agree within `agree` or the
-    wheel's brake is released (`released`: the ECU's pressure model near zero). Without the
-    stability test, a wheel slowing down a little faster than the vehicle would drag the
-    estimate down one sample at a time; without the release test, a bias that lifted the
-    estimate above a free wheel by more than `agree` would never be corrected.
+    It re-anchors to the wheel once the wheel has been stable for `hold_samples` samples in a
+    row (`held` counts them): its acceleration a_wheel (over the last sample) within agree_accel
+    of a_meas, and either the speeds agree within `agree` or the wheel's brake is released
+    (`released`: the ECU's pressure model near zero). Without the stability test, a wheel
+    slowing down a little faster than the vehicle would drag the estimate down one sample at a
+    time; without the release test, a bias that lifted the estimate above a free wheel by more
+    than `agree` would never be corrected; without the run of samples, a wheel whose
+    acceleration crosses the vehicle's for one sample at the end of a release (still 10-15 %
+    slip on ice) would drag the estimate down at every release. Returns (vref, held).
     """
     v = max(vref_prev + a_meas * ts, v_wheel)
     if abs(a_wheel - a_meas) <= agree_accel and (released or v - v_wheel <= agree):
-        return v_wheel
-    return v
+        held += 1
+        if held >= hold_samples:
+            return v_wheel, held
+        return v, held
+    return v, 0
 
 
 @_jit

@@ -74,8 +74,11 @@ class EcuParams:
     sensor_stale: str = field(default="hold", metadata=_meta("-", "issue 15: hold"))
     """Without a new edge: `hold` the last estimate, or `bound` it by pitch / (time since the
     last edge) (a wheel that shows no edge cannot turn faster than that)."""
-    vref: str = field(default="slew-limited", metadata=_meta("-", "issue 15"))
-    """Reference (vehicle) speed: `true`, `slew-limited` or `accel`."""
+    vref: str = field(default="accel", metadata=_meta(
+        "-", "measured (docs/ecu.md): with the slew-limited estimate every controller locks "
+        "the wheel in the R13-H test, with `accel` none does on dry and wet; a longitudinal "
+        "accelerometer on board is our assumption"))
+    """Reference (vehicle) speed: `true`, `slew-limited` or `accel` (the default)."""
     vref_decel_max_m_s2: float = field(default=11.77, metadata=_meta(
         "m/s^2", "our assumption: 1.2 g, above the deceleration on a dry road", positive=True))
     """a_max of the slew-limited estimate vref_k = max(wheel, vref_k-1 - a_max ts)."""
@@ -94,6 +97,11 @@ class EcuParams:
     vref_agree_m_s2: float = field(default=0.5, metadata=_meta("m/s^2", SRC_ASSUMED,
                                                                 nonnegative=True))
     """... and its acceleration is within this of the measured vehicle acceleration."""
+    vref_anchor_s: float = field(default=0.02, metadata=_meta(
+        "s", "our assumption, measured in docs/ecu.md (re-anchoring on one sample let the "
+        "estimate follow the wheel down on ice)", nonnegative=True))
+    """... for at least this long without a break (ceil(vref_anchor_s / ecu_ts_s) samples,
+    at least one)."""
     valves: str = field(default="three-state", metadata=_meta("-", "issue 15"))
     """Modulator: `continuous` (the K/(s(Ts+1)) actuator) or `three-state` (build/hold/dump)."""
     valve_build_time_s: float = field(default=0.15, metadata=_meta(

@@ -67,7 +67,7 @@ from chassistune.sim.integrate import (
 )
 
 (X_LAW, X_M, X_DELAY, X_TOOTHED, X_TEETH, X_TIMER, X_BOUND, X_VREF, X_AMAX, X_BIAS, X_AGREE,
- X_PFREE, X_AGREE_A, X_VALVES, X_KB, X_KD, X_DEAD, X_MINON, X_CUTOUT, X_SCHED, X_FLOOR,
+ X_PFREE, X_AGREE_A, X_ANCHOR, X_VALVES, X_KB, X_KD, X_DEAD, X_MINON, X_CUTOUT, X_SCHED, X_FLOOR,
  X_AMP) = (EL.ECU[n] for n in EL.ECU.names)
 
 LAW_NONE, LAW_PID, LAW_FUZZY_PID, LAW_IMMUNE, LAW_THRESHOLD, LAW_BANGBANG = (
@@ -82,7 +82,7 @@ LAW_NONE, LAW_PID, LAW_FUZZY_PID, LAW_IMMUNE, LAW_THRESHOLD, LAW_BANGBANG = (
     "valve_min_interval_s", "vref_gap_max_m_s", "pressure_min", "pressure_max",
     "low_speed_slip_error"))
 (T_TIME, T_V, T_WHEEL_V, T_SLIP, T_TARGET, T_Q, T_TB, T_U, T_X, T_MU, T_VREF, T_WEST, T_ECU_SLIP,
- T_VALVE) = (EL.TRACE[n] for n in EL.TRACE.names)
+ T_VALVE, T_EDGE_PREV, T_EDGE_LAST) = (EL.TRACE[n] for n in EL.TRACE.names)
 
 LOW_SPEED_BAND_M_S = (1.0, 9.0)
 """Speed band of `low_speed_slip_error` (issue 15: fixed gains fail below about 9 m/s)."""
@@ -174,7 +174,8 @@ def _run(tire, lp, p, x, c0, c1, c2, c3, xc, xs, ys, table, grid, spacing, jitte
     v, w, theta, q, r = v0, v0 / r_w, 0.0, 0.0, 0.0
     k_next = E.sensor_first_edge(0.0, teeth, spacing) if toothed else 0
     t_last, t_prev, w_est = -1.0, -1.0, v0 / r_w
-    vref, vw_prev, vw, slip_ecu = v0, v0, v0, 0.0
+    read_last, read_prev = -1.0, -1.0  # the edge times behind the estimate read at the tick
+    vref, vw_prev, vw, slip_ecu, held = v0, v0, v0, 0.0, 0
     cut = False
     u0, cmd, resid = 0.0, 0.0, 0.0
     pm0, ps0, po0 = E.VALVE_HOLD, 0.0, 0.0  # previous pulse: mode, start, on-time
@@ -194,11 +195,14 @@ def _run(tire, lp, p, x, c0, c1, c2, c3, xc, xs, ys, table, grid, spacing, jitte
         trace[0, T_TARGET] = target
         trace[0, T_VREF] = v0
         trace[0, T_WEST] = v0
+        trace[0, T_EDGE_PREV] = -1.0
+        trace[0, T_EDGE_LAST] = -1.0
     tick = 0
     for k in range(n_steps):
         t = k * dt
         if k % m == 0:
             wr = E.sensor_read(w_est, t_last, t, teeth, bound) if toothed else w
+            read_last, read_prev = t_last, t_prev
             vw = wr * r_w
             a_wheel = (vw - vw_prev) / ts if tick > 0 else 0.0
             vw_prev = vw
@@ -210,8 +214,8 @@ def _run(tire, lp, p, x, c0, c1, c2, c3, xc, xs, ys, table, grid, spacing, jitte
                 a_true = -tire_law_mu(tire, wheel_slip(v, w, r_w), c0, c1, c2, c3, xc, xs,
                                       ys) * fz * inv_m
                 a_meas = E.accelerometer(a_true, x[X_BIAS], acc_noise[tick % acc_noise.shape[0]])
-                vref = E.vref_accel(vref, vw, a_wheel, a_meas, ts, x[X_AGREE], x[X_AGREE_A],
-                                    q <= x[X_PFREE])
+                vref, held = E.vref_accel(vref, vw, a_wheel, a_meas, ts, x[X_AGREE],
+                                          x[X_AGREE_A], q <= x[X_PFREE], held, x[X_ANCHOR])
             slip_ecu = wheel_slip(vref, wr, r_w)
             was_cut = cut
             cut = E.cutout_latch(cut, vref, x[X_CUTOUT])
@@ -341,6 +345,8 @@ def _run(tire, lp, p, x, c0, c1, c2, c3, xc, xs, ys, table, grid, spacing, jitte
             trace[rows, T_ECU_SLIP] = slip_ecu
             trace[rows, T_VALVE] = E.valve_mode_at(t + dt, pm0, ps0, po0, pm1, ps1,
                                                    po1) if three_state else 0.0
+            trace[rows, T_EDGE_PREV] = read_prev
+            trace[rows, T_EDGE_LAST] = read_last
             rows += 1
         v, w, q, r, slip = vn, wn, qn, rn, s_new
         if check - check != 0.0:

@@ -30,6 +30,7 @@ ECU = Layout("abs-wheel ecu", (
     Slot("vref_agree_m_s", "m/s", "re-anchor when the wheel agrees within this"),
     Slot("free_pressure", "preset unit", "a brake at most this pressure counts as released"),
     Slot("vref_agree_m_s2", "m/s^2", "re-anchor only when the wheel's acceleration agrees"),
+    Slot("anchor_samples", "samples", "re-anchor only after this many agreeing samples"),
     Slot("three_state", "-", "1: build/hold/dump valves, 0: the continuous actuator"),
     Slot("kb", "preset unit^0.5/s", "orifice gain of the inlet"),
     Slot("kd", "preset unit^0.5/s", "orifice gain of the outlet"),
@@ -60,6 +61,9 @@ TRACE = Layout("abs-wheel ecu trace", (
     Slot("wheel_speed_est_m_s", "m/s"),
     Slot("ecu_slip", "-"),
     Slot("valve_mode", "-"),
+    Slot("edge_prev_s", "s", "captured time of the edge before the last, as read at the latest "
+         "tick (-1: none yet; toothed sensor)"),
+    Slot("edge_last_s", "s", "captured time of the last edge, as read at the latest tick"),
 ))
 
 def pack_ecu(values: Mapping[str, float]) -> np.ndarray:
