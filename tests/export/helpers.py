@@ -14,6 +14,8 @@ import pytest
 
 from chassistune.export import c99, source, vectors
 from chassistune.export.source import ExportedController
+from chassistune.scenarios.abs_wheel import AbsWheelScenario
+from chassistune.scenarios.registry import get_plant
 
 LAWS = ("pid", "fuzzy-pid", "fuzzy-immune-pid", "threshold")
 CONTINUOUS = ("pid", "fuzzy-pid", "fuzzy-immune-pid")
@@ -34,6 +36,20 @@ def case(controller: str) -> Case:
     ec = source.resolve(None, None, controller, {}, {})
     inputs, u = vectors.record(ec)
     return Case(ec, inputs, u)
+
+
+def gain_rows(ec: ExportedController) -> np.ndarray:
+    """The export's gains as a population of one (a row with no column for the threshold)."""
+    return np.array([list(ec.gains.values())]).reshape(1, len(ec.gains))
+
+
+def ideal_mode(ec: ExportedController, params: dict[str, object]) -> AbsWheelScenario:
+    """The export's plant, road and controller in the IDEAL kernel (`ecu = ideal`): the
+    continuous PID, the adaptive fuzzy surfaces, the laws sampled at the scenario's ts_s."""
+    sc = get_plant("abs-wheel").scenario(ec.scenario.preset, ec.scenario.road, ec.controller,
+                                         params)
+    assert isinstance(sc, AbsWheelScenario) and sc.ecu is None
+    return sc
 
 
 class CLaw:

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import CC, CONTINUOUS, LAWS, CLaw, case, needs_cc, write_c
+from helpers import CC, CONTINUOUS, LAWS, CLaw, case, gain_rows, needs_cc, write_c
 
 from chassistune.export import c99, closed_loop, source, vectors
 from chassistune.export.write import files
@@ -99,20 +99,37 @@ def test_object_calls_no_library_function(controller: str, tmp_path: Path) -> No
 
 
 @pytest.mark.parametrize("controller", LAWS)
-def test_closed_loop_with_the_c_controller_matches_the_numba_law_bit_for_bit(
-        controller: str, tmp_path: Path) -> None:
-    """The plant integrated as the kernel does, the C called through ctypes at each sample."""
+def test_real_closed_loop_with_the_c_controller_gives_the_kernels_stop(controller: str,
+                                                                      tmp_path: Path) -> None:
+    """Must show: the plant integrated as the kernel does (`closed_loop`, from the plant's public
+    interface) with the compiled C called through ctypes at each control step gives the stop
+    distance of the kernel that runs the discrete law (the realistic ECU kernel with the ideal
+    ECU of the export) to 1e-12."""
     c = case(controller)
     law = CLaw(write_c(c.ec, tmp_path), c99.BITWISE_FLAGS)
     law.reset()
     with_c = closed_loop.run(c.ec.scenario, c.ec.ts_s, law, c.ec.law.inputs)
-    with_numba = vectors.stop(c.ec)
-    assert np.array_equal(with_c.u, with_numba.u)
-    assert with_c.stop_distance_m == with_numba.stop_distance_m
-    assert with_c.status == 0
-    if controller == "threshold":  # sampled in the kernel too: the kernel's own stop
-        kernel = c.ec.scenario.metrics(np.zeros((1, 0)))["stop_distance_m"][0]
-        assert with_c.stop_distance_m == kernel
+    kernel = c.ec.scenario.metrics(gain_rows(c.ec))
+    assert with_c.status == 0 and kernel["status"][0] == "stopped"
+    assert abs(with_c.stop_distance_m - kernel["stop_distance_m"][0]) <= 1e-12
+    assert abs(with_c.stop_time_s - kernel["stop_time_s"][0]) <= 1e-12
+    assert np.array_equal(with_c.u, c.u)  # the test vectors are this loop's commands
+    assert np.array_equal(with_c.inputs(c.ec.law.inputs), c.inputs)
+
+
+@pytest.mark.parametrize("controller", CONTINUOUS)
+def test_closed_loop_check_sees_a_gain_one_part_in_a_billion_off(controller: str,
+                                                                 tmp_path: Path) -> None:
+    """The 1e-12 check can fail: a C controller whose first gain is 1e-9 (relative) off moves
+    the stop by more than 1e-11 m."""
+    ec = case(controller).ec
+    name, value = next(iter(ec.gains.items()))
+    off = source.resolve(None, None, controller, {name: value * (1.0 + 1e-9)}, {})
+    law = CLaw(write_c(off, tmp_path), c99.BITWISE_FLAGS)
+    law.reset()
+    run = closed_loop.run(ec.scenario, ec.ts_s, law, ec.law.inputs)
+    kernel = ec.scenario.metrics(gain_rows(ec))["stop_distance_m"][0]
+    assert abs(run.stop_distance_m - kernel) > 1e-11
 
 
 def test_shipped_check_program_replays_the_vectors_and_catches_a_change(tmp_path: Path) -> None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from helpers import CONTINUOUS, case
+from helpers import CONTINUOUS, case, gain_rows, ideal_mode
 from numba import njit
 
 from chassistune.controllers import discrete
@@ -116,34 +116,38 @@ def test_immune_incremental_law_equals_the_positional_pid_at_fixed_gain() -> Non
     np.testing.assert_allclose(u, positional, rtol=1e-9, atol=1e-9)
 
 
-def test_sampled_threshold_loop_gives_the_kernels_stop_bit_for_bit() -> None:
-    """The harness integrates the plant as the kernel does: with the kernel's sampled law in
-    the loop the stop distance and time are the kernel's, exactly."""
+def test_sampled_threshold_loop_gives_the_ideal_kernels_stop_bit_for_bit() -> None:
+    """The loop integrates the plant as the kernels do: with the threshold law, sampled in the
+    ideal kernel too, the stop distance and time are the ideal kernel's, exactly, on every tire
+    law the kernels have (and the realistic kernel's with the export's ideal ECU)."""
     cases = [(None, None, {}), (None, None, {"ts_s": 0.004}),
              (None, None, {"dt_s": 5e-4, "ts_s": 0.002}),
-             (None, "burckhardt-wet-asphalt", {}),  # every tire law the kernel has
+             (None, "burckhardt-wet-asphalt", {}),
              ("sldemo", "sldemo-table", {})]
     for preset, road, params in cases:
-        ec = source.resolve(None, None, "threshold", {}, {**params, "hopeless_factor": 3.0},
-                            preset, road)
+        ts = float(params.get("ts_s", 1e-3))  # type: ignore[arg-type]
+        ec = source.resolve(None, None, "threshold", {}, {**params, "ecu_ts_s": ts}, preset,
+                            road)
         run = vectors.stop(ec)
-        kernel = ec.scenario.metrics(np.zeros((1, 0)))
+        ideal = ideal_mode(ec, params).metrics(np.zeros((1, 0)))
+        realistic = ec.scenario.metrics(np.zeros((1, 0)))
         assert run.status == 0
-        assert run.stop_distance_m == kernel["stop_distance_m"][0]
-        assert run.stop_time_s == kernel["stop_time_s"][0]
+        for kernel in (ideal, realistic):
+            assert run.stop_distance_m == kernel["stop_distance_m"][0]
+            assert run.stop_time_s == kernel["stop_time_s"][0]
 
 
 @pytest.mark.parametrize("controller", CONTINUOUS)
 def test_discrete_laws_stop_the_car_near_the_continuous_kernel(controller: str) -> None:
-    """Physics: each sampled law stops the car, never beats the bound, and lands within 1 % of
-    today's kernel (continuous PID; fuzzy laws on the adaptive table)."""
+    """Physics: each sampled law (5 ms) stops the car, never beats the bound, and lands within
+    0.5 % of the ideal kernel (continuous PID; fuzzy laws on the adaptive table)."""
     c = case(controller)
     run = vectors.stop(c.ec)
     sc = c.ec.scenario
-    kernel = sc.metrics(np.array([list(c.ec.gains.values())]))["stop_distance_m"][0]
+    kernel = ideal_mode(c.ec, {}).metrics(gain_rows(c.ec))["stop_distance_m"][0]
     assert run.status == 0
     assert run.stop_distance_m > sc.bound_distance_m
-    assert abs(run.stop_distance_m / kernel - 1.0) < 0.01
+    assert abs(run.stop_distance_m / kernel - 1.0) < 0.005
     assert np.array_equal(run.u, c.u)  # the recorded vectors are this run's
     assert run.signals["slip"].size == c.inputs.shape[0]
 
@@ -158,13 +162,14 @@ def test_loop_inputs_are_what_an_ideal_ecu_sees() -> None:
     assert np.all(np.diff(s["wheel_speed_rad_s"][:5]) < 0.0)  # braking from the start
 
 
-def test_immune_loop_converges_to_the_kernel_as_the_table_is_refined() -> None:
-    """Both sample the same incremental law every ts; only the table differs (the kernel reads
-    its adaptive surface, within 2e-4 of exact): the stop converges to the kernel's."""
+def test_immune_loop_converges_to_the_ideal_kernel_as_the_table_is_refined() -> None:
+    """At the ideal kernel's 1 ms both sample the same incremental law; only the table differs
+    (the ideal kernel reads its adaptive surface, within 2e-4 of exact): the stop converges."""
     gaps = []
     for points in (25, 49, 97):
-        ec = source.resolve(None, None, "fuzzy-immune-pid", {}, {"fuzzy_table_points": points})
-        kernel = ec.scenario.metrics(np.array([list(ec.gains.values())]))["stop_distance_m"][0]
+        ec = source.resolve(None, None, "fuzzy-immune-pid", {},
+                            {"fuzzy_table_points": points, "ecu_ts_s": 1e-3})
+        kernel = ideal_mode(ec, {}).metrics(gain_rows(ec))["stop_distance_m"][0]
         gaps.append(abs(vectors.stop(ec).stop_distance_m / kernel - 1.0))
     assert gaps[0] > gaps[1] > gaps[2]
     assert gaps[2] < 2e-5

@@ -102,6 +102,11 @@ def test_export_from_a_study_run(cli: Callable[..., object], tmp_path: Path) -> 
     (["--controller", "none"], "--controller"),
     (["--controller", "bang-bang"], "--controller"),
     (["--plant", "quarter-car", "--controller", "pid"], "--plant"),
+    (["--plant", "abs-vehicle", "--controller", "pid"], "--plant"),
+    (["{vehicle}"], "SOURCE"),
+    (["--controller", "pid", "--param", "sensor=toothed"], "--param sensor"),
+    (["--controller", "pid", "--param", "ecu=realistic"], "--param ecu"),
+    (["{scheduled}"], "--param gain_schedule"),
     (["--controller", "pid", "--gains", "kq=3"], "--gains"),
     (["--controller", "pid", "--gains", "kp=abc"], "--gains kp"),
     (["--controller", "fuzzy-pid", "--param", "fuzzy_table_points=1"],
@@ -119,14 +124,69 @@ def test_bad_input_is_one_line_exit_2_and_nothing_written(
     bang_bang = study / "bang-bang.json"  # a tune result of a law without a discrete form
     bang_bang.write_text(json.dumps({"plant": "abs-wheel", "preset": None, "roads": ["ice"],
                                      "controller": "bang-bang", "best_gains": {}, "params": {}}))
+    vehicle = study / "vehicle.json"  # a vehicle tune: no discrete form to export
+    vehicle.write_text(json.dumps({"plant": "abs-vehicle", "preset": None, "roads": ["mu-jump"],
+                                   "controller": "pid", "best_gains": {}, "params": {}}))
+    scheduled = study / "scheduled.json"  # tuned with a speed schedule the C cannot run
+    scheduled.write_text(json.dumps({
+        "plant": "abs-wheel", "preset": None, "roads": ["ice"], "controller": "pid",
+        "best_gains": {}, "params": {"ecu": "realistic", "gain_schedule": "speed"}}))
     out = tmp_path / "out"
-    res = cli("export", *(a.format(study=study, bang_bang=bang_bang) for a in args), "--format",
-              "c", "--out", str(out))
+    res = cli("export", *(a.format(study=study, bang_bang=bang_bang, vehicle=vehicle,
+                                   scheduled=scheduled) for a in args),
+              "--format", "c", "--out", str(out))
     assert res.code == 2
     assert len(res.err.strip().splitlines()) == 1
     assert res.err.startswith(f"chassistune: error: {field}: "), res.err
     assert not out.exists()
-    assert _files(tmp_path) == {"emptystudy"} and _files(study) == {"bang-bang.json"}
+    assert _files(tmp_path) == {"emptystudy"}
+    assert _files(study) == {"bang-bang.json", "vehicle.json", "scheduled.json"}
+
+
+def test_abs_vehicle_refusal_says_why(cli: Callable[..., object], tmp_path: Path) -> None:
+    res = cli("export", "--plant", "abs-vehicle", "--controller", "fuzzy-pid", "--format", "c",
+              "--out", str(tmp_path / "out"))
+    assert res.code == 2
+    assert "continuous time" in res.err and "abs-wheel" in res.err
+
+
+def test_a_realistic_source_keeps_its_sample_time_and_gets_the_ideal_ecu(
+        cli: Callable[..., object], tmp_path: Path) -> None:
+    """A tune in the realistic ECU mode: its ecu_ts_s is the sample time; its sensor and valve
+    models are not part of the exported controller (the export's scenario has the ideal ECU)."""
+    source = tmp_path / "tune.json"
+    source.write_text(json.dumps({
+        "plant": "abs-wheel", "preset": None, "roads": ["ice"], "controller": "pid",
+        "best_gains": {"kp": 3000.0, "ki": 10.0, "kd": 100.0},
+        "params": {"ecu": "realistic", "ecu_ts_s": 0.01, "sensor": "toothed",
+                   "valves": "three-state"}}))
+    res = cli("export", str(source), "--format", "json", "--out", str(tmp_path / "out"))
+    assert res.code == 0, res.err
+    doc = json.loads((tmp_path / "out" / "chassistune_pid.json").read_text())
+    params = doc["scenario"]["params"]
+    assert doc["sample_time_s"] == 0.01 and params["ecu_ts_s"] == 0.01
+    assert (params["sensor"], params["valves"], params["ecu_delay_samples"]) == (
+        "ideal", "continuous", 0)
+    assert doc["params"]["kp"] == 3000.0
+
+
+def test_simulate_from_an_export_reruns_the_loop_of_its_test_vectors(
+        cli: Callable[..., object], tmp_path: Path) -> None:
+    """`simulate --from EXPORT.json` runs the kernel on the exported scenario: the stop of the
+    closed loop that recorded the test vectors (and that the C reproduces)."""
+    out = tmp_path / "out"
+    res = cli("export", "--controller", "fuzzy-pid", "--format", "json", "--out", str(out))
+    assert res.code == 0, res.err
+    res = cli("simulate", "--from", str(out / "chassistune_fuzzy_pid.json"), "--json")
+    assert res.code == 0, res.err
+    metrics = json.loads(res.out)["metrics"]
+    loop = vectors.stop(case("fuzzy-pid").ec)
+    assert abs(metrics["stop_distance_m"] - loop.stop_distance_m) <= 1e-12
+    assert json.loads(res.out)["params"]["ecu"] == "realistic"
+    broken = tmp_path / "broken.json"
+    broken.write_text(json.dumps({"schema": "chassistune.export", "schema_version": 99}))
+    res = cli("simulate", "--from", str(broken))
+    assert res.code == 2 and res.err.startswith("chassistune: error: --from: ")
 
 
 def test_unwritable_folder_is_refused_before_any_work(cli: Callable[..., object],

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import click
 
+from chassistune.cli.common import check_output_dir
 from chassistune.params import parse_assignments
 
 
@@ -37,6 +38,7 @@ def export_command(source: str | None, plant: str | None, controller: str | None
     from chassistune.export import source as export_source
     from chassistune.export.write import check_folder, write
 
+    check_output_dir(out_dir, "--out", parents=True)  # export creates missing folders
     check_folder(out_dir)
     ec = export_source.resolve(source, plant, controller, parse_assignments(gains, "--gains"),
                                parse_assignments(params, "--param"), preset, road)

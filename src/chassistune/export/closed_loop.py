@@ -1,25 +1,27 @@
 """Closed loop of the abs-wheel plant with a sampled controller called from outside: a numba law,
 or the exported C through ctypes. The test vectors are recorded here.
 
-The plant is integrated exactly as `chassistune.sim.abs_wheel_kernel` integrates it for its sampled
-laws: classic RK4 (`sim.integrate`) at the step dt on (v, w, q, r) with the command u held
-(zero-order hold) over each sample period ts = m dt, the kernel's own right-hand side
-(`plant_rates`), the same step-end update (wheel speed >= 0, pressure clipped to [0, q_max],
-clipped slip) and the same stop at v_stop located inside the last step. At each sample the
-controller sees the ECU inputs of an ideal sensor set: the clipped slip at the sample, the wheel
-speed (rad/s) and whether the pressure sits at q_max or 0. Driving the kernel's own sampled
-threshold law, this loop gives the kernel's stop distance bit for bit (tests/export); for the
-continuous laws it is the sampled loop that the kernel's realistic ECU mode (issue 15) will run.
-
-The kernel's internals are read in `kernel_plant` and `plant_rates` only (its packed plant vector,
-tire data and rates); besides them only its public slot and status constants are used."""
+The loop is the realistic ECU kernel's (`sim.abs_wheel_ecu_kernel`) with an ideal ECU
+(`export.source.IDEAL_ECU`: true wheel and vehicle speed, the continuous actuator, no delay, no
+cut-out, no schedule), written from the plant's public interface only:
+- the plant's right-hand side `sim.abs_wheel_model` (`wheel_slip`, `wheel_rates`) and the tire
+  laws `sim.abs_wheel_tires` (`tire_law_mu` on `TireCurve.kernel_data()` and `table_tuples`);
+- the quadrature and RK4 stages of `sim.integrate`;
+- the scenario's public parameters (`plant_params`, `target_slip`, `scoring`,
+  `bound_distance_m`), packed here into the loop's own declared vector (`LOOP`).
+At each tick (every ts = m dt, before the step) the controller sees the exact slip
+`wheel_slip(v, w, R)`, the wheel speed and whether the pressure sits at q_max or 0; its command
+is held over the m classic RK4 steps of (v, w, q, r) with the step-end update (w >= 0, q clipped
+to [0, q_max]) and the stop at v_stop located inside the last step. The kernel's private slots
+and packed vectors are not read: tests/export check that this loop gives the ECU kernel's stop
+distance (to 1e-12; bitwise in practice) and, for the sampled threshold law, the ideal kernel's.
+"""
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
 
 import numba
 import numpy as np
@@ -27,9 +29,11 @@ from numpy.typing import NDArray
 
 from chassistune._branchfree import clip, fmax, select
 from chassistune.scenarios.abs_wheel import AbsWheelScenario
-from chassistune.sim import abs_wheel_kernel as K
-from chassistune.sim.abs_wheel_tires import KIND_TABLE, table_tuples
+from chassistune.sim.abs_wheel_layout import STATUS_NAMES
+from chassistune.sim.abs_wheel_model import wheel_rates, wheel_slip
+from chassistune.sim.abs_wheel_tires import KIND_TABLE, table_tuples, tire_law_mu
 from chassistune.sim.integrate import crossing_fraction, rk4_point, rk4_update, trapezoid
+from chassistune.sim.layout import Layout, Slot
 
 Controller = Callable[[NDArray[np.float64]], float]
 """A sampled controller: the command u for one row of inputs (it keeps its own state)."""
@@ -37,46 +41,49 @@ Controller = Callable[[NDArray[np.float64]], float]
 SIGNALS = ("slip", "wheel_speed_rad_s", "pressure_at_max", "pressure_at_min")
 """What the loop offers a controller at each sample; each law picks its inputs by name."""
 
-# loop constants (L_*), plant state (X_*) and accumulators (A_*) of `advance`
-L_DT, L_RADIUS, L_VSTOP, L_QMAX, L_HOPELESS_M, L_STEPS = range(6)
+LOOP = Layout("export closed loop", (
+    Slot("dt_s", "s", "integration step"),
+    Slot("wheel_radius_m", "m", "R"),
+    Slot("v_stop_m_s", "m/s", "the run ends below this speed"),
+    Slot("q_max", "preset unit", "pressure limit"),
+    Slot("hopeless_distance_m", "m", "the run ends as hopeless beyond this distance"),
+    Slot("steps", "-", "step budget ceil(t_max / dt)"),
+    Slot("wheel_load_n", "N", "Fz = load_fraction M g"),
+    Slot("inv_mass", "1/kg", "1 / M"),
+    Slot("inv_inertia", "1/(kg m^2)", "1 / I"),
+    Slot("brake_gain", "N m/preset unit", "kq"),
+    Slot("actuator_gain", "preset unit/s", "K"),
+    Slot("inv_tau", "1/s", "1 / T of the actuator"),
+    Slot("tire_law", "-", "KIND_* of sim.abs_wheel_tires"),
+    Slot("c0", "-", "tire coefficient"),
+    Slot("c1", "-", "tire coefficient"),
+    Slot("c2", "-", "tire coefficient"),
+    Slot("c3", "-", "tire coefficient"),
+))
+(L_DT, L_RADIUS, L_VSTOP, L_QMAX, L_HOPELESS_M, L_STEPS, L_FZ, L_INV_M, L_INV_I, L_KQ, L_GAIN,
+ L_INV_TAU, L_LAW, L_C0, L_C1, L_C2, L_C3) = (LOOP[n] for n in LOOP.names)
 X_V, X_W, X_Q, X_R = range(4)
-A_STEP, A_DIST, A_SLIP, A_STATUS, A_TIME = range(5)
+A_STEP, A_DIST, A_STATUS, A_TIME = range(4)
 RUNNING = -1.0
-STOPPED, HOPELESS, TIMEOUT, DIVERGED = (float(c) for c in (
-    K.STATUS_STOPPED, K.STATUS_HOPELESS, K.STATUS_TIMEOUT, K.STATUS_DIVERGED))
-"""Run status: the kernel's codes, RUNNING until the run ends."""
-
-
-# -- the kernel's internals: the one place that reads them -----------------------------------
-
-def kernel_plant(scenario: AbsWheelScenario) -> tuple[NDArray[np.float64], tuple[Any, ...]]:
-    """The kernel's plant vector of `scenario` and its tire as the kernel's lanes read it (law,
-    four coefficients, padded table nodes), as `simulate_abs_wheel` converts them."""
-    p, kind, coef, xs, ys = scenario._kernel_args[:5]
-    c = np.zeros(4)
-    c[: len(coef)] = coef
-    nodes = table_tuples(xs, ys) if kind == KIND_TABLE else K._NO_TABLE
-    return p, (kind, c[0], c[1], c[2], c[3], *(np.array(t) for t in nodes))
+STOPPED, HOPELESS, TIMEOUT, DIVERGED = (float(STATUS_NAMES.index(n)) for n in (
+    "stopped", "hopeless", "timeout", "diverged"))
+"""Run status: the kernels' codes (STATUS_NAMES), RUNNING until the run ends."""
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
-def plant_rates(v, w, q, r, u, p, tire):
-    """(dv, dw, dq, dr) of the wheel under the command u (DESIGN 3.1): the kernel's own rates
-    with its continuous PID off (kp = ki = kd = 0, z = xf = 0: its command is the held u)."""
-    law, c0, c1, c2, c3, xc, xs, ys = tire
-    dv, dw, dq, dr, _, _, _ = K._rates(
-        law, v, w, q, r, 0.0, 0.0, u, 0.0, 0.0, 0.0, p[K.P_TARGET], p[K.P_RADIUS],
-        p[K.P_LOAD] * p[K.P_MASS] * p[K.P_G], 1.0 / p[K.P_MASS], 1.0 / p[K.P_INERTIA], p[K.P_KQ],
-        p[K.P_K], 1.0 / p[K.P_TAU], p[K.P_QMAX], p[K.P_NFILTER], c0, c1, c2, c3, xc, xs, ys)
+def plant_rates(v, w, q, r, u, lc, xc, xs, ys):
+    """(dv, dw, dq, dr) of the wheel under the held command u (DESIGN 3.1)."""
+    fx = tire_law_mu(int(lc[L_LAW]), wheel_slip(v, w, lc[L_RADIUS]), lc[L_C0], lc[L_C1],
+                     lc[L_C2], lc[L_C3], xc, xs, ys) * lc[L_FZ]
+    dv, dw, dq, dr, _, _ = wheel_rates(w, q, r, fx, u, lc[L_RADIUS], lc[L_INV_M], lc[L_INV_I],
+                                       lc[L_KQ], lc[L_GAIN], lc[L_INV_TAU], lc[L_QMAX])
     return dv, dw, dq, dr
 
 
-# ---------------------------------------------------------------------------------------------
-
 @numba.njit(cache=True, nogil=True, error_model="numpy")
-def advance(x, acc, u, n, lc, p, tire):
+def advance(x, acc, u, n, lc, xc, xs, ys):
     """Advance the plant x = (v, w, q, r) n RK4 steps of dt with the command u held; acc keeps
-    step, distance, slip, status and end time. Returns whether the run ended (stop, divergence,
+    step, distance, status and end time. Returns whether the run ended (stop, divergence,
     hopeless, timeout)."""
     dt = lc[L_DT]
     hs = 0.5 * dt
@@ -90,13 +97,16 @@ def advance(x, acc, u, n, lc, p, tire):
             return True
         t = k * dt
         v, w, q, r = x[X_V], x[X_W], x[X_Q], x[X_R]
-        k1v, k1w, k1q, k1r = plant_rates(v, w, q, r, u, p, tire)
+        k1v, k1w, k1q, k1r = plant_rates(v, w, q, r, u, lc, xc, xs, ys)
         k2v, k2w, k2q, k2r = plant_rates(rk4_point(v, hs, k1v), rk4_point(w, hs, k1w),
-                                         rk4_point(q, hs, k1q), rk4_point(r, hs, k1r), u, p, tire)
+                                         rk4_point(q, hs, k1q), rk4_point(r, hs, k1r), u, lc,
+                                         xc, xs, ys)
         k3v, k3w, k3q, k3r = plant_rates(rk4_point(v, hs, k2v), rk4_point(w, hs, k2w),
-                                         rk4_point(q, hs, k2q), rk4_point(r, hs, k2r), u, p, tire)
+                                         rk4_point(q, hs, k2q), rk4_point(r, hs, k2r), u, lc,
+                                         xc, xs, ys)
         k4v, k4w, k4q, k4r = plant_rates(rk4_point(v, dt, k3v), rk4_point(w, dt, k3w),
-                                         rk4_point(q, dt, k3q), rk4_point(r, dt, k3r), u, p, tire)
+                                         rk4_point(q, dt, k3q), rk4_point(r, dt, k3r), u, lc,
+                                         xc, xs, ys)
         vn = rk4_update(v, h6, k1v, k2v, k3v, k4v)
         wn = fmax(rk4_update(w, h6, k1w, k2w, k3w, k4w), 0.0)
         qn = clip(rk4_update(q, h6, k1q, k2q, k3q, k4q), 0.0, lc[L_QMAX])
@@ -105,9 +115,8 @@ def advance(x, acc, u, n, lc, p, tire):
         h = crossing_fraction(v, vn, v_stop, stop) * dt
         acc[A_DIST] += trapezoid(v, select(stop, v_stop, vn), h)
         x[X_V], x[X_W], x[X_Q], x[X_R] = vn, wn, qn, rn
-        acc[A_SLIP] = clip((vn - wn * lc[L_RADIUS]) / vn, 0.0, 1.0)
         acc[A_STEP] = k + 1.0
-        check = vn + wn + rn
+        check = vn + wn + qn + rn
         if check - check != 0.0:
             acc[A_STATUS] = DIVERGED
             acc[A_TIME] = t
@@ -123,6 +132,12 @@ def advance(x, acc, u, n, lc, p, tire):
     return False
 
 
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def ecu_slip(x, lc):
+    """The slip an ideal ECU computes at a tick: `wheel_slip` of the state."""
+    return wheel_slip(x[X_V], x[X_W], lc[L_RADIUS])
+
+
 @dataclass(frozen=True)
 class LoopResult:
     """A closed-loop run: ECU inputs and command at every sample, and how the run ended."""
@@ -131,25 +146,39 @@ class LoopResult:
     u: NDArray[np.float64]  # command per sample
     stop_distance_m: float
     stop_time_s: float
-    status: int  # the kernel's status code (STATUS_NAMES)
+    status: int  # the kernels' status code (STATUS_NAMES)
 
     def inputs(self, names: tuple[str, ...]) -> NDArray[np.float64]:
         """The input rows (samples, len(names)) of a law."""
         return np.column_stack([self.signals[n] for n in names])
 
 
-def _loop_constants(scenario: AbsWheelScenario) -> NDArray[np.float64]:
-    """dt, wheel radius, stop speed, q_max, the hopeless distance and the step budget (L_*), from
-    the same numbers the kernel receives."""
+def loop_vector(scenario: AbsWheelScenario) -> NDArray[np.float64]:
+    """The loop's constants (`LOOP`) from the scenario's public parameters, computed as the
+    kernels compute them (Fz = (load_fraction M) g, reciprocals of M, I and T)."""
     pp = scenario.plant_params
-    lc = np.zeros(6)
-    lc[L_DT] = pp.dt_s
-    lc[L_RADIUS] = pp.wheel_radius_m
-    lc[L_VSTOP] = pp.v_stop_m_s
-    lc[L_QMAX] = pp.q_max
-    lc[L_HOPELESS_M] = scenario.scoring.hopeless_factor * scenario.bound_distance_m
-    lc[L_STEPS] = math.ceil(pp.t_max_s / pp.dt_s - 1e-9)
-    return lc
+    kind, coef, _, _ = scenario.tire.kernel_data()
+    c = np.zeros(4)
+    c[: len(coef)] = coef
+    return LOOP.pack({
+        "dt_s": pp.dt_s, "wheel_radius_m": pp.wheel_radius_m, "v_stop_m_s": pp.v_stop_m_s,
+        "q_max": pp.q_max,
+        "hopeless_distance_m": scenario.scoring.hopeless_factor * scenario.bound_distance_m,
+        "steps": math.ceil(pp.t_max_s / pp.dt_s - 1e-9),
+        "wheel_load_n": pp.load_fraction * pp.mass_kg * pp.g_m_s2,
+        "inv_mass": 1.0 / pp.mass_kg, "inv_inertia": 1.0 / pp.wheel_inertia_kg_m2,
+        "brake_gain": pp.brake_gain, "actuator_gain": pp.actuator_gain,
+        "inv_tau": 1.0 / pp.actuator_tau_s, "tire_law": kind,
+        "c0": c[0], "c1": c[1], "c2": c[2], "c3": c[3],
+    })
+
+
+def _tire_nodes(scenario: AbsWheelScenario) -> tuple[tuple[float, ...], ...]:
+    """The padded table of a table tire (`table_tuples`), a two-node dummy for the others."""
+    kind, _, xs, ys = scenario.tire.kernel_data()
+    if kind != KIND_TABLE:
+        xs, ys = np.array([0.0, 1.0]), np.array([0.0, 0.0])
+    return table_tuples(xs, ys)
 
 
 def run(scenario: AbsWheelScenario, ts_s: float, controller: Controller,
@@ -157,22 +186,22 @@ def run(scenario: AbsWheelScenario, ts_s: float, controller: Controller,
     """Run the closed loop of `scenario` with `controller` called every ts_s (whole steps of dt).
 
     `input_names` (from SIGNALS) select and order the inputs handed to the controller."""
-    p, tire = kernel_plant(scenario)
-    lc = _loop_constants(scenario)
+    lc = loop_vector(scenario)
+    xc, xs, ys = _tire_nodes(scenario)
     pp = scenario.plant_params
     m = max(1, round(ts_s / pp.dt_s))
     x = np.array([pp.v0_m_s, pp.v0_m_s / pp.wheel_radius_m, 0.0, 0.0])
-    acc = np.array([0.0, 0.0, 0.0, RUNNING, 0.0])
+    acc = np.array([0.0, 0.0, RUNNING, 0.0])
     rows: list[list[float]] = []
     commands: list[float] = []
     pick = [SIGNALS.index(n) for n in input_names]
     while True:
         q = x[X_Q]
-        sample = [acc[A_SLIP], x[X_W], float(q >= pp.q_max), float(q <= 0.0)]
+        sample = [float(ecu_slip(x, lc)), x[X_W], float(q >= pp.q_max), float(q <= 0.0)]
         rows.append(sample)
         u = float(controller(np.array([sample[i] for i in pick])))
         commands.append(u)
-        if advance(x, acc, u, m, lc, p, tire):
+        if advance(x, acc, u, m, lc, xc, xs, ys):
             break
     data = np.array(rows)
     return LoopResult({n: data[:, i].copy() for i, n in enumerate(SIGNALS)}, np.array(commands),

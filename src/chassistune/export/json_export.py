@@ -1,7 +1,9 @@
 """JSON export: everything the other formats carry, as schema-versioned data.
 
-`scenario` holds what `chassistune.simulate` needs to re-run the source scenario (plant, preset,
-road, controller, gains, params): `scenario_arguments` reads it back.
+`scenario` holds what `chassistune.simulate` needs to re-run the exported scenario (plant, preset,
+road, controller, gains, params; the params include the export's ideal ECU, so the run is the
+loop of the test vectors): `scenario_arguments` reads it back, `as_tune_result` gives it to
+`simulate --from` as a tune result.
 """
 
 from __future__ import annotations
@@ -70,18 +72,35 @@ def json_text(ec: ExportedController, inputs: np.ndarray, u: np.ndarray) -> str:
     return dumps(document(ec, inputs, u), indent=1) + "\n"
 
 
+def as_tune_result(doc: object, where: str, label: str) -> dict[str, Any]:
+    """An exported JSON object seen as a tune result (plant, preset, roads, controller,
+    best_gains, params): what `simulate --from` reads. Its params hold the export's ideal ECU,
+    so the run is the closed loop the test vectors come from."""
+    if not isinstance(doc, dict) or doc.get("schema") != SCHEMA:
+        raise InputError(where, f"{label!r} is not a chassistune export")
+    if doc.get("schema_version") != SCHEMA_VERSION:
+        raise InputError(where, f"export schema version {doc.get('schema_version')!r} is not "
+                         f"{SCHEMA_VERSION}")
+    sc = doc.get("scenario")
+    need = ("plant", "preset", "road", "controller", "gains", "params")
+    if not isinstance(sc, dict) or any(k not in sc for k in need):
+        raise InputError(where, f"{label!r}: its scenario needs {', '.join(need)}")
+    gains = sc["gains"]
+    if not isinstance(gains, dict) or not all(
+            isinstance(v, float) and math.isfinite(v) for v in gains.values()):
+        raise InputError(where, f"{label!r}: gains must be finite numbers")
+    return {"plant": sc["plant"], "preset": sc["preset"], "roads": [sc["road"]],
+            "controller": sc["controller"], "best_gains": dict(gains),
+            "params": dict(sc["params"])}
+
+
 def scenario_arguments(path: str | Path) -> dict[str, Any]:
     """Keyword arguments of `chassistune.simulate` from an exported JSON file."""
     try:
         doc = json.loads(Path(path).read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise InputError("from", f"cannot read {str(path)!r}: {exc}") from None
-    if not isinstance(doc, dict) or doc.get("schema") != SCHEMA:
-        raise InputError("from", f"{str(path)!r} is not a chassistune export")
-    if doc.get("schema_version") != SCHEMA_VERSION:
-        raise InputError("from", f"export schema version {doc.get('schema_version')!r} is not "
-                         f"{SCHEMA_VERSION}")
-    sc = doc["scenario"]
-    if not all(isinstance(v, float) and math.isfinite(v) for v in sc["gains"].values()):
-        raise InputError("from", "gains must be finite numbers")
-    return {k: sc[k] for k in ("plant", "preset", "road", "controller", "gains", "params")}
+    result = as_tune_result(doc, "from", str(path))
+    return {"plant": result["plant"], "preset": result["preset"], "road": result["roads"][0],
+            "controller": result["controller"], "gains": result["best_gains"],
+            "params": result["params"]}

@@ -7,10 +7,18 @@ Sources:
 - `DIR#RUN`, a finished run of a study store (RUN the run key `scenario|optimizer|seed`);
 - none: `--plant` (abs-wheel) and `--controller` with the registry defaults for the gains not
   given, the plant's default preset and road.
-`--param` overrides apply in every case. Two names belong to the export, not the scenario:
-`ecu_ts_s` (the sample time; default the controller's own `ts_s` when it has one, else
-DEFAULT_ECU_TS_S) and `fuzzy_table_points` (default `discrete.DEFAULT_TABLE_POINTS`). The sample
-time is rounded to a whole number of integration steps, as the kernel rounds `ts_s`.
+`--param` overrides apply in every case. Two names belong to the export: `ecu_ts_s` (the sample
+time) and `fuzzy_table_points` (default `discrete.DEFAULT_TABLE_POINTS`). The sample time is, in
+this order: `--param ecu_ts_s`, the source's `ecu_ts_s` (a source tuned with `--ecu realistic`),
+the source's controller `ts_s` (the sample period a sampled law was tuned at), else the realistic
+ECU's default (`EcuParams.ecu_ts_s`, 5 ms); it is rounded to a whole number of integration steps.
+
+The exported scenario is the source's plant, road, gains and parameters in the realistic ECU
+mode with an IDEAL ECU (`IDEAL_ECU`: true wheel speed and vehicle speed, the continuous actuator,
+no delay, no cut-out, no schedule): the kernel (`sim.abs_wheel_ecu_kernel`) then runs exactly the
+exported discrete law on exact inputs, the loop `closed_loop` re-simulates with any controller
+(the C through ctypes) and `simulate --from EXPORT.json` re-runs it. The ECU's sensor, reference
+and valve models are not part of the exported controller (an ECU has its own).
 """
 
 from __future__ import annotations
@@ -25,18 +33,32 @@ import numpy as np
 from numpy.typing import NDArray
 
 from chassistune.controllers import discrete
+from chassistune.controllers.ecu_params import EcuParams
 from chassistune.errors import InputError
 from chassistune.fuzzy.loader import load_rulebase
 from chassistune.params import to_float
 from chassistune.scenarios.abs_wheel import AbsWheelScenario
-from chassistune.scenarios.abs_wheel_ecu import table_points
+from chassistune.scenarios.abs_wheel_ecu import ECU_PARAM_NAMES, law_params, table_points
 from chassistune.scenarios.registry import get_plant
 
-DEFAULT_ECU_TS_S = 5e-3
-"""Sample time of a continuous controller's discrete form (issue 15: 5 ms loops are typical)."""
+DEFAULT_ECU_TS_S = EcuParams().ecu_ts_s
+"""Sample time without one from the source: the realistic ECU's (issue 15: 5 ms loops)."""
 
 EXPORT_PARAMS = ("ecu_ts_s", "fuzzy_table_points")
 PLANTS = ("abs-wheel",)
+REFUSED_PLANTS = {
+    "abs-vehicle": "its kernel runs the wheel laws in continuous time with the target slip of "
+                   "the surface under each wheel (no discrete ECU form to test an export "
+                   "against); export the single wheel (abs-wheel), whose law the vehicle repeats "
+                   "per wheel",
+}
+"""Plants that name controllers with a discrete form but cannot be exported, and why."""
+IDEAL_ECU: dict[str, object] = {
+    "ecu": "realistic", "sensor": "ideal", "vref": "true", "valves": "continuous",
+    "ecu_delay_samples": 0, "abs_cutout_m_s": 0.0, "gain_schedule": "off",
+    "valve_dead_time_s": 0.0, "valve_min_on_s": 0.0,
+}
+"""The ECU of the exported scenario (module docstring): the law alone between plant and brake."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -155,17 +177,6 @@ def _origin(source: str | None, plant: str | None, controller: str | None) -> _O
     raise InputError("source", f"{source!r} is neither a tune.json file nor DIR#RUN")
 
 
-def _law_params(law: discrete.DiscreteLaw, sc: AbsWheelScenario, gains: NDArray[np.float64],
-                ts_s: float) -> NDArray[np.float64]:
-    """The law's parameter vector from the scenario's gains and parameters."""
-    values: dict[str, float] = dict(zip(sc.gain_names, gains.tolist(), strict=True))
-    values.update({k: float(v) for k, v in sc.controller_params.items() if not isinstance(v, str)})
-    values["target_slip"] = sc.target_slip
-    values["ts_s"] = ts_s
-    values["wheel_radius_m"] = sc.plant_params.wheel_radius_m
-    return np.array([values[name] for name in law.params])
-
-
 def resolve(
     source: str | None,
     plant: str | None,
@@ -181,52 +192,78 @@ def resolve(
     overrides = dict(params)
     export_values = {k: overrides.pop(k) for k in EXPORT_PARAMS if k in overrides}
     origin = _origin(source, plant, controller)
+    field = "plant" if source is None else "source"
+    if origin.plant in REFUSED_PLANTS:
+        raise InputError(field, f"cannot export from plant {origin.plant!r}: "
+                         f"{REFUSED_PLANTS[origin.plant]}")
     if origin.plant not in PLANTS:
-        raise InputError("plant" if source is None else "source",
-                         f"no discrete controllers for plant {origin.plant!r} "
+        raise InputError(field, f"no discrete controllers for plant {origin.plant!r} "
                          f"(exportable: {', '.join(PLANTS)})")
     law = discrete.law(origin.controller)
     if law is None:
         raise InputError("controller" if source is None else "source",
                          f"{origin.controller!r} has no discrete form to export "
                          f"(exportable: {', '.join(discrete.LAWS)})")
-    sc = get_plant(origin.plant).scenario(preset or origin.preset, road or origin.road,
-                                          origin.controller, {**origin.params, **overrides})
+    fixed = sorted((ECU_PARAM_NAMES | {"ecu"}) & set(overrides))
+    if fixed:
+        raise InputError(f"params.{fixed[0]}", "the export's ECU is ideal (true speeds, the "
+                         "continuous actuator, no delay); of the ECU parameters only ecu_ts_s "
+                         "and fuzzy_table_points apply")
+    values = {**origin.params, **overrides}
+    if str(values.get("gain_schedule", "off")) != "off":
+        raise InputError("params.gain_schedule", "the exported controller has fixed gains; a "
+                         "speed schedule needs the ECU's reference speed (export with "
+                         "gain_schedule=off)")
+    base = {k: v for k, v in values.items() if k not in ECU_PARAM_NAMES and k != "ecu"}
+    plain = get_plant(origin.plant).scenario(preset or origin.preset, road or origin.road,
+                                             origin.controller, base)
+    if not isinstance(plain, AbsWheelScenario):  # pragma: no cover - PLANTS holds abs-wheel
+        raise InputError("plant", f"cannot export from plant {origin.plant!r}")
+    dt = plain.plant_params.dt_s
+    ts = _sample_time(export_values, values, plain.controller_params, dt, source is not None)
+    rulebase = str(plain.controller_params["rulebase"]) if law.table_outputs else None
+    if rulebase is None and "fuzzy_table_points" in export_values:
+        raise InputError("params.fuzzy_table_points", f"{law.controller} reads no lookup table")
+    points = table_points({k: v for k, v in {**values, **export_values}.items()
+                           if k == "fuzzy_table_points"})
+    ecu = {**IDEAL_ECU, "ecu_ts_s": ts, **({"fuzzy_table_points": points} if rulebase else {})}
+    sc = get_plant(origin.plant).scenario(plain.preset, plain.road, origin.controller,
+                                          {**base, **ecu})
     if not isinstance(sc, AbsWheelScenario):  # pragma: no cover - PLANTS holds abs-wheel only
         raise InputError("plant", f"cannot export from plant {origin.plant!r}")
     g = sc.gains_array({**origin.gains, **{k: to_float(v, f"gains.{k}") for k, v in
                                            gains.items()}})
     if not np.all(np.isfinite(g)):
         raise InputError("gains", "every gain must be finite")
-    dt = sc.plant_params.dt_s
-    ts = _sample_time(export_values, sc.controller_params, dt)
-    rulebase = str(sc.controller_params["rulebase"]) if law.table_outputs else None
-    if rulebase is None and "fuzzy_table_points" in export_values:
-        raise InputError("params.fuzzy_table_points", f"{law.controller} reads no lookup table")
     table, grid = discrete.no_table()
     bp: tuple[NDArray[np.float64], ...] = ()
     table_inputs: tuple[str, ...] = ()
     table_outputs: tuple[str, ...] = ()
     if rulebase is not None:
         rb = load_rulebase(rulebase, "params.rulebase")
-        points = table_points(export_values)
         table, grid, bp = discrete.ecu_table(rb, points)
         table_inputs = tuple(v.name for v in rb.inputs)
         table_outputs = rb.output_names
+    row = law_params(law.controller, sc.gain_names, g[None, :], sc.controller_params,
+                     sc.target_slip, ts, sc.plant_params.wheel_radius_m)[0]
     return ExportedController(
         law=law, scenario=sc, gains=dict(zip(sc.gain_names, g.tolist(), strict=True)),
-        params=_law_params(law, sc, g, ts), table=table, grid=grid, breakpoints=bp,
+        params=row, table=table, grid=grid, breakpoints=bp,
         table_inputs=table_inputs, table_outputs=table_outputs, rulebase=rulebase,
         source=origin.label,
     )
 
 
-def _sample_time(values: Mapping[str, object], ctrl: Mapping[str, Any], dt: float) -> float:
-    """The sample time: ecu_ts_s, else the controller's ts_s, else the default; whole steps."""
-    if "ecu_ts_s" in values:
-        ts = to_float(values["ecu_ts_s"], "params.ecu_ts_s")
+def _sample_time(export_values: Mapping[str, object], source_values: Mapping[str, object],
+                 ctrl: Mapping[str, Any], dt: float, has_source: bool) -> float:
+    """The sample time (module docstring), in whole steps of dt."""
+    if "ecu_ts_s" in export_values or "ecu_ts_s" in source_values:
+        given = export_values.get("ecu_ts_s", source_values.get("ecu_ts_s"))
+        ts = to_float(given, "params.ecu_ts_s")
         if not ts > 0:
             raise InputError("params.ecu_ts_s", f"must be positive, got {ts:g}")
+    elif has_source and "ts_s" in ctrl:
+        ts = float(ctrl["ts_s"])
     else:
-        ts = float(ctrl.get("ts_s", DEFAULT_ECU_TS_S))
+        ts = DEFAULT_ECU_TS_S
     return max(1, round(ts / dt)) * dt
