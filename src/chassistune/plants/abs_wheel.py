@@ -7,39 +7,70 @@ The equations of motion (DESIGN 3.1) are integrated by the compiled kernel
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from dataclasses import dataclass, field
 
 from chassistune.errors import InputError
 from chassistune.plants.presets import PresetInfo
 
-_POS = {"positive": True}
+
+def _pos(lo: float, hi: float, **extra: object) -> dict[str, object]:
+    """Metadata: positive, plausible in [lo, hi]."""
+    return {"positive": True, "plausible": (lo, hi), **extra}
+
 
 FT = 0.3048
 SLUG = 14.593902937
 FT_LBF = 1.3558179483
 
+T_MAX_PER_BOUND_TIME = 3.0
+"""Without an explicit t_max_s, a run may last this many bound times (at least t_max_s)."""
+
 
 @dataclass(frozen=True)
 class AbsWheelParams:
-    """Plant and solver parameters, SI (pressure q in the preset's own unit, Tb = brake_gain q)."""
+    """Plant and solver parameters, SI (pressure q in the preset's own unit, Tb = brake_gain q).
 
-    mass_kg: float = field(default=100.0, metadata=_POS)
-    wheel_inertia_kg_m2: float = field(default=12.0, metadata=_POS)
-    wheel_radius_m: float = field(default=0.5, metadata=_POS)
-    v0_m_s: float = field(default=30.0, metadata=_POS)
-    g_m_s2: float = field(default=9.81, metadata=_POS)
-    actuator_gain: float = field(default=100.0, metadata=_POS)
-    actuator_tau_s: float = field(default=0.01, metadata=_POS)
-    brake_gain: float = field(default=1.0, metadata=_POS)
-    q_max: float = field(default=1500.0, metadata=_POS)
-    v_stop_m_s: float = field(default=0.5, metadata=_POS)
-    t_max_s: float = field(default=60.0, metadata=_POS)
-    dt_s: float = field(default=1e-3, metadata=_POS)
-    load_fraction: float = field(default=1.0, metadata=_POS)
+    Plausible ranges: a quarter of a motorcycle to a heavy truck's wheel load, wheel inertias from
+    a car wheel (about 1 kg m^2) to the papers' 12 and 25 kg m^2, road speeds up to 70 m/s.
+    """
+
+    mass_kg: float = field(default=100.0, metadata=_pos(20.0, 5000.0))
+    wheel_inertia_kg_m2: float = field(default=12.0, metadata=_pos(0.1, 50.0))
+    wheel_radius_m: float = field(default=0.5, metadata=_pos(0.15, 1.0))
+    v0_m_s: float = field(default=30.0, metadata=_pos(1.0, 70.0))
+    g_m_s2: float = field(default=9.81, metadata=_pos(9.7, 9.9))
+    actuator_gain: float = field(default=100.0, metadata=_pos(1.0, 1e4, unit="1/s"))
+    actuator_tau_s: float = field(default=0.01, metadata=_pos(1e-3, 0.5))
+    brake_gain: float = field(default=1.0, metadata=_pos(0.1, 1000.0,
+                                                          unit="N m per pressure unit"))
+    q_max: float = field(default=1500.0, metadata=_pos(10.0, 1e5, unit="pressure unit"))
+    v_stop_m_s: float = field(default=0.5, metadata=_pos(0.01, 10.0))
+    t_max_s: float = field(default=60.0, metadata=_pos(1.0, 600.0))
+    """Default: the larger of 60 s and 3 bound times of the road (`default_t_max_s`)."""
+    dt_s: float = field(default=1e-3, metadata=_pos(1e-5, 0.01))
+    load_fraction: float = field(default=1.0, metadata=_pos(0.2, 1.0))
     """Wheel load as a fraction of M g: 1 here; 0.25 only in `sldemo` (MathWorks' quirk)."""
-    lock_ratio: float = field(default=0.01, metadata={"unit_interval": True})
+    lock_ratio: float = field(default=0.01, metadata={"unit_interval": True,
+                                                      "plausible": (0.001, 0.2)})
     """The wheel counts as locked while w R < lock_ratio v."""
+
+
+def bound_time_s(pp: AbsWheelParams, mu_peak: float) -> float:
+    """Time to brake from v0 to v_stop at the road's peak deceleration mu_peak g load_fraction."""
+    return (pp.v0_m_s - pp.v_stop_m_s) / (mu_peak * pp.g_m_s2 * pp.load_fraction)
+
+
+def default_t_max_s(pp: AbsWheelParams, mu_peak: float) -> float:
+    """The time limit when none is given: enough for a slow stop on a slippery road."""
+    return max(pp.t_max_s, T_MAX_PER_BOUND_TIME * bound_time_s(pp, mu_peak))
+
+
+FINE_DT_S = 2.5e-4
+"""The default step of the paper-fuzzy-immune and sldemo presets (issue 11 item 5): at 1 ms the
+PID's stop distance and slip ITAE are off by up to 4.3e-3 (paper-fuzzy-immune) and 3.1e-3
+(sldemo) against dt/100, at 0.25 ms by at most 3.0e-4 (`chassistune bench`,
+abs_max_rel_err_presets). paper-derlsp-ao keeps 1 ms (6.7e-4 on dry concrete and wet asphalt)."""
 
 
 def _sldemo_params() -> AbsWheelParams:
@@ -54,6 +85,7 @@ def _sldemo_params() -> AbsWheelParams:
         brake_gain=FT_LBF,
         q_max=1500.0,
         load_fraction=0.25,
+        dt_s=FINE_DT_S,
     )
 
 
@@ -85,7 +117,7 @@ PRESETS: dict[str, Preset] = {
         ),
         AbsWheelParams(
             mass_kg=300.0, wheel_inertia_kg_m2=25.0, wheel_radius_m=0.28, brake_gain=25.0,
-            q_max=800.0,
+            q_max=800.0, dt_s=FINE_DT_S,
         ),
     ),
     "sldemo": Preset(
@@ -100,9 +132,13 @@ PRESETS: dict[str, Preset] = {
 }
 
 
-def check_consistency(pp: AbsWheelParams) -> None:
-    """Checks across fields: a stop speed below v0 and an RK4 step the plant tolerates."""
+def check_consistency(pp: AbsWheelParams, given: Collection[str] = ()) -> None:
+    """Checks across fields: a stop speed below v0 and an RK4 step the plant tolerates; the
+    field blamed is the one the user set (`given`) when only one of a pair was."""
     if pp.v0_m_s <= pp.v_stop_m_s:
+        if "v_stop_m_s" in given and "v0_m_s" not in given:
+            raise InputError("params.v_stop_m_s", f"must be below v0_m_s = {pp.v0_m_s:g}, "
+                             f"got {pp.v_stop_m_s:g}")
         raise InputError("params.v0_m_s", f"must exceed v_stop_m_s = {pp.v_stop_m_s:g}, "
                          f"got {pp.v0_m_s:g}")
     if pp.dt_s > 0.01:
@@ -111,4 +147,6 @@ def check_consistency(pp: AbsWheelParams) -> None:
     if pp.t_max_s < 10 * pp.dt_s:
         raise InputError("params.t_max_s", f"must be at least 10 steps, got {pp.t_max_s:g}")
     if pp.t_max_s / pp.dt_s > 5e7:
-        raise InputError("params.dt_s", "too many steps (t_max_s / dt_s above 5e7)")
+        blame = "dt_s" if "dt_s" in given and "t_max_s" not in given else "t_max_s"
+        raise InputError(f"params.{blame}", f"too many steps: t_max_s / dt_s = "
+                         f"{pp.t_max_s / pp.dt_s:.3g} is above 5e7")

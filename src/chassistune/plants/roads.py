@@ -42,7 +42,7 @@ ISO_CLASSES: dict[str, float] = {
 
 def friction_roads() -> dict[str, str]:
     """Friction road name -> one-line description."""
-    out = {n: f"bilinear S_T={s}, mu_h={h}, mu_g={g}: {d}" for n, (s, h, g, d) in
+    out = {n: f"bilinear slip_opt={s}, mu_peak={h}, mu_lock={g}: {d}" for n, (s, h, g, d) in
            BILINEAR_ROADS.items()}
     out["sldemo-table"] = "MathWorks sldemo_absbrake mu-slip table (peak 1.0 at S = 0.2)"
     for name, (c1, c2, c3) in BURCKHARDT_SURFACES.items():

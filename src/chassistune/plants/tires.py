@@ -28,8 +28,8 @@ KIND_TABLE = 0
 KIND_BURCKHARDT = 1
 KIND_BILINEAR = 2
 
-_POS = {"positive": True}
-_NONNEG = {"nonnegative": True}
+_MU_SCALE = {"positive": True}
+"""mu_scale's metadata (every curve's road parameter; no plausible range declared)."""
 
 
 @numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
@@ -106,14 +106,17 @@ class TireCurve:
 class BilinearTire(TireCurve):
     """Tian et al. (derlsp-ao-abs) eq. 5 with Table 1's (S_T, mu_h, mu_g)."""
 
-    slip_opt: float = field(metadata=_POS)
-    mu_peak: float = field(metadata=_POS)
-    mu_lock: float = field(metadata=_NONNEG)
-    mu_scale: float = field(default=1.0, metadata=_POS)
+    slip_opt: float = field(metadata={"positive": True, "plausible": (0.03, 0.5)})
+    mu_peak: float = field(metadata={"positive": True, "plausible": (0.05, 1.5)})
+    mu_lock: float = field(metadata={"nonnegative": True, "plausible": (0.03, 1.5)})
+    mu_scale: float = field(default=1.0, metadata=_MU_SCALE)
 
     def __post_init__(self) -> None:
         if not 0.0 < self.slip_opt < 1.0:
             raise InputError("params.slip_opt", f"must be in (0, 1), got {self.slip_opt:g}")
+        if self.mu_lock > self.mu_peak:
+            raise InputError("params.mu_lock", f"must not exceed mu_peak = {self.mu_peak:g} "
+                             f"(the peak is the curve's maximum), got {self.mu_lock:g}")
 
     def kernel_data(self) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
         st, h, g = self.slip_opt, self.mu_peak * self.mu_scale, self.mu_lock * self.mu_scale
@@ -127,10 +130,10 @@ class BilinearTire(TireCurve):
 class BurckhardtTire(TireCurve):
     """Burckhardt's curve mu = c1 (1 - exp(-c2 S)) - c3 S."""
 
-    c1: float = field(metadata=_POS)
-    c2: float = field(metadata=_POS)
-    c3: float = field(metadata=_NONNEG)
-    mu_scale: float = field(default=1.0, metadata=_POS)
+    c1: float = field(metadata={"positive": True, "plausible": (0.02, 2.0)})
+    c2: float = field(metadata={"positive": True, "plausible": (1.0, 500.0)})
+    c3: float = field(metadata={"nonnegative": True, "plausible": (0.0, 1.0)})
+    mu_scale: float = field(default=1.0, metadata=_MU_SCALE)
 
     def kernel_data(self) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
         coef = np.array([self.c1 * self.mu_scale, self.c2, self.c3 * self.mu_scale])
@@ -143,7 +146,7 @@ class TableTire(TireCurve):
 
     slips: tuple[float, ...]
     mus: tuple[float, ...]
-    mu_scale: float = field(default=1.0, metadata=_POS)
+    mu_scale: float = field(default=1.0, metadata=_MU_SCALE)
 
     def kernel_data(self) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
         return KIND_TABLE, np.zeros(3), np.array(self.slips), np.array(self.mus) * self.mu_scale

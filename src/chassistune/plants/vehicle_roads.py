@@ -69,7 +69,7 @@ class VehicleRoad:
 
 def road_names() -> dict[str, str]:
     """Road name -> description."""
-    out = {n: f"uniform bilinear S_T={s}, mu_h={h}, mu_g={g}: {d}"
+    out = {n: f"uniform bilinear slip_opt={s}, mu_peak={h}, mu_lock={g}: {d}"
            for n, (s, h, g, d) in BILINEAR_ROADS.items()}
     out["mu-jump"] = ("docking road: ice for 25 m from the front axle's start, then dry concrete "
                       "(first_surface, second_surface, x_jump_m)")

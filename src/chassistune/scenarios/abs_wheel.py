@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -17,8 +18,14 @@ import numpy as np
 from chassistune.controllers import catalogue
 from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
-from chassistune.params import as_dict, override, to_float, validate
-from chassistune.plants.abs_wheel import PRESETS, AbsWheelParams, check_consistency
+from chassistune.params import as_dict, implausible, override, to_float, validate
+from chassistune.plants.abs_wheel import (
+    PRESETS,
+    AbsWheelParams,
+    bound_time_s,
+    check_consistency,
+    default_t_max_s,
+)
 from chassistune.plants.presets import PresetInfo
 from chassistune.plants.roads import friction_roads, tire_for_road
 from chassistune.plants.tires import TireCurve
@@ -90,6 +97,17 @@ OBJECTIVE_COLUMNS = {obj: KL.METRICS[name] for obj, name in (
 PER_BOUND = frozenset({"distance_ratio"})
 """Objectives divided by the scenario's adhesion-bound distance (stop distance / bound: scenarios
 of different speeds and roads compare on one scale; issue 17)."""
+STATUS_REASONS = {
+    "timeout": "t_max_s was reached before the speed fell to v_stop_m_s",
+    "hopeless": "the distance passed hopeless_factor times the bound, so the run was cut short",
+    "diverged": "the numbers blew up (the gains or parameters are far outside a sane range)",
+}
+"""Why a run did not stop, by status (for text output; its stop metrics are then null)."""
+DIVERGED_SLIP = 1e3
+"""A slip clipped by more than this is a numerical blow-up, not braking (slip is in [0, 1] for
+any physical state), whatever status the kernel gave the run."""
+STOP_METRICS = ("stop_time_s", "stop_distance_m", "distance_ratio")
+"""Metrics that only mean something for a run that stopped."""
 
 
 class AbsWheelScenario(Scenario):
@@ -97,6 +115,7 @@ class AbsWheelScenario(Scenario):
 
     objectives = tuple(OBJECTIVE_COLUMNS)
     default_objective = "itae"
+    status_reasons = STATUS_REASONS
 
     def __init__(
         self,
@@ -127,7 +146,7 @@ class AbsWheelScenario(Scenario):
         pp = plant_params
         decel = self.mu_peak * pp.g_m_s2 * pp.load_fraction
         self.bound_distance_m = (pp.v0_m_s**2 - pp.v_stop_m_s**2) / (2.0 * decel)
-        self.bound_time_s = (pp.v0_m_s - pp.v_stop_m_s) / decel
+        self.bound_time_s = bound_time_s(pp, self.mu_peak)
         self._kernel_args = self._pack()
 
     def _pack(self) -> tuple[Any, ...]:
@@ -198,10 +217,16 @@ class AbsWheelScenario(Scenario):
                            self._kernel_gains(gains), len(EL.METRICS), workers)
 
     def metrics_from_raw(self, raw: np.ndarray) -> dict[str, np.ndarray]:
+        """Metrics by name; stop metrics NaN (JSON null) for runs that did not stop; status
+        `diverged` for any numerical blow-up (`DIVERGED_SLIP`)."""
         out = KL.decode_metrics(raw) if self.ecu is None else EL.decode_metrics(raw)
+        blown = ~out["stopped"] & ~(np.abs(out["slip_clip_max"]) <= DIVERGED_SLIP)
+        out["status"] = np.where(blown, "diverged", out["status"])
         out["bound_distance_m"] = np.full(raw.shape[0], self.bound_distance_m)
         out["bound_time_s"] = np.full(raw.shape[0], self.bound_time_s)
         out["distance_ratio"] = out["stop_distance_m"] / self.bound_distance_m
+        for name in STOP_METRICS:
+            out[name] = np.where(out["stopped"], out[name], np.nan)
         return out
 
     def metrics(self, gains: np.ndarray) -> dict[str, np.ndarray]:
@@ -256,6 +281,12 @@ class AbsWheelPlant(Plant):
     def controllers(self) -> list[ControllerSpec]:
         return catalogue.for_plant(ABS_WHEEL.name)
 
+    def parameter_sets(self, preset: str | None = None) -> dict[str, Any]:
+        pre = PRESETS[pick_preset(self.name, preset, self.default_preset, PRESETS)]
+        road = pre.info.roads[0]
+        return {"plant": pre.params, f"road ({road}; others have their own values)":
+                tire_for_road(road, {})[0], "scoring": Scoring()}
+
     def scenario(
         self,
         preset: str | None = None,
@@ -300,6 +331,9 @@ class AbsWheelPlant(Plant):
             if not 0.0 < target < 1.0:
                 raise InputError("params.target_slip", f"must be in (0, 1), got {target:g}")
             used.add("target_slip")
+        if "t_max_s" not in values:
+            plant_params = dataclasses.replace(
+                plant_params, t_max_s=default_t_max_s(plant_params, tire.peak()[0]))
         if mode == "realistic":
             used |= ECU_PARAM_NAMES & set(values)
         unknown = sorted(set(values) - used)
@@ -313,12 +347,15 @@ class AbsWheelPlant(Plant):
             )
             raise InputError(f"params.{unknown[0]}", f"unknown parameter for abs-wheel with "
                              f"{spec.name} on {road} (known: {', '.join(known)})")
-        check_consistency(plant_params)
+        check_consistency(plant_params, set(values))
         plant_params = validate(plant_params, "params.")
         ecu = (ecu_setup(values, spec.name, ctrl_values, plant_params, seed)
                if mode == "realistic" else None)
-        return AbsWheelScenario(preset, road, spec, plant_params, tire, ctrl_values, target,
-                                scoring, seed, ecu)
+        scenario = AbsWheelScenario(preset, road, spec, plant_params, tire, ctrl_values, target,
+                                    scoring, seed, ecu)
+        for warning in implausible(plant_params) + implausible(tire):  # valid input only
+            warnings.warn(warning, stacklevel=2)
+        return scenario
 
 
 PLANT = AbsWheelPlant()
