@@ -10,7 +10,14 @@ stay fast.
 from __future__ import annotations
 
 import importlib
+import os as _os
+import sys as _sys
 from typing import TYPE_CHECKING, Any
+
+if _os.path.basename(_sys.argv[0]) == "chassistune":  # the console script: Ctrl-C policy first
+    from chassistune._interrupt import install as _install_ctrl_c
+
+    _install_ctrl_c()
 
 from chassistune._numba_cache import configure as _configure_numba_cache
 
@@ -24,9 +31,11 @@ from chassistune.simulate import simulate  # noqa: E402
 
 if TYPE_CHECKING:
     from chassistune.optimizers.minimize import minimize
+    from chassistune.simulate import compare
     from chassistune.tuning.tune import tune
 
-_LAZY = {"minimize": "chassistune.optimizers.minimize", "tune": "chassistune.tuning.tune"}
+_LAZY = {"minimize": "chassistune.optimizers.minimize", "tune": "chassistune.tuning.tune",
+         "compare": "chassistune.simulate"}
 
 
 def __getattr__(name: str) -> Any:
@@ -38,4 +47,4 @@ def __getattr__(name: str) -> Any:
     return value
 
 
-__all__ = ["__version__", "minimize", "simulate", "tune"]
+__all__ = ["__version__", "compare", "minimize", "simulate", "tune"]

@@ -2,7 +2,9 @@
 
 Every plant, road, solver and controller parameter is a field of a frozen dataclass. Field
 metadata `{"positive": True}`, `{"nonnegative": True}` or `{"unit_interval": True}` state the
-valid range; every float must be finite.
+valid range (outside it: InputError); every float must be finite. `{"plausible": (lo, hi)}` states
+the range of real vehicles and rigs: outside it a value is allowed but warned about
+(`ImplausibleValue`); `{"unit": "..."}` overrides the unit read from the name's suffix.
 """
 
 from __future__ import annotations
@@ -21,6 +23,9 @@ def parse_assignments(items: list[str] | tuple[str, ...], field: str) -> dict[st
     """Parse ["a=1", "b=x"] into {"a": "1", "b": "x"}; `field` names the option for errors."""
     out: dict[str, str] = {}
     for item in items:
+        if field == "--gains" and item.startswith("@"):
+            out.update(read_gains_file(item[1:]))
+            continue
         for part in item.split(",") if field == "--gains" else [item]:
             name, sep, value = part.partition("=")
             name, value = name.strip(), value.strip()
@@ -28,6 +33,31 @@ def parse_assignments(items: list[str] | tuple[str, ...], field: str) -> dict[st
                 raise InputError(field, f"expected NAME=VALUE, got {part!r}")
             out[name] = value
     return out
+
+
+def read_json(path: str, field: str) -> Any:
+    """A JSON file's content; InputError naming `field` when it cannot be read or parsed."""
+    import json
+
+    try:
+        with open(path, encoding="utf-8") as fh:
+            return json.load(fh)
+    except OSError as exc:
+        raise InputError(field, f"cannot read {path!r}: {exc.strerror or exc}") from None
+    except ValueError as exc:
+        raise InputError(field, f"{path!r} is not JSON: {exc}") from None
+
+
+def read_gains_file(path: str) -> dict[str, str]:
+    """`--gains @FILE.json`: a JSON object of gain name -> number (e.g. a tune's
+    best_gains.json), or a tune.json (its `best_gains`)."""
+    doc = read_json(path, "--gains")
+    if isinstance(doc, dict) and isinstance(doc.get("best_gains"), dict):
+        doc = doc["best_gains"]
+    if not isinstance(doc, dict) or not all(isinstance(v, int | float) and not isinstance(v, bool)
+                                            for v in doc.values()):
+        raise InputError("--gains", f"{path!r} must hold an object of gain name -> number")
+    return {str(k): repr(float(v)) for k, v in doc.items()}
 
 
 def to_float(value: object, field: str) -> float:
@@ -50,6 +80,66 @@ def check_field(obj: Any, f: dataclasses.Field[Any], value: float, where: str) -
         raise InputError(name, f"must be non-negative, got {value:g}")
     if f.metadata.get("unit_interval") and not 0 <= value <= 1:
         raise InputError(name, f"must be in [0, 1], got {value:g}")
+
+
+class ImplausibleValue(UserWarning):
+    """A parameter outside its plausible range: allowed, warned about (one line in the CLI)."""
+
+    def __init__(self, field: str, problem: str) -> None:
+        self.field = field
+        self.problem = problem
+        super().__init__(f"{field}: {problem}")
+
+
+_SUFFIX_UNITS = {"_per_s": "1/s", "_kg_m2": "kg m^2", "_m_s2": "m/s^2", "_m_s": "m/s",
+                 "_kg": "kg", "_n_m": "N m", "_m": "m", "_s": "s", "_n": "N", "_hz": "Hz",
+                 "_rad": "rad"}
+"""Name suffix -> unit, most specific first (the first match wins)."""
+
+
+def unit_of(f: dataclasses.Field[Any]) -> str:
+    """A field's unit: its metadata `unit`, else read from the SI suffix of its name."""
+    if "unit" in f.metadata:
+        return str(f.metadata["unit"])
+    for suffix, unit in _SUFFIX_UNITS.items():
+        if f.name.endswith(suffix):
+            return unit
+    return "-"
+
+
+def valid_range(f: dataclasses.Field[Any]) -> str:
+    """The valid range stated by a field's metadata, as text."""
+    if f.metadata.get("positive"):
+        return "> 0"
+    if f.metadata.get("nonnegative"):
+        return ">= 0"
+    if f.metadata.get("unit_interval"):
+        return "[0, 1]"
+    return "finite"
+
+
+def implausible(obj: Any, where: str = "params.") -> list[ImplausibleValue]:
+    """The fields of a parameter dataclass outside their plausible range."""
+    out = []
+    for f in dataclasses.fields(obj):
+        span = f.metadata.get("plausible")
+        value = getattr(obj, f.name)
+        if span is None or not isinstance(value, float | int) or isinstance(value, bool):
+            continue
+        lo, hi = span
+        if not lo <= value <= hi:
+            out.append(ImplausibleValue(f"{where}{f.name}", f"{value:g} {unit_of(f)} is outside "
+                                        f"the plausible range [{lo:g}, {hi:g}]"))
+    return out
+
+
+def describe(obj: Any) -> list[dict[str, Any]]:
+    """Each field of a parameter dataclass: name, unit, default (its value in `obj`), valid and
+    plausible range (`list params`)."""
+    return [{"name": f.name, "unit": unit_of(f), "default": getattr(obj, f.name),
+             "valid": valid_range(f), "plausible": list(f.metadata["plausible"])
+             if "plausible" in f.metadata else None}
+            for f in dataclasses.fields(obj)]
 
 
 def validate(obj: T, where: str = "") -> T:

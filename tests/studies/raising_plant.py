@@ -28,6 +28,9 @@ class RaisingScenario(QuarterCarScenario):
         if objective == "raises":
             raise RuntimeError(MESSAGE)
         if objective == "dies":
+            deaths = os.environ.get("CHASSISTUNE_TEST_DEATHS")
+            if deaths:  # one file per try, for tests counting how often the run was tried
+                open(os.path.join(deaths, f"death-{os.getpid()}"), "w").close()
             os._exit(3)
         return super().cost(gains, objective, workers)
 

@@ -48,3 +48,21 @@ def test_a_reader_cannot_write_and_a_reader_beside_the_writer_leaves_nothing(tmp
             assert "readonly" in str(exc) or "query_only" in str(exc) or "read" in str(exc)
     writer.close()
     assert _side_files(out) == []
+
+
+def test_a_new_store_appears_with_its_meta(tmp_path, monkeypatch):
+    """A reader never sees a store without the study's meta (it raced `study status` once)."""
+    import chassistune.studies.store as store_module
+
+    seen: list[dict[str, str]] = []
+    real_connect = store_module._connect
+
+    def connect_and_read(path, read_only):  # the first moment the store exists under its name
+        reader = sqlite3.connect(path)
+        seen.append(dict(reader.execute("SELECT key, value FROM meta").fetchall()))
+        reader.close()
+        return real_connect(path, read_only)
+
+    monkeypatch.setattr(store_module, "_connect", connect_and_read)
+    Store.create(tmp_path / "st", {"config": "{}", "study": "s"}).close()
+    assert seen and seen[0]["config"] == "{}" and seen[0]["study"] == "s"

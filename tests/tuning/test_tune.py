@@ -88,3 +88,30 @@ def test_tune_cli_bad_input_exit_2(cli, tmp_path, args, field):
     assert r.code == 2, (r.out, r.err)
     assert len(r.err.strip().splitlines()) == 1 and field in r.err
     assert not out.exists()
+
+
+def test_the_winner_is_checked_at_a_quarter_of_the_step_on_every_road():
+    res = tune("abs-wheel", "pid", "de", roads=["dry-concrete", "ice"], pop_size=6, max_iter=2,
+               seed=3, params={"v0_m_s": 20.0})
+    gains = np.array([list(res.best_gains.values())])
+    assert set(res.step_checks) == {"dry-concrete", "ice"}
+    for sc in res.problem.scenarios:
+        check = res.step_checks[sc.road]
+        assert check.factor == 4 and check.dt_s == sc.plant_params.dt_s
+        assert check.cost == float(sc.cost(gains)[0])  # built with the same v0_m_s override
+        assert np.isfinite(check.cost_refined) and check.cost_refined > 0.0
+        assert check.cost_rel_change == abs(check.cost - check.cost_refined) / check.cost_refined
+    doc = res.as_dict()["step_check"]
+    assert set(doc) == {"dry-concrete", "ice"} and doc["ice"]["factor"] == 4
+    quarter_car = tune("quarter-car", "pid", "de", pop_size=6, max_iter=1, seed=0)
+    assert quarter_car.step_checks == {}  # white-noise road: a finer step is another road
+
+
+def test_tune_cli_warns_when_the_winner_is_not_converged_in_the_step(cli):
+    r = cli("tune", "abs-wheel", "--controller", "pid", "--optimizer", "de", "--pop", "6",
+            "--iters", "2", "--param", "dt_s=0.01", "--json")
+    assert r.code == 0, r.err
+    check = json.loads(r.out)["step_check"]["dry-concrete"]
+    assert check["max_rel_change"] > 1e-3 and check["dt_s"] == 0.01
+    assert "chassistune: warning: step check on dry-concrete:" in r.err
+    assert check["warning"] in r.err

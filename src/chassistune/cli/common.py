@@ -39,15 +39,72 @@ def cli_field(field: str, command: str | None = None) -> str:
     return f"{flag} {rest}" if dot else flag
 
 
-def check_output_file(path: str | None, option: str, suffix: str | None = None) -> None:
-    """Refuse an output path whose folder does not exist (before any work is done)."""
+def _probe_writable(folder: str, option: str) -> None:
+    """Create and remove an empty file in `folder`: the only honest test that a write will work
+    (permission bits say nothing for root, nor for /proc or a read-only mount)."""
+    import secrets
+
+    probe = os.path.join(folder, f".chassistune-probe-{secrets.token_hex(4)}")
+    try:
+        fd = os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    except OSError as exc:
+        raise InputError(option, f"cannot write in {folder!r}: "
+                         f"{exc.strerror or exc}") from None
+    os.close(fd)
+    os.unlink(probe)
+
+
+def _existing_folder(folder: str, option: str) -> None:
+    if not os.path.exists(folder):
+        raise InputError(option, f"folder {folder!r} does not exist")
+    if not os.path.isdir(folder):
+        raise InputError(option, f"{folder!r} is a file, not a folder")
+
+
+def check_output_file(path: str | None, option: str, suffixes: tuple[str, ...] = (),
+                      stdout_ok: bool = False) -> None:
+    """Refuse, before any work, an output file that could not be written: its folder missing,
+    a file, read-only or not a real file system (/proc), the path a folder, a wrong suffix.
+    Nothing is left behind; `-` means stdout when `stdout_ok`."""
+    if path is None or (stdout_ok and path == "-"):
+        return
+    if not path or os.path.isdir(path):
+        raise InputError(option, f"{path!r} is a folder, not a file name")
+    if suffixes and not path.lower().endswith(suffixes):
+        raise InputError(option, f"expected a file ending in {', '.join(suffixes)}, got "
+                         f"{path!r}")
+    folder = os.path.dirname(os.path.abspath(path))
+    _existing_folder(folder, option)
+    _probe_writable(folder, option)
+
+
+def check_output_dir(path: str | None, option: str, parents: bool = False) -> None:
+    """Refuse, before any work, an output folder that could not be written: a file in its place,
+    its parent missing (unless `parents`: then the nearest existing ancestor is checked),
+    read-only or not a real file system. Nothing is created here."""
     if path is None:
         return
-    folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        raise InputError(option, f"folder {folder!r} does not exist")
-    if suffix and not path.lower().endswith(suffix):
-        raise InputError(option, f"expected a {suffix} file name, got {path!r}")
+    full = os.path.abspath(path)
+    if os.path.exists(full):
+        if not os.path.isdir(full):
+            raise InputError(option, f"{path!r} exists and is not a folder")
+        _probe_writable(full, option)
+        return
+    parent = os.path.dirname(full)
+    while parents and not os.path.lexists(parent) and parent != os.path.dirname(parent):
+        parent = os.path.dirname(parent)
+    _existing_folder(parent, option)
+    _probe_writable(parent, option)
+
+
+def announce_compile(plants: str | list[str]) -> None:
+    """One stderr line before the first kernel call of a plant in this package version (numba
+    compiles then, for tens of seconds; later runs load the cached machine code)."""
+    from chassistune._numba_cache import COLD_COMPILE_S, is_cold
+
+    if any(is_cold(p) for p in ([plants] if isinstance(plants, str) else plants)):
+        click.echo(f"chassistune: compiling kernels (first use, about {COLD_COMPILE_S} s; "
+                   "cached for later runs)", err=True)
 
 
 def echo_json(obj: dict[str, Any]) -> None:

@@ -7,12 +7,9 @@ bound) and writes the plots (`reports.outputs.write_demo`).
 
 from __future__ import annotations
 
-import os
-
 import click
 
-from chassistune.cli.common import echo_json
-from chassistune.errors import InputError
+from chassistune.cli.common import check_output_dir, echo_json
 
 
 @click.command("demo")
@@ -23,9 +20,7 @@ def demo_command(out_dir: str, as_json: bool) -> None:
     """No ABS against a PID ABS on the three roads of derlsp-ao-abs: table and plots."""
     from chassistune.reports.outputs import write_demo
 
-    parent = os.path.dirname(os.path.abspath(out_dir))
-    if not os.path.isdir(parent):
-        raise InputError("--out", f"folder {parent!r} does not exist")
+    check_output_dir(out_dir, "--out")
     demo = write_demo(out_dir)
     if as_json:
         echo_json({"rows": demo.rows, "out": out_dir})

@@ -53,14 +53,10 @@ def _rule_table(rb: RuleBase) -> list[str]:
 
 
 def _check_plot_path(path: str) -> Path:
-    out = Path(path)
-    if out.suffix.lower() not in PLOT_SUFFIXES:
-        raise InputError(
-            "--plot", f"expected a file ending in {', '.join(PLOT_SUFFIXES)}, got {path!r}"
-        )
-    if not out.parent.is_dir():
-        raise InputError("--plot", f"folder does not exist: {out.parent}")
-    return out
+    from chassistune.cli.common import check_output_file
+
+    check_output_file(path, "--plot", PLOT_SUFFIXES)
+    return Path(path)
 
 
 @fuzzy_group.command("show")
@@ -77,10 +73,7 @@ def show_command(rulebase: str, as_json: bool, plot: str | None) -> None:
     if out is not None:
         from chassistune.plots.fuzzy import plot_rulebase
 
-        try:
-            plot_rulebase(rb, out)
-        except OSError as exc:
-            raise InputError("--plot", f"cannot write {out}: {exc.strerror or exc}") from None
+        plot_rulebase(rb, out)
     if as_json:
         click.echo(json.dumps(rb.as_dict(), indent=1))
         return

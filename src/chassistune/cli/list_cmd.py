@@ -1,4 +1,5 @@
-"""`chassistune list {plants|presets|roads|controllers|optimizers|functions} [--json]`."""
+"""`chassistune list {plants|presets|roads|controllers|optimizers|functions} [--json]` and
+`chassistune list params PLANT [--preset P] [--json]`."""
 
 from __future__ import annotations
 
@@ -6,7 +7,7 @@ import json
 
 import click
 
-KINDS = ["plants", "presets", "roads", "controllers", "optimizers", "functions"]
+KINDS = ["plants", "presets", "roads", "controllers", "optimizers", "functions", "params"]
 
 
 def catalogue(kind: str) -> object:
@@ -56,7 +57,8 @@ def _print_human(kind: str, data: object) -> None:
                 extra = ""
                 if kind == "controllers":
                     gains = ", ".join(
-                        f"{g['name']} [{g['bounds'][0]:g}, {g['bounds'][1]:g}] {g['unit']}"
+                        f"{g['name']}={g['default']:g} [{g['bounds'][0]:g}, "
+                        f"{g['bounds'][1]:g}] {g['unit']}"
                         for g in item["gains"]
                     )
                     extra = f"  gains: {gains}" if gains else "  (no gains)"
@@ -70,13 +72,49 @@ def _print_human(kind: str, data: object) -> None:
             click.echo(f"{item['name']:<14} {item.get('description', '')}")
 
 
+def parameters(plant: str, preset: str | None) -> dict[str, list[dict[str, object]]]:
+    """`list params PLANT`: each parameter group's fields with unit, default (the preset's
+    value), valid range and plausible range."""
+    from chassistune.params import describe
+    from chassistune.scenarios.registry import get_plant
+
+    return {group: describe(obj) for group, obj in
+            get_plant(plant).parameter_sets(preset).items()}
+
+
+def _print_params(data: dict[str, list[dict[str, object]]]) -> None:
+    for group, fields in data.items():
+        click.echo(f"{group}:")
+        for f in fields:
+            span = f["plausible"]
+            plausible = f"plausible [{span[0]:g}, {span[1]:g}]" if span else ""  # type: ignore[index]
+            default = f["default"]
+            shown = f"{default:g}" if isinstance(default, float) else str(default)
+            click.echo(f"  {f['name']:<22} {shown:>12} {f['unit']:<22} valid {f['valid']:<7} "
+                       f"{plausible}".rstrip())
+
+
 @click.command("list")
 @click.argument("kind", type=click.Choice(KINDS))
+@click.argument("plant", required=False, metavar="[PLANT]")
+@click.option("--preset", help="With `params`: the preset whose values are the defaults.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
-def list_command(kind: str, as_json: bool) -> None:
-    """List plants, presets, roads, controllers (with gain bounds), optimizers or functions."""
-    data = catalogue(kind)
+def list_command(kind: str, plant: str | None, preset: str | None, as_json: bool) -> None:
+    """List plants, presets, roads, controllers (with gain bounds), optimizers or functions;
+    `list params PLANT`: every parameter with unit, default, valid and plausible range."""
+    from chassistune.errors import InputError
+
+    if kind == "params":
+        if plant is None:
+            raise InputError("PLANT", "`list params` needs a plant (chassistune list plants)")
+        data: object = parameters(plant, preset)
+    elif plant is not None or preset is not None:
+        raise InputError("PLANT", f"`list {kind}` takes no plant or preset")
+    else:
+        data = catalogue(kind)
     if as_json:
         click.echo(json.dumps({kind: data}, indent=1))
+    elif kind == "params":
+        _print_params(data)  # type: ignore[arg-type]
     else:
         _print_human(kind, data)

@@ -1,6 +1,7 @@
 """Entry point: the click group with every command added, and the error policy of DESIGN 7.
 
-Exit 0 on success, 2 on bad input (one line on stderr naming the field), 1 on anything else.
+Exit 0 on success, 2 on bad input (one line on stderr naming the field; an output the system
+refuses to write is bad input too), 130 on Ctrl-C (`_interrupt`), 1 on anything else.
 Each command module defines a plain click command (or group) and imports its heavy modules
 inside it, so that `--help`, `--version` and `list` answer without importing numba.
 """
@@ -8,6 +9,7 @@ inside it, so that `--help`, `--version` and `list` answer without importing num
 from __future__ import annotations
 
 import sys
+import warnings
 
 import click
 
@@ -45,9 +47,25 @@ def _one_line(text: str) -> str:
     return " ".join(str(text).split())
 
 
+def _show_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,
+                  file: object = None, line: str | None = None) -> None:
+    """A warning as one stderr line; a parameter's field named as on the command line."""
+    from chassistune.cli.common import cli_field
+    from chassistune.params import ImplausibleValue
+
+    text = (f"{cli_field(message.field)}: {message.problem}"
+            if isinstance(message, ImplausibleValue) else str(message))
+    click.echo(f"chassistune: warning: {_one_line(text)}", err=True)
+
+
 def main(argv: list[str] | None = None) -> None:
     """Run the CLI, mapping bad input to one stderr line and exit status 2."""
+    if argv is None:  # a real command line (tests call main in-process with a list)
+        from chassistune._interrupt import install
+
+        install()
     args = sys.argv[1:] if argv is None else argv
+    warnings.showwarning = _show_warning
     if not args:  # no command: the usual help, as `--help` prints it
         args = ["--help"]
     try:
@@ -79,4 +97,11 @@ def main(argv: list[str] | None = None) -> None:
         sys.exit(exc.exit_code if exc.exit_code else 1)
     except BrokenPipeError:
         sys.exit(1)
+    except OSError as exc:  # e.g. a write the pre-flight checks could not foresee (disk full)
+        where = f"{exc.filename}: " if exc.filename else ""
+        click.echo(f"chassistune: error: {where}{_one_line(exc.strerror or str(exc))}", err=True)
+        sys.exit(2)
+    except KeyboardInterrupt:  # in-process callers, where `interrupt.install` is not active
+        click.echo("chassistune: interrupted", err=True)
+        sys.exit(130)
     sys.exit(0)

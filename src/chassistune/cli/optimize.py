@@ -24,12 +24,14 @@ def run_optimize(
     from chassistune._io import jsonable
     from chassistune._rng import child_seed, make_rng
     from chassistune.benchmarks.functions import get as get_function
+    from chassistune.optimizers.base import check_covers_population
     from chassistune.optimizers.minimize import minimize
 
     if iters is not None and evals is not None:
         raise InputError("--iters", "give --iters or --evals, not both")
     if iters is None and evals is None:
         iters = 100
+    check_covers_population(pop, evals)
     fn = get_function(function)
     bounds = fn.bounds(dim)
     # F7's noise has its own stream, derived from the seed

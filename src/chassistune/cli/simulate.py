@@ -3,14 +3,19 @@
 from __future__ import annotations
 
 import csv
-from typing import TYPE_CHECKING
+import os
+from typing import TYPE_CHECKING, Any
 
 import click
 
-from chassistune.cli.common import check_output_file, echo_json, fmt
+from chassistune.cli.common import announce_compile, check_output_file, echo_json, fmt
+from chassistune.errors import InputError
 
 if TYPE_CHECKING:
-    from chassistune.simulate import SimulationResult
+    from chassistune.simulate import Comparison, SimulationResult
+
+DIAGNOSTICS = ("slip_clip_max", "min_slip_unclipped")
+"""Internal diagnostics: in the JSON, not in the text table."""
 
 
 def write_csv(result: SimulationResult, path: str) -> None:
@@ -30,6 +35,7 @@ def write_csv(result: SimulationResult, path: str) -> None:
 
 def _print_metrics(metrics: dict[str, object]) -> None:
     """Metrics as a list; those with a `passive_` twin as an active / passive / ratio table."""
+    metrics = {k: v for k, v in metrics.items() if k not in DIAGNOSTICS}
     paired = [k for k in metrics if f"passive_{k}" in metrics]
     alone = [k for k in metrics if k not in paired and not (
         k.startswith("passive_") and k[len("passive_"):] in paired)]
@@ -44,47 +50,121 @@ def _print_metrics(metrics: dict[str, object]) -> None:
         click.echo(f"  {k:<{width}}  {fmt(metrics[k])}")
 
 
+def _why_not(result: SimulationResult) -> str | None:
+    """One line saying why the run did not stop (its stop metrics are then null)."""
+    m = result.metrics
+    if m.get("stopped", True):
+        return None
+    status = str(m.get("status"))
+    reason = result.scenario.status_reasons.get(status, status)
+    return f"did not stop ({status}): {reason}; stop metrics are left empty"
+
+
+def load_result(path: str) -> dict[str, Any]:
+    """`--from`: a tune's tune.json (or the folder holding it), or an export's JSON."""
+    from chassistune.params import read_json
+
+    file = os.path.join(path, "tune.json") if os.path.isdir(path) else path
+    doc = read_json(file, "--from")
+    if isinstance(doc, dict) and "schema" in doc:
+        from chassistune.export.json_export import as_tune_result
+
+        return as_tune_result(doc, "--from", file)
+    need = ("plant", "preset", "roads", "controller", "best_gains", "params")
+    if not isinstance(doc, dict) or any(k not in doc for k in need):
+        raise InputError("--from", f"{file!r} is not a tune result (needs {', '.join(need)})")
+    return doc
+
+
+def _overrides(doc: dict[str, Any]) -> dict[str, object]:
+    """The parameters a tune result set away from its scenario's defaults (its `params` echo
+    minus what the preset, road and controller give anyway)."""
+    from chassistune.scenarios.registry import get_plant
+
+    plain = get_plant(doc["plant"]).scenario(doc["preset"], doc["roads"][0], doc["controller"],
+                                             {}, 0).params()
+    return {k: v for k, v in doc["params"].items() if k != "seed" and plain.get(k) != v}
+
+
 @click.command("simulate")
-@click.argument("plant", metavar="PLANT")
+@click.argument("plant", metavar="PLANT", required=False)
 @click.option("--preset", help="Parameter preset (default: the plant's paper preset).")
 @click.option("--road", help="Road (default: the preset's first road).")
-@click.option("--controller", default="pid", show_default=True,
-              help="Controller structure; `chassistune list controllers` shows them.")
+@click.option("--controller", help="Controller structure (default: pid, or the --from "
+              "result's); `chassistune list controllers` shows them.")
 @click.option("--param", "params", multiple=True, metavar="NAME=VALUE",
               help="Override a plant, road, solver or controller parameter (repeatable).")
-@click.option("--gains", "gains", multiple=True, metavar="NAME=VALUE,...",
-              help="Controller gains (default: the registry's defaults).")
-@click.option("--seed", default=0, show_default=True, type=int,
-              help="Seed of any random draw (road realizations).")
+@click.option("--gains", "gains", multiple=True, metavar="NAME=VALUE,...|@FILE.json",
+              help="Controller gains (default: the registry's defaults); @FILE.json reads a "
+                   "JSON object such as a tune's best_gains.json.")
+@click.option("--from", "from_path", metavar="RESULT.json",
+              help="A tune's tune.json (or its folder), or an export's JSON: its plant, preset, "
+                   "road, controller, parameters and gains; options given here override them.")
+@click.option("--compare", metavar="C1,C2,...",
+              help="Simulate these controllers (with their default gains; the --from result "
+                   "as `tuned`) on one figure and one table.")
+@click.option("--seed", type=int, help="Seed of any random draw (road realizations; default 0).")
 @click.option("--ecu", type=click.Choice(["ideal", "realistic"]),
               help="abs-wheel: ideal controller or the realistic ECU (docs/ecu.md).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
 @click.option("--plot", "plot_path", metavar="FILE.png", help="Draw the response into FILE.png.")
 @click.option("--csv", "csv_path", metavar="FILE.csv", help="Write the time series to FILE.csv.")
-def simulate_command(plant: str, preset: str | None, road: str | None, controller: str,
-                     params: tuple[str, ...], gains: tuple[str, ...], seed: int, as_json: bool,
-                     plot_path: str | None, csv_path: str | None, ecu: str | None) -> None:
+def simulate_command(plant: str | None, preset: str | None, road: str | None,
+                     controller: str | None, params: tuple[str, ...], gains: tuple[str, ...],
+                     from_path: str | None, compare: str | None, seed: int | None, ecu: str | None,
+                     as_json: bool, plot_path: str | None, csv_path: str | None) -> None:
     """Simulate one closed-loop run of PLANT and report its metrics.
 
     PLANT is one of the plants of `chassistune list plants` (abs-wheel, quarter-car). Units are SI.
     Example: chassistune simulate abs-wheel --road wet-asphalt --gains kp=5000,kd=230 --plot out.png
     """
     from chassistune.params import parse_assignments
-    from chassistune.plots.registry import plot_trace
     from chassistune.scenarios.registry import get_plant, plant_names
-    from chassistune.simulate import simulate
 
+    doc = load_result(from_path) if from_path else None
+    if doc is not None:
+        if plant is not None and plant != doc["plant"]:
+            raise InputError("PLANT", f"{plant!r} differs from the --from result's "
+                             f"{doc['plant']!r}")
+        plant = doc["plant"]
+    if plant is None:
+        raise InputError("PLANT", "missing (or give --from RESULT.json)")
     if plant not in plant_names():
         get_plant(plant)  # raises the one-line error listing the plants
-    check_output_file(plot_path, "--plot", ".png")
-    check_output_file(csv_path, "--csv", ".csv")
-    values = parse_assignments(params, "--param")
+    check_output_file(plot_path, "--plot", (".png",))
+    check_output_file(csv_path, "--csv", (".csv",))
+    if compare is not None and csv_path is not None:
+        raise InputError("--csv", "one time series per file: not with --compare")
+    values: dict[str, object] = dict(_overrides(doc)) if doc else {}
+    values.update(parse_assignments(params, "--param"))
     if ecu:
         values["ecu"] = ecu
-    result = simulate(plant, preset=preset, road=road, controller=controller, params=values,
-                      gains=parse_assignments(gains, "--gains"), seed=seed)
+    given = parse_assignments(gains, "--gains")
+    if doc is not None:
+        preset = preset or doc["preset"]
+        road = road or doc["roads"][0]
+        seed = doc["params"].get("seed", 0) if seed is None else seed
+        if controller in (None, doc["controller"]):
+            given = {**doc["best_gains"], **given}
+        controller = controller or doc["controller"]
+    if compare is not None:
+        _compare(plant, compare, preset, road, controller, values, given, doc, seed or 0,
+                 as_json, plot_path)
+        return
+    _one_run(plant, preset, road, controller or "pid", values, given, seed or 0, as_json,
+             plot_path, csv_path)
+
+
+def _one_run(plant: str, preset: str | None, road: str | None, controller: str,
+             values: dict[str, object], gains: dict[str, Any], seed: int, as_json: bool,
+             plot_path: str | None, csv_path: str | None) -> None:
+    from chassistune.simulate import prepare, run
+
+    scenario, vector = prepare(plant, preset, road, controller, values, gains, seed)
+    announce_compile(plant)
+    result = run(scenario, vector)
     if plot_path:
-        plot_trace(result.scenario, result.trace, plot_path)
+        result.plot(plot_path)
     if csv_path:
         write_csv(result, csv_path)
     if as_json:
@@ -93,8 +173,53 @@ def simulate_command(plant: str, preset: str | None, road: str | None, controlle
     sc = result.scenario
     click.echo(f"{plant}  preset {sc.preset}  road {sc.road}  controller {sc.controller.name}")
     if result.gains:
-        click.echo("gains: " + ", ".join(f"{k}={fmt(v)}" for k, v in result.gains.items()))
+        click.echo("gains: " + ", ".join(f"{k}={v!r}" for k, v in result.gains.items()))
     _print_metrics(result.metrics)
+    why = _why_not(result)
+    if why:
+        click.echo(why)
     for path in (plot_path, csv_path):
         if path:
             click.echo(f"wrote {path}")
+
+
+def _compare(plant: str, names: str, preset: str | None, road: str | None,
+             controller: str | None, values: dict[str, object], gains: dict[str, Any],
+             doc: dict[str, Any] | None, seed: int, as_json: bool, plot_path: str | None) -> None:
+    from chassistune.simulate import Comparison, compare, simulate
+
+    wanted = [n.strip() for n in names.split(",") if n.strip() and n.strip() != "tuned"]
+    per = {controller: gains} if doc is None and controller and gains else {}
+    announce_compile(plant)
+    cmp = compare(plant, wanted, preset, road, values, per, seed)
+    if doc is not None and controller is not None:
+        tuned = simulate(plant, preset, road, controller, values, gains, seed)
+        cmp = Comparison({"tuned": tuned, **cmp.results})
+    if plot_path:
+        cmp.plot(plot_path)
+    if as_json:
+        echo_json({"plant": plant, "runs": {k: r.as_dict() for k, r in cmp.results.items()}})
+        return
+    _print_comparison(cmp)
+    if plot_path:
+        click.echo(f"wrote {plot_path}")
+
+
+def _print_comparison(cmp: Comparison) -> None:
+    """Metrics as rows, runs as columns; why a run did not stop, below."""
+    first = next(iter(cmp.results.values())).scenario
+    click.echo(f"{first.plant}  preset {first.preset}  road {first.road}")
+    labels = list(cmp.results)
+    keys = [k for k in next(iter(cmp.results.values())).metrics if k not in DIAGNOSTICS]
+    width = max(len(k) for k in keys)
+    col = max(10, *(len(x) for x in labels))
+    click.echo(f"  {'':<{width}}  " + "  ".join(f"{x:>{col}}" for x in labels))
+    for k in keys:
+        click.echo(f"  {k:<{width}}  " + "  ".join(
+            f"{fmt(cmp.results[x].metrics.get(k)):>{col}}" for x in labels))
+    for label, r in cmp.results.items():
+        if r.gains:
+            click.echo(f"{label} gains: " + ", ".join(f"{k}={v!r}" for k, v in r.gains.items()))
+        why = _why_not(r)
+        if why:
+            click.echo(f"{label}: {why}")

@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
+import os
+
 import click
 
+from chassistune._interrupt import on_interrupt
+from chassistune.cli.common import announce_compile, check_output_dir, check_output_file
 from chassistune.errors import InputError
 
 
@@ -31,24 +35,56 @@ def run_command(config: str, out_dir: str, executor: str, scheduler: str | None,
     chassistune study run examples/studies/abs-dry-pid.toml --out abs-dry-pid
     """
     from chassistune.studies.executors import check_dask, make_executor
-    from chassistune.studies.runner import check_out_dir, pending_runs, rich_progress, run_study
+    from chassistune.studies.lock import refuse_if_locked
+    from chassistune.studies.runner import (
+        Progress,
+        check_out_dir,
+        pending_runs,
+        rich_progress,
+        run_study,
+    )
     from chassistune.studies.spec import load_plan
 
     plan = load_plan(config)
+    check_output_dir(out_dir, "--out")
     check_out_dir(out_dir)
-    pending_runs(plan, out_dir, retry_failed)  # refuses a folder made from another config
+    refuse_if_locked(out_dir)
     if executor == "dask":
         check_dask()
+    announce_compile(sorted({r.plant for r in plan.runs}))
+    stored = [len(plan.runs) - len(pending_runs(plan, out_dir, retry_failed)), len(plan.runs)]
+
+    def count(progress: Progress) -> Progress:
+        def update(done: int, failed: int, total: int) -> None:
+            stored[:] = [done, total]
+            progress(done, failed, total)
+        return update
+
+    forget = on_interrupt(lambda: f"{stored[0]} of {stored[1]} runs are stored in {out_dir}; "
+                          "run the same command to resume")
     with make_executor(executor, workers, scheduler) as ex:
         outcome = rich_progress(
-            lambda progress: run_study(plan, out_dir, ex, retry_failed, progress),
+            lambda progress: run_study(plan, out_dir, ex, retry_failed, count(progress)),
             f"study {plan.config.study.name}")
+    forget()
     click.echo(f"study {plan.config.study.name}: {outcome.total} runs, {outcome.skipped} "
                f"already done, {outcome.completed} completed and {outcome.failed} failed now "
                f"({executor}, {outcome.wall_time_s:.2f} s); store {outcome.store}")
     if outcome.failed:
         click.echo(f"chassistune: {outcome.failed} runs failed: their errors are in the store "
                    "and in `chassistune study report`", err=True)
+    _warn_unequal_budgets(out_dir)
+
+
+def _warn_unequal_budgets(study_dir: str) -> None:
+    """One stderr line per scenario whose optimizers spent unequal evaluations (> 5 %)."""
+    from chassistune.reports.tables import budget_warnings, load_study
+    from chassistune.studies.store import open_study
+
+    with open_study(study_dir) as store:
+        data = load_study(store)
+    for line in budget_warnings(data):
+        click.echo(f"chassistune: warning: {line}", err=True)
 
 
 @study_group.command("report")
@@ -67,27 +103,82 @@ def report_command(study_dir: str, reference: str | None, interactive: bool) -> 
 
         require_plotly()  # refused before anything is written
     written = build_report(study_dir, reference)
+    _warn_unequal_budgets(study_dir)
     click.echo(f"wrote {written.html} ({len(written.tables)} tables, {len(written.figures)} "
                f"figures in {written.folder})")
     if interactive:
         click.echo(f"wrote {build_interactive(study_dir, reference).html}")
 
 
+@study_group.command("status")
+@click.argument("study_dir", metavar="DIR")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
+def status_command(study_dir: str, as_json: bool) -> None:
+    """What a study folder holds: runs completed, failed and missing, and its config."""
+    from chassistune.cli.common import echo_json
+    from chassistune.studies.status import study_status
+
+    st = study_status(study_dir)
+    b = st.config.budget
+    budget = {"pop_size": b.pop_size, "iterations": b.iterations, "evaluations": b.evaluations}
+    if as_json:
+        echo_json({"study": st.name, "total": st.total, "completed": st.completed,
+                   "failed": st.failed, "missing": st.missing, "scenarios": st.scenarios,
+                   "optimizers": st.optimizers, "seeds": len(st.config.study.seeds),
+                   "budget": budget, "running_pid": st.running_pid})
+        return
+    click.echo(f"study {st.name}: {st.total} runs, {st.completed} completed, {st.failed} "
+               f"failed, {st.missing} missing" + (f"; running now (process {st.running_pid})"
+                                                   if st.running_pid else ""))
+    click.echo(f"  scenarios: {', '.join(st.scenarios)}")
+    click.echo(f"  optimizers: {', '.join(st.optimizers)}; seeds: {len(st.config.study.seeds)}")
+    click.echo("  budget: " + ", ".join(f"{k} {v}" for k, v in budget.items() if v is not None))
+    if st.missing and not st.running_pid:
+        click.echo("  `chassistune study run CONFIG.toml --out DIR` with the same config "
+                   "finishes it")
+
+
+EXPORT_SUFFIXES = {".csv": "csv", ".parquet": "parquet"}
+
+
+def export_format(output: str, fmt: str | None) -> str:
+    """The export format: --format if given, else from the file name; a mismatch is refused;
+    `-` (stdout) is CSV."""
+    if output == "-":
+        if fmt not in (None, "csv"):
+            raise InputError("--output", f"stdout takes csv, not {fmt}")
+        return "csv"
+    suffix = os.path.splitext(output)[1].lower()
+    implied = EXPORT_SUFFIXES.get(suffix)
+    if fmt is None:
+        if implied is None:
+            raise InputError("--output", f"cannot tell the format from {output!r}: name it "
+                             ".csv or .parquet, or give --format")
+        return implied
+    if implied is not None and implied != fmt:
+        raise InputError("--format", f"{fmt} does not match the file name {output!r}")
+    return fmt
+
+
 @study_group.command("export")
 @click.argument("study_dir", metavar="DIR")
-@click.option("--format", "fmt", required=True, type=click.Choice(["csv", "parquet"]),
-              help="File format.")
-@click.option("--output", required=True, metavar="FILE", help="File to write.")
-def export_command(study_dir: str, fmt: str, output: str) -> None:
+@click.option("--format", "fmt", type=click.Choice(["csv", "parquet"]),
+              help="File format (default: from the --output suffix).")
+@click.option("--output", required=True, metavar="FILE|-",
+              help="File to write (.csv or .parquet); - writes CSV to stdout.")
+def export_command(study_dir: str, fmt: str | None, output: str) -> None:
     """One row per run: scenario, plant, road, controller, optimizer, seed, status, cost, gains."""
-    from chassistune.cli.common import check_output_file
     from chassistune.reports.tables import runs_table, write_table
     from chassistune.studies.store import open_study
 
-    check_output_file(output, "--output")
+    fmt = export_format(output, fmt)
+    check_output_file(output, "--output", stdout_ok=True)
     with open_study(study_dir) as store:
         table = runs_table(list(store.records()))
     if table.empty:
         raise InputError("DIR", f"{study_dir!r} holds no finished runs yet")
+    if output == "-":
+        click.echo(table.to_csv(index=False), nl=False)
+        return
     write_table(table, output, fmt)
     click.echo(f"wrote {output} ({len(table)} runs, {len(table.columns)} columns)")

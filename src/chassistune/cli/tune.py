@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-import os
+import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import click
 
-from chassistune.cli.common import echo_json, fmt
+from chassistune._interrupt import on_interrupt
+from chassistune.cli.common import announce_compile, check_output_dir, echo_json, fmt
 from chassistune.cli.robust_options import (
     echo_validation,
     robust_fields,
@@ -18,7 +19,7 @@ from chassistune.cli.robust_options import (
 from chassistune.errors import InputError
 
 if TYPE_CHECKING:
-    from chassistune.tuning.tune import Progress, TuneResult
+    from chassistune.tuning.tune import Incumbent, Progress, TuneResult
 
 
 @click.command("tune")
@@ -32,32 +33,41 @@ if TYPE_CHECKING:
 @click.option("--optimizer", required=True, help="Optimizer (`chassistune list optimizers`).")
 @click.option("--pop", "pop_size", default=30, show_default=True, type=int,
               help="Population size.")
-@click.option("--iters", type=int, help="Iteration budget (default 100 unless --evals).")
-@click.option("--evals", type=int, help="Evaluation budget (exact).")
+@click.option("--iters", type=int,
+              help="Iteration budget (default 100 unless --evals; with --evals too, the run "
+                   "stops at whichever comes first).")
+@click.option("--evals", type=int,
+              help="Evaluation budget (exact; at least one population).")
 @click.option("--seed", default=0, show_default=True, type=int, help="Run seed.")
 @click.option("--ecu", type=click.Choice(["ideal", "realistic"]),
               help="abs-wheel: ideal controller or the realistic ECU (docs/ecu.md).")
 @click.option("--objective", help="Objective (ABS: itae, iae, ise, distance, time).")
 @click.option("--param", "params", multiple=True, metavar="NAME=VALUE",
               help="Override a plant, road, solver or controller parameter (repeatable).")
+@click.option("--test-road", "test_roads", multiple=True, metavar="ROAD",
+              help="Also report the tuned controller's metrics on ROAD (repeatable).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
 @click.option("--out", "out_dir", help="Write best gains, history and plots into this folder.")
 @robust_options
 def tune_command(plant: str, preset: str | None, roads: tuple[str, ...], aggregate: str,
                  controller: str, optimizer: str, pop_size: int, iters: int | None,
                  evals: int | None, seed: int, objective: str | None, params: tuple[str, ...],
-                 as_json: bool, out_dir: str | None, ecu: str | None, **robust: Any) -> None:
+                 test_roads: tuple[str, ...], as_json: bool, out_dir: str | None,
+                 ecu: str | None, **robust: Any) -> None:
     """Tune the gains of a controller of PLANT with an optimizer.
 
     The box is the registry's tuning bounds (`chassistune list controllers`). The cost of every
     candidate is a closed-loop simulation; a whole population is simulated in one kernel call.
     Example: chassistune tune abs-wheel --road dry-concrete --controller pid --optimizer derlsp-ao
     """
+    from chassistune.optimizers.base import check_covers_population
     from chassistune.optimizers.registry import get as get_optimizer
+    from chassistune.optimizers.registry import make
     from chassistune.params import parse_assignments
     from chassistune.reports.outputs import write_tune_outputs
+    from chassistune.scenarios.base import PENALTY
     from chassistune.tuning.problem import build_problem
-    from chassistune.tuning.tune import run_optimizer
+    from chassistune.tuning.tune import Incumbent, run_optimizer
 
     get_optimizer(optimizer)
     for name, value in (("--iters", iters), ("--evals", evals), ("--pop", pop_size)):
@@ -65,38 +75,105 @@ def tune_command(plant: str, preset: str | None, roads: tuple[str, ...], aggrega
             raise InputError(name, f"must be a positive whole number, got {value}")
     if iters is None and evals is None:
         iters = 100
-    if out_dir is not None:
-        parent = os.path.dirname(os.path.abspath(out_dir))
-        if not os.path.isdir(parent):
-            raise InputError("--out", f"folder {parent!r} does not exist")
+    check_output_dir(out_dir, "--out")
     values = parse_assignments(params, "--param")
     if ecu:
         values["ecu"] = ecu
-    problem = build_problem(plant, controller, preset, roads, objective, aggregate, values, None,
-                            seed)
+    problem = build_problem(plant, controller, preset, roads, objective, aggregate, values,
+                            None, seed)
     problem = robust_or_nominal(problem, aggregate, robust, values, seed)
-    if as_json:
-        result = run_optimizer(problem, optimizer, pop_size, iters, evals, seed)
+    _check_test_roads(plant, preset, controller, values, seed, test_roads)
+    make(optimizer, problem.bounds, pop_size, seed, max_iter=iters, max_evals=evals)  # checks
+    check_covers_population(pop_size, evals)
+    announce_compile(plant)
+    incumbent = Incumbent(problem)
+    forget = on_interrupt(lambda: _save_interrupted(incumbent, optimizer, seed, out_dir))
+    if as_json or not sys.stderr.isatty():
+        result = run_optimizer(problem, optimizer, pop_size, iters, evals, seed,
+                               incumbent=incumbent)
     else:
         result = _with_progress(lambda cb: run_optimizer(problem, optimizer, pop_size, iters,
-                                                         evals, seed, cb), iters, evals)
+                                                         evals, seed, cb, incumbent), iters, evals)
+    forget()
+    on_interrupt(lambda: _finished_before_interrupt(result.nfev, out_dir))
     written = write_tune_outputs(result, out_dir) if out_dir else []
+    tested = result.test_on(test_roads, values)
     extra = robust_fields(result)
     if as_json:
-        echo_json({**result.as_dict(), **extra})
-        return
+        echo_json({**result.as_dict(), "test_metrics": tested, **extra})
+    else:
+        _print_result(result, plant, controller, optimizer, written, extra)
+        for road, m in tested.items():
+            click.echo(f"  test on {road}: " + _metric_line(m))
+    for line in result.step_warnings():
+        click.echo(f"chassistune: warning: {line}", err=True)
+    for name, gain, bound in result.gains_near_bounds():
+        click.echo(f"chassistune: warning: --gains {name}: tuned to {gain:.6g}, within 1 % of "
+                   f"its bound {bound:g}: the best gains may lie outside the box", err=True)
+    if result.best_cost >= PENALTY:
+        raise click.ClickException(
+            f"no candidate of {result.nfev} could be scored (every one got the penalty "
+            f"{PENALTY:g}: {_why_penalized(result)}); these gains are not a tuned controller")
+
+
+def _save_interrupted(incumbent: Incumbent, optimizer: str, seed: int,
+                      out_dir: str | None) -> str | None:
+    """The Ctrl-C hook: the best so far into `out_dir` (when a batch has been scored)."""
+    best = incumbent.best
+    if out_dir is None:
+        return None
+    if best is None:
+        return f"no evaluation had finished: nothing written to {out_dir}"
+    from chassistune.reports.outputs import write_interrupted_tune
+
+    paths = write_interrupted_tune(incumbent.fun, best, optimizer, seed, out_dir)
+    return f"best so far after {best[2]} evaluations (cost {best[1]:.6g}) in {paths[1]}"
+
+
+def _finished_before_interrupt(nfev: int, out_dir: str | None) -> str:
+    """The Ctrl-C hook once the optimizer has finished: the result exists, its files may not."""
+    where = f"; the files in {out_dir} may be incomplete" if out_dir else ""
+    return f"the tune had finished ({nfev} evaluations) and was being written out{where}"
+
+
+def _why_penalized(result: TuneResult) -> str:
+    status = {road: m.get("status") for road, m in result.metrics.items()}
+    return ", ".join(f"{road}: {s}" for road, s in status.items() if s) or "unscored"
+
+
+def _print_result(result: TuneResult, plant: str, controller: str, optimizer: str,
+                  written: list[str], extra: dict[str, Any]) -> None:
+    problem = result.problem
     click.echo(f"{optimizer} on {plant} {controller}, roads {', '.join(problem.roads)}, "
                f"objective {problem.objective}: best cost {fmt(result.best_cost)} after "
                f"{result.nfev} evaluations, {result.nit} iterations, {result.wall_time_s:.2f} s")
-    click.echo("best gains: " + ", ".join(f"{k}={v:.6g}" for k, v in result.best_gains.items()))
+    click.echo("best gains: " + ", ".join(f"{k}={v!r}" for k, v in result.best_gains.items()))
     for road, m in result.metrics.items():
-        keys = [k for k in ("stop_distance_m", "bound_distance_m", "distance_ratio",
-                            "stop_time_s", "slip_itae", "objective_exact", "objective",
-                            "body_acc_rms") if k in m]
-        click.echo(f"  {road}: " + ", ".join(f"{k}={fmt(m[k])}" for k in keys))
+        click.echo(f"  {road}: " + _metric_line(m))
     echo_validation(extra)
     for path in written:
         click.echo(f"wrote {path}")
+
+
+def _metric_line(m: dict[str, Any]) -> str:
+    keys = [k for k in ("stop_distance_m", "bound_distance_m", "distance_ratio", "stop_time_s",
+                        "slip_itae", "objective_exact", "objective", "body_acc_rms", "status")
+            if k in m]
+    return ", ".join(f"{k}={fmt(m[k])}" for k in keys)
+
+
+def _check_test_roads(plant: str, preset: str | None, controller: str,
+                      values: dict[str, str], seed: int, roads: tuple[str, ...]) -> None:
+    """Refuse an unknown --test-road before tuning."""
+    from chassistune.scenarios.registry import get_plant
+
+    for road in roads:
+        try:
+            get_plant(plant).scenario(preset, road, controller, values, seed)
+        except InputError as exc:
+            if exc.field == "road":
+                raise InputError("--test-road", exc.problem) from None
+            raise
 
 
 def _with_progress(run: Callable[[Progress], TuneResult],

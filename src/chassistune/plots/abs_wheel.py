@@ -31,8 +31,9 @@ def plot_comparison(scenario: Any, runs: Sequence[tuple[str, Trace]], path: str,
         ax_s.plot(t, sig["slip"], color=col, lw=0.9, label=label)
         ax_t.plot(t, sig["brake_torque_n_m"], color=col, lw=0.9, label=label)
         m = tr.metrics
-        ax_x.plot(t, sig["distance_m"], color=col,
-                  label=f"{label}: {m['stop_distance_m']:.1f} m in {m['stop_time_s']:.2f} s")
+        stop = (f"{m['stop_distance_m']:.1f} m in {m['stop_time_s']:.2f} s" if m.get("stopped")
+                else f"did not stop ({m.get('status')})")
+        ax_x.plot(t, sig["distance_m"], color=col, label=f"{label}: {stop}")
     ax_s.axhline(scenario.target_slip, color="k", ls=":", lw=1, label="target slip")
     ax_x.axhline(scenario.bound_distance_m, color="k", ls=":", lw=1,
                  label=f"physical bound {scenario.bound_distance_m:.1f} m")
@@ -40,7 +41,7 @@ def plot_comparison(scenario: Any, runs: Sequence[tuple[str, Trace]], path: str,
                  label=f"bound time {scenario.bound_time_s:.2f} s")
     ax_v.set_ylabel("speed [m/s]")
     ax_s.set_ylabel("slip S = (v - w R)/v [-]")
-    ax_s.set_ylim(-0.02, 1.02)
+    _zoom_slip(ax_s, scenario.target_slip, [tr.signals["slip"] for _, tr in runs])
     ax_t.set_ylabel("brake torque [N m]")
     ax_x.set_ylabel("distance [m]")
     for ax in (ax_t, ax_x):
@@ -51,3 +52,19 @@ def plot_comparison(scenario: Any, runs: Sequence[tuple[str, Trace]], path: str,
                  f"(mu_peak {scenario.mu_peak:.3f})")
     fig.tight_layout()
     save(fig, path)
+
+
+def _zoom_slip(ax: Any, target: float, slips: Sequence[Any]) -> None:
+    """Slip axis around the target (where the controller works); when some run leaves that
+    window (a locked wheel), an inset shows the full range 0..1."""
+    import numpy as np
+
+    top = max(0.05, 2.5 * target)
+    ax.set_ylim(-0.02, top)
+    if any(np.nanmax(s, initial=0.0) > top for s in slips):
+        inset = ax.inset_axes((0.62, 0.55, 0.35, 0.4))
+        for line in ax.get_lines():
+            inset.plot(line.get_xdata(), line.get_ydata(), color=line.get_color(), lw=0.6)
+        inset.set_ylim(-0.02, 1.02)
+        inset.set_title("full range", fontsize=7)
+        inset.tick_params(labelsize=6)

@@ -26,7 +26,8 @@ def plot_convergence(runs: Mapping[str, Sequence[tuple[np.ndarray, np.ndarray]]]
     positive = all(np.all(np.asarray(h) > 0) for c in runs.values() for _, h in c)
     if positive:
         ax.set_yscale("log")
-    ax.set_xlabel("evaluations")
+    ax.set_xscale("log")  # the early iterations, where most of the progress is, get room
+    ax.set_xlabel("evaluations (log scale)")
     ax.set_ylabel("best cost so far")
     ax.set_title(title)
     ax.legend()

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -53,3 +54,19 @@ def plot_overlay(panels: Sequence[tuple[str, str]], lines: Sequence[Line], path:
     fig.suptitle(title, fontsize=9, y=1.04)
     fig.tight_layout()
     save(fig, path)
+
+
+def plot_results(results: Mapping[str, Any], path: str, max_panels: int = 6) -> None:
+    """`simulate --compare`: SimulationResults by label on one figure, one panel per signal
+    (the first `max_panels` signals of the plant's trace, with units), gains in the legend."""
+    first = next(iter(results.values()))
+    units = first.trace.units
+    signals = [n for n in first.trace.signals if n != "time_s"][:max_panels]
+    panels = [(n, f"{n} [{units.get(n, '-')}]") for n in signals]
+    lines = []
+    for label, r in results.items():
+        gains = ", ".join(f"{k}={v:.4g}" for k, v in r.gains.items())
+        lines.append(Line(f"{label} ({gains})" if gains else label,
+                          r.trace.signals["time_s"], r.trace.signals, baseline=label == "none"))
+    sc = first.scenario
+    plot_overlay(panels, lines, path, f"{sc.plant}, preset {sc.preset}, road {sc.road}")

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from chassistune._io import write_json, write_text
+from chassistune.tuning.problem import TuningProblem
 from chassistune.tuning.tune import TuneResult
 
 DEMO_PRESET = "paper-derlsp-ao"
@@ -36,7 +37,7 @@ def write_tune_outputs(result: TuneResult, out_dir: str) -> list[str]:
     write_json(path, result.as_dict())
     written.append(path)
     path = os.path.join(out_dir, "history.csv")
-    rows = "\n".join(f"{i + 1},{n},{c!r}" for i, (n, c) in
+    rows = "\n".join(f"{i + 1},{int(n)},{float(c)!r}" for i, (n, c) in
                      enumerate(zip(result.history_nfev, result.history, strict=True)))
     write_text(path, "iteration,nfev,best_cost\n" + rows + "\n")
     written.append(path)
@@ -44,14 +45,43 @@ def write_tune_outputs(result: TuneResult, out_dir: str) -> list[str]:
     first = result.problem.scenarios[0]
     plot_convergence({result.optimizer: [(result.history_nfev, result.history)]}, path,
                      title=f"{first.plant} {first.controller.name} on "
-                     f"{', '.join(result.problem.roads)}: {result.problem.objective}")
+                     f"{', '.join(result.problem.roads)}: {result.problem.objective}, seed "
+                     f"{first.seed}")
     written.append(path)
     gains = np.array([result.best_gains[n] for n in result.problem.gain_names])
     for sc in result.problem.scenarios:
         path = os.path.join(out_dir, f"response-{sc.road}.png")
         plot_trace(sc, sc.trace(gains), path)
         written.append(path)
+    _remove_stale_responses(out_dir, written)
     return written
+
+
+def _remove_stale_responses(out_dir: str, written: list[str]) -> None:
+    """A folder tuned into before keeps one set of files: drop the response plots of roads
+    the earlier tune had and this one has not."""
+    keep = {os.path.basename(p) for p in written}
+    for name in os.listdir(out_dir):
+        if name.startswith("response-") and name.endswith(".png") and name not in keep:
+            os.unlink(os.path.join(out_dir, name))
+
+
+def write_interrupted_tune(problem: TuningProblem, best: tuple[np.ndarray, float, int],
+                           optimizer: str, seed: int, out_dir: str) -> list[str]:
+    """The best so far of an interrupted tune: best_gains.json and tune.json marked
+    `"interrupted": true` (no plots: the process is about to end)."""
+    os.makedirs(out_dir, exist_ok=True)
+    gains, cost, nfev = best
+    best_gains = dict(zip(problem.gain_names, gains.tolist(), strict=True))
+    sc = problem.scenarios[0]
+    doc = {"interrupted": True, "plant": sc.plant, "preset": sc.preset, "roads": problem.roads,
+           "controller": sc.controller.name, "optimizer": optimizer,
+           "objective": problem.objective, "aggregate": problem.aggregate, "seed": seed,
+           "best_gains": best_gains, "best_cost": cost, "nfev": nfev, "params": sc.params()}
+    paths = [os.path.join(out_dir, "best_gains.json"), os.path.join(out_dir, "tune.json")]
+    write_json(paths[0], best_gains)
+    write_json(paths[1], doc)
+    return paths
 
 
 @dataclass(frozen=True)

@@ -79,9 +79,10 @@ VERDICT_NOTE = (f"{BETTER} / {SAME} / {WORSE}: the column's optimizer against th
 
 def glance_section(data: tables.StudyData, reference: str, a: Assets) -> Section:
     """Per scenario: final cost and key metrics, optimizers as columns, with verdicts."""
+    unequal = " ".join(f"Warning: {w}." for w in tables.budget_warnings(data))
     section = Section("Results at a glance",
                       f"Medians over the completed runs of each optimizer; reference optimizer "
-                      f"{reference}. {VERDICT_NOTE}")
+                      f"{reference}. {VERDICT_NOTE}" + (f" {unequal}" if unequal else ""))
     wide = {sc: metrics_by_optimizer(data, sc, reference) for sc in data.scenarios}
     source = a.csv(pd.concat([w.assign(scenario=sc) for sc, w in wide.items()],
                              ignore_index=True), "key_results")

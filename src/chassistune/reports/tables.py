@@ -132,7 +132,7 @@ def write_table(df: pd.DataFrame, path: str, fmt: str = "csv") -> None:
 def quantities(data: StudyData, scenario: str) -> list[str]:
     """best_cost, then the key metrics present in this scenario's runs (by road if several)."""
     runs = data.runs(scenario)
-    out = ["best_cost"]
+    out = ["best_cost", "nfev"]
     for r in runs[:1]:
         keys = key_metrics(r.spec.plant)
         for road in r.spec.roads:
@@ -145,6 +145,8 @@ def quantities(data: StudyData, scenario: str) -> list[str]:
 def values(runs: Sequence[RunRecord], quantity: str) -> np.ndarray:
     if quantity == "best_cost":
         vals = [r.best_cost for r in runs]
+    elif quantity == "nfev":
+        vals = [r.nfev for r in runs]
     else:
         name, _, road = quantity.partition("@")
         vals = [r.metrics.get(road or r.spec.roads[0], {}).get(name) for r in runs]
@@ -170,6 +172,32 @@ def summary_table(data: StudyData) -> pd.DataFrame:
                              **{c: summ[c] for c in SUMMARY_COLUMNS}})
     return pd.DataFrame(rows, columns=["scenario", "optimizer", "quantity", "failed",
                                        *SUMMARY_COLUMNS])
+
+
+NFEV_TOLERANCE = 0.05
+"""Optimizers whose median evaluation counts differ by more than this fraction are warned about:
+their final costs were bought with unequal budgets."""
+
+
+def median_nfev(data: StudyData, scenario: str, optimizer: str) -> float:
+    """Median evaluations of the completed runs of one cell (NaN without any)."""
+    v = values(data.runs(scenario, optimizer), "nfev")
+    return float(np.median(v)) if v.size else math.nan
+
+
+def budget_warnings(data: StudyData) -> list[str]:
+    """One line per scenario whose optimizers spent evaluation counts more than
+    NFEV_TOLERANCE apart (e.g. an `iterations` budget: ABC spends two evaluations per bee)."""
+    out = []
+    for sc in data.scenarios:
+        n = {o: median_nfev(data, sc, o) for o in data.optimizers}
+        seen = [v for v in n.values() if v == v]
+        if len(seen) >= 2 and max(seen) > (1.0 + NFEV_TOLERANCE) * min(seen):
+            counts = ", ".join(f"{o} {v:g}" for o, v in n.items() if v == v)
+            out.append(f"{sc}: the optimizers spent unequal evaluations (median nfev {counts}); "
+                       "their costs are not a like-for-like comparison: give the study an "
+                       "`evaluations` budget")
+    return out
 
 
 def check_reference(data: StudyData, reference: str | None) -> str:
@@ -200,9 +228,11 @@ def rank_sum_table(data: StudyData, reference: str) -> pd.DataFrame:
             else:
                 sign, p = "n/a", math.nan
             rows.append({"scenario": sc, "reference": reference, "optimizer": opt,
-                         "n_reference": ref.size, "n": other.size, "p_value": p, "sign": sign})
+                         "n_reference": ref.size, "n": other.size,
+                         "nfev_reference": median_nfev(data, sc, reference),
+                         "nfev": median_nfev(data, sc, opt), "p_value": p, "sign": sign})
     return pd.DataFrame(rows, columns=["scenario", "reference", "optimizer", "n_reference", "n",
-                                       "p_value", "sign"])
+                                       "nfev_reference", "nfev", "p_value", "sign"])
 
 
 def rank_sum_counts_table(data: StudyData, reference: str) -> pd.DataFrame:
@@ -215,8 +245,16 @@ def rank_sum_counts_table(data: StudyData, reference: str) -> pd.DataFrame:
     for opt in data.optimizers:
         if opt != reference:
             counts = stats.rank_sum_counts(ref, by_scenario(opt))
-            rows.append({"reference": reference, "optimizer": opt, **counts})
-    return pd.DataFrame(rows, columns=["reference", "optimizer", "+", "=", "-"])
+            rows.append({"reference": reference, "optimizer": opt, **counts,
+                         "nfev": _overall_nfev(data, opt)})
+    return pd.DataFrame(rows, columns=["reference", "optimizer", "+", "=", "-", "nfev"])
+
+
+def _overall_nfev(data: StudyData, optimizer: str) -> float:
+    """Median evaluations of an optimizer's completed runs over every scenario."""
+    runs = [r for r in data.records if r.spec.optimizer == optimizer and r.completed]
+    v = values(runs, "nfev")
+    return float(np.median(v)) if v.size else math.nan
 
 
 def score_matrix(data: StudyData) -> tuple[list[str], np.ndarray]:
@@ -238,7 +276,8 @@ def friedman_table(data: StudyData) -> tuple[pd.DataFrame, stats.Friedman | None
         return pd.DataFrame(columns=["optimizer", "mean_rank", "scenarios"]), None
     res = stats.friedman(scores, data.optimizers)
     df = pd.DataFrame({"optimizer": res.methods, "mean_rank": res.mean_ranks,
-                       "scenarios": res.n_problems})
+                       "scenarios": res.n_problems,
+                       "nfev": [_overall_nfev(data, o) for o in res.methods]})
     return df, res
 
 

@@ -41,7 +41,8 @@ def metrics_by_optimizer(data: StudyData, scenario: str, reference: str) -> pd.D
     rows = []
     for q in quantities(data, scenario):
         ref = values(data.runs(scenario, reference), q)
-        row: dict[str, object] = {"quantity": "final cost" if q == "best_cost" else q}
+        label = {"best_cost": "final cost", "nfev": "evaluations (nfev)"}.get(q, q)
+        row: dict[str, object] = {"quantity": label}
         row[f"{reference} ({REFERENCE})"] = float(np.median(ref)) if ref.size else math.nan
         for opt in data.optimizers:
             if opt != reference:

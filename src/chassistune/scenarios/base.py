@@ -79,6 +79,9 @@ class Scenario(ABC):
     controller: ControllerSpec
     objectives: tuple[str, ...]
     default_objective: str
+    seed: int
+    status_reasons: Mapping[str, str] = {}
+    """Why a run with metric `status` did not reach its goal, by status (text output)."""
 
     @property
     def gain_names(self) -> tuple[str, ...]:
@@ -105,10 +108,11 @@ class Scenario(ABC):
         values = self.controller.default_gains()
         for name, value in (gains or {}).items():
             if name not in values:
-                known = ", ".join(self.gain_names) or "none"
-                raise InputError(
-                    "gains", f"unknown gain {name!r} for {self.controller.name} (known: {known})"
-                )
+                if not self.gain_names:
+                    raise InputError("gains", f"{self.controller.name} has no gains, got "
+                                     f"{name!r}")
+                raise InputError("gains", f"unknown gain {name!r} for {self.controller.name} "
+                                 f"(known: {', '.join(self.gain_names)})")
             values[name] = float(value)
         return np.array([values[n] for n in self.gain_names], dtype=np.float64)
 
@@ -141,6 +145,12 @@ class Plant(ABC):
     @abstractmethod
     def controllers(self) -> list[ControllerSpec]:
         """The controllers a scenario of this plant accepts, in catalogue order."""
+
+    def parameter_sets(self, preset: str | None = None) -> dict[str, Any]:
+        """The parameter dataclasses of a scenario by group (plant, road, scoring, ...), at the
+        preset's values (default preset when None): what `list params` describes from their
+        field metadata (unit, valid and plausible range). Plants override it."""
+        return {}
 
     @abstractmethod
     def scenario(

@@ -9,14 +9,18 @@ thread count.
 
 from __future__ import annotations
 
+import ast
 import concurrent.futures as cf
 import multiprocessing
 import os
+import signal
+import sys
 import threading
 import time
 from abc import ABC, abstractmethod
 from collections import deque
 from collections.abc import Callable, Iterator, Sequence
+from pathlib import Path
 from typing import Any
 
 from chassistune.errors import InputError
@@ -66,10 +70,46 @@ def _exit_with_parent(parent: int, period_s: float = 0.5) -> None:
 
 
 def _init_worker(parent: int, extra: Callable[[], None] | None) -> None:
+    """Worker set-up: one kernel thread, Ctrl-C left to the driver, exit with the driver."""
     os.environ["CHASSISTUNE_THREADS"] = "1"
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     threading.Thread(target=_exit_with_parent, args=(parent,), daemon=True).start()
     if extra is not None:
         extra()
+
+
+def _under_main_guard(tree: ast.Module, line: int) -> bool:
+    """Whether `line` of a module lies inside an `if __name__ == "__main__":` block."""
+    for node in ast.walk(tree):
+        if (isinstance(node, ast.If) and "__main__" in ast.unparse(node.test)
+                and "__name__" in ast.unparse(node.test)):
+            end = node.end_lineno or node.lineno
+            if node.lineno <= line <= end:
+                return True
+    return False
+
+
+def check_main_guard() -> None:
+    """Refuse to start spawned workers from the unguarded top level of a script: each worker
+    re-imports the script (spawn), which would start workers again; Python then kills every
+    worker during its bootstrapping. One line instead of a study of dead workers."""
+    main = sys.modules.get("__main__")
+    path = getattr(main, "__file__", None)
+    if main is None or path is None or not str(path).endswith(".py"):
+        return  # interactive, -c, or a console script: nothing re-imported
+    frame = sys._getframe(1)
+    while frame is not None and frame.f_globals is not vars(main):
+        frame = frame.f_back  # type: ignore[assignment]
+    if frame is None or frame.f_code.co_name != "<module>":
+        return  # called from a function of the script: fine under spawn
+    try:
+        tree = ast.parse(Path(path).read_text(encoding="utf-8"))
+    except (OSError, SyntaxError, ValueError):
+        return
+    if not _under_main_guard(tree, frame.f_lineno):
+        raise InputError("executor", f"worker processes re-import {os.path.basename(path)!r} "
+                         "(spawn): put the study code under `if __name__ == \"__main__\":` "
+                         "(docs/studies.md)")
 
 
 class ProcessExecutor(Executor):
@@ -85,6 +125,7 @@ class ProcessExecutor(Executor):
 
     def __init__(self, workers: int | None = None,
                  initializer: Callable[[], None] | None = None) -> None:
+        check_main_guard()
         self.workers = workers or default_workers()
         self._initializer = initializer
         self._pool: cf.ProcessPoolExecutor | None = None
@@ -152,55 +193,92 @@ def check_dask() -> None:
         raise _dask_missing() from None
 
 
+ALLOWED_FAILURES = 0
+"""On a cluster we start, the scheduler gives up on a run at its worker's first death (Dask's
+default 3 retries a run four times, and convicts the innocent runs queued on the same worker
+along with it); the driver then redoes each such run alone (`DaskExecutor.results`)."""
+SCHEDULER_TIMEOUT_S = 3
+"""How long an unreachable `--scheduler` is waited for."""
+
+
 class DaskExecutor(Executor):
     """dask.distributed: the scheduler at `address`, else a LocalCluster on loopback.
 
-    A lost worker's runs are retried elsewhere by Dask (`retries`); a run that still cannot
-    finish is recorded failed with the reason.
+    A run whose worker died (Dask's KilledWorker) is redone alone once every other run has
+    finished, so that a run that kills its worker is told apart from those that shared the
+    worker: the latter complete, the former is recorded failed ("the worker process died while
+    running it"). On the LocalCluster started here the scheduler's `allowed-failures` is
+    ALLOWED_FAILURES (a run is tried twice in all); an external scheduler keeps its own setting
+    (Dask's default 3: up to four tries before the driver's one alone). A run that raises is
+    recorded failed by its worker and never retried (failures are deterministic). No dashboard
+    is started.
     """
 
     name = "dask"
 
     def __init__(self, address: str | None = None, workers: int | None = None,
-                 processes: bool = True, retries: int = 1) -> None:
+                 processes: bool = True) -> None:
         check_dask()
         from distributed import Client, LocalCluster
 
         self._cluster: Any = None
-        self.retries = retries
         if address is None:
+            if processes:
+                check_main_guard()
             # worker processes listen on loopback only; threads talk in-process (inproc://)
             where: dict[str, Any] = ({"host": "127.0.0.1", "env": {"CHASSISTUNE_THREADS": "1"}}
                                      if processes else {})
-            self._cluster = LocalCluster(n_workers=workers or default_workers(),
-                                         threads_per_worker=1, processes=processes,
-                                         dashboard_address=None, **where)
+            self._cluster = LocalCluster(
+                n_workers=workers or default_workers(), threads_per_worker=1,
+                processes=processes, dashboard_address=None,
+                scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0",
+                                  "allowed_failures": ALLOWED_FAILURES}, **where)
             self._client = Client(self._cluster)
         else:
             try:
-                self._client = Client(address, timeout="20s")
+                self._client = Client(address, timeout=f"{SCHEDULER_TIMEOUT_S}s")
             except (OSError, ValueError, TypeError) as exc:
                 raise InputError("--scheduler", f"cannot reach a Dask scheduler at {address!r} "
-                                 f"({type(exc).__name__}: {exc})") from None
+                                 f"within {SCHEDULER_TIMEOUT_S} s ({type(exc).__name__}: "
+                                 f"{exc})") from None
 
     def results(self, specs: Sequence[RunSpec]) -> Iterator[RunResult]:
         from distributed import as_completed
 
-        futures = {self._client.submit(execute_run, s, key=f"run-{s.spec_hash}", pure=False,
-                                       retries=self.retries): s for s in specs}
+        suspects = []
+        futures = {self._client.submit(execute_run, s, key=f"run-{s.spec_hash}", pure=False): s
+                   for s in specs}
         for fut in as_completed(futures):
-            spec = futures[fut]
-            try:
-                result: RunResult = fut.result()
-            except Exception as exc:  # the worker running it was lost too often
-                result = failed_result(spec, f"dask: {type(exc).__name__}: {exc}")
-            fut.release()
-            yield result
+            result = _collect(fut, futures[fut])
+            if result is None:
+                suspects.append(futures[fut])
+            else:
+                yield result
+        for spec in suspects:  # alone now: a worker dying convicts this run
+            fut = self._client.submit(execute_run, spec, key=f"alone-{spec.spec_hash}",
+                                      pure=False)
+            yield _collect(fut, spec) or failed_result(
+                spec, "the worker process died while running it")
 
     def close(self) -> None:
         self._client.close()
         if self._cluster is not None:
             self._cluster.close()
+
+
+def _collect(fut: Any, spec: RunSpec) -> RunResult | None:
+    """A Dask future's run result (released); None when its worker died (KilledWorker)."""
+    from distributed.scheduler import KilledWorker
+
+    try:
+        result: RunResult = fut.result()
+    except KilledWorker:
+        return None
+    except Exception as exc:  # any other scheduler error fails this run only
+        result = failed_result(spec, f"dask: {type(exc).__name__}: {exc}")
+    finally:
+        fut.release()
+    return result
 
 
 def make_executor(name: str, workers: int | None = None, scheduler: str | None = None) -> Executor:
@@ -212,6 +290,9 @@ def make_executor(name: str, workers: int | None = None, scheduler: str | None =
     if workers is not None and workers < 1:
         raise InputError("--workers", f"must be a positive whole number, got {workers}")
     if name == "serial":
+        if workers is not None:
+            raise InputError("--workers", "the serial executor runs in the driver alone; use "
+                             "--executor process or dask for workers")
         return SerialExecutor()
     if name == "process":
         return ProcessExecutor(workers)

@@ -40,6 +40,8 @@ class RunResult:
     robust: dict[str, Any] | None = None
     """Robust runs: `uncertainty`, `training` (the winner's cost on each training scenario) and
     `validation` (`tuning.robust.run.summary_fields`)."""
+    step_check: dict[str, Any] | None = None
+    """The winner at a quarter of the step, by road (`scenarios.refine.StepCheck.as_dict`)."""
 
     @property
     def completed(self) -> bool:

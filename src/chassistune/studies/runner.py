@@ -15,6 +15,7 @@ from pathlib import Path
 
 from chassistune.errors import InputError
 from chassistune.studies.executors import Executor
+from chassistune.studies.lock import study_lock
 from chassistune.studies.records import RunStatus
 from chassistune.studies.spec import RunSpec, StudyPlan
 from chassistune.studies.store import STORE_NAME, Store, store_path
@@ -75,15 +76,20 @@ def run_study(plan: StudyPlan, out_dir: str | Path, executor: Executor,
               retry_failed: bool = False, progress: Progress | None = None) -> StudyOutcome:
     """Do the plan's pending runs on `executor`, recording each in DIR/study.sqlite."""
     check_out_dir(out_dir)
+    with study_lock(out_dir):
+        return _run_locked(plan, out_dir, executor, retry_failed, progress)
+
+
+def _run_locked(plan: StudyPlan, out_dir: str | Path, executor: Executor, retry_failed: bool,
+                progress: Progress | None) -> StudyOutcome:
     todo = pending_runs(plan, out_dir, retry_failed)
     specs = {s.key: s for s in todo}
     total, skipped = len(plan.runs), len(plan.runs) - len(todo)
     completed = failed = 0
     t0 = time.perf_counter()
-    with Store.create(out_dir) as store:
-        store.set_meta({"study": plan.config.study.name, "config": plan.config_json(),
-                        "scenarios": "\n".join(plan.scenarios),
-                        "optimizers": "\n".join(plan.optimizers)})
+    meta = {"study": plan.config.study.name, "config": plan.config_json(),
+            "scenarios": "\n".join(plan.scenarios), "optimizers": "\n".join(plan.optimizers)}
+    with Store.create(out_dir, meta) as store:
         if progress is not None:
             progress(skipped, 0, total)
         for result in executor.results(todo):
@@ -99,7 +105,12 @@ def run_study(plan: StudyPlan, out_dir: str | Path, executor: Executor,
 
 
 def rich_progress(run: Callable[[Progress], StudyOutcome], label: str) -> StudyOutcome:
-    """Call `run` with a rich progress bar on stderr: runs done, failures, elapsed, ETA."""
+    """Call `run` with a rich progress bar on stderr: runs done, failures, elapsed, ETA (only
+    on a terminal: elsewhere a bar is noise, and rich would leave an empty line)."""
+    import sys
+
+    if not sys.stderr.isatty():
+        return run(lambda done, failed, total: None)
     from rich.console import Console
     from rich.progress import (
         BarColumn,

@@ -52,13 +52,14 @@ CREATE TABLE IF NOT EXISTS runs (
     history_nfev TEXT,
     robust TEXT,
     diagnostics TEXT,
+    step_check TEXT,
     versions TEXT NOT NULL,
     finished_at TEXT NOT NULL
 );
 """
 
 _JSON_COLUMNS = ("best_gains", "metrics", "test_costs", "history", "history_nfev", "robust",
-                 "diagnostics")
+                 "diagnostics", "step_check")
 
 
 @dataclass(frozen=True)
@@ -81,6 +82,8 @@ class RunRecord:
     diagnostics: dict[str, Any]
     robust: dict[str, Any] | None = None
     """Robust runs (an `[uncertainty]` table): the training summary and the validation."""
+    step_check: dict[str, Any] | None = None
+    """The winner at a quarter of the step, by road (`scenarios.refine`; issue 11)."""
 
     @property
     def completed(self) -> bool:
@@ -89,7 +92,7 @@ class RunRecord:
 
 def _init_schema(conn: sqlite3.Connection) -> None:
     conn.executescript(_SCHEMA)
-    for column in ("robust", "diagnostics"):  # a store written before issues 17 and 14
+    for column in ("robust", "diagnostics", "step_check"):  # stores before issues 17, 14, 11
         if column not in _columns(conn):
             conn.execute(f"ALTER TABLE runs ADD COLUMN {column} TEXT")
     conn.execute("INSERT OR IGNORE INTO meta VALUES ('schema_version', ?)", (SCHEMA_VERSION,))
@@ -128,19 +131,26 @@ class Store:
         self.path = path
 
     @classmethod
-    def create(cls, study_dir: str | Path) -> Store:
-        """Open DIR/study.sqlite for writing, creating the folder and the schema if needed."""
+    def create(cls, study_dir: str | Path, meta: dict[str, str] | None = None) -> Store:
+        """Open DIR/study.sqlite for writing, creating the folder and the schema if needed.
+
+        `meta` is written in the same step: a new store is built aside with its schema and meta
+        and renamed, so neither a kill nor a concurrent reader ever sees a store without them.
+        """
         os.makedirs(study_dir, exist_ok=True)
         path = store_path(study_dir)
-        if not path.exists():  # built aside and renamed: a kill never leaves a store without
-            with atomic_path(path) as tmp:  # its schema
+        items = list((meta or {}).items())
+        if not path.exists():
+            with atomic_path(path) as tmp:
                 fresh = sqlite3.connect(tmp)
                 with fresh:
                     _init_schema(fresh)
+                    fresh.executemany("INSERT OR REPLACE INTO meta VALUES (?, ?)", items)
                 fresh.close()
         conn = _connect(path, read_only=False)
         with conn:
             _init_schema(conn)
+            conn.executemany("INSERT OR REPLACE INTO meta VALUES (?, ?)", items)
         return cls(conn, path)
 
     @classmethod
@@ -216,12 +226,13 @@ class Store:
         have = _columns(self._conn)
         robust = "robust" if "robust" in have else "NULL"
         diagnostics = "diagnostics" if "diagnostics" in have else "NULL"
+        step_check = "step_check" if "step_check" in have else "NULL"
         cur = self._conn.execute(
             "SELECT spec, status, error, best_cost, nfev, nit, wall_time_s, best_gains, metrics, "
-            f"test_costs, history, history_nfev, versions, {robust}, {diagnostics} FROM runs "
-            "ORDER BY scenario, optimizer, seed")
+            f"test_costs, history, history_nfev, versions, {robust}, {diagnostics}, {step_check} "
+            "FROM runs ORDER BY scenario, optimizer, seed")
         for (spec, status, error, cost, nfev, nit, wall, gains, metrics, tests, hist, hist_n,
-             vers, rob, diag) in cur:
+             vers, rob, diag, steps) in cur:
             yield RunRecord(
                 spec=RunSpec.model_validate_json(spec), status=RunStatus(status), error=error,
                 best_cost=cost, nfev=nfev, nit=nit, wall_time_s=wall,
@@ -229,7 +240,7 @@ class Store:
                 test_costs=_loads(tests, {}), history=_loads(hist, []),
                 history_nfev=_loads(hist_n, []), versions=_loads(vers, {}),
                 diagnostics=_loads(diag, {}),
-                robust=_loads(rob, None))
+                robust=_loads(rob, None), step_check=_loads(steps, None))
 
 
 def _columns(conn: sqlite3.Connection) -> set[str]:

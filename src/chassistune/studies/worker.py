@@ -95,6 +95,7 @@ def _run(spec: RunSpec) -> dict[str, Any]:
         "metrics": result.metrics,
         "test_costs": test_costs,
         "diagnostics": result.diagnostics,
+        "step_check": {road: c.as_dict() for road, c in result.step_checks.items()},
     }
 
 

@@ -8,7 +8,8 @@ is one kernel call per road, aggregated across roads by mean, max or cvar:ALPHA
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -26,6 +27,9 @@ class TuningProblem:
     objective: str
     aggregate: str
     bounds: list[tuple[float, float]]
+    params: dict[str, Any] = field(default_factory=dict, kw_only=True)
+    """The parameter overrides the scenarios were built from (to build them again, e.g. at a
+    finer step: `scenarios.refine`)."""
 
     @property
     def gain_names(self) -> tuple[str, ...]:
@@ -74,4 +78,5 @@ def build_problem(
         if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
             raise InputError(f"bounds.{name}", f"need finite lo < hi, got [{lo}, {hi}]")
         box[name] = (float(lo), float(hi))
-    return TuningProblem(scenarios, objective, aggregate, [box[n] for n in spec.gain_names])
+    return TuningProblem(scenarios, objective, aggregate, [box[n] for n in spec.gain_names],
+                         params=dict(params or {}))

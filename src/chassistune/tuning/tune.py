@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, overload
@@ -10,8 +11,10 @@ import numpy as np
 
 from chassistune._rng import SeedLike
 from chassistune.errors import InputError
+from chassistune.optimizers.base import check_covers_population
 from chassistune.optimizers.driver import OptimizeResult, drive
 from chassistune.optimizers.registry import make
+from chassistune.scenarios.refine import REFINABLE_PLANTS, StepCheck, step_refinement
 from chassistune.tuning.problem import TuningProblem, build_problem
 
 if TYPE_CHECKING:
@@ -21,12 +24,14 @@ if TYPE_CHECKING:
 
 @dataclass(frozen=True, kw_only=True)
 class TuneResult(OptimizeResult):
-    """An optimizer run on a tuning problem: the gains by name and the tuned controller's metrics
-    on each road (`x` and `fun` are `best_gains` and `best_cost` in the box's order)."""
+    """An optimizer run on a tuning problem: the gains by name, the tuned controller's metrics
+    on each road and, by road, how they move at a quarter of the integration step (`step_checks`,
+    issue 11; `x` and `fun` are `best_gains` and `best_cost` in the box's order)."""
 
     problem: TuningProblem
     best_gains: dict[str, float]
     metrics: dict[str, dict[str, Any]] = field(default_factory=dict)
+    step_checks: dict[str, StepCheck] = field(default_factory=dict)
 
     @property
     def best_cost(self) -> float:
@@ -35,6 +40,28 @@ class TuneResult(OptimizeResult):
     @property
     def optimizer(self) -> str:
         return self.method
+
+    def gains_near_bounds(self, tolerance: float = 0.01) -> list[tuple[str, float, float]]:
+        """(gain, value, bound) of each tuned gain within `tolerance` of the box's width from a
+        bound: the optimum may lie outside the box."""
+        out = []
+        for name, (lo, hi) in zip(self.problem.gain_names, self.problem.bounds, strict=True):
+            value, margin = self.best_gains[name], tolerance * (hi - lo)
+            if value - lo <= margin or hi - value <= margin:
+                out.append((name, value, lo if value - lo <= margin else hi))
+        return out
+
+    def test_on(self, roads: Sequence[str], params: Mapping[str, object] | None = None
+                ) -> dict[str, dict[str, Any]]:
+        """Metrics of the tuned gains on other roads (same plant, preset, controller and
+        `params`), by road."""
+        from chassistune.scenarios.registry import get_plant
+
+        first = self.problem.scenarios[0]
+        plant = get_plant(first.plant)
+        gains = np.array([self.best_gains[n] for n in self.problem.gain_names])
+        return {road: plant.scenario(first.preset, road, first.controller.name, params or {},
+                                     first.seed).trace(gains).metrics for road in roads}
 
     def as_dict(self) -> dict[str, Any]:
         """The `tune --json` object (DESIGN 7); `metrics` by road when several were tuned."""
@@ -59,8 +86,34 @@ class TuneResult(OptimizeResult):
             "history": self.history,
             "history_nfev": self.history_nfev,
             "metrics": metrics,
+            "step_check": {road: c.as_dict() for road, c in self.step_checks.items()},
             "params": sc.params(),
         }
+
+    def step_warnings(self) -> list[str]:
+        """One line per road whose figures move by more than the tolerance at the finer step."""
+        return [f"step check on {road}: {c.warning}" for road, c in self.step_checks.items()
+                if c.warning]
+
+
+class Incumbent:
+    """The objective, remembering the best candidate of every batch it has scored: what an
+    interrupted tune can still save. `best` is replaced as a whole (read from other threads)."""
+
+    def __init__(self, fun: TuningProblem) -> None:
+        self.fun = fun
+        self.best: tuple[np.ndarray, float, int] | None = None  # (gains, cost, nfev)
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        cost = np.asarray(self.fun(x), dtype=float)
+        nfev = (self.best[2] if self.best else 0) + len(cost)
+        gains, value = (self.best[0], self.best[1]) if self.best else (None, math.inf)
+        if len(cost) and float(cost.min()) < value:
+            i = int(np.argmin(cost))
+            gains, value = np.array(x[i], dtype=float), float(cost[i])
+        if gains is not None:
+            self.best = (gains, value, nfev)
+        return cost
 
 
 Progress = Callable[[int, int, float], None]
@@ -75,14 +128,17 @@ def run_optimizer(
     max_evals: int | None,
     seed: SeedLike,
     progress: Progress | None = None,
+    incumbent: Incumbent | None = None,
     **hyper: Any,
 ) -> TuneResult:
-    """Drive `optimizer` over `problem`; `progress(nit, nfev, best)` after each iteration."""
+    """Drive `optimizer` over `problem`; `progress(nit, nfev, best)` after each iteration;
+    `incumbent` (wrapping `problem`) keeps the best so far while the run goes on."""
     if max_iter is None and max_evals is None:
         raise InputError("--iters", "give an iteration or an evaluation budget")
+    check_covers_population(pop_size, max_evals)
     opt = make(optimizer, problem.bounds, pop_size, seed, max_iter=max_iter, max_evals=max_evals,
                **hyper)
-    run = drive(opt, problem, None if progress is None else
+    run = drive(opt, incumbent or problem, None if progress is None else
                 lambda r: progress(r.nit, r.nfev, r.fun))
     best = np.asarray(run.x, dtype=float)
     return TuneResult(
@@ -90,7 +146,15 @@ def run_optimizer(
         problem=problem,
         best_gains=dict(zip(problem.gain_names, best.tolist(), strict=True)),
         metrics={sc.road: sc.trace(best).metrics for sc in problem.scenarios},
+        step_checks=step_checks(problem, best),
     )
+
+
+def step_checks(problem: TuningProblem, gains: np.ndarray) -> dict[str, StepCheck]:
+    """The winner re-simulated at a quarter of the step on every road of an ABS plant
+    (`scenarios.refine.step_refinement`), by road."""
+    return {sc.road: step_refinement(sc, gains, problem.params, problem.objective)
+            for sc in problem.scenarios if sc.plant in REFINABLE_PLANTS}
 
 
 @overload

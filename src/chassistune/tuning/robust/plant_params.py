@@ -65,6 +65,6 @@ def scenario_builder(nominal: Scenario, base: Mapping[str, object]
 
     def build(draw: Mapping[str, float]) -> Scenario:
         return plant.scenario(nominal.preset, nominal.road, nominal.controller.name,
-                              {**base, **draw}, nominal.seed)  # type: ignore[attr-defined]
+                              {**base, **draw}, nominal.seed)
 
     return build

@@ -154,4 +154,4 @@ def robust_problem(nominal: TuningProblem, spec: UncertaintySpec,
     builders = [scenario_builder(sc, base) for sc in nominal.scenarios]
     grid = build_grid(builders, draws) if len(draws) else [list(nominal.scenarios)]
     return RobustProblem(nominal.scenarios, nominal.objective, str(spec.aggregate),
-                         nominal.bounds, spec, builders, draws, grid, seed)
+                         nominal.bounds, spec, builders, draws, grid, seed, params=nominal.params)

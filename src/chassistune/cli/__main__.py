@@ -1,0 +1,5 @@
+"""`python -m chassistune.cli`: the same as the `chassistune` console script."""
+
+from chassistune.cli.main import main
+
+main()

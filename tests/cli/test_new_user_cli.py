@@ -1,0 +1,233 @@
+"""What a new user hit in `simulate` and `tune` (issue 10): one test per numbered bug (3, 4,
+5, 8, 9, 10, 11; bugs 1 and 2 in test_output_preflight.py and test_sigint.py), and the loading
+back and comparing they expected."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+TUNE = ("tune", "abs-wheel", "--controller", "pid", "--optimizer", "pso", "--pop", "6",
+        "--iters", "2")
+
+
+def test_history_csv_holds_plain_numbers(cli, tmp_path):
+    """Bug 3: `np.float64(0.0041...)` in history.csv."""
+    r = cli(*TUNE, "--out", str(tmp_path / "t"))
+    assert r.code == 0, r.err
+    lines = (tmp_path / "t" / "history.csv").read_text().splitlines()
+    assert lines[0] == "iteration,nfev,best_cost" and len(lines) == 3
+    for line in lines[1:]:
+        it, nfev, cost = line.split(",")
+        assert int(it) >= 1 and int(nfev) >= 6 and float(cost) > 0
+        assert "np." not in line
+
+
+def test_a_folder_tuned_into_twice_holds_one_set_of_files(cli, tmp_path):
+    """Bug 4: a previous tune's response plots stayed beside the new result."""
+    out = tmp_path / "t"
+    assert cli(*TUNE, "--road", "ice", "--road", "wet-asphalt", "--out", str(out)).code == 0
+    assert (out / "response-ice.png").exists()
+    assert cli(*TUNE, "--road", "dry-concrete", "--out", str(out)).code == 0
+    assert sorted(p.name for p in out.glob("response-*.png")) == ["response-dry-concrete.png"]
+    assert json.loads((out / "tune.json").read_text())["roads"] == ["dry-concrete"]
+
+
+def test_a_run_that_did_not_stop_has_null_stop_metrics_and_says_why(cli):
+    """Bug 5: `t_max_s=1` reported a stop distance of 26 m and a ratio of 0.51."""
+    r = cli("simulate", "abs-wheel", "--param", "t_max_s=1", "--json")
+    m = json.loads(r.out)["metrics"]
+    assert m["stopped"] is False and m["status"] == "timeout"
+    assert m["stop_distance_m"] is None and m["distance_ratio"] is None
+    assert m["stop_time_s"] is None
+    r = cli("simulate", "abs-wheel", "--param", "t_max_s=1")
+    assert r.code == 0 and "did not stop (timeout): t_max_s was reached" in r.out
+
+
+def test_a_penalty_only_tune_says_so_and_exits_1(cli):
+    """Bug 5: every candidate penalized printed "best gains" and exited 0."""
+    r = cli(*TUNE, "--param", "t_max_s=1")
+    assert r.code == 1
+    assert r.err.count("\n") == 1 and "no candidate of 18 could be scored" in r.err
+    assert "dry-concrete: timeout" in r.err
+
+
+@pytest.mark.parametrize(("args", "field"), [
+    (["--param", "t_max_s=1e9"], "--param t_max_s"),
+    (["--param", "dt_s=1e-8"], "--param dt_s"),
+    (["--param", "v_stop_m_s=40"], "--param v_stop_m_s"),
+    (["--param", "v0_m_s=0.3"], "--param v0_m_s"),
+    (["--controller", "none", "--gains", "kp=1"], "--gains"),
+])
+def test_errors_name_the_field_the_user_set(cli, args, field):
+    """Bug 8: t_max_s=1e9 blamed dt_s, v_stop_m_s=40 blamed v0_m_s, `none` listed "known:
+    none"."""
+    r = cli("simulate", "abs-wheel", *args)
+    assert r.code == 2 and r.err.count("\n") == 1
+    assert r.err.startswith(f"chassistune: error: {field}: "), r.err
+    assert "known: none" not in r.err
+
+
+def test_tune_pop_1_names_the_option_on_one_line(cli):
+    """Bug 8: `--pop 1` named pop_size after an empty line."""
+    r = cli(*TUNE[:-4], "--pop", "1", "--iters", "2")
+    assert r.code == 2 and r.err.count("\n") == 1 and r.err.startswith("chassistune: error: --pop")
+
+
+def test_mu_lock_above_mu_peak_is_bad_input(cli):
+    """Bug 9: mu_lock = 2 above mu_peak = 0.9 passed, and the bound used mu 2."""
+    r = cli("simulate", "abs-wheel", "--param", "mu_lock=2")
+    assert r.code == 2 and r.err.startswith("chassistune: error: --param mu_lock: must not "
+                                            "exceed mu_peak")
+
+
+@pytest.mark.parametrize("assignment", ["mass_kg=1e30", "wheel_radius_m=500", "v0_m_s=108",
+                                        "wheel_inertia_kg_m2=400"])
+def test_implausible_values_warn_on_one_line_and_run(cli, assignment):
+    """Bug 9: absurd values passed silently."""
+    r = cli("simulate", "abs-wheel", "--controller", "none", "--param", assignment, "--json")
+    assert r.code == 0 and json.loads(r.out)["plant"] == "abs-wheel"
+    name = assignment.split("=")[0]
+    assert r.err.startswith(f"chassistune: warning: --param {name}: ")
+    assert r.err.count("\n") == 1 and "plausible range" in r.err
+
+
+def test_bad_input_prints_only_the_error_line(cli):
+    r = cli("simulate", "abs-wheel", "--param", "v0_m_s=108", "--param", "mu_lock=2")
+    assert r.code == 2 and r.err.count("\n") == 1 and "warning" not in r.err
+
+
+def test_every_preset_is_inside_its_plausible_ranges(recwarn):
+    from chassistune.params import ImplausibleValue
+    from chassistune.scenarios.registry import get_plant
+
+    plant = get_plant("abs-wheel")
+    for name, info in plant.presets().items():
+        for road in info.roads:
+            plant.scenario(name, road, "pid")
+    assert not [w for w in recwarn if issubclass(w.category, ImplausibleValue)]
+
+
+def test_a_numerical_blow_up_is_named_diverged(cli):
+    """Bug 9: gains of 1e300 gave status `hopeless`."""
+    r = cli("simulate", "abs-wheel", "--gains", "kp=1e300,kd=1e300", "--json")
+    m = json.loads(r.out)["metrics"]
+    assert m["status"] == "diverged" and m["stopped"] is False
+
+
+def test_the_default_time_limit_follows_the_bound_time(cli):
+    """Bug 10: no controller could stop on burckhardt-ice within 60 s (bound time 60.14 s)."""
+    doc = json.loads(cli("simulate", "abs-wheel", "--road", "burckhardt-ice", "--json").out)
+    bound = doc["metrics"]["bound_time_s"]
+    assert bound > 60 and doc["params"]["t_max_s"] == pytest.approx(3 * bound)
+    assert doc["metrics"]["stopped"] is True
+    dry = json.loads(cli("simulate", "abs-wheel", "--json").out)
+    assert dry["params"]["t_max_s"] == 60.0  # short bound times keep the 60 s floor
+    explicit = json.loads(cli("simulate", "abs-wheel", "--road", "burckhardt-ice", "--param",
+                              "t_max_s=60", "--json").out)
+    assert explicit["params"]["t_max_s"] == 60.0 and explicit["metrics"]["stopped"] is False
+
+
+def test_a_budget_below_one_population_is_refused(cli):
+    """Bug 11: `--evals 5` with pop 30 ran 0 iterations."""
+    r = cli("tune", "abs-wheel", "--controller", "pid", "--optimizer", "pso", "--evals", "5")
+    assert r.code == 2 and r.err.startswith("chassistune: error: --evals: 5 evaluations")
+    r = cli("tune", "--help")
+    assert "whichever comes first" in " ".join(r.out.split())
+
+
+def test_a_tune_result_loads_back_and_compares(cli, tmp_path):
+    """`simulate --from`, `--gains @file`, `--compare`: the tuned gains in full precision."""
+    out = tmp_path / "t"
+    assert cli(*TUNE, "--road", "wet-asphalt", "--param", "v0_m_s=25", "--out",
+               str(out)).code == 0
+    tuned = json.loads((out / "tune.json").read_text())
+    again = json.loads(cli("simulate", "--from", str(out), "--json").out)
+    assert again["road"] == "wet-asphalt" and again["params"]["v0_m_s"] == 25.0
+    assert again["gains"] == tuned["best_gains"]
+    assert again["metrics"]["slip_itae"] == tuned["metrics"]["slip_itae"]
+    via_file = json.loads(cli("simulate", "abs-wheel", "--road", "wet-asphalt", "--param",
+                              "v0_m_s=25", "--gains", f"@{out / 'best_gains.json'}",
+                              "--json").out)
+    assert via_file["metrics"] == again["metrics"]
+    png = tmp_path / "cmp.png"
+    r = cli("simulate", "--from", str(out / "tune.json"), "--compare", "none,pid", "--plot",
+            str(png), "--json")
+    runs = json.loads(r.out)["runs"]
+    assert list(runs) == ["tuned", "none", "pid"] and png.stat().st_size > 0
+    assert runs["tuned"]["gains"] == tuned["best_gains"]
+    assert runs["pid"]["gains"] != tuned["best_gains"]  # the registry's defaults
+    assert runs["none"]["metrics"]["stop_distance_m"] > runs["tuned"]["metrics"][
+        "stop_distance_m"]
+
+
+def test_compare_in_the_python_api(tmp_path):
+    import chassistune
+
+    cmp = chassistune.compare("abs-wheel", ["none", "threshold"], road="ice")
+    rows = cmp.table()
+    assert [r["label"] for r in rows] == ["none", "threshold"]
+    assert np.isfinite(rows[0]["stop_distance_m"])
+    cmp.plot(str(tmp_path / "c.png"))
+    cmp.results["threshold"].plot(str(tmp_path / "one.png"))
+    assert (tmp_path / "c.png").exists() and (tmp_path / "one.png").exists()
+
+
+def test_list_params_gives_unit_default_valid_and_plausible_range(cli):
+    doc = json.loads(cli("list", "params", "abs-wheel", "--json").out)["params"]
+    plant = {f["name"]: f for f in doc["plant"]}
+    assert plant["wheel_inertia_kg_m2"]["unit"] == "kg m^2"
+    assert plant["wheel_inertia_kg_m2"]["default"] == 12.0
+    lo, hi = plant["wheel_inertia_kg_m2"]["plausible"]
+    assert lo <= 12.0 <= hi and lo <= 25.0 <= hi  # both papers' wheel inertias
+    assert plant["mass_kg"]["valid"] == "> 0"
+    scoring = {f["name"]: f for f in doc["scoring"]}
+    assert scoring["lock_penalty_per_s"]["unit"] == "1/s"
+    sldemo = json.loads(cli("list", "params", "abs-wheel", "--preset", "sldemo",
+                            "--json").out)["params"]
+    assert {f["name"]: f for f in sldemo["plant"]}["load_fraction"]["default"] == 0.25
+    r = cli("list", "params")
+    assert r.code == 2 and r.err.startswith("chassistune: error: PLANT")
+    r = cli("list", "params", "abs-wheel")
+    assert r.code == 0 and "plausible [0.1, 50]" in r.out
+
+
+def test_the_first_use_announces_compiling_and_bad_input_does_not(cli, tmp_path, monkeypatch,
+                                                                  capsys):
+    from chassistune.cli.common import announce_compile
+
+    cache = tmp_path / "cache"
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(cache))
+    r = cli("tune", "abs-wheel", "--controller", "pid", "--optimizer", "pso", "--pop", "1")
+    assert r.code == 2 and r.err.count("\n") == 1  # bad input: only the error line
+    announce_compile("abs-wheel")
+    assert "compiling kernels (first use, about" in capsys.readouterr().err
+    (cache / "sim_x").mkdir(parents=True)
+    (cache / "sim_x" / "abs_wheel_kernel.simulate_abs_wheel-190.py311.nbi").write_bytes(b"")
+    announce_compile("abs-wheel")
+    assert capsys.readouterr().err == ""
+    announce_compile(["abs-wheel", "quarter-car"])
+    assert "compiling kernels" in capsys.readouterr().err
+
+
+def test_tune_reports_test_roads_and_warns_of_gains_at_their_bounds(cli):
+    r = cli(*TUNE, "--test-road", "ice", "--test-road", "wet-asphalt", "--json")
+    assert r.code == 0, r.err
+    doc = json.loads(r.out)
+    assert set(doc["test_metrics"]) == {"ice", "wet-asphalt"}
+    assert doc["test_metrics"]["ice"]["bound_distance_m"] > doc["metrics"]["bound_distance_m"]
+    r = cli(*TUNE, "--test-road", "moon")
+    assert r.code == 2 and r.err.startswith("chassistune: error: --test-road: unknown road")
+
+
+def test_gains_near_their_bounds_are_found():
+    from chassistune.tuning.tune import tune
+
+    result = tune("abs-wheel", "pid", "pso", pop_size=6, max_iter=1, seed=3)
+    lo_hi = dict(zip(result.problem.gain_names, result.problem.bounds, strict=True))
+    near = {name for name, _, _ in result.gains_near_bounds(tolerance=1.0)}
+    assert near == set(lo_hi)  # a tolerance of the whole box flags every gain
+    for name, value, bound in result.gains_near_bounds():
+        assert abs(value - bound) <= 0.01 * (lo_hi[name][1] - lo_hi[name][0])
