@@ -3,11 +3,15 @@ ISO 8608 roughness classes for the suspension.
 
 Friction roads: the bilinear curves of Tian et al.'s Table 1 (`derlsp-ao-abs`) and the peaks of
 Ding 2023 (`fuzzy-immune-abs`), Burckhardt's seven surfaces (`burckhardt-<surface>`) and
-MathWorks' sldemo table (`sldemo-table`). Roughness roads: `iso-a` ... `iso-h`.
+MathWorks' sldemo table (`sldemo-table`), and a measured mu-slip table read from a CSV file
+(a road named by its path, `*.csv`: columns `slip` and `mu`). Roughness roads: `iso-a` ...
+`iso-h`.
 """
 
 from __future__ import annotations
 
+import csv
+import math
 from collections.abc import Mapping
 
 from chassistune.errors import InputError
@@ -17,7 +21,9 @@ from chassistune.plants.tires import (
     SLDEMO_TABLE,
     BilinearTire,
     BurckhardtTire,
+    TableTire,
     TireCurve,
+    table_problem,
 )
 
 BILINEAR_ROADS: dict[str, tuple[float, float, float, str]] = {
@@ -33,6 +39,9 @@ BILINEAR_ROADS: dict[str, tuple[float, float, float, str]] = {
 """Road name -> (S_T, mu_h, mu_g, source) of the bilinear curve."""
 
 BURCKHARDT_PREFIX = "burckhardt-"
+
+CSV_SUFFIX = ".csv"
+"""A road whose name ends so is a measured mu-slip table: the path of its CSV file."""
 
 ISO_CLASSES: dict[str, float] = {
     f"iso-{letter}": 16e-6 * 4.0**i for i, letter in enumerate("abcdefgh")
@@ -60,14 +69,57 @@ def tire_for_road(road: str, values: Mapping[str, object]) -> tuple[TireCurve, s
         base = BilinearTire(s, h, g)
     elif road == "sldemo-table":  # its table is fixed; only the scale of the curve varies
         return override(SLDEMO_TABLE, {k: v for k, v in values.items() if k == "mu_scale"})
+    elif road.lower().endswith(CSV_SUFFIX):  # a measured table: likewise
+        return override(read_mu_slip_csv(road), {k: v for k, v in values.items()
+                                                  if k == "mu_scale"})
     elif road.startswith(BURCKHARDT_PREFIX) and surface in BURCKHARDT_SURFACES:
         base = BurckhardtTire(*BURCKHARDT_SURFACES[surface])
     else:
         raise InputError(
-            "road", f"unknown road {road!r} for abs-wheel (known: {', '.join(friction_roads())})"
+            "road", f"unknown road {road!r} for abs-wheel (known: {', '.join(friction_roads())}; "
+            f"or a measured mu-slip table, FILE{CSV_SUFFIX})"
         )
     tire, used = override(base, values)
     return tire, used
+
+
+def read_mu_slip_csv(path: str) -> TableTire:
+    """A measured road: the mu-slip table of a CSV file with a header naming the columns `slip`
+    and `mu` (others are ignored), one node per row (TableTire's rules: 2 to 32 nodes, slips
+    increasing strictly from 0 to 1, mu >= 0 and 0 at slip 0). Errors name the file, the row
+    (the header is row 1) and the column."""
+    try:
+        with open(path, newline="", encoding="utf-8") as fh:
+            rows = list(csv.reader(fh))
+    except (OSError, UnicodeDecodeError) as exc:
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else exc
+        raise InputError("road", f"cannot read {path!r}: {reason}") from None
+    header = [h.strip().lower() for h in rows[0]] if rows else []
+    missing = [c for c in ("slip", "mu") if c not in header]
+    if missing:
+        raise InputError("road", f"{path} row 1: the header needs the columns slip and mu "
+                         f"(missing: {', '.join(missing)})")
+    columns = {c: header.index(c) for c in ("slip", "mu")}
+    data: dict[str, list[float]] = {"slip": [], "mu": []}
+    body = [(k, r) for k, r in enumerate(rows[1:], start=2) if any(x.strip() for x in r)]
+    for k, row in body:
+        for name, j in columns.items():
+            text = row[j].strip() if j < len(row) else ""
+            try:
+                value = float(text)
+            except ValueError:
+                value = math.nan
+            if not math.isfinite(value):
+                raise InputError("road", f"{path} row {k}, column {name}: expected a finite "
+                                 f"number, got {text!r}")
+            data[name].append(value)
+    slips, mus = tuple(data["slip"]), tuple(data["mu"])
+    problem = table_problem(slips, mus)
+    if problem is not None:
+        node, column, text = problem
+        where = f"row {body[node][0]}, column {column}" if node is not None else "rows"
+        raise InputError("road", f"{path} {where}: {text}")
+    return TableTire(slips, mus)
 
 
 def roughness_roads() -> dict[str, str]:

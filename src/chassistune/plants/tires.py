@@ -28,6 +28,9 @@ KIND_TABLE = 0
 KIND_BURCKHARDT = 1
 KIND_BILINEAR = 2
 
+MAX_TABLE_NODES = 32
+"""Most nodes a table tire may have (the kernels copy a table into this many stack slots)."""
+
 _MU_SCALE = {"positive": True}
 """mu_scale's metadata (every curve's road parameter; no plausible range declared)."""
 
@@ -142,14 +145,49 @@ class BurckhardtTire(TireCurve):
 
 @dataclass(frozen=True)
 class TableTire(TireCurve):
-    """A piecewise-linear mu-slip table on increasing slips from 0 to 1."""
+    """A piecewise-linear mu-slip table on increasing slips from 0 to 1 (2 to MAX_TABLE_NODES
+    nodes; mu is 0 at slip 0, where the tire transmits no force, and never negative)."""
 
     slips: tuple[float, ...]
     mus: tuple[float, ...]
     mu_scale: float = field(default=1.0, metadata=_MU_SCALE)
 
+    def __post_init__(self) -> None:
+        problem = table_problem(self.slips, self.mus)
+        if problem is not None:
+            node, column, text = problem
+            where = "" if node is None else f"node {node + 1} ({column}): "
+            raise InputError("road", f"mu-slip table: {where}{text}")
+
     def kernel_data(self) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
         return KIND_TABLE, np.zeros(3), np.array(self.slips), np.array(self.mus) * self.mu_scale
+
+
+def table_problem(slips: tuple[float, ...],
+                  mus: tuple[float, ...]) -> tuple[int | None, str, str] | None:
+    """What is wrong with a mu-slip table, or None: (the index of the offending node or None
+    for the whole table, its column `slip` or `mu`, the problem). The table needs 2 to
+    MAX_TABLE_NODES nodes with slips strictly increasing from 0 to 1, finite mus >= 0 and
+    mu = 0 at slip 0 (no slip, no force)."""
+    n = len(slips)
+    if n != len(mus) or not 2 <= n <= MAX_TABLE_NODES:
+        got = f"{n}" if n == len(mus) else f"{n} slips and {len(mus)} mus"
+        return None, "slip", f"needs 2 to {MAX_TABLE_NODES} (slip, mu) nodes, got {got}"
+    for i, (s, mu) in enumerate(zip(slips, mus, strict=True)):
+        if not math.isfinite(s):
+            return i, "slip", f"must be a finite number, got {s!r}"
+        if i == 0 and s != 0.0:
+            return i, "slip", f"the first slip must be 0, got {s:g}"
+        if i > 0 and not s > slips[i - 1]:
+            return i, "slip", (f"slips must increase strictly, got {s:g} after "
+                               f"{slips[i - 1]:g}")
+        if not (math.isfinite(mu) and mu >= 0.0):
+            return i, "mu", f"must be a finite number >= 0, got {mu!r}"
+        if i == 0 and mu != 0.0:
+            return i, "mu", f"mu at slip 0 must be 0 (no slip, no force), got {mu:g}"
+    if slips[-1] != 1.0:
+        return n - 1, "slip", f"the last slip must be 1 (a locked wheel), got {slips[-1]:g}"
+    return None
 
 
 SLDEMO_TABLE = TableTire(

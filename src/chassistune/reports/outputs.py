@@ -50,7 +50,8 @@ def write_tune_outputs(result: TuneResult, out_dir: str) -> list[str]:
     written.append(path)
     gains = np.array([result.best_gains[n] for n in result.problem.gain_names])
     for sc in result.problem.scenarios:
-        path = os.path.join(out_dir, f"response-{sc.road}.png")
+        road = sc.road.replace(os.sep, "_").replace("/", "_")  # a measured road is a path
+        path = os.path.join(out_dir, f"response-{road}.png")
         plot_trace(sc, sc.trace(gains), path)
         written.append(path)
     _remove_stale_responses(out_dir, written)

@@ -22,10 +22,10 @@ from numba import njit
 
 from chassistune._branchfree import select
 from chassistune.errors import InputError
-from chassistune.plants.tires import KIND_BILINEAR, KIND_BURCKHARDT, KIND_TABLE
+from chassistune.plants.tires import KIND_BILINEAR, KIND_BURCKHARDT, KIND_TABLE, MAX_TABLE_NODES
 
-TABLE_CAP = 32
-"""Most nodes a table tire may have."""
+TABLE_CAP = MAX_TABLE_NODES
+"""Most nodes a table tire may have (TableTire refuses more)."""
 
 __all__ = ["KIND_BILINEAR", "KIND_BURCKHARDT", "KIND_TABLE", "TABLE_CAP", "table_tuples",
            "tire_law_mu"]
