@@ -1,5 +1,6 @@
-"""`chassistune list {plants|presets|roads|controllers|optimizers|functions} [--json]` and
-`chassistune list params PLANT [--preset P] [--json]`."""
+"""`chassistune list {plants|presets|roads|controllers|optimizers|functions} [--json]`,
+`chassistune list params PLANT [--preset P] [--json]` and `chassistune list roads --plot FILE.png`
+(the friction roads' mu-slip curves)."""
 
 from __future__ import annotations
 
@@ -99,11 +100,21 @@ def _print_params(data: dict[str, list[dict[str, object]]]) -> None:
 @click.argument("plant", required=False, metavar="[PLANT]")
 @click.option("--preset", help="With `params`: the preset whose values are the defaults.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
-def list_command(kind: str, plant: str | None, preset: str | None, as_json: bool) -> None:
+@click.option("--plot", "plot_path", metavar="FILE.png",
+              help="With `roads`: draw the mu-slip curve of every friction road into FILE.png.")
+def list_command(kind: str, plant: str | None, preset: str | None, as_json: bool,
+                 plot_path: str | None) -> None:
     """List plants, presets, roads, controllers (with gain bounds), optimizers or functions;
-    `list params PLANT`: every parameter with unit, default, valid and plausible range."""
+    `list params PLANT`: every parameter with unit, default, valid and plausible range;
+    `list roads --plot FILE.png`: the friction roads' mu-slip curves."""
+    from chassistune.cli.common import check_output_file
     from chassistune.errors import InputError
 
+    if plot_path is not None:
+        if kind != "roads":
+            raise InputError("--plot", f"draws the roads' friction curves: `list roads --plot "
+                             f"FILE.png`, not `list {kind}`")
+        check_output_file(plot_path, "--plot", (".png",))
     if kind == "params":
         if plant is None:
             raise InputError("PLANT", "`list params` needs a plant (chassistune list plants)")
@@ -112,9 +123,21 @@ def list_command(kind: str, plant: str | None, preset: str | None, as_json: bool
         raise InputError("PLANT", f"`list {kind}` takes no plant or preset")
     else:
         data = catalogue(kind)
+    if plot_path is not None:
+        plot_roads(plot_path)
     if as_json:
         click.echo(json.dumps({kind: data}, indent=1))
     elif kind == "params":
         _print_params(data)  # type: ignore[arg-type]
     else:
         _print_human(kind, data)
+    if plot_path is not None and not as_json:
+        click.echo(f"wrote {plot_path}")
+
+
+def plot_roads(path: str) -> None:
+    """The mu-slip curve of every friction road (abs-wheel's, by the names `--road` takes)."""
+    from chassistune.plants.roads import friction_roads, tire_for_road
+    from chassistune.plots.roads import plot_friction_curves
+
+    plot_friction_curves({r: tire_for_road(r, {})[0] for r in friction_roads()}, path)
