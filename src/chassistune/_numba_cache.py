@@ -9,6 +9,7 @@ Takes effect only if numba has not been imported yet and NUMBA_CACHE_DIR is not 
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import os
 import shutil
@@ -17,17 +18,29 @@ import time
 from pathlib import Path
 
 
-def configure() -> None:
-    """Set NUMBA_CACHE_DIR (unless set, or numba already imported) to a source-keyed folder."""
-    if "NUMBA_CACHE_DIR" in os.environ or "numba" in sys.modules:
-        return
+@functools.cache
+def source_key() -> str:
+    """16 hex digits naming this version of the package's sources (every .py file's path, size
+    and mtime): anything cached from the sources is valid while this key is unchanged."""
     root = Path(__file__).resolve().parent
     digest = hashlib.sha1()
     for path in sorted(root.rglob("*.py")):
         st = path.stat()
         digest.update(f"{path.relative_to(root)}:{st.st_size}:{st.st_mtime_ns};".encode())
-    base = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "chassistune"
-    target = base / f"numba-{digest.hexdigest()[:16]}"
+    return digest.hexdigest()[:16]
+
+
+def cache_base() -> Path:
+    """The package's cache folder ($XDG_CACHE_HOME/chassistune, else ~/.cache/chassistune)."""
+    return Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "chassistune"
+
+
+def configure() -> None:
+    """Set NUMBA_CACHE_DIR (unless set, or numba already imported) to a source-keyed folder."""
+    if "NUMBA_CACHE_DIR" in os.environ or "numba" in sys.modules:
+        return
+    base = cache_base()
+    target = base / f"numba-{source_key()}"
     os.environ["NUMBA_CACHE_DIR"] = str(target)
     _prune(base, keep=target)
 

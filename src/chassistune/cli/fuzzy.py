@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 
 import click
 
+from chassistune.cli.choices import ChoicesCommand
 from chassistune.errors import InputError
 
 if TYPE_CHECKING:  # the fuzzy package builds numba ufuncs at import: imported by the commands
@@ -59,7 +60,7 @@ def _check_plot_path(path: str) -> Path:
     return Path(path)
 
 
-@fuzzy_group.command("show")
+@fuzzy_group.command("show", cls=ChoicesCommand, arguments={"RULEBASE": "rulebases"})
 @click.argument("rulebase")
 @click.option("--json", "as_json", is_flag=True, help="Print the description as one JSON object.")
 @click.option("--plot", "plot", metavar="FILE.png", help="Draw the sets and control surfaces.")
@@ -110,7 +111,7 @@ def _parse_inputs(items: tuple[str, ...]) -> dict[str, float]:
     return values
 
 
-@fuzzy_group.command("eval")
+@fuzzy_group.command("eval", cls=ChoicesCommand, arguments={"RULEBASE": "rulebases"})
 @click.argument("rulebase")
 @click.option(
     "--input",

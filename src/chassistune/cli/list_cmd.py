@@ -8,6 +8,8 @@ import json
 
 import click
 
+from chassistune.cli.choices import ChoicesCommand
+
 KINDS = ["plants", "presets", "roads", "controllers", "optimizers", "functions", "params"]
 
 
@@ -95,7 +97,7 @@ def _print_params(data: dict[str, list[dict[str, object]]]) -> None:
                        f"{plausible}".rstrip())
 
 
-@click.command("list")
+@click.command("list", cls=ChoicesCommand, arguments={"PLANT": "plants"})
 @click.argument("kind", type=click.Choice(KINDS))
 @click.argument("plant", required=False, metavar="[PLANT]")
 @click.option("--preset", help="With `params`: the preset whose values are the defaults.")

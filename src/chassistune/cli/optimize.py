@@ -8,6 +8,7 @@ from typing import Any
 
 import click
 
+from chassistune.cli.choices import ChoicesOption
 from chassistune.errors import InputError
 
 
@@ -68,7 +69,8 @@ def run_optimize(
     "--dim", type=int, default=None, help="Dimension (default: the function's usual one)."
 )
 @click.option(
-    "--optimizer", required=True, help="Optimizer name (see `chassistune list optimizers`)."
+    "--optimizer", required=True, cls=ChoicesOption, choices_of="optimizers",
+    help="Optimizer name (see `chassistune list optimizers`).",
 )
 @click.option("--pop", type=int, default=30, show_default=True, help="Population size.")
 @click.option("--iters", type=int, default=None, help="Iterations (default 100 unless --evals).")

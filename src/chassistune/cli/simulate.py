@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
+from chassistune.cli.choices import ChoicesCommand, ChoicesOption
 from chassistune.cli.common import announce_compile, check_output_file, echo_json, fmt
 from chassistune.errors import InputError
 
@@ -86,12 +87,15 @@ def _overrides(doc: dict[str, Any]) -> dict[str, object]:
     return {k: v for k, v in doc["params"].items() if k != "seed" and plain.get(k) != v}
 
 
-@click.command("simulate")
+@click.command("simulate", cls=ChoicesCommand, arguments={"PLANT": "plants"})
 @click.argument("plant", metavar="PLANT", required=False)
-@click.option("--preset", help="Parameter preset (default: the plant's paper preset).")
-@click.option("--road", help="Road (default: the preset's first road).")
-@click.option("--controller", help="Controller structure (default: pid, or the --from "
-              "result's); `chassistune list controllers` shows them.")
+@click.option("--preset", cls=ChoicesOption, choices_of="presets",
+              help="Parameter preset (default: the plant's paper preset).")
+@click.option("--road", cls=ChoicesOption, choices_of="roads",
+              help="Road (default: the preset's first road).")
+@click.option("--controller", cls=ChoicesOption, choices_of="controllers",
+              help="Controller structure (default: pid, or the --from result's); "
+                   "`chassistune list controllers` shows them.")
 @click.option("--param", "params", multiple=True, metavar="NAME=VALUE",
               help="Override a plant, road, solver or controller parameter (repeatable).")
 @click.option("--gains", "gains", multiple=True, metavar="NAME=VALUE,...|@FILE.json",
@@ -100,7 +104,7 @@ def _overrides(doc: dict[str, Any]) -> dict[str, object]:
 @click.option("--from", "from_path", metavar="RESULT.json",
               help="A tune's tune.json (or its folder), or an export's JSON: its plant, preset, "
                    "road, controller, parameters and gains; options given here override them.")
-@click.option("--compare", metavar="C1,C2,...",
+@click.option("--compare", metavar="C1,C2,...", cls=ChoicesOption, choices_of="controllers",
               help="Simulate these controllers (with their default gains; the --from result "
                    "as `tuned`) on one figure and one table.")
 @click.option("--seed", type=int, help="Seed of any random draw (road realizations; default 0).")
@@ -115,7 +119,7 @@ def simulate_command(plant: str | None, preset: str | None, road: str | None,
                      as_json: bool, plot_path: str | None, csv_path: str | None) -> None:
     """Simulate one closed-loop run of PLANT and report its metrics.
 
-    PLANT is one of the plants of `chassistune list plants` (abs-wheel, quarter-car). Units are SI.
+    PLANT is one of the plants of `chassistune list plants`. Units are SI.
     Example: chassistune simulate abs-wheel --road wet-asphalt --gains kp=5000,kd=230 --plot out.png
     """
     from chassistune.params import parse_assignments

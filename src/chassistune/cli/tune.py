@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from chassistune._interrupt import on_interrupt
+from chassistune.cli.choices import ChoicesCommand, ChoicesOption
 from chassistune.cli.common import announce_compile, check_output_dir, echo_json, fmt
 from chassistune.cli.robust_options import (
     echo_validation,
@@ -22,15 +23,18 @@ if TYPE_CHECKING:
     from chassistune.tuning.tune import Incumbent, Progress, TuneResult
 
 
-@click.command("tune")
+@click.command("tune", cls=ChoicesCommand, arguments={"PLANT": "plants"})
 @click.argument("plant", metavar="PLANT")
-@click.option("--preset", help="Parameter preset (default: the plant's paper preset).")
-@click.option("--road", "roads", multiple=True,
+@click.option("--preset", cls=ChoicesOption, choices_of="presets",
+              help="Parameter preset (default: the plant's paper preset).")
+@click.option("--road", "roads", multiple=True, cls=ChoicesOption, choices_of="roads",
               help="Road; repeat to tune one controller for several roads.")
 @click.option("--aggregate", default="mean", show_default=True,
               help="How costs on several roads (x --scenarios) combine: mean, max, cvar:ALPHA.")
-@click.option("--controller", required=True, help="Controller whose gains are tuned.")
-@click.option("--optimizer", required=True, help="Optimizer (`chassistune list optimizers`).")
+@click.option("--controller", required=True, cls=ChoicesOption, choices_of="controllers",
+              help="Controller whose gains are tuned.")
+@click.option("--optimizer", required=True, cls=ChoicesOption, choices_of="optimizers",
+              help="Optimizer (`chassistune list optimizers`).")
 @click.option("--pop", "pop_size", default=30, show_default=True, type=int,
               help="Population size.")
 @click.option("--iters", type=int,
@@ -41,10 +45,12 @@ if TYPE_CHECKING:
 @click.option("--seed", default=0, show_default=True, type=int, help="Run seed.")
 @click.option("--ecu", type=click.Choice(["ideal", "realistic"]),
               help="abs-wheel: ideal controller or the realistic ECU (docs/ecu.md).")
-@click.option("--objective", help="Objective (ABS: itae, iae, ise, distance, time).")
+@click.option("--objective", cls=ChoicesOption, choices_of="objectives",
+              help="What the tune minimizes (default: the plant's).")
 @click.option("--param", "params", multiple=True, metavar="NAME=VALUE",
               help="Override a plant, road, solver or controller parameter (repeatable).")
-@click.option("--test-road", "test_roads", multiple=True, metavar="ROAD",
+@click.option("--test-road", "test_roads", multiple=True, metavar="ROAD", cls=ChoicesOption,
+              choices_of="roads",
               help="Also report the tuned controller's metrics on ROAD (repeatable).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
 @click.option("--out", "out_dir", help="Write best gains, history and plots into this folder.")

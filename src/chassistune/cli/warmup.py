@@ -11,9 +11,11 @@ import click
 def warmup_command() -> None:
     """Compile every plant's and controller's kernels (numba's disk cache; `make` runs this at
     installation, so that the first `reproduce` or `tune` starts at once)."""
+    from chassistune.cli.choices import collect, store
     from chassistune.scenarios.warmup import warm_up
 
     t0 = time.perf_counter()
+    store(collect())  # the choices `--help` lists
     done = warm_up(lambda pair: click.echo(f"compiled {pair}", err=True))
     click.echo(f"warmup: {len(done)} plant/controller pairs compiled or loaded from the cache "
                f"in {time.perf_counter() - t0:.1f} s")
