@@ -11,6 +11,7 @@ import click
 from chassistune.cli.choices import ChoicesCommand, ChoicesOption
 from chassistune.cli.common import announce_compile, check_output_file, echo_json, fmt
 from chassistune.errors import InputError
+from chassistune.units import shown_unit
 
 if TYPE_CHECKING:
     from chassistune.simulate import Comparison, SimulationResult
@@ -34,21 +35,35 @@ def write_csv(result: SimulationResult, path: str) -> None:
         w.writerows(np.column_stack([sig[n] for n in names]).tolist())
 
 
+def _shown(name: str, value: object) -> object:
+    """A metric's value in the unit it is shown in (`units.shown_unit`: mm for travel)."""
+    factor = shown_unit(name)[1]
+    return value * factor if isinstance(value, float) and factor != 1.0 else value
+
+
+def _label(name: str) -> str:
+    """A metric's name with the unit its value is shown in: `susp_travel_rms [mm]`."""
+    unit = shown_unit(name)[0]
+    return f"{name} [{unit}]" if unit else name
+
+
 def _print_metrics(metrics: dict[str, object]) -> None:
-    """Metrics as a list; those with a `passive_` twin as an active / passive / ratio table."""
+    """Metrics with their units as a list; those with a `passive_` twin as an active / passive /
+    ratio table."""
     metrics = {k: v for k, v in metrics.items() if k not in DIAGNOSTICS}
     paired = [k for k in metrics if f"passive_{k}" in metrics]
     alone = [k for k in metrics if k not in paired and not (
         k.startswith("passive_") and k[len("passive_"):] in paired)]
-    width = max(len(k) for k in metrics)
+    width = max(len(_label(k)) for k in metrics)
     if paired:
         click.echo(f"  {'':<{width}}  {'active':>10}  {'passive':>10}  {'ratio':>7}")
         for k in paired:
             a, b = metrics[k], metrics[f"passive_{k}"]
             ratio = a / b if isinstance(a, float) and isinstance(b, float) and b else None
-            click.echo(f"  {k:<{width}}  {fmt(a):>10}  {fmt(b):>10}  {fmt(ratio):>7}")
+            click.echo(f"  {_label(k):<{width}}  {fmt(_shown(k, a)):>10}  "
+                       f"{fmt(_shown(k, b)):>10}  {fmt(ratio):>7}")
     for k in alone:
-        click.echo(f"  {k:<{width}}  {fmt(metrics[k])}")
+        click.echo(f"  {_label(k):<{width}}  {fmt(_shown(k, metrics[k]))}")
 
 
 def _why_not(result: SimulationResult) -> str | None:
@@ -215,12 +230,12 @@ def _print_comparison(cmp: Comparison) -> None:
     click.echo(f"{first.plant}  preset {first.preset}  road {first.road}")
     labels = list(cmp.results)
     keys = [k for k in next(iter(cmp.results.values())).metrics if k not in DIAGNOSTICS]
-    width = max(len(k) for k in keys)
+    width = max(len(_label(k)) for k in keys)
     col = max(10, *(len(x) for x in labels))
     click.echo(f"  {'':<{width}}  " + "  ".join(f"{x:>{col}}" for x in labels))
     for k in keys:
-        click.echo(f"  {k:<{width}}  " + "  ".join(
-            f"{fmt(cmp.results[x].metrics.get(k)):>{col}}" for x in labels))
+        click.echo(f"  {_label(k):<{width}}  " + "  ".join(
+            f"{fmt(_shown(k, cmp.results[x].metrics.get(k))):>{col}}" for x in labels))
     for label, r in cmp.results.items():
         if r.gains:
             click.echo(f"{label} gains: " + ", ".join(f"{k}={v!r}" for k, v in r.gains.items()))

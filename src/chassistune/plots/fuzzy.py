@@ -18,6 +18,8 @@ SURFACE_POINTS = 241  # per axis (aligned with the built-ins' knots): exact infe
 
 
 def _plot_sets(ax: Any, var: Variable, role: str) -> None:
+    from matplotlib.ticker import MaxNLocator
+
     lo, hi = var.universe
     x = np.linspace(lo, hi, 1201)
     for s in var.sets:
@@ -26,6 +28,7 @@ def _plot_sets(ax: Any, var: Variable, role: str) -> None:
         ha = "left" if peak <= lo else "right" if peak >= hi else "center"
         ax.text(peak, 1.03, s.name, ha=ha, va="bottom", fontsize=7, color=line.get_color())
     ax.set_xlim(lo, hi)
+    ax.xaxis.set_major_locator(MaxNLocator(nbins=5))  # tick labels of a narrow panel apart
     ax.set_ylim(0.0, 1.18)
     ax.set_title(f"{role} {var.name}", fontsize=9)
     ax.tick_params(labelsize=7)
@@ -45,7 +48,7 @@ def _plot_surface(
     # contour through a plateau only draws its rounding noise.
     levels = lo + (hi - lo) * (2.0 * np.arange(12) + 1.0) / 24.0
     contours = ax.contour(g0, g1, z.T, levels=levels, colors="k", linewidths=0.5, alpha=0.6)
-    ax.clabel(contours, fontsize=6, fmt="%.3g")
+    ax.clabel(contours, fontsize=6, fmt="%.3g")  # labels the axes would clip: `_drop_clipped`
     for axis, var in enumerate(rb.inputs):
         for s in var.sets:
             peak = float(np.mean(s.core))
@@ -56,6 +59,21 @@ def _plot_surface(
     ax.set_title(f"{out.name}({rb.inputs[0].name}, {rb.inputs[1].name})", fontsize=10)
     ax.set_aspect("equal" if rb.inputs[0].span == rb.inputs[1].span else "auto")
     fig.colorbar(mesh, ax=ax, shrink=0.85, label=out.name)
+
+
+def _drop_clipped(fig: Any) -> None:
+    """Remove the contour labels that stick out of their axes (the axes would cut them to a
+    misleading fragment, "92" of 0.792), once the layout is final."""
+    from matplotlib.text import Text
+
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    for ax in fig.axes:
+        box = ax.bbox
+        for t in [a for a in ax.texts if isinstance(a, Text) and a.get_clip_on()]:
+            ext = t.get_window_extent(renderer)
+            if (ext.x0 < box.x0 or ext.x1 > box.x1 or ext.y0 < box.y0 or ext.y1 > box.y1):
+                t.remove()
 
 
 def plot_rulebase(rb: RuleBase, path: str | Path) -> Path:
@@ -90,6 +108,8 @@ def plot_rulebase(rb: RuleBase, path: str | Path) -> Path:
             ax.set_xlabel(rb.inputs[0].name)
             ax.set_title(rb.outputs[k].name, fontsize=9)
             ax.grid(alpha=0.3)
+    if bottom is not None and len(rb.inputs) == 2:
+        _drop_clipped(fig)
     out = Path(path)
     with atomic_path(out) as tmp:  # never leave a half-written figure behind
         fig.savefig(tmp, dpi=110, format=out.suffix.lstrip(".").lower() or "png")

@@ -144,7 +144,7 @@ def scenario_section(data: tables.StudyData, sc: str, index: int, reference: str
                                             if len(spec.roads) > 1 else "")
                      + f", tuned on {', '.join(spec.roads)}.")
     mine = summary[(summary["scenario"] == sc) & (summary["quantity"] == "best_cost")]
-    cost = mine.drop(columns=["scenario", "quantity"])
+    cost = mine.drop(columns=["scenario", "quantity", "unit"])
     rs = ranks[ranks["scenario"] == sc][["optimizer", "sign", "p_value"]]
     cost = cost.merge(rs.rename(columns={"p_value": "rank-sum p"}), on="optimizer", how="left")
     cost.insert(len(cost.columns) - 1, "vs reference", cost.pop("sign").map(verdict_of_sign))

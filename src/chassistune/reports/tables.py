@@ -21,6 +21,7 @@ from chassistune._io import atomic_path
 from chassistune.errors import InputError
 from chassistune.scenarios.registry import plant_names, plant_spec
 from chassistune.studies.store import RunRecord, Store
+from chassistune.units import si_unit
 
 
 def key_metrics(plant: str) -> tuple[str, ...]:
@@ -155,8 +156,9 @@ def values(runs: Sequence[RunRecord], quantity: str) -> np.ndarray:
 
 
 def summary_table(data: StudyData) -> pd.DataFrame:
-    """Per scenario, optimizer and quantity (final cost, key metrics): n, mean, std, best, worst,
-    median over the completed runs; `failed` counts the failed runs of that cell."""
+    """Per scenario, optimizer and quantity (final cost, key metrics): its SI unit (`unit`, empty
+    for the cost and nfev), n, mean, std, best, worst, median over the completed runs; `failed`
+    counts the failed runs of that cell."""
     rows = []
     for sc in data.scenarios:
         names = quantities(data, sc)
@@ -168,9 +170,10 @@ def summary_table(data: StudyData) -> pd.DataFrame:
                 summ = stats.summary(v) if v.size else {c: math.nan for c in SUMMARY_COLUMNS}
                 if not v.size:
                     summ["n"] = 0
-                rows.append({"scenario": sc, "optimizer": opt, "quantity": q, "failed": failed,
-                             **{c: summ[c] for c in SUMMARY_COLUMNS}})
-    return pd.DataFrame(rows, columns=["scenario", "optimizer", "quantity", "failed",
+                unit = si_unit(q.partition("@")[0]) if q not in ("best_cost", "nfev") else ""
+                rows.append({"scenario": sc, "optimizer": opt, "quantity": q, "unit": unit,
+                             "failed": failed, **{c: summ[c] for c in SUMMARY_COLUMNS}})
+    return pd.DataFrame(rows, columns=["scenario", "optimizer", "quantity", "unit", "failed",
                                        *SUMMARY_COLUMNS])
 
 
