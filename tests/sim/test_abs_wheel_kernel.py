@@ -139,10 +139,12 @@ print(json.dumps({"cache_dir": os.environ["NUMBA_CACHE_DIR"], "stats": stats}))
 
 
 @pytest.mark.slow
-def test_numba_cache_hits_in_a_second_process() -> None:
+def test_numba_cache_hits_in_a_second_process(tmp_path: Path) -> None:
     """Every entry point loads from numba's disk cache in a new process: no compilation, no new
-    cache files (the package's own source-keyed cache folder)."""
+    cache files (the package's own source-keyed cache folder, in a private cache home: the
+    user's cache neither helps nor is touched)."""
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    env["XDG_CACHE_HOME"] = str(tmp_path)
     code = _CACHE_PROBE % (list(ROADS.values()),)
 
     def probe() -> dict:
@@ -150,8 +152,10 @@ def test_numba_cache_hits_in_a_second_process() -> None:
                              text=True, check=True)
         return json.loads(res.stdout.strip().splitlines()[-1])
 
-    folder = Path(probe()["cache_dir"])  # compiles and stores if the cache is cold
+    folder = Path(probe()["cache_dir"])  # compiles and stores: the private cache is cold
+    assert folder.is_relative_to(tmp_path / "chassistune")
     files = sorted(str(p) for p in folder.rglob("*"))
+    assert any(p.endswith(".nbi") for p in files)
     second = probe()
     assert sorted(str(p) for p in folder.rglob("*")) == files
     for law, (hits, misses) in second["stats"].items():
