@@ -25,7 +25,7 @@ RANK = {
     "tuning": 3, "simulate": 3,
     "studies": 4,
     "reports": 5, "perf": 5, "plots": 5, "export": 5,
-    "papers": 6,
+    "papers": 6, "results": 6,
     "cli": 7,
 }
 """Layer of each subpackage (or top-level module); unlisted top-level modules are helpers."""

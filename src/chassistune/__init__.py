@@ -2,9 +2,10 @@
 
 Python API: `simulate(...)` one closed-loop run, `tune(...)` tune a controller's gains,
 `minimize(fun, bounds, method=...)` any optimizer over a vectorized function,
-`chassistune.benchmarks.get("F14")` the classic benchmark functions. Their heavy parts (numpy,
-numba, the plants) are imported on first use, so that importing the package and starting the CLI
-stay fast.
+`chassistune.benchmarks.get("F14")` the classic benchmark functions; `load_tune`,
+`simulate_tuned` and `load_study` read results back (`chassistune.results`). Their heavy parts
+(numpy, numba, the plants) are imported on first use, so that importing the package and starting
+the CLI stay fast.
 """
 
 from __future__ import annotations
@@ -31,15 +32,18 @@ from chassistune.simulate import simulate  # noqa: E402
 
 if TYPE_CHECKING:
     from chassistune.optimizers.minimize import minimize
+    from chassistune.results import load_study, load_tune, simulate_tuned
     from chassistune.simulate import compare
     from chassistune.tuning.tune import tune
 
 _LAZY = {"minimize": "chassistune.optimizers.minimize", "tune": "chassistune.tuning.tune",
-         "compare": "chassistune.simulate"}
+         "compare": "chassistune.simulate", "load_tune": "chassistune.results",
+         "simulate_tuned": "chassistune.results", "load_study": "chassistune.results"}
 
 
 def __getattr__(name: str) -> Any:
-    """`chassistune.minimize` and `chassistune.tune`, imported on first access."""
+    """`chassistune.minimize`, `tune`, `compare` and the loaders of `chassistune.results`,
+    imported on first access."""
     if name not in _LAZY:
         raise AttributeError(f"module 'chassistune' has no attribute {name!r}")
     value = getattr(importlib.import_module(_LAZY[name]), name)
@@ -47,4 +51,5 @@ def __getattr__(name: str) -> Any:
     return value
 
 
-__all__ = ["__version__", "compare", "minimize", "simulate", "tune"]
+__all__ = ["__version__", "compare", "load_study", "load_tune", "minimize", "simulate",
+           "simulate_tuned", "tune"]

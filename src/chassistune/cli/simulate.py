@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import csv
-import os
 from typing import TYPE_CHECKING, Any
 
 import click
@@ -76,32 +75,6 @@ def _why_not(result: SimulationResult) -> str | None:
     return f"did not stop ({status}): {reason}; stop metrics are left empty"
 
 
-def load_result(path: str) -> dict[str, Any]:
-    """`--from`: a tune's tune.json (or the folder holding it), or an export's JSON."""
-    from chassistune.params import read_json
-
-    file = os.path.join(path, "tune.json") if os.path.isdir(path) else path
-    doc = read_json(file, "--from")
-    if isinstance(doc, dict) and "schema" in doc:
-        from chassistune.export.json_export import as_tune_result
-
-        return as_tune_result(doc, "--from", file)
-    need = ("plant", "preset", "roads", "controller", "best_gains", "params")
-    if not isinstance(doc, dict) or any(k not in doc for k in need):
-        raise InputError("--from", f"{file!r} is not a tune result (needs {', '.join(need)})")
-    return doc
-
-
-def _overrides(doc: dict[str, Any]) -> dict[str, object]:
-    """The parameters a tune result set away from its scenario's defaults (its `params` echo
-    minus what the preset, road and controller give anyway)."""
-    from chassistune.scenarios.registry import get_plant
-
-    plain = get_plant(doc["plant"]).scenario(doc["preset"], doc["roads"][0], doc["controller"],
-                                             {}, 0).params()
-    return {k: v for k, v in doc["params"].items() if k != "seed" and plain.get(k) != v}
-
-
 @click.command("simulate", cls=ChoicesCommand, arguments={"PLANT": "plants"})
 @click.argument("plant", metavar="PLANT", required=False)
 @click.option("--preset", cls=ChoicesOption, choices_of="presets",
@@ -138,9 +111,10 @@ def simulate_command(plant: str | None, preset: str | None, road: str | None,
     Example: chassistune simulate abs-wheel --road wet-asphalt --gains kp=5000,kd=230 --plot out.png
     """
     from chassistune.params import parse_assignments
+    from chassistune.results import load_tune, overrides
     from chassistune.scenarios.registry import get_plant, plant_names
 
-    doc = load_result(from_path) if from_path else None
+    doc = load_tune(from_path, "--from") if from_path else None
     if doc is not None:
         if plant is not None and plant != doc["plant"]:
             raise InputError("PLANT", f"{plant!r} differs from the --from result's "
@@ -154,7 +128,7 @@ def simulate_command(plant: str | None, preset: str | None, road: str | None,
     check_output_file(csv_path, "--csv", (".csv",))
     if compare is not None and csv_path is not None:
         raise InputError("--csv", "one time series per file: not with --compare")
-    values: dict[str, object] = dict(_overrides(doc)) if doc else {}
+    values: dict[str, object] = dict(overrides(doc)) if doc else {}
     values.update(parse_assignments(params, "--param"))
     if ecu:
         values["ecu"] = ecu

@@ -1,0 +1,79 @@
+"""Results loaded back into Python (issue 10): a tune's folder as its document and as a new
+simulation of the tuned controller (what `simulate --from` gives), a study folder as objects."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+import chassistune
+from chassistune.errors import InputError
+
+TUNE = ("tune", "abs-wheel", "--controller", "pid", "--optimizer", "pso", "--pop", "6",
+        "--iters", "2", "--road", "wet-asphalt", "--param", "v0_m_s=25", "--seed", "4")
+
+STUDY = """
+[study]
+name = "tiny"
+seeds = 1
+seed = 11
+
+[[scenarios]]
+name = "qc"
+plant = "quarter-car"
+roads = ["iso-b"]
+controller = "pid"
+objective = "rms-ratio-exact"
+bounds = { kp = [0.0, 500.0], ki = [0.0, 500.0], kd = [0.0, 500.0] }
+
+[[optimizers]]
+name = "pso"
+
+[[optimizers]]
+name = "de"
+
+[budget]
+pop_size = 6
+evaluations = 12
+"""
+
+
+def test_a_tune_folder_loads_back_and_simulates_as_simulate_from(cli, tmp_path):
+    out = tmp_path / "t"
+    assert cli(*TUNE, "--out", str(out)).code == 0
+    saved = json.loads((out / "tune.json").read_text())
+    assert chassistune.load_tune(out) == saved == chassistune.load_tune(out / "tune.json")
+    again = chassistune.simulate_tuned(out)
+    assert again.gains == saved["best_gains"]
+    assert again.scenario.road == "wet-asphalt" and again.scenario.params()["v0_m_s"] == 25.0
+    assert again.metrics["slip_itae"] == saved["metrics"]["slip_itae"]
+    on_ice = chassistune.simulate_tuned(out, road="ice", params={"v0_m_s": 20})
+    via_cli = json.loads(cli("simulate", "--from", str(out), "--road", "ice", "--param",
+                             "v0_m_s=20", "--json").out)
+    assert on_ice.as_dict() == via_cli
+
+
+def test_what_is_not_a_tune_result_names_the_path(tmp_path):
+    (tmp_path / "x.json").write_text('{"plant": "abs-wheel"}')
+    with pytest.raises(InputError) as exc:
+        chassistune.load_tune(tmp_path / "x.json")
+    assert exc.value.field == "path" and "is not a tune result" in exc.value.problem
+    with pytest.raises(InputError) as exc:
+        chassistune.load_study(tmp_path)
+    assert exc.value.field == "path" and "not a study folder" in exc.value.problem
+
+
+def test_a_study_folder_loads_into_objects(cli, tmp_path):
+    from chassistune.reports.tables import runs_table
+
+    config = tmp_path / "study.toml"
+    config.write_text(STUDY)
+    assert cli("study", "run", str(config), "--out", str(tmp_path / "st")).code == 0
+    data = chassistune.load_study(tmp_path / "st")
+    assert data.name == "tiny" and data.optimizers == ("pso", "de")
+    assert data.scenarios == ("qc/iso-b",)
+    assert sorted(r.spec.optimizer for r in data.records) == ["de", "pso"]
+    assert all(r.completed and r.nfev == 12 for r in data.records)
+    table = runs_table(data.records)
+    assert sorted(table["optimizer"]) == ["de", "pso"] and {"gain_kp", "best_cost"} <= set(table)
