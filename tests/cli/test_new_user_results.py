@@ -1,5 +1,6 @@
 """Results loaded back into Python (issue 10): a tune's folder as its document and as a new
-simulation of the tuned controller (what `simulate --from` gives), a study folder as objects."""
+simulation of the tuned controller (what `simulate --from` gives); a study folder as objects in
+tests/studies/test_study_loads_back.py."""
 
 from __future__ import annotations
 
@@ -12,32 +13,6 @@ from chassistune.errors import InputError
 
 TUNE = ("tune", "abs-wheel", "--controller", "pid", "--optimizer", "pso", "--pop", "6",
         "--iters", "2", "--road", "wet-asphalt", "--param", "v0_m_s=25", "--seed", "4")
-
-STUDY = """
-[study]
-name = "tiny"
-seeds = 1
-seed = 11
-
-[[scenarios]]
-name = "qc"
-plant = "quarter-car"
-roads = ["iso-b"]
-controller = "pid"
-objective = "rms-ratio-exact"
-bounds = { kp = [0.0, 500.0], ki = [0.0, 500.0], kd = [0.0, 500.0] }
-
-[[optimizers]]
-name = "pso"
-
-[[optimizers]]
-name = "de"
-
-[budget]
-pop_size = 6
-evaluations = 12
-"""
-
 
 def test_a_tune_folder_loads_back_and_simulates_as_simulate_from(cli, tmp_path):
     out = tmp_path / "t"
@@ -62,18 +37,3 @@ def test_what_is_not_a_tune_result_names_the_path(tmp_path):
     with pytest.raises(InputError) as exc:
         chassistune.load_study(tmp_path)
     assert exc.value.field == "path" and "not a study folder" in exc.value.problem
-
-
-def test_a_study_folder_loads_into_objects(cli, tmp_path):
-    from chassistune.reports.tables import runs_table
-
-    config = tmp_path / "study.toml"
-    config.write_text(STUDY)
-    assert cli("study", "run", str(config), "--out", str(tmp_path / "st")).code == 0
-    data = chassistune.load_study(tmp_path / "st")
-    assert data.name == "tiny" and data.optimizers == ("pso", "de")
-    assert data.scenarios == ("qc/iso-b",)
-    assert sorted(r.spec.optimizer for r in data.records) == ["de", "pso"]
-    assert all(r.completed and r.nfev == 12 for r in data.records)
-    table = runs_table(data.records)
-    assert sorted(table["optimizer"]) == ["de", "pso"] and {"gain_kp", "best_cost"} <= set(table)
