@@ -955,14 +955,12 @@ def _tick_wheel(st, l, i, k, j, src, e, gains, col0, ctrl_kind, c, table, kc, sr
             c[Q_SLOW])
         st[(R_U0 + j) * LANES + l] = u0_s
         st[(R_PHASE + j) * LANES + l] = ph
-    else:
-        st[(R_U0 + j) * LANES + l] = no_abs_command(c[Q_AMPLITUDE])
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def _tick(st, l, i, k, gains, col0, ctrl_kind, c, table, kc, srf, ts):
     """A sampled law's update of lane l (candidate i) at its step k, a sample instant: the fuzzy
-    PID's gain schedule, the threshold law's phase and command, or the driver's command."""
+    PID's gain schedule or the threshold law's phase and command."""
     sel = kc[KC_SELECT_LOW] != 0.0
     err0 = _target(st, 0, l, srf) - _get(st, R_SLIP, l)
     err1 = _target(st, 1, l, srf) - _get(st, R_SLIP + 1, l)
@@ -981,9 +979,10 @@ def _tick(st, l, i, k, gains, col0, ctrl_kind, c, table, kc, srf, ts):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
-def _fill_lane(st, l, i, gains, col0, ctrl_kind, kc, srf, v0):
-    """Start candidate i in lane l: wheels rolling freely at v0, zero metrics, its gains, the
-    surfaces under the wheels at t = 0 and the derivative filters at e(0) (no kick)."""
+def _fill_lane(st, l, i, gains, col0, ctrl_kind, c, kc, srf, v0):
+    """Start candidate i in lane l: wheels rolling freely at v0, zero metrics, its gains (or
+    the driver's constant command without ABS), the surfaces under the wheels at t = 0 and the
+    derivative filters at e(0) (no kick)."""
     for row in range(N_ROWS):
         st[row * LANES + l] = 0.0
     st[S_VX * LANES + l] = v0
@@ -995,6 +994,8 @@ def _fill_lane(st, l, i, gains, col0, ctrl_kind, kc, srf, v0):
             st[(R_KP + j) * LANES + l] = gains[i, col0[j]]
             st[(R_KI + j) * LANES + l] = gains[i, col0[j] + 1]
             st[(R_KD + j) * LANES + l] = gains[i, col0[j] + 2]
+        elif ctrl_kind == C_NONE:
+            st[(R_U0 + j) * LANES + l] = no_abs_command(c[Q_AMPLITUDE])
         st[(R_SURF + j) * LANES + l] = _surface_flag(0.0, 0.0, 0.0, 1.0, 0.0, j, kc)
     # e(0): the wheels roll freely
     e = _channel_errors(_target(st, 0, l, srf), _target(st, 1, l, srf), _target(st, 2, l, srf),
@@ -1080,7 +1081,7 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
     lane_of = np.full(LANES, -1)  # candidate in each lane
     live = min(n, LANES)
     for l in range(live):
-        _fill_lane(st, l, l, gains, col0, ctrl_kind, kc, srf, p[P_V0])
+        _fill_lane(st, l, l, gains, col0, ctrl_kind, c, kc, srf, p[P_V0])
         lane_of[l] = l
     queued = live  # next candidate to start
     n_trace = trace.shape[0]
@@ -1090,7 +1091,7 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
                    inv)
         rows = 1
     while live > 0:
-        if ctrl_kind != C_PID:  # sampled laws: each lane at its own sample instants
+        if ctrl_kind in (C_FUZZY_PID, C_THRESHOLD):  # sampled laws: at each lane's instants
             for l in range(live):
                 k = int(_get(st, R_STEP, l))
                 if k % steps_per_sample == 0:
@@ -1115,7 +1116,7 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
                 i = lane_of[l]
                 _finish_lane(st, l, out[i])
                 if queued < n:
-                    _fill_lane(st, l, queued, gains, col0, ctrl_kind, kc, srf, p[P_V0])
+                    _fill_lane(st, l, queued, gains, col0, ctrl_kind, c, kc, srf, p[P_V0])
                     lane_of[l] = queued
                     queued += 1
                 else:
