@@ -42,3 +42,46 @@ def test_wild_candidates_end_with_a_status_not_an_exception():
     pop = pins.population(sc.controller.bounds())
     cost = sc.cost(pop)
     assert np.all(np.isfinite(cost)) and cost[-1] == PENALTY
+
+
+def test_rows_do_not_depend_on_the_lane_or_the_population():
+    """More candidates than lanes (refilled and repacked): each row equals its run alone."""
+    from chassistune.scenarios.abs_vehicle import PLANT
+    from chassistune.sim import abs_vehicle_kernel as K
+
+    sc = PLANT.scenario(None, "mu-jump", "fuzzy-pid")
+    pop = pins.population(sc.controller.bounds())
+    pop = np.concatenate([pop, pop[::-1]])[: K.LANES + 5]
+    batch = sc.raw(pop, workers=1)
+    for i in (0, 3, K.LANES - 1, K.LANES, K.LANES + 4):
+        np.testing.assert_array_equal(sc.raw(pop[i:i + 1], workers=1)[0], batch[i])
+
+
+def _has_avx() -> bool:
+    try:
+        return " avx2 " in Path("/proc/cpuinfo").read_text().replace("\n", " ")
+    except OSError:
+        return False
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not _has_avx(), reason="needs an x86 CPU with AVX2")
+def test_lane_step_vectorizes():
+    """Packed double arithmetic on ymm/zmm registers in the compiled kernel: a call or a branch
+    chain added to the lane step would silently fall back to scalar code."""
+    import re
+
+    import numba
+
+    from chassistune.scenarios.abs_vehicle import PLANT
+    from chassistune.sim import abs_vehicle_kernel as K
+
+    fresh = numba.njit(nogil=True, error_model="numpy")(K.simulate_abs_vehicle.py_func)
+    sc = PLANT.scenario(None, "dry-concrete", "pid")
+    p, geo, surfs, ckind, c, table = sc._kernel_args
+    out = np.zeros((1, K.N_METRICS))
+    fresh(np.array([[1200.0, 0.0, 20.0]]), p, geo, surfs, ckind, c, table,
+          np.zeros((0, K.N_TRACE)), out)
+    asm = fresh.inspect_asm(fresh.signatures[0])
+    packed = re.findall(r"\bv(?:mul|add|sub|div|fmadd\w*)pd\s[^\n]*%[yz]mm", asm)
+    assert len(packed) >= 600, "the lane step no longer vectorizes"

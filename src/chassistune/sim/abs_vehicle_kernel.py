@@ -20,6 +20,18 @@ Integration: classic RK4 at a fixed step over all states; the CG path length and
 integrals by quadrature of step-end values (as the single wheel); the surfaces under the wheels
 and their target slips switch at step ends from the contact points' global positions; the stop
 at v_stop (CG speed) is located by linear interpolation inside the last step.
+
+Lanes (issue 12, the design of `abs_wheel_kernel`). Every per-candidate quantity lives in ONE
+flat array `st` of rows of LANES values (row r of lane l at r * LANES + l). Each iteration runs
+one fused RK4 step per lane (`_lane_step`) for a whole number of VECTOR-wide blocks: the
+straight-line case (no yaw, lateral velocity, heading or steering; loads in closed form), all
+four stages in registers, branch-free, stored by select only where every stage and the step's
+end were straight. Lanes where that case does not hold (split-mu, a driver steering, a wheel
+unloaded) are redone by a scalar pass (`_general_step`): each stage straight where it holds,
+else `_rhs` with the loads by Newton's method, in the same formulas and order, so that a lane's
+numbers do not depend on the path, the lane or the population. Sampled laws tick in a scalar
+pass before the step at each lane's own sample instants; a finished lane is refilled from the
+queue or, when it is empty, filled with the last live lane (live lanes stay packed in front).
 """
 
 from __future__ import annotations
