@@ -88,7 +88,7 @@ class VehicleParams:
     """kq in N m per pressure unit, the same on all four wheels (no brake balance)."""
     q_max: float = field(default=2500.0, metadata=_pos(10.0, 1e5))
     v_stop_m_s: float = field(default=2.0, metadata=_pos(0.01, 10.0))
-    t_max_s: float = field(default=60.0, metadata=_pos(1.0, 600.0))
+    t_max_s: float = field(default=60.0, metadata=_pos(0.1, 600.0))
     dt_s: float = field(default=1e-3, metadata=_pos(1e-5, 0.01))
     lock_ratio: float = field(default=0.01, metadata={"unit_interval": True,
                                                       "plausible": (0.001, 0.2)})

@@ -131,9 +131,6 @@ def _check_consistency(pp: VehicleParams, road: VehicleRoad, steering: SteeringP
     if scoring.hopeless_factor <= 1.0:
         raise InputError("params.hopeless_factor", "must exceed 1 (no run is shorter than the "
                          f"bound), got {scoring.hopeless_factor:g}")
-    if scoring.yaw_window_s > pp.t_max_s:
-        raise InputError("params.yaw_window_s", f"must not exceed t_max_s = {pp.t_max_s:g}, "
-                         f"got {scoring.yaw_window_s:g}")
     if pp.min_speed_m_s >= pp.v_stop_m_s:
         raise InputError("params.min_speed_m_s", f"must be below v_stop_m_s = "
                          f"{pp.v_stop_m_s:g} (the slip's speed floor), got {pp.min_speed_m_s:g}")
