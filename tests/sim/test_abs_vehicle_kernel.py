@@ -76,6 +76,9 @@ def test_layouts_declare_every_kernel_slot_once():
     ({"first_surface": "mud"}, "params.first_surface"),
     ({"mass_kg": "-1"}, "params.mass_kg"),
     ({"bogus": "1"}, "params.bogus"),
+    ({"max_steer_rad": str(np.pi / 2)}, "params.max_steer_rad"),
+    ({"hopeless_factor": "1"}, "params.hopeless_factor"),
+    ({"min_speed_m_s": "2"}, "params.min_speed_m_s"),
 ])
 def test_bad_parameters_are_refused_naming_the_field(params, field):
     road = "mu-jump" if "first_surface" in params else "dry-concrete"
@@ -95,6 +98,12 @@ def test_the_stability_limit_follows_dt_and_v_stop():
     (("--param", "v_stop_m_s=0.5"), "dt_s"),
     (("--road", "split-mu", "--param", "split_by=diagonal"), "split_by"),
     (("--gains", "kp=1,kz=2"), "--gains"),
+    (("--param", "steering=driver", "--param", "max_steer_rad=1.6"), "max_steer_rad"),
+    (("--param", "hopeless_factor=1"), "hopeless_factor"),
+    (("--param", "hopeless_factor=0.5"), "hopeless_factor"),
+    (("--param", "min_speed_m_s=2.5"), "min_speed_m_s"),
+    (("--road", "mu-jump", "--param", "mu_scale=0"), "mu_scale"),
+    (("--param", "mu_scale=-1"), "mu_scale"),
 ])
 def test_cli_bad_input_is_one_line_and_exit_2(cli, args, field):
     r = cli("simulate", "abs-vehicle", "--controller", "pid", *args)
@@ -134,3 +143,18 @@ def test_general_path_agrees_with_an_independent_scipy_integration():
                       (4, "y_m"), (5, "heading_rad"), (26, "distance_m")):
         assert s[name][-1] == pytest.approx(sol.y[row, -1], rel=1e-5), name
     assert abs(s["yaw_rate_rad_s"][-1]) > 0.3  # a real yaw, not a trivial agreement
+
+
+def test_plausible_values_pass_and_implausible_ones_are_warned_about():
+    import warnings
+
+    from chassistune.params import ImplausibleValue
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        PLANT.scenario(None, "dry-concrete", "pid", {"max_steer_rad": "0.5",
+                                                      "hopeless_factor": "1.5"})
+    with pytest.warns(ImplausibleValue, match="params.max_steer_rad"):
+        PLANT.scenario(None, "dry-concrete", "pid", {"max_steer_rad": "1.2"})
+    with pytest.warns(ImplausibleValue, match="params.yaw_inertia_kg_m2"):
+        PLANT.scenario(None, "dry-concrete", "pid", {"yaw_inertia_kg_m2": "50000"})

@@ -10,6 +10,11 @@ Which surface is under wheel i follows its contact point's global position:
   surface where the contact point's global Y >= split_y_m (0: the car starts centred on the split
   line) and the right one elsewhere;
 - uniform roads: one surface everywhere.
+
+Every road has `mu_scale` (default 1, positive; as the abs-wheel roads, `plants.tires`): it
+multiplies both surfaces' whole mu-slip curves (mu_peak and mu_lock; the peak slip, hence the
+target slip, stays), so that robust tuning can vary the grip (`tune --vary mu_scale=...`). The
+resolved road carries the scaled surfaces: bounds, the kernel and the reference model read them.
 """
 
 from __future__ import annotations
@@ -24,6 +29,7 @@ from chassistune.plants.tires import BilinearTire
 
 ROAD_UNIFORM, ROAD_MU_JUMP, ROAD_SPLIT = 0, 1, 2
 SPLIT_BY = ("body", "road")
+_MU_SCALE = {"positive": True}
 
 
 @dataclass(frozen=True)
@@ -33,6 +39,7 @@ class MuJumpParams:
     first_surface: str = "ice"
     second_surface: str = "dry-concrete"
     x_jump_m: float = field(default=25.0, metadata={"nonnegative": True})
+    mu_scale: float = field(default=1.0, metadata=_MU_SCALE)
 
 
 @dataclass(frozen=True)
@@ -44,6 +51,7 @@ class SplitMuParams:
     right_surface: str = "ice"
     split_by: str = "body"
     split_y_m: float = 0.0
+    mu_scale: float = field(default=1.0, metadata=_MU_SCALE)
 
 
 @dataclass(frozen=True)
@@ -78,13 +86,20 @@ def road_names() -> dict[str, str]:
     return out
 
 
-def surface(name: str, field_name: str) -> BilinearTire:
-    """A bilinear surface by name, or InputError naming the field."""
+def surface(name: str, field_name: str, mu_scale: float = 1.0) -> BilinearTire:
+    """A bilinear surface by name with its curve scaled by mu_scale, or InputError naming the
+    field."""
     if name not in BILINEAR_ROADS:
         raise InputError(field_name, f"unknown surface {name!r} (known: "
                          f"{', '.join(BILINEAR_ROADS)})")
     s, h, g, _ = BILINEAR_ROADS[name]
-    return BilinearTire(s, h, g)
+    return scaled(BilinearTire(s, h, g), mu_scale)
+
+
+def scaled(tire: BilinearTire, mu_scale: float) -> BilinearTire:
+    """The surface with mu_peak and mu_lock multiplied by mu_scale (its own and the road's)."""
+    scale = tire.mu_scale * mu_scale
+    return BilinearTire(tire.slip_opt, tire.mu_peak * scale, tire.mu_lock * scale)
 
 
 def make_road(name: str, values: Mapping[str, object]) -> tuple[VehicleRoad, set[str], dict[
@@ -92,27 +107,29 @@ def make_road(name: str, values: Mapping[str, object]) -> tuple[VehicleRoad, set
     """The road `name` with its parameter overrides; returns (road, names used, params echo)."""
     if name == "mu-jump":
         jump, used = override(MuJumpParams(), values)
-        pair = (surface(jump.first_surface, "params.first_surface"),
-                surface(jump.second_surface, "params.second_surface"))
+        pair = (surface(jump.first_surface, "params.first_surface", jump.mu_scale),
+                surface(jump.second_surface, "params.second_surface", jump.mu_scale))
         road = VehicleRoad(name, ROAD_MU_JUMP, (jump.first_surface, jump.second_surface), pair,
                            x_jump_m=jump.x_jump_m)
         return road, used, {"first_surface": jump.first_surface,
-                            "second_surface": jump.second_surface, "x_jump_m": jump.x_jump_m}
+                            "second_surface": jump.second_surface, "x_jump_m": jump.x_jump_m,
+                            "mu_scale": jump.mu_scale}
     if name == "split-mu":
         split, used = override(SplitMuParams(), values)
         if split.split_by not in SPLIT_BY:
             raise InputError("params.split_by", f"must be body or road, got {split.split_by!r}")
-        pair = (surface(split.left_surface, "params.left_surface"),
-                surface(split.right_surface, "params.right_surface"))
+        pair = (surface(split.left_surface, "params.left_surface", split.mu_scale),
+                surface(split.right_surface, "params.right_surface", split.mu_scale))
         road = VehicleRoad(name, ROAD_SPLIT, (split.left_surface, split.right_surface), pair,
                            split_by=split.split_by, split_y_m=split.split_y_m)
         return road, used, {"left_surface": split.left_surface,
                             "right_surface": split.right_surface, "split_by": split.split_by,
-                            "split_y_m": split.split_y_m}
+                            "split_y_m": split.split_y_m, "mu_scale": split.mu_scale}
     if name not in BILINEAR_ROADS:
         raise InputError("road", f"unknown road {name!r} for abs-vehicle (known: "
                          f"{', '.join(road_names())})")
     tire, used = override(surface(name, "road"), values)
-    road = VehicleRoad(name, ROAD_UNIFORM, (name, name), (tire, tire))
+    curve = scaled(tire, 1.0)
+    road = VehicleRoad(name, ROAD_UNIFORM, (name, name), (curve, curve))
     return road, used, {"slip_opt": tire.slip_opt, "mu_peak": tire.mu_peak,
-                        "mu_lock": tire.mu_lock}
+                        "mu_lock": tire.mu_lock, "mu_scale": tire.mu_scale}

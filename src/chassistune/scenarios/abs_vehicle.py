@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -18,8 +19,9 @@ import numpy as np
 from chassistune.controllers import vehicle_specs
 from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
-from chassistune.params import as_dict, override, validate
+from chassistune.params import as_dict, implausible, override, validate
 from chassistune.plants.abs_vehicle import (
+    MAX_STEER_LIMIT_RAD,
     RK4_REAL_LIMIT,
     STEERING_MODES,
     Bound,
@@ -64,8 +66,10 @@ class VehicleScoring:
     """How runs become costs and yaw metrics (DESIGN 3.3, 5)."""
 
     lock_penalty_per_s: float = field(default=100.0, metadata={"nonnegative": True})
-    hopeless_factor: float = field(default=3.0, metadata={"positive": True})
-    """Stop a candidate early once its path exceeds this many times the bound."""
+    hopeless_factor: float = field(default=3.0, metadata={"positive": True,
+                                                          "plausible": (1.5, 20.0)})
+    """Stop a candidate early once its path exceeds this many times the bound (must exceed 1:
+    every run is at least as long as the bound)."""
     yaw_window_s: float = field(default=1.0, metadata={"positive": True})
 
 
@@ -117,7 +121,19 @@ def check_step(pp: VehicleParams, road: VehicleRoad) -> None:
                          f"{dt_max:.3g} or v_stop_m_s >= {v_min:.3g}")
 
 
-def _check_consistency(pp: VehicleParams, road: VehicleRoad) -> None:
+def _check_consistency(pp: VehicleParams, road: VehicleRoad, steering: SteeringParams,
+                       scoring: VehicleScoring) -> None:
+    """Refuse parameter combinations the model does not describe (one InputError naming the
+    field)."""
+    if steering.max_steer_rad >= MAX_STEER_LIMIT_RAD:
+        raise InputError("params.max_steer_rad", f"must be below pi/2 = {MAX_STEER_LIMIT_RAD:.4g}"
+                         f" rad (a wheel turned sideways), got {steering.max_steer_rad:g}")
+    if scoring.hopeless_factor <= 1.0:
+        raise InputError("params.hopeless_factor", "must exceed 1 (no run is shorter than the "
+                         f"bound), got {scoring.hopeless_factor:g}")
+    if pp.min_speed_m_s >= pp.v_stop_m_s:
+        raise InputError("params.min_speed_m_s", f"must be below v_stop_m_s = "
+                         f"{pp.v_stop_m_s:g} (the slip's speed floor), got {pp.min_speed_m_s:g}")
     if pp.v0_m_s <= pp.v_stop_m_s:
         raise InputError("params.v0_m_s", f"must exceed v_stop_m_s = {pp.v_stop_m_s:g}, "
                          f"got {pp.v0_m_s:g}")
@@ -275,12 +291,17 @@ class AbsVehiclePlant(Plant):
     def controllers(self) -> list[ControllerSpec]:
         return [vehicle_specs.get(n) for n in vehicle_specs.names()]
 
+    def parameter_sets(self, preset: str | None = None) -> dict[str, Any]:
+        pre = PRESETS[pick_preset(PLANT_NAME, preset, self.default_preset, PRESETS)]
+        return {"plant": pre.params, "steering": SteeringParams(), "scoring": VehicleScoring(),
+                "road mu-jump": MuJumpParams(), "road split-mu": SplitMuParams()}
+
     def param_names(self) -> list[str]:
         """Every `--param` name of the plant, road and solver (controllers add their own)."""
         names: list[str] = []
         for cls in (VehicleParams, SteeringParams, VehicleScoring, MuJumpParams, SplitMuParams):
             names += [f.name for f in dataclasses.fields(cls)]
-        return [*names, "slip_opt", "mu_peak", "mu_lock"]
+        return sorted({*names, "slip_opt", "mu_peak", "mu_lock", "mu_scale"})
 
     def scenario(
         self,
@@ -314,9 +335,12 @@ class AbsVehiclePlant(Plant):
         if ctrl_values.get("axle_gains") == "per-axle":
             spec = vehicle_specs.per_axle(spec)
         plant_params = validate(plant_params, "params.")
-        _check_consistency(plant_params, road_spec)
-        return AbsVehicleScenario(preset, road_spec, road_params, spec, plant_params, steering,
-                                  ctrl_values, scoring, seed)
+        _check_consistency(plant_params, road_spec, steering, scoring)
+        scenario = AbsVehicleScenario(preset, road_spec, road_params, spec, plant_params,
+                                      steering, ctrl_values, scoring, seed)
+        for warning in implausible(plant_params) + implausible(steering) + implausible(scoring):
+            warnings.warn(warning, stacklevel=2)  # valid input only
+        return scenario
 
 
 PLANT = AbsVehiclePlant()

@@ -20,6 +20,18 @@ Integration: classic RK4 at a fixed step over all states; the CG path length and
 integrals by quadrature of step-end values (as the single wheel); the surfaces under the wheels
 and their target slips switch at step ends from the contact points' global positions; the stop
 at v_stop (CG speed) is located by linear interpolation inside the last step.
+
+Lanes (issue 12, the design of `abs_wheel_kernel`). Every per-candidate quantity lives in ONE
+flat array `st` of rows of LANES values (row r of lane l at r * LANES + l). Each iteration runs
+one fused RK4 step per lane (`_lane_step`) for a whole number of VECTOR-wide blocks: the
+straight-line case (no yaw, lateral velocity, heading or steering; loads in closed form), all
+four stages in registers, branch-free, stored by select only where every stage and the step's
+end were straight. Lanes where that case does not hold (split-mu, a driver steering, a wheel
+unloaded) are redone by a scalar pass (`_general_step`): each stage straight where it holds,
+else `_rhs` with the loads by Newton's method, in the same formulas and order, so that a lane's
+numbers do not depend on the path, the lane or the population. Sampled laws tick in a scalar
+pass before the step at each lane's own sample instants; a finished lane is refilled from the
+queue or, when it is empty, filled with the last live lane (live lanes stay packed in front).
 """
 
 from __future__ import annotations
@@ -29,7 +41,7 @@ import math
 import numba
 import numpy as np
 
-from chassistune._branchfree import select
+from chassistune._branchfree import clip, fmax, fmin, select
 from chassistune.controllers.fuzzy_pid import fuzzy_pid_gains
 from chassistune.controllers.pid import pid_step
 from chassistune.controllers.switching import (
@@ -272,20 +284,72 @@ T_FX = TRACE_LAYOUT["fx_fl_n"]
 T_SURF = TRACE_LAYOUT["surface_fl"]
 N_TRACE = len(TRACE_LAYOUT)
 
-# the wheel laws' gains and held command per wheel and lane: law[LAW_*, j, i]
+# the wheel laws' gains and held command per wheel, as `_rhs` reads them: law[LAW_*, j, i]
 LAW_KP, LAW_KI, LAW_KD, LAW_U0 = range(4)
 N_LAW = 4
-
-# lane-local copy of each wheel's surface (rows of `ls` (4, N_LANE_SURF, n)), kept in step with
-# the surface index so that the vector pass reads contiguous lanes instead of gathering
-L_ST, L_RISE, L_FALL0, L_FALL1, L_TARGET = range(5)
-N_LANE_SURF = 5
 
 # scratch rows of one evaluation (columns: the wheels): the physics' work rows, then ours
 W_SX, W_VR, W_CS, W_SN, W_FZ, W_FXW, W_FXB, W_FYB = WK_SX, WK_VR, WK_CS, WK_SN, WK_FZ, WK_FXW, \
     WK_FXB, WK_FYB
 W_SLIP, W_VABS, W_E = N_WORK, N_WORK + 1, N_WORK + 2
 N_SCRATCH = N_WORK + 3
+
+LANES = 16
+"""Candidates in flight per kernel call (a multiple of VECTOR)."""
+VECTOR = 8
+"""Lanes per vector iteration (8 doubles: one zmm register; two ymm)."""
+
+# Lane rows (row r of lane l at r * LANES + l): the state (STATE_LAYOUT order), the last step's
+# k4 (stage 1 is x + 0 k4, as in a stage-by-stage RK4), the wheel laws (kp, ki, kd, u0 per wheel),
+# the surface under each wheel (1.0: the road's second surface), then metrics and bookkeeping.
+R_K4 = N_STATE
+R_KP = R_K4 + N_STATE
+R_KI = R_KP + 4
+R_KD = R_KI + 4
+R_U0 = R_KD + 4
+R_SURF = R_U0 + 4
+R_SLIP = R_SURF + 4
+R_SINT = R_SLIP + 4
+R_LOCK_T = R_SINT + 4
+R_AW = R_LOCK_T + 4
+R_PHASE = R_AW + 4
+R_WS = R_PHASE + 4
+(R_DIST, R_SPEED, R_IAE, R_ITAE, R_ISE, R_LOCKED, R_ALL_T, R_ALL_V, R_ALL_D, R_YAWPK1, R_PSI1,
+ R_Y1, R_YAWPK, R_SPIN_T, R_STATUS, R_TEND, R_STEP, R_ENDED, R_DONE, R_AX, R_AY,
+ R_ITER) = range(R_WS + 4, R_WS + 26)
+N_ROWS = R_WS + 26
+
+# the kernel's constants, one tuple (`_constants`): plant, geometry, solver and road
+(KC_MASS, KC_FZ0, KC_A, KC_GX, KC_GY) = (0, 1, 5, 9, 13)
+(KC_RW, KC_VMIN, KC_KQ, KC_NF, KC_GAIN, KC_QMAX, KC_KPSI, KC_KR, KC_DMAX, KC_INV_IZ, KC_INV_J,
+ KC_INV_TAU, KC_INV_ST, KC_DRIVER, KC_SELECT_LOW, KC_KIND, KC_XJUMP, KC_SPLIT_ROAD, KC_YSPLIT,
+ KC_VSTOP, KC_LOCK, KC_HOPELESS, KC_WINDOW, KC_DT, KC_HS, KC_H6, KC_NSTEPS,
+ KC_TTIMEOUT) = range(17, 45)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _constants(p, geo):
+    """The constants tuple (KC_* entries) of a plant vector and geometry."""
+    dt = p[P_DT]
+    n_steps = math.ceil(p[P_TMAX] / dt - 1e-9)
+    return (p[P_MASS], geo[G_FZ0, 0], geo[G_FZ0, 1], geo[G_FZ0, 2], geo[G_FZ0, 3],
+            geo[G_A, 0], geo[G_A, 1], geo[G_A, 2], geo[G_A, 3],
+            geo[G_X, 0], geo[G_X, 1], geo[G_X, 2], geo[G_X, 3],
+            geo[G_Y, 0], geo[G_Y, 1], geo[G_Y, 2], geo[G_Y, 3],
+            p[P_R], p[P_VMIN], p[P_KQ], p[P_NF], p[P_K], p[P_QMAX], p[P_KPSI], p[P_KR],
+            p[P_DMAX], 1.0 / p[P_IZ], 1.0 / p[P_J], 1.0 / p[P_TAU], 1.0 / p[P_STAU],
+            p[P_DRIVER], p[P_SELECT_LOW], p[P_ROAD], p[P_XJUMP], p[P_SPLIT_ROAD], p[P_YSPLIT],
+            p[P_VSTOP], p[P_LOCK], p[P_HOPELESS], p[P_WINDOW], dt, 0.5 * dt, dt / 6.0,
+            float(n_steps), n_steps * dt)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _wheel_kinematics(uw, vw, w, r_w, vmin):
+    """(sx, v/|V|, |V|, clipped slip) of a wheel with wheel-frame velocity (uw, vw)."""
+    vabs = fmax(math.sqrt(uw * uw + vw * vw), vmin)
+    inv = 1.0 / vabs
+    sx = (uw - w * r_w) * inv
+    return sx, vw * inv, vabs, clip(sx, 0.0, 1.0)
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -297,8 +361,6 @@ def _kinematics(vx, vy, r, delta, w, p, geo, sc):
     else:
         cd = 1.0
         sd = 0.0
-    r_w = p[P_R]
-    vmin = p[P_VMIN]
     for j in range(4):
         u = vx - r * geo[G_Y, j]
         v = vy + r * geo[G_X, j]
@@ -312,13 +374,11 @@ def _kinematics(vx, vy, r, delta, w, p, geo, sc):
             vw = v
             sc[W_CS, j] = 1.0
             sc[W_SN, j] = 0.0
-        vabs = max(math.sqrt(uw * uw + vw * vw), vmin)
-        inv = 1.0 / vabs
-        sx = (uw - w[j] * r_w) * inv
+        sx, vr, vabs, slip = _wheel_kinematics(uw, vw, w[j], p[P_R], p[P_VMIN])
         sc[W_SX, j] = sx
-        sc[W_VR, j] = vw * inv
+        sc[W_VR, j] = vr
         sc[W_VABS, j] = vabs
-        sc[W_SLIP, j] = min(max(sx, 0.0), 1.0)
+        sc[W_SLIP, j] = slip
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -331,21 +391,18 @@ def _select_low(sc, select_low):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _wheel_rates(w, q, qr, z, xf, e, fxw, dy, j, i, law, r_w, kq, inv_j, nf, gain,
-                 inv_tau, q_max):
-    """Rates of wheel j's spin, brake actuator and PID states into dy[:, i] (DESIGN 3.1, 4):
-    J dw/dt = -R Fx - kq q (held at w = 0), T dqr/dt = K u - qr, dq/dt = qr held in [0, q_max],
-    u = u0 + kp e + ki z + kd N (e - xf) with conditional integration. Branch-free."""
+def _wheel_rates(w, q, qr, z, xf, e, fxw, kp, ki, kd, u0, r_w, kq, inv_j, nf, gain, inv_tau,
+                 q_max):
+    """Rates (dw, dq, dqr, dz, dxf) of a wheel's spin, brake actuator and PID states (DESIGN
+    3.1, 4): J dw/dt = -R Fx - kq q (held at w = 0), T dqr/dt = K u - qr, dq/dt = qr held in
+    [0, q_max], u = u0 + kp e + ki z + kd N (e - xf) with conditional integration. Branch-free."""
     dw = (-r_w * fxw - kq * q) * inv_j
-    dy[S_W + j, i] = select((w <= 0.0) & (dw < 0.0), 0.0, dw)
     q_hi = q >= q_max
     q_lo = q <= 0.0
-    u, dz, dxf = pid_step(e, z, xf, law[LAW_U0, j, i], law[LAW_KP, j, i], law[LAW_KI, j, i],
-                          law[LAW_KD, j, i], nf, q_hi, q_lo)
-    dy[S_QR + j, i] = (gain * u - qr) * inv_tau
-    dy[S_Q + j, i] = select((q_hi & (qr > 0.0)) | (q_lo & (qr < 0.0)), 0.0, qr)
-    dy[S_Z + j, i] = dz
-    dy[S_XF + j, i] = dxf
+    u, dz, dxf = pid_step(e, z, xf, u0, kp, ki, kd, nf, q_hi, q_lo)
+    return (select((w <= 0.0) & (dw < 0.0), 0.0, dw),
+            select((q_hi & (qr > 0.0)) | (q_lo & (qr < 0.0)), 0.0, qr),
+            (gain * u - qr) * inv_tau, dz, dxf)
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -392,187 +449,609 @@ def _rhs(y, dy, i, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv):
         sc[W_E, j] = tgt[j] - sc[W_SLIP, j]
     _select_low(sc, p[P_SELECT_LOW] != 0.0)
     for j in range(4):
-        _wheel_rates(y[S_W + j], y[S_Q + j], y[S_QR + j], y[S_Z + j], y[S_XF + j], sc[W_E, j],
-                     sc[W_FXW, j], dy, j, i, law, p[P_R], p[P_KQ], inv[1], p[P_NF],
-                     p[P_K], inv[2], p[P_QMAX])
+        dw, dq, dqr, dz, dxf = _wheel_rates(
+            y[S_W + j], y[S_Q + j], y[S_QR + j], y[S_Z + j], y[S_XF + j], sc[W_E, j],
+            sc[W_FXW, j], law[LAW_KP, j, i], law[LAW_KI, j, i], law[LAW_KD, j, i],
+            law[LAW_U0, j, i], p[P_R], p[P_KQ], inv[1], p[P_NF], p[P_K], inv[2], p[P_QMAX])
+        dy[S_W + j, i] = dw
+        dy[S_Q + j, i] = dq
+        dy[S_QR + j, i] = dqr
+        dy[S_Z + j, i] = dz
+        dy[S_XF + j, i] = dxf
     return it
 
 
+# ------------------------------------------------------------------------------------------------
+# the straight-line step of one lane, in registers (the body of the vector loop)
+
+
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _straight_wheel(vx, w, j, i, ls, r_w, vmin):
-    """Slip and force per unit load of wheel j of lane i in straight-line braking (r = vy = 0,
-    no steering): `_kinematics` and `straight_force_per_load` reduced to that case, bit for bit."""
-    vabs = max(math.sqrt(vx * vx), vmin)
+def _surface_of(b, srf):
+    """(S_T, rise, fall0, fall1, target) of the surface a wheel is on (b: 1.0 the second)."""
+    two = b != 0.0
+    return (select(two, srf[5], srf[0]), select(two, srf[6], srf[1]),
+            select(two, srf[7], srf[2]), select(two, srf[8], srf[3]),
+            select(two, srf[9], srf[4]))
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _straight_wheel(vx, w, s, r_w, vmin):
+    """Force per unit load and clipped slip of a wheel on surface s in straight-line braking
+    (r = vy = 0, no steering): `_kinematics` and `straight_force_per_load` in that case, bit for
+    bit."""
+    vabs = fmax(math.sqrt(vx * vx), vmin)
     sx = (vx - w * r_w) * (1.0 / vabs)
-    s = abs(sx)
-    sc = min(s, 1.0)
-    mu = ls[j, L_RISE, i] * sc if sc <= ls[j, L_ST, i] else (
-        ls[j, L_FALL0, i] - ls[j, L_FALL1, i] * sc)
-    cf = -math.copysign(mu, sx) if s > 0.0 else 0.0
-    return cf, min(max(sx, 0.0), 1.0)
+    a = abs(sx)
+    sc = fmin(a, 1.0)
+    mu = select(sc <= s[0], s[1] * sc, s[2] - s[3] * sc)
+    return select(a > 0.0, -math.copysign(mu, sx), 0.0), clip(sx, 0.0, 1.0)
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _pt(x, k_in, c, row, i):
-    """Stage point of state row `row` of lane i."""
-    return rk4_point(x[row, i], c, k_in[row, i])
+def _lane_wheel_rates(wt, e, fx, g, kc):
+    """`_wheel_rates` of wheel state wt = (w, q, qr, z, xf) with law g = (kp, ki, kd, u0)."""
+    return _wheel_rates(wt[0], wt[1], wt[2], wt[3], wt[4], e, fx, g[0], g[1], g[2], g[3],
+                        kc[KC_RW], kc[KC_KQ], kc[KC_INV_J], kc[KC_NF], kc[KC_GAIN],
+                        kc[KC_INV_TAU], kc[KC_QMAX])
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _lane_wheel_rates(x, k_in, c, j, i, e, fxw, k_out, law, r_w, kq, inv_j, nf, gain, inv_tau,
-                      q_max):
-    """`_wheel_rates` of wheel j of lane i at the stage point x + c k_in."""
-    _wheel_rates(_pt(x, k_in, c, S_W + j, i), _pt(x, k_in, c, S_Q + j, i),
-                 _pt(x, k_in, c, S_QR + j, i), _pt(x, k_in, c, S_Z + j, i),
-                 _pt(x, k_in, c, S_XF + j, i), e, fxw, k_out, j, i, law, r_w, kq, inv_j, nf, gain,
-                 inv_tau, q_max)
+def _straight_stage(b, w0, w1, w2, w3, g0, g1, g2, g3, s0, s1, s2, s3, kc):
+    """Derivatives at body state b = (vx, vy, r, X, Y, psi, delta) and wheel states wj in the
+    straight-line case (no yaw, lateral velocity, heading or steering; loads in closed form):
+    (body rates, four wheel rates, ok), ok false where the case does not hold (`_rhs` then
+    applies). The same formulas in the same order as `_rhs` and `solve_loads`."""
+    vx = b[0]
+    vy = b[1]
+    r = b[2]
+    psi = b[5]
+    delta = b[6]
+    r_w = kc[KC_RW]
+    vmin = kc[KC_VMIN]
+    c0, sl0 = _straight_wheel(vx, w0[0], s0, r_w, vmin)
+    c1, sl1 = _straight_wheel(vx, w1[0], s1, r_w, vmin)
+    c2, sl2 = _straight_wheel(vx, w2[0], s2, r_w, vmin)
+    c3, sl3 = _straight_wheel(vx, w3[0], s3, r_w, vmin)
+    num = 0.0
+    num += c0 * kc[KC_FZ0]
+    num += c1 * kc[KC_FZ0 + 1]
+    num += c2 * kc[KC_FZ0 + 2]
+    num += c3 * kc[KC_FZ0 + 3]
+    mass = kc[KC_MASS]
+    den = mass
+    den -= c0 * kc[KC_A]
+    den -= c1 * kc[KC_A + 1]
+    den -= c2 * kc[KC_A + 2]
+    den -= c3 * kc[KC_A + 3]
+    ax = num / den
+    fz0 = kc[KC_FZ0] + kc[KC_A] * ax
+    fz1 = kc[KC_FZ0 + 1] + kc[KC_A + 1] * ax
+    fz2 = kc[KC_FZ0 + 2] + kc[KC_A + 2] * ax
+    fz3 = kc[KC_FZ0 + 3] + kc[KC_A + 3] * ax
+    ok = ((vy == 0.0) & (r == 0.0) & (psi == 0.0) & (delta == 0.0) & (fz0 >= 0.0)
+          & (fz1 >= 0.0) & (fz2 >= 0.0) & (fz3 >= 0.0))
+    fx0 = c0 * fz0
+    fx1 = c1 * fz1
+    fx2 = c2 * fz2
+    fx3 = c3 * fz3
+    total = 0.0
+    total += fx0
+    total += fx1
+    total += fx2
+    total += fx3
+    ax = total / mass
+    mz = 0.0
+    mz += kc[KC_GX] * 0.0 - kc[KC_GY] * fx0
+    mz += kc[KC_GX + 1] * 0.0 - kc[KC_GY + 1] * fx1
+    mz += kc[KC_GX + 2] * 0.0 - kc[KC_GY + 2] * fx2
+    mz += kc[KC_GX + 3] * 0.0 - kc[KC_GY + 3] * fx3
+    dmax = kc[KC_DMAX]
+    cmd = clip(-kc[KC_KPSI] * psi - kc[KC_KR] * r, -dmax, dmax)
+    db = (ax + vy * r, 0.0 - vx * r, mz * kc[KC_INV_IZ], vx, vy, r,
+          select(kc[KC_DRIVER] != 0.0, (cmd - delta) * kc[KC_INV_ST], 0.0))
+    e0 = s0[4] - sl0
+    e1 = s1[4] - sl1
+    e2 = s2[4] - sl2
+    e3 = s3[4] - sl3
+    sel = kc[KC_SELECT_LOW] != 0.0
+    low = e3 < e2
+    high = not low
+    return (db, _lane_wheel_rates(w0, e0, fx0, g0, kc), _lane_wheel_rates(w1, e1, fx1, g1, kc),
+            _lane_wheel_rates(w2, select(sel & low, e3, e2), fx2, g2, kc),
+            _lane_wheel_rates(w3, select(sel & high, e2, e3), fx3, g3, kc), ok)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _pt7(b, c, k):
+    """Stage point b + c k of the body state."""
+    return (rk4_point(b[0], c, k[0]), rk4_point(b[1], c, k[1]), rk4_point(b[2], c, k[2]),
+            rk4_point(b[3], c, k[3]), rk4_point(b[4], c, k[4]), rk4_point(b[5], c, k[5]),
+            rk4_point(b[6], c, k[6]))
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _pt5(w, c, k):
+    """Stage point w + c k of a wheel state."""
+    return (rk4_point(w[0], c, k[0]), rk4_point(w[1], c, k[1]), rk4_point(w[2], c, k[2]),
+            rk4_point(w[3], c, k[3]), rk4_point(w[4], c, k[4]))
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _up7(b, h6, k1, k2, k3, k4):
+    """RK4 update of the body state."""
+    return (rk4_update(b[0], h6, k1[0], k2[0], k3[0], k4[0]),
+            rk4_update(b[1], h6, k1[1], k2[1], k3[1], k4[1]),
+            rk4_update(b[2], h6, k1[2], k2[2], k3[2], k4[2]),
+            rk4_update(b[3], h6, k1[3], k2[3], k3[3], k4[3]),
+            rk4_update(b[4], h6, k1[4], k2[4], k3[4], k4[4]),
+            rk4_update(b[5], h6, k1[5], k2[5], k3[5], k4[5]),
+            rk4_update(b[6], h6, k1[6], k2[6], k3[6], k4[6]))
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _up5(w, h6, k1, k2, k3, k4, q_max):
+    """RK4 update of a wheel state, w held >= 0 and q in [0, q_max]."""
+    return (fmax(rk4_update(w[0], h6, k1[0], k2[0], k3[0], k4[0]), 0.0),
+            clip(rk4_update(w[1], h6, k1[1], k2[1], k3[1], k4[1]), 0.0, q_max),
+            rk4_update(w[2], h6, k1[2], k2[2], k3[2], k4[2]),
+            rk4_update(w[3], h6, k1[3], k2[3], k3[3], k4[3]),
+            rk4_update(w[4], h6, k1[4], k2[4], k3[4], k4[4]))
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _get(st, row, l):
+    return st[row * LANES + l]
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _put(st, row, l, commit, value):
+    """Row `row` of lane l becomes `value` where `commit` (else it keeps its value)."""
+    st[row * LANES + l] = select(commit, value, st[row * LANES + l])
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _body(st, row0, l):
+    return (_get(st, row0 + S_VX, l), _get(st, row0 + S_VY, l), _get(st, row0 + S_YR, l),
+            _get(st, row0 + S_X, l), _get(st, row0 + S_Y, l), _get(st, row0 + S_PSI, l),
+            _get(st, row0 + S_DELTA, l))
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _wheel(st, row0, j, l):
+    return (_get(st, row0 + S_W + j, l), _get(st, row0 + S_Q + j, l),
+            _get(st, row0 + S_QR + j, l), _get(st, row0 + S_Z + j, l),
+            _get(st, row0 + S_XF + j, l))
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _law(st, j, l):
+    return (_get(st, R_KP + j, l), _get(st, R_KI + j, l), _get(st, R_KD + j, l),
+            _get(st, R_U0 + j, l))
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _put_body(st, row0, l, commit, b):
+    _put(st, row0 + S_VX, l, commit, b[0])
+    _put(st, row0 + S_VY, l, commit, b[1])
+    _put(st, row0 + S_YR, l, commit, b[2])
+    _put(st, row0 + S_X, l, commit, b[3])
+    _put(st, row0 + S_Y, l, commit, b[4])
+    _put(st, row0 + S_PSI, l, commit, b[5])
+    _put(st, row0 + S_DELTA, l, commit, b[6])
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _put_wheel(st, row0, j, l, commit, w):
+    _put(st, row0 + S_W + j, l, commit, w[0])
+    _put(st, row0 + S_Q + j, l, commit, w[1])
+    _put(st, row0 + S_QR + j, l, commit, w[2])
+    _put(st, row0 + S_Z + j, l, commit, w[3])
+    _put(st, row0 + S_XF + j, l, commit, w[4])
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _target(st, j, l, srf):
+    """Target slip of the surface under wheel j of lane l."""
+    return _surface_of(_get(st, R_SURF + j, l), srf)[4]
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _surface_flag(b_old, x, y, cp, sp, j, kc):
+    """Surface under wheel j (1.0: the second) from its contact point's global position on
+    mu-jump and split-mu roads (kept on uniform roads), heading psi given as (cos, sin)."""
+    gx = x + kc[KC_GX + j] * cp - kc[KC_GY + j] * sp
+    gy = y + kc[KC_GX + j] * sp + kc[KC_GY + j] * cp
+    split = select(kc[KC_SPLIT_ROAD] != 0.0, select(gy >= kc[KC_YSPLIT], 0.0, 1.0),
+                   select(kc[KC_GY + j] > 0.0, 0.0, 1.0))
+    return select(kc[KC_KIND] == ROAD_MU_JUMP, select(gx >= kc[KC_XJUMP], 1.0, 0.0),
+                  select(kc[KC_KIND] == ROAD_SPLIT, split, b_old))
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _wheel_end(st, l, commit, j, s_new, vabs, w, acc, frac, h, t, moving, kc, srf):
+    """Step-end integrals of wheel j (slip, its error to the target, locking); acc = (iae,
+    itae, ise, locked, all still) so far, returned updated."""
+    slip = _get(st, R_SLIP + j, l)
+    target = _target(st, j, l, srf)
+    s_end = slip + frac * (s_new - slip)
+    d_iae, d_itae, d_ise = error_integrals(target - slip, target - s_end, t, h)
+    _put(st, R_SINT + j, l, commit, _get(st, R_SINT + j, l) + trapezoid(slip, s_end, h))
+    _put(st, R_SLIP + j, l, commit, s_new)
+    locked = moving & (w * kc[KC_RW] < kc[KC_LOCK] * vabs)
+    lock_t = _get(st, R_LOCK_T + j, l)
+    _put(st, R_LOCK_T + j, l, commit, select(locked & (lock_t != lock_t), t + kc[KC_DT], lock_t))
+    return (acc[0] + d_iae, acc[1] + d_itae, acc[2] + d_ise,
+            acc[3] + select(locked, kc[KC_DT], 0.0), acc[4] & (w == 0.0))
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _end_step(st, l, commit, b, w0, w1, w2, w3, slips, vabs, cp, sp, k4b, k4w0, k4w1, k4w2,
+              k4w3, kc, srf):
+    """Commit the step to state (b, wj) and k4 of lane l where `commit`: distance, integrals,
+    locking, surfaces, yaw metrics, status. Returns whether the run ended."""
+    dt = kc[KC_DT]
+    v_stop = kc[KC_VSTOP]
+    k = _get(st, R_STEP, l)
+    t = k * dt
+    vx = b[0]
+    vy = b[1]
+    sp_new = math.sqrt(vx * vx + vy * vy)
+    sp_old = _get(st, R_SPEED, l)
+    stop = sp_new <= v_stop
+    frac = crossing_fraction(sp_old, sp_new, v_stop, stop)
+    h = frac * dt
+    dist = _get(st, R_DIST, l) + trapezoid(sp_old, select(stop, v_stop, sp_new), h)
+    moving = sp_new > v_stop
+    acc = (_get(st, R_IAE, l), _get(st, R_ITAE, l), _get(st, R_ISE, l), _get(st, R_LOCKED, l),
+           True)
+    acc = _wheel_end(st, l, commit, 0, slips[0], vabs[0], w0[0], acc, frac, h, t, moving, kc, srf)
+    acc = _wheel_end(st, l, commit, 1, slips[1], vabs[1], w1[0], acc, frac, h, t, moving, kc, srf)
+    acc = _wheel_end(st, l, commit, 2, slips[2], vabs[2], w2[0], acc, frac, h, t, moving, kc, srf)
+    acc = _wheel_end(st, l, commit, 3, slips[3], vabs[3], w3[0], acc, frac, h, t, moving, kc, srf)
+    iae, itae, ise, locked, all_still = acc
+    all_t = _get(st, R_ALL_T, l)
+    first = all_still & (all_t != all_t) & moving
+    _put(st, R_ALL_T, l, commit, select(first, t + dt, all_t))
+    _put(st, R_ALL_V, l, commit, select(first, sp_new, _get(st, R_ALL_V, l)))
+    _put(st, R_ALL_D, l, commit, select(first, dist, _get(st, R_ALL_D, l)))
+    _put(st, R_SURF + 0, l, commit,
+         _surface_flag(_get(st, R_SURF + 0, l), b[3], b[4], cp, sp, 0, kc))
+    _put(st, R_SURF + 1, l, commit,
+         _surface_flag(_get(st, R_SURF + 1, l), b[3], b[4], cp, sp, 1, kc))
+    _put(st, R_SURF + 2, l, commit,
+         _surface_flag(_get(st, R_SURF + 2, l), b[3], b[4], cp, sp, 2, kc))
+    _put(st, R_SURF + 3, l, commit,
+         _surface_flag(_get(st, R_SURF + 3, l), b[3], b[4], cp, sp, 3, kc))
+    r_now = b[2]
+    psi_now = b[5]
+    in_window = t + 0.5 * dt < kc[KC_WINDOW]
+    yaw_pk1 = _get(st, R_YAWPK1, l)
+    _put(st, R_YAWPK1, l, commit, select(in_window & (abs(r_now) > abs(yaw_pk1)), r_now,
+                                         yaw_pk1))
+    window_end = in_window & (t + 1.5 * dt >= kc[KC_WINDOW])
+    _put(st, R_PSI1, l, commit, select(window_end, psi_now, _get(st, R_PSI1, l)))
+    _put(st, R_Y1, l, commit, select(window_end, b[4], _get(st, R_Y1, l)))
+    spin_t = _get(st, R_SPIN_T, l)
+    no_spin = spin_t != spin_t
+    yaw_pk = _get(st, R_YAWPK, l)
+    _put(st, R_YAWPK, l, commit, select(no_spin & (abs(r_now) > abs(yaw_pk)), r_now, yaw_pk))
+    _put(st, R_SPIN_T, l, commit, select(no_spin & (abs(psi_now) >= 0.5 * math.pi), t + dt,
+                                         spin_t))
+    check = sp_new + r_now + psi_now + itae + w0[1] + w0[3] + w0[0]
+    diverged = check - check != 0.0
+    hopeless = dist > kc[KC_HOPELESS]
+    timeout = k + 1.0 >= kc[KC_NSTEPS]
+    _put(st, R_STATUS, l, commit, select(diverged, STATUS_DIVERGED, select(
+        stop, STATUS_STOPPED, select(hopeless, STATUS_HOPELESS, STATUS_TIMEOUT))))
+    _put(st, R_TEND, l, commit, select(diverged, t, select(
+        stop, t + h, select(hopeless, t + dt, kc[KC_TTIMEOUT]))))
+    ended = diverged | stop | hopeless | timeout
+    _put(st, R_ENDED, l, commit, select(ended, 1.0, 0.0))
+    _put(st, R_SPEED, l, commit, sp_new)
+    _put(st, R_DIST, l, commit, dist)
+    _put(st, R_IAE, l, commit, iae)
+    _put(st, R_ITAE, l, commit, itae)
+    _put(st, R_ISE, l, commit, ise)
+    _put(st, R_LOCKED, l, commit, locked)
+    _put(st, R_STEP, l, commit, k + 1.0)
+    _put_body(st, 0, l, commit, b)
+    _put_wheel(st, 0, 0, l, commit, w0)
+    _put_wheel(st, 0, 1, l, commit, w1)
+    _put_wheel(st, 0, 2, l, commit, w2)
+    _put_wheel(st, 0, 3, l, commit, w3)
+    _put_body(st, R_K4, l, commit, k4b)
+    _put_wheel(st, R_K4, 0, l, commit, k4w0)
+    _put_wheel(st, R_K4, 1, l, commit, k4w1)
+    _put_wheel(st, R_K4, 2, l, commit, k4w2)
+    _put_wheel(st, R_K4, 3, l, commit, k4w3)
+    return ended
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _lane_step(st, l, kc, srf, live):
+    """One RK4 step of lane l in the straight-line case, committed (R_DONE 1) only if every
+    stage and the step's end are straight; returns 1 if a live lane ended. Straight-line code:
+    the body of the vector loop."""
+    x = _body(st, 0, l)
+    x0 = _wheel(st, 0, 0, l)
+    x1 = _wheel(st, 0, 1, l)
+    x2 = _wheel(st, 0, 2, l)
+    x3 = _wheel(st, 0, 3, l)
+    g0 = _law(st, 0, l)
+    g1 = _law(st, 1, l)
+    g2 = _law(st, 2, l)
+    g3 = _law(st, 3, l)
+    s0 = _surface_of(_get(st, R_SURF, l), srf)
+    s1 = _surface_of(_get(st, R_SURF + 1, l), srf)
+    s2 = _surface_of(_get(st, R_SURF + 2, l), srf)
+    s3 = _surface_of(_get(st, R_SURF + 3, l), srf)
+    hs = kc[KC_HS]
+    dt = kc[KC_DT]
+    kb = _body(st, R_K4, l)
+    kw0 = _wheel(st, R_K4, 0, l)
+    kw1 = _wheel(st, R_K4, 1, l)
+    kw2 = _wheel(st, R_K4, 2, l)
+    kw3 = _wheel(st, R_K4, 3, l)
+    ab, a0, a1, a2, a3, ok1 = _straight_stage(
+        _pt7(x, 0.0, kb), _pt5(x0, 0.0, kw0), _pt5(x1, 0.0, kw1), _pt5(x2, 0.0, kw2),
+        _pt5(x3, 0.0, kw3), g0, g1, g2, g3, s0, s1, s2, s3, kc)
+    bb, b0, b1, b2, b3, ok2 = _straight_stage(
+        _pt7(x, hs, ab), _pt5(x0, hs, a0), _pt5(x1, hs, a1), _pt5(x2, hs, a2), _pt5(x3, hs, a3),
+        g0, g1, g2, g3, s0, s1, s2, s3, kc)
+    cb, c0, c1, c2, c3, ok3 = _straight_stage(
+        _pt7(x, hs, bb), _pt5(x0, hs, b0), _pt5(x1, hs, b1), _pt5(x2, hs, b2), _pt5(x3, hs, b3),
+        g0, g1, g2, g3, s0, s1, s2, s3, kc)
+    db, d0, d1, d2, d3, ok4 = _straight_stage(
+        _pt7(x, dt, cb), _pt5(x0, dt, c0), _pt5(x1, dt, c1), _pt5(x2, dt, c2), _pt5(x3, dt, c3),
+        g0, g1, g2, g3, s0, s1, s2, s3, kc)
+    h6 = kc[KC_H6]
+    q_max = kc[KC_QMAX]
+    nb = _up7(x, h6, ab, bb, cb, db)
+    n0 = _up5(x0, h6, a0, b0, c0, d0, q_max)
+    n1 = _up5(x1, h6, a1, b1, c1, d1, q_max)
+    n2 = _up5(x2, h6, a2, b2, c2, d2, q_max)
+    n3 = _up5(x3, h6, a3, b3, c3, d3, q_max)
+    commit = (ok1 & ok2 & ok3 & ok4 & (nb[1] == 0.0) & (nb[2] == 0.0) & (nb[5] == 0.0)
+              & (nb[6] == 0.0))
+    # the step end's kinematics with delta = 0 (`_kinematics`, unsteered)
+    vx = nb[0]
+    vy = nb[1]
+    r = nb[2]
+    r_w = kc[KC_RW]
+    vmin = kc[KC_VMIN]
+    _, _, va0, sl0 = _wheel_kinematics(vx - r * kc[KC_GY], vy + r * kc[KC_GX], n0[0], r_w, vmin)
+    _, _, va1, sl1 = _wheel_kinematics(vx - r * kc[KC_GY + 1], vy + r * kc[KC_GX + 1], n1[0],
+                                       r_w, vmin)
+    _, _, va2, sl2 = _wheel_kinematics(vx - r * kc[KC_GY + 2], vy + r * kc[KC_GX + 2], n2[0],
+                                       r_w, vmin)
+    _, _, va3, sl3 = _wheel_kinematics(vx - r * kc[KC_GY + 3], vy + r * kc[KC_GX + 3], n3[0],
+                                       r_w, vmin)
+    ended = _end_step(st, l, commit, nb, n0, n1, n2, n3, (sl0, sl1, sl2, sl3),
+                      (va0, va1, va2, va3), 1.0, 0.0, db, d0, d1, d2, d3, kc, srf)
+    st[R_DONE * LANES + l] = select(commit, 1.0, 0.0)
+    return ended & commit & (l < live)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _lane_steps(st, width, kc, srf, live):
+    """One step of lanes 0 .. width - 1 (a whole number of vectors); 1 if a live lane ended."""
+    any_end = False
+    for blk in range(width // VECTOR):
+        for j in range(VECTOR):
+            any_end |= _lane_step(st, blk * VECTOR + j, kc, srf, live)
+    return any_end
+
+
+# ------------------------------------------------------------------------------------------------
+# scalar passes: the general step, a sampled controller's tick, filling and finishing lanes
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _lane_arrays(st, l, law, sidx, guess):
+    """Lane l's wheel laws, surfaces and load guess as the arrays `_rhs` reads (column 0)."""
+    for j in range(4):
+        law[LAW_KP, j, 0] = _get(st, R_KP + j, l)
+        law[LAW_KI, j, 0] = _get(st, R_KI + j, l)
+        law[LAW_KD, j, 0] = _get(st, R_KD + j, l)
+        law[LAW_U0, j, 0] = _get(st, R_U0 + j, l)
+        sidx[j, 0] = 1 if _get(st, R_SURF + j, l) != 0.0 else 0
+    guess[0, 0] = _get(st, R_AX, l)
+    guess[1, 0] = _get(st, R_AY, l)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _tup7(y, row0):
+    return (y[row0 + S_VX], y[row0 + S_VY], y[row0 + S_YR], y[row0 + S_X], y[row0 + S_Y],
+            y[row0 + S_PSI], y[row0 + S_DELTA])
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _tup5(y, row0, j):
+    return (y[row0 + S_W + j], y[row0 + S_Q + j], y[row0 + S_QR + j], y[row0 + S_Z + j],
+            y[row0 + S_XF + j])
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
-def _stage(n, m, active, x, k_in, c, k_out, law, sidx, ls, guess, flag, p, geo, surfs,
-           sc, y, wbuf, tgt, iters, inv):
-    """One RK4 stage, k_out = f(x + c k_in), in two passes.
-
-    Pass 1 runs every lane (candidate column) through the straight-line case in one branch-free
-    loop the compiler vectorizes across candidates: no yaw, no lateral velocity, heading and
-    steering at 0, loads in closed form. Lanes where that case does not hold are flagged; pass 2
-    recomputes them (running candidates only) with the general right-hand side `_rhs`, which
-    starts its load iteration from the lane's last general solution (`guess`). Both
-    passes evaluate the same formulas in the same order: a lane's numbers do not depend on the
-    pass, nor on its neighbours.
-    """
-    mass = p[P_MASS]
-    driver = p[P_DRIVER] != 0.0
-    select_low = p[P_SELECT_LOW] != 0.0
-    fz00 = geo[G_FZ0, 0]
-    fz01 = geo[G_FZ0, 1]
-    fz02 = geo[G_FZ0, 2]
-    fz03 = geo[G_FZ0, 3]
-    a0 = geo[G_A, 0]
-    a1 = geo[G_A, 1]
-    a2 = geo[G_A, 2]
-    a3 = geo[G_A, 3]
-    x0 = geo[G_X, 0]
-    x1 = geo[G_X, 1]
-    x2 = geo[G_X, 2]
-    x3 = geo[G_X, 3]
-    y0 = geo[G_Y, 0]
-    y1 = geo[G_Y, 1]
-    y2 = geo[G_Y, 2]
-    y3 = geo[G_Y, 3]
-    r_w = p[P_R]
-    vmin = p[P_VMIN]
-    kq = p[P_KQ]
-    nf = p[P_NF]
-    gain = p[P_K]
-    q_max = p[P_QMAX]
-    kpsi = p[P_KPSI]
-    kr = p[P_KR]
-    dmax = p[P_DMAX]
-    inv_iz = inv[0]
-    inv_j = inv[1]
-    inv_tau = inv[2]
-    inv_st = inv[3]
-    for i in range(n):
-        vx = _pt(x, k_in, c, S_VX, i)
-        vy = _pt(x, k_in, c, S_VY, i)
-        r = _pt(x, k_in, c, S_YR, i)
-        psi = _pt(x, k_in, c, S_PSI, i)
-        delta = _pt(x, k_in, c, S_DELTA, i)
-        c0, s0 = _straight_wheel(vx, _pt(x, k_in, c, S_W, i), 0, i, ls, r_w, vmin)
-        c1, s1 = _straight_wheel(vx, _pt(x, k_in, c, S_W + 1, i), 1, i, ls, r_w, vmin)
-        c2, s2 = _straight_wheel(vx, _pt(x, k_in, c, S_W + 2, i), 2, i, ls, r_w, vmin)
-        c3, s3 = _straight_wheel(vx, _pt(x, k_in, c, S_W + 3, i), 3, i, ls, r_w, vmin)
-        num = 0.0
-        num += c0 * fz00
-        num += c1 * fz01
-        num += c2 * fz02
-        num += c3 * fz03
-        den = mass
-        den -= c0 * a0
-        den -= c1 * a1
-        den -= c2 * a2
-        den -= c3 * a3
-        ax = num / den
-        fz0 = fz00 + a0 * ax
-        fz1 = fz01 + a1 * ax
-        fz2 = fz02 + a2 * ax
-        fz3 = fz03 + a3 * ax
-        ok = ((vy == 0.0) & (r == 0.0) & (psi == 0.0) & (delta == 0.0) & (fz0 >= 0.0)
-              & (fz1 >= 0.0) & (fz2 >= 0.0) & (fz3 >= 0.0))
-        fx0 = c0 * fz0
-        fx1 = c1 * fz1
-        fx2 = c2 * fz2
-        fx3 = c3 * fz3
-        total = 0.0
-        total += fx0
-        total += fx1
-        total += fx2
-        total += fx3
-        ax = total / mass
-        mz = 0.0
-        mz += x0 * 0.0 - y0 * fx0
-        mz += x1 * 0.0 - y1 * fx1
-        mz += x2 * 0.0 - y2 * fx2
-        mz += x3 * 0.0 - y3 * fx3
-        k_out[S_VX, i] = ax + vy * r
-        k_out[S_VY, i] = 0.0 - vx * r
-        k_out[S_YR, i] = mz * inv_iz
-        k_out[S_X, i] = vx
-        k_out[S_Y, i] = vy
-        k_out[S_PSI, i] = r
-        cmd = min(max(-kpsi * psi - kr * r, -dmax), dmax)
-        k_out[S_DELTA, i] = (cmd - delta) * inv_st if driver else 0.0
-        e0 = ls[0, L_TARGET, i] - s0
-        e1 = ls[1, L_TARGET, i] - s1
-        e2 = ls[2, L_TARGET, i] - s2
-        e3 = ls[3, L_TARGET, i] - s3
-        low = e3 < e2
-        e2s = e3 if (select_low & low) else e2
-        e3s = e2 if (select_low & ~low) else e3
-        _lane_wheel_rates(x, k_in, c, 0, i, e0, fx0, k_out, law, r_w, kq, inv_j, nf,
-                          gain, inv_tau, q_max)
-        _lane_wheel_rates(x, k_in, c, 1, i, e1, fx1, k_out, law, r_w, kq, inv_j, nf,
-                          gain, inv_tau, q_max)
-        _lane_wheel_rates(x, k_in, c, 2, i, e2s, fx2, k_out, law, r_w, kq, inv_j, nf,
-                          gain, inv_tau, q_max)
-        _lane_wheel_rates(x, k_in, c, 3, i, e3s, fx3, k_out, law, r_w, kq, inv_j, nf,
-                          gain, inv_tau, q_max)
-        k_out[K_FLAG, i] = 0.0 if ok else 1.0
-    for jj in range(m):
-        i = active[jj]
-        if k_out[K_FLAG, i] != 0.0:
+def _general_step(st, l, kc, srf, p, geo, surfs, x, ks, y, dy, law, sidx, guess, sc, wbuf, tgt,
+                  inv):
+    """The step of lane l stage by stage: each stage in the straight-line case where it holds,
+    else the general right-hand side `_rhs` (loads by Newton's method from the lane's last
+    general solution). Returns whether the run ended."""
+    for s in range(N_STATE):
+        x[s] = _get(st, s, l)
+        ks[3, s] = _get(st, R_K4 + s, l)  # stage 1 reads the last step's k4
+    _lane_arrays(st, l, law, sidx, guess)
+    g0 = _law(st, 0, l)
+    g1 = _law(st, 1, l)
+    g2 = _law(st, 2, l)
+    g3 = _law(st, 3, l)
+    s0 = _surface_of(_get(st, R_SURF, l), srf)
+    s1 = _surface_of(_get(st, R_SURF + 1, l), srf)
+    s2 = _surface_of(_get(st, R_SURF + 2, l), srf)
+    s3 = _surface_of(_get(st, R_SURF + 3, l), srf)
+    iters = _get(st, R_ITER, l)
+    for stage in range(4):
+        c = 0.0 if stage == 0 else (kc[KC_DT] if stage == 3 else kc[KC_HS])
+        prev = 3 if stage == 0 else stage - 1
+        for s in range(N_STATE):
+            y[s] = rk4_point(x[s], c, ks[prev, s])
+        kb, k0, k1, k2, k3, ok = _straight_stage(
+            _tup7(y, 0), _tup5(y, 0, 0), _tup5(y, 0, 1), _tup5(y, 0, 2), _tup5(y, 0, 3),
+            g0, g1, g2, g3, s0, s1, s2, s3, kc)
+        if ok:
+            for s in range(7):
+                ks[stage, s] = kb[s]
+            for j, kw in enumerate((k0, k1, k2, k3)):
+                ks[stage, S_W + j] = kw[0]
+                ks[stage, S_Q + j] = kw[1]
+                ks[stage, S_QR + j] = kw[2]
+                ks[stage, S_Z + j] = kw[3]
+                ks[stage, S_XF + j] = kw[4]
+        else:
+            it = _rhs(y, dy, 0, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv)
+            iters = max(iters, it)
             for s in range(N_STATE):
-                y[s] = rk4_point(x[s, i], c, k_in[s, i])
-            it = _rhs(y, k_out, i, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv)
-            iters[i] = max(iters[i], it)
+                ks[stage, s] = dy[s, 0]
+    h6 = kc[KC_H6]
+    for s in range(N_STATE):
+        y[s] = rk4_update(x[s], h6, ks[0, s], ks[1, s], ks[2, s], ks[3, s])
+    for j in range(4):
+        y[S_W + j] = max(y[S_W + j], 0.0)
+        y[S_Q + j] = min(max(y[S_Q + j], 0.0), kc[KC_QMAX])
+        wbuf[j] = y[S_W + j]
+    _kinematics(y[S_VX], y[S_VY], y[S_YR], y[S_DELTA], wbuf, p, geo, sc)
+    psi = y[S_PSI]
+    cp = math.cos(psi) if psi != 0.0 else 1.0
+    sp = math.sin(psi) if psi != 0.0 else 0.0
+    ended = _end_step(st, l, True, _tup7(y, 0), _tup5(y, 0, 0), _tup5(y, 0, 1), _tup5(y, 0, 2),
+                      _tup5(y, 0, 3), (sc[W_SLIP, 0], sc[W_SLIP, 1], sc[W_SLIP, 2],
+                                       sc[W_SLIP, 3]),
+                      (sc[W_VABS, 0], sc[W_VABS, 1], sc[W_VABS, 2], sc[W_VABS, 3]), cp, sp,
+                      _tup7(ks[3], 0), _tup5(ks[3], 0, 0), _tup5(ks[3], 0, 1),
+                      _tup5(ks[3], 0, 2), _tup5(ks[3], 0, 3), kc, srf)
+    st[R_AX * LANES + l] = guess[0, 0]
+    st[R_AY * LANES + l] = guess[1, 0]
+    st[R_ITER * LANES + l] = iters
+    return ended
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _update_surfaces(x, i, p, geo, sidx, surfs, ls):
-    """Surface under each wheel from its contact point's global position (mu-jump, split-mu),
-    and its lane-local copy."""
-    kind = p[P_ROAD]
-    if kind in (ROAD_MU_JUMP, ROAD_SPLIT):
-        psi = x[S_PSI, i]
-        cp = math.cos(psi) if psi != 0.0 else 1.0
-        sp = math.sin(psi) if psi != 0.0 else 0.0
-        for j in range(4):
-            if kind == ROAD_MU_JUMP:
-                gx = x[S_X, i] + geo[G_X, j] * cp - geo[G_Y, j] * sp
-                sidx[j, i] = 1 if gx >= p[P_XJUMP] else 0
-            elif p[P_SPLIT_ROAD] != 0.0:
-                gy = x[S_Y, i] + geo[G_X, j] * sp + geo[G_Y, j] * cp
-                sidx[j, i] = 0 if gy >= p[P_YSPLIT] else 1
-            else:
-                sidx[j, i] = 0 if geo[G_Y, j] > 0.0 else 1
+def _channel_errors(e0, e1, e2, e3, select_low):
+    """The four channels' slip errors: select-low gives both rear channels min(e2, e3)."""
+    if select_low and e3 < e2:
+        return e0, e1, e3, e3
+    if select_low:
+        return e0, e1, e2, e2
+    return e0, e1, e2, e3
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _tick_wheel(st, l, i, k, j, src, e, gains, col0, ctrl_kind, c, table, kc, srf, ts):
+    """Wheel j's part of `_tick`: its channel error e, read from wheel src (select-low)."""
+    if ctrl_kind == C_FUZZY_PID:
+        ec = kc[KC_NF] * (e - _get(st, S_XF + j, l))
+        g0 = col0[j]
+        kp_s, ki_s, kd_s = fuzzy_pid_gains(
+            table, e, ec, gains[i, g0], gains[i, g0 + 1], gains[i, g0 + 2], gains[i, g0 + 3],
+            gains[i, g0 + 4], gains[i, g0 + 5], gains[i, g0 + 6], gains[i, g0 + 7])
+        st[(R_KP + j) * LANES + l] = kp_s
+        st[(R_KI + j) * LANES + l] = ki_s
+        st[(R_KD + j) * LANES + l] = kd_s
+    elif ctrl_kind == C_THRESHOLD:
+        if k > 0:
+            st[(R_AW + j) * LANES + l] = wheel_deceleration_sample(
+                _get(st, S_W + src, l), _get(st, R_WS + src, l), kc[KC_RW], ts)
+        u0_s, ph = threshold_step(
+            int(_get(st, R_PHASE + j, l)), _get(st, R_SLIP + src, l), _target(st, src, l, srf),
+            _get(st, R_AW + j, l), c[Q_AMPLITUDE], c[Q_DECEL], c[Q_ACCEL], c[Q_SLIP_MARGIN],
+            c[Q_SLOW])
+        st[(R_U0 + j) * LANES + l] = u0_s
+        st[(R_PHASE + j) * LANES + l] = ph
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _tick(st, l, i, k, gains, col0, ctrl_kind, c, table, kc, srf, ts):
+    """A sampled law's update of lane l (candidate i) at its step k, a sample instant: the fuzzy
+    PID's gain schedule or the threshold law's phase and command."""
+    sel = kc[KC_SELECT_LOW] != 0.0
+    err0 = _target(st, 0, l, srf) - _get(st, R_SLIP, l)
+    err1 = _target(st, 1, l, srf) - _get(st, R_SLIP + 1, l)
+    err2 = _target(st, 2, l, srf) - _get(st, R_SLIP + 2, l)
+    err3 = _target(st, 3, l, srf) - _get(st, R_SLIP + 3, l)
+    e0, e1, e2, e3 = _channel_errors(err0, err1, err2, err3, sel)
+    rear = 3 if (sel and err3 < err2) else 2  # select-low: the rear wheel whose error it took
+    _tick_wheel(st, l, i, k, 0, 0, e0, gains, col0, ctrl_kind, c, table, kc, srf, ts)
+    _tick_wheel(st, l, i, k, 1, 1, e1, gains, col0, ctrl_kind, c, table, kc, srf, ts)
+    _tick_wheel(st, l, i, k, 2, rear if sel else 2, e2, gains, col0, ctrl_kind, c, table, kc,
+                srf, ts)
+    _tick_wheel(st, l, i, k, 3, rear if sel else 3, e3, gains, col0, ctrl_kind, c, table, kc,
+                srf, ts)
     for j in range(4):
-        k = sidx[j, i]
-        ls[j, L_ST, i] = surfs[k, SF_ST]
-        ls[j, L_RISE, i] = surfs[k, SF_RISE]
-        ls[j, L_FALL0, i] = surfs[k, SF_FALL0]
-        ls[j, L_FALL1, i] = surfs[k, SF_FALL1]
-        ls[j, L_TARGET, i] = surfs[k, SF_TARGET]
+        st[(R_WS + j) * LANES + l] = _get(st, S_W + j, l)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _fill_lane(st, l, i, gains, col0, ctrl_kind, c, kc, srf, v0):
+    """Start candidate i in lane l: wheels rolling freely at v0, zero metrics, its gains (or
+    the driver's constant command without ABS), the surfaces under the wheels at t = 0 and the
+    derivative filters at e(0) (no kick)."""
+    for row in range(N_ROWS):
+        st[row * LANES + l] = 0.0
+    st[S_VX * LANES + l] = v0
+    for j in range(4):
+        st[(S_W + j) * LANES + l] = v0 / kc[KC_RW]
+        st[(R_WS + j) * LANES + l] = v0 / kc[KC_RW]
+        st[(R_LOCK_T + j) * LANES + l] = np.nan
+        if ctrl_kind == C_PID:
+            st[(R_KP + j) * LANES + l] = gains[i, col0[j]]
+            st[(R_KI + j) * LANES + l] = gains[i, col0[j] + 1]
+            st[(R_KD + j) * LANES + l] = gains[i, col0[j] + 2]
+        elif ctrl_kind == C_NONE:
+            st[(R_U0 + j) * LANES + l] = no_abs_command(c[Q_AMPLITUDE])
+        st[(R_SURF + j) * LANES + l] = _surface_flag(0.0, 0.0, 0.0, 1.0, 0.0, j, kc)
+    # e(0): the wheels roll freely
+    e = _channel_errors(_target(st, 0, l, srf), _target(st, 1, l, srf), _target(st, 2, l, srf),
+                        _target(st, 3, l, srf), kc[KC_SELECT_LOW] != 0.0)
+    for j in range(4):
+        st[(S_XF + j) * LANES + l] = e[j]
+    st[R_SPEED * LANES + l] = v0
+    for row in (R_ALL_T, R_ALL_V, R_ALL_D, R_PSI1, R_Y1, R_SPIN_T):
+        st[row * LANES + l] = np.nan
+    st[R_STATUS * LANES + l] = STATUS_TIMEOUT
+    st[R_TEND * LANES + l] = kc[KC_TTIMEOUT]
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _finish_lane(st, l, out_row):
+    """Write the metrics row of the run that ended in lane l."""
+    t_end = _get(st, R_TEND, l)
+    psi1 = _get(st, R_PSI1, l)
+    y1 = _get(st, R_Y1, l)
+    spin_t = _get(st, R_SPIN_T, l)
+    out_row[:] = 0.0
+    out_row[M_STATUS] = _get(st, R_STATUS, l)
+    out_row[M_TIME] = t_end
+    out_row[M_DIST] = _get(st, R_DIST, l)
+    out_row[M_XSTOP] = _get(st, S_X, l)
+    out_row[M_IAE] = _get(st, R_IAE, l)
+    out_row[M_ITAE] = _get(st, R_ITAE, l)
+    out_row[M_ISE] = _get(st, R_ISE, l)
+    out_row[M_LOCKED] = _get(st, R_LOCKED, l)
+    out_row[M_YAWPK1] = _get(st, R_YAWPK1, l)
+    out_row[M_PSI1] = math.degrees(psi1 if psi1 == psi1 else _get(st, S_PSI, l))
+    out_row[M_Y1] = y1 if y1 == y1 else _get(st, S_Y, l)
+    out_row[M_YAWPK] = _get(st, R_YAWPK, l)
+    out_row[M_SPUN] = 0.0 if spin_t != spin_t else 1.0
+    out_row[M_SPIN_T] = spin_t
+    out_row[M_PSI_END] = math.degrees(_get(st, S_PSI, l))
+    out_row[M_Y_END] = _get(st, S_Y, l)
+    out_row[M_ALL_T] = _get(st, R_ALL_T, l)
+    out_row[M_ALL_V] = _get(st, R_ALL_V, l)
+    out_row[M_ALL_D] = _get(st, R_ALL_D, l)
+    for j in range(4):
+        out_row[M_MEAN_SLIP + j] = _get(st, R_SINT + j, l) / t_end if t_end > 0.0 else 0.0
+        out_row[M_LOCK_T + j] = _get(st, R_LOCK_T + j, l)
+    out_row[M_ITER] = _get(st, R_ITER, l)
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
@@ -587,285 +1066,106 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
     (n must be 1), also the TRACE_LAYOUT time series, one row per step.
     """
     n = gains.shape[0]
-    dt = p[P_DT]
-    hs = 0.5 * dt
-    h6 = dt / 6.0
-    r_w = p[P_R]
-    v_stop = p[P_VSTOP]
-    q_max = p[P_QMAX]
-    window = p[P_WINDOW]
-    n_steps = math.ceil(p[P_TMAX] / dt - 1e-9)
-    select_low = p[P_SELECT_LOW] != 0.0
-    moving_surfaces = p[P_ROAD] in (ROAD_MU_JUMP, ROAD_SPLIT)  # else sidx, ls fixed from t = 0
+    kc = _constants(p, geo)
+    srf = (surfs[0, SF_ST], surfs[0, SF_RISE], surfs[0, SF_FALL0], surfs[0, SF_FALL1],
+           surfs[0, SF_TARGET], surfs[1, SF_ST], surfs[1, SF_RISE], surfs[1, SF_FALL0],
+           surfs[1, SF_FALL1], surfs[1, SF_TARGET])
+    dt = kc[KC_DT]
     n_g = gains.shape[1] // 2 if p[P_AXLE] != 0.0 else gains.shape[1]
-    law = np.zeros((N_LAW, 4, n))
     col0 = np.zeros(4, dtype=np.int64)  # first gain column of each wheel
     for j in range(2, 4):
         col0[j] = n_g if p[P_AXLE] != 0.0 else 0
-    if ctrl_kind == C_PID:
-        for i in range(n):
-            for j in range(4):
-                law[LAW_KP, j, i] = gains[i, col0[j]]
-                law[LAW_KI, j, i] = gains[i, col0[j] + 1]
-                law[LAW_KD, j, i] = gains[i, col0[j] + 2]
-    x = np.zeros((N_STATE, n))
-    x[S_VX, :] = p[P_V0]
-    for j in range(4):
-        x[S_W + j, :] = p[P_V0] / r_w
-    sidx = np.zeros((4, n), dtype=np.int64)
-    ls = np.zeros((4, N_LANE_SURF, n))
-    flag = np.zeros(n, dtype=np.int64)
-    sc = np.zeros((N_SCRATCH, 4))
-    for i in range(n):
-        _update_surfaces(x, i, p, geo, sidx, surfs, ls)
-        for j in range(4):
-            sc[W_E, j] = surfs[sidx[j, i], SF_TARGET]  # e(0): the wheels roll freely
-        _select_low(sc, select_low)
-        for j in range(4):
-            x[S_XF + j, i] = sc[W_E, j]  # the derivative filter starts at e(0): no kick
-    k1 = np.zeros((N_STATE + 1, n))  # row K_FLAG: lanes the straight pass could not handle
-    k2 = np.zeros((N_STATE + 1, n))
-    k3 = np.zeros((N_STATE + 1, n))
-    k4 = np.zeros((N_STATE + 1, n))
-    guess = np.zeros((2, n))
+    steps_per_sample = max(1, round(c[Q_TS] / dt))
+    ts = steps_per_sample * dt
+    # scratch of the scalar passes
+    x = np.zeros(N_STATE)
+    ks = np.zeros((4, N_STATE))
     y = np.zeros(N_STATE)
     dy = np.zeros((N_STATE, 1))
-    inv = np.array([1.0 / p[P_IZ], 1.0 / p[P_J], 1.0 / p[P_TAU], 1.0 / p[P_STAU]])
+    law = np.zeros((N_LAW, 4, 1))
+    sidx = np.zeros((4, 1), dtype=np.int64)
+    guess = np.zeros((2, 1))
+    sc = np.zeros((N_SCRATCH, 4))
     wbuf = np.zeros(4)
     tgt = np.zeros(4)
-    iters = np.zeros(n)
-    slip = np.zeros((4, n))  # clipped slips at the last step end
-    err = np.zeros((4, n))  # slip errors at the last step end (after the surface update)
-    for i in range(n):
-        for j in range(4):
-            err[j, i] = surfs[sidx[j, i], SF_TARGET]
-    w_sampled = np.zeros((4, n))
-    for j in range(4):
-        w_sampled[j, :] = p[P_V0] / r_w
-    aw = np.zeros((4, n))
-    phase = np.zeros((4, n), dtype=np.int64)
-    speed = np.full(n, p[P_V0])
-    dist = np.zeros(n)
-    iae = np.zeros(n)
-    itae = np.zeros(n)
-    ise = np.zeros(n)
-    sint = np.zeros((4, n))
-    locked = np.zeros(n)
-    lock_t = np.full((4, n), np.nan)
-    all_t = np.full(n, np.nan)
-    all_v = np.full(n, np.nan)
-    all_d = np.full(n, np.nan)
-    yaw_pk1 = np.zeros(n)
-    psi1 = np.full(n, np.nan)
-    y1 = np.full(n, np.nan)
-    yaw_pk = np.zeros(n)
-    spin_t = np.full(n, np.nan)
-    status = np.full(n, float(STATUS_TIMEOUT))
-    t_end = np.full(n, n_steps * dt)
-    steps_per_sample = max(1, round(c[Q_TS] / dt))
-    active = np.arange(n)
-    running = np.ones(n, dtype=np.bool_)
-    m = n
+    inv = np.array([kc[KC_INV_IZ], kc[KC_INV_J], kc[KC_INV_TAU], kc[KC_INV_ST]])
+    st = np.zeros(N_ROWS * LANES)
+    lane_of = np.full(LANES, -1)  # candidate in each lane
+    live = min(n, LANES)
+    for l in range(live):
+        _fill_lane(st, l, l, gains, col0, ctrl_kind, c, kc, srf, p[P_V0])
+        lane_of[l] = l
+    queued = live  # next candidate to start
     n_trace = trace.shape[0]
     rows = 0
-    if n_trace > 0:
-        _trace_row(trace, 0, 0.0, x, 0, dist, slip, sidx, law, guess, p, geo, surfs,
-                   sc, y, dy, wbuf, tgt, inv)
+    if n_trace > 0 and n > 0:
+        _trace_row(trace, 0, 0.0, st, 0, p, geo, surfs, law, sidx, guess, sc, y, dy, wbuf, tgt,
+                   inv)
         rows = 1
-    for k in range(n_steps):
-        if m == 0:
-            break
-        t = k * dt
-        if ctrl_kind != C_PID and k % steps_per_sample == 0:  # sampled laws: own period ts
-            ts = steps_per_sample * dt
-            for jj in range(m):
-                i = active[jj]
-                for j in range(4):
-                    sc[W_E, j] = err[j, i]
-                _select_low(sc, select_low)
-                for j in range(4):
-                    e = sc[W_E, j]
-                    # select-low: a rear channel reads the wheel whose error it took
-                    src = j
-                    if select_low and j >= 2:
-                        src = 3 if err[3, i] < err[2, i] else 2
-                    if ctrl_kind == C_FUZZY_PID:
-                        ec = p[P_NF] * (e - x[S_XF + j, i])
-                        g0 = col0[j]
-                        kp_s, ki_s, kd_s = fuzzy_pid_gains(
-                            table, e, ec, gains[i, g0], gains[i, g0 + 1], gains[i, g0 + 2],
-                            gains[i, g0 + 3], gains[i, g0 + 4], gains[i, g0 + 5],
-                            gains[i, g0 + 6], gains[i, g0 + 7])
-                        law[LAW_KP, j, i] = kp_s
-                        law[LAW_KI, j, i] = ki_s
-                        law[LAW_KD, j, i] = kd_s
-                    elif ctrl_kind == C_THRESHOLD:
-                        if k > 0:
-                            aw[j, i] = wheel_deceleration_sample(x[S_W + src, i],
-                                                                 w_sampled[src, i], r_w, ts)
-                        u0_s, ph = threshold_step(
-                            phase[j, i], slip[src, i], surfs[sidx[src, i], SF_TARGET], aw[j, i],
-                            c[Q_AMPLITUDE], c[Q_DECEL], c[Q_ACCEL], c[Q_SLIP_MARGIN], c[Q_SLOW])
-                        law[LAW_U0, j, i] = u0_s
-                        phase[j, i] = ph
-                    else:
-                        law[LAW_U0, j, i] = no_abs_command(c[Q_AMPLITUDE])
-                for j in range(4):
-                    w_sampled[j, i] = x[S_W + j, i]
-        _stage(n, m, active, x, k4, 0.0, k1, law, sidx, ls, guess, flag,
-               p, geo, surfs, sc, y, wbuf, tgt, iters, inv)
-        _stage(n, m, active, x, k1, hs, k2, law, sidx, ls, guess, flag,
-               p, geo, surfs, sc, y, wbuf, tgt, iters, inv)
-        _stage(n, m, active, x, k2, hs, k3, law, sidx, ls, guess, flag,
-               p, geo, surfs, sc, y, wbuf, tgt, iters, inv)
-        _stage(n, m, active, x, k3, dt, k4, law, sidx, ls, guess, flag,
-               p, geo, surfs, sc, y, wbuf, tgt, iters, inv)
-        for s in range(N_STATE):  # branch-free over every lane; ended lanes keep their state
-            for i in range(n):
-                x[s, i] = select(running[i], rk4_update(x[s, i], h6, k1[s, i], k2[s, i],
-                                                        k3[s, i], k4[s, i]), x[s, i])
-        for j in range(4):
-            for i in range(n):
-                x[S_W + j, i] = max(x[S_W + j, i], 0.0)
-                x[S_Q + j, i] = min(max(x[S_Q + j, i], 0.0), q_max)
-        jj = 0
-        while jj < m:
-            i = active[jj]
-            vx = x[S_VX, i]
-            vy = x[S_VY, i]
-            sp_new = math.sqrt(vx * vx + vy * vy)
-            sp_old = speed[i]
-            stop = sp_new <= v_stop
-            frac = crossing_fraction(sp_old, sp_new, v_stop, stop)
-            h = frac * dt
-            sp_end = v_stop if stop else sp_new
-            dist[i] += trapezoid(sp_old, sp_end, h)
-            for j in range(4):
-                wbuf[j] = x[S_W + j, i]
-            _kinematics(vx, vy, x[S_YR, i], x[S_DELTA, i], wbuf, p, geo, sc)
-            all_still = True
-            for j in range(4):
-                s_new = sc[W_SLIP, j]
-                s_end = slip[j, i] + frac * (s_new - slip[j, i])
-                target = surfs[sidx[j, i], SF_TARGET]
-                d_iae, d_itae, d_ise = error_integrals(err[j, i], target - s_end, t, h)
-                iae[i] += d_iae
-                itae[i] += d_itae
-                ise[i] += d_ise
-                sint[j, i] += trapezoid(slip[j, i], s_end, h)
-                slip[j, i] = s_new
-                if sp_new > v_stop and x[S_W + j, i] * r_w < p[P_LOCK] * sc[W_VABS, j]:
-                    locked[i] += dt
-                    if lock_t[j, i] != lock_t[j, i]:
-                        lock_t[j, i] = t + dt
-                all_still = all_still and x[S_W + j, i] == 0.0
-            if all_still and all_t[i] != all_t[i] and sp_new > v_stop:
-                all_t[i] = t + dt
-                all_v[i] = sp_new
-                all_d[i] = dist[i]
-            if moving_surfaces:
-                _update_surfaces(x, i, p, geo, sidx, surfs, ls)
-            for j in range(4):
-                err[j, i] = surfs[sidx[j, i], SF_TARGET] - slip[j, i]
-            r_now = x[S_YR, i]
-            psi_now = x[S_PSI, i]
-            if t + 0.5 * dt < window:
-                if abs(r_now) > abs(yaw_pk1[i]):
-                    yaw_pk1[i] = r_now
-                if t + 1.5 * dt >= window:
-                    psi1[i] = psi_now
-                    y1[i] = x[S_Y, i]
-            if spin_t[i] != spin_t[i]:
-                if abs(r_now) > abs(yaw_pk[i]):
-                    yaw_pk[i] = r_now
-                if abs(psi_now) >= 0.5 * math.pi:
-                    spin_t[i] = t + dt
-            speed[i] = sp_new
-            check = sp_new + r_now + psi_now + itae[i] + x[S_Q, i] + x[S_Z, i] + x[S_W, i]
-            ended = True
-            if check - check != 0.0:
-                status[i] = STATUS_DIVERGED
-                t_end[i] = t
-            elif stop:
-                status[i] = STATUS_STOPPED
-                t_end[i] = t + h
-            elif dist[i] > p[P_HOPELESS]:
-                status[i] = STATUS_HOPELESS
-                t_end[i] = t + dt
-            else:
-                ended = False
-            if ended:
-                running[i] = False
-                m -= 1
-                active[jj] = active[m]
-                active[m] = i
-            else:
-                jj += 1
-        if n_trace > 0 and rows < n_trace:
-            _trace_row(trace, rows, min(t + dt, t_end[0]), x, 0, dist, slip, sidx, law,
-                       guess, p, geo, surfs, sc, y, dy, wbuf, tgt, inv)
-            if status[0] == STATUS_STOPPED:
-                trace[rows, T_SPEED] = max(trace[rows, T_SPEED], v_stop)
+    while live > 0:
+        if ctrl_kind in (C_FUZZY_PID, C_THRESHOLD):  # sampled laws: at each lane's instants
+            for l in range(live):
+                k = int(_get(st, R_STEP, l))
+                if k % steps_per_sample == 0:
+                    _tick(st, l, lane_of[l], k, gains, col0, ctrl_kind, c, table, kc, srf, ts)
+        width = -(-live // VECTOR) * VECTOR
+        ended = _lane_steps(st, width, kc, srf, live)
+        for l in range(live):
+            if _get(st, R_DONE, l) == 0.0:
+                ended |= _general_step(st, l, kc, srf, p, geo, surfs, x, ks, y, dy, law, sidx,
+                                       guess, sc, wbuf, tgt, inv)
+        if n_trace > 0 and rows < n_trace:  # one candidate, in lane 0
+            t = (_get(st, R_STEP, 0) - 1.0) * dt
+            _trace_row(trace, rows, min(t + dt, _get(st, R_TEND, 0)), st, 0, p, geo, surfs, law,
+                       sidx, guess, sc, y, dy, wbuf, tgt, inv)
+            if _get(st, R_STATUS, 0) == STATUS_STOPPED:
+                trace[rows, T_SPEED] = max(trace[rows, T_SPEED], kc[KC_VSTOP])
             rows += 1
-    for i in range(n):
-        out[i, :] = 0.0
-        out[i, M_STATUS] = status[i]
-        out[i, M_TIME] = t_end[i]
-        out[i, M_DIST] = dist[i]
-        out[i, M_XSTOP] = x[S_X, i]
-        out[i, M_IAE] = iae[i]
-        out[i, M_ITAE] = itae[i]
-        out[i, M_ISE] = ise[i]
-        out[i, M_LOCKED] = locked[i]
-        out[i, M_YAWPK1] = yaw_pk1[i]
-        out[i, M_PSI1] = math.degrees(psi1[i] if psi1[i] == psi1[i] else x[S_PSI, i])
-        out[i, M_Y1] = y1[i] if y1[i] == y1[i] else x[S_Y, i]
-        out[i, M_YAWPK] = yaw_pk[i]
-        out[i, M_SPUN] = 0.0 if spin_t[i] != spin_t[i] else 1.0
-        out[i, M_SPIN_T] = spin_t[i]
-        out[i, M_PSI_END] = math.degrees(x[S_PSI, i])
-        out[i, M_Y_END] = x[S_Y, i]
-        out[i, M_ALL_T] = all_t[i]
-        out[i, M_ALL_V] = all_v[i]
-        out[i, M_ALL_D] = all_d[i]
-        for j in range(4):
-            out[i, M_MEAN_SLIP + j] = sint[j, i] / t_end[i] if t_end[i] > 0.0 else 0.0
-            out[i, M_LOCK_T + j] = lock_t[j, i]
-        out[i, M_ITER] = iters[i]
-        out[i, M_NTRACE] = rows
+        if ended:
+            for l in range(live - 1, -1, -1):  # high to low: lanes moved down are done
+                if _get(st, R_ENDED, l) == 0.0:
+                    continue
+                i = lane_of[l]
+                _finish_lane(st, l, out[i])
+                if queued < n:
+                    _fill_lane(st, l, queued, gains, col0, ctrl_kind, c, kc, srf, p[P_V0])
+                    lane_of[l] = queued
+                    queued += 1
+                else:
+                    live -= 1
+                    if l < live:  # keep the live lanes packed at the front
+                        for row in range(N_ROWS):
+                            st[row * LANES + l] = st[row * LANES + live]
+                        lane_of[l] = lane_of[live]
+    if n_trace > 0 and n > 0:
+        out[0, M_NTRACE] = rows
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
-def _trace_row(trace, row, t, x, i, dist, slip, sidx, law, guess, p, geo, surfs, sc,
-               y, dy, wbuf, tgt, inv):
-    """One trace row of candidate i (a batch of one: i = 0): its state, and loads and forces
-    re-evaluated at it (dy: a throw-away (N_STATE, 1) array)."""
+def _trace_row(trace, row, t, st, l, p, geo, surfs, law, sidx, guess, sc, y, dy, wbuf, tgt, inv):
+    """One trace row of lane l: its state, and loads and forces re-evaluated at it (`_rhs` on
+    scratch copies of the lane's arrays: tracing does not change the run)."""
     for s in range(N_STATE):
-        y[s] = x[s, i]
-    g0 = guess[0, i]
-    g1 = guess[1, i]
-    _rhs(y, dy, i, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv)
-    ax = guess[0, i]
-    ay = guess[1, i]
-    guess[0, i] = g0  # tracing must not change the run
-    guess[1, i] = g1
+        y[s] = _get(st, s, l)
+    _lane_arrays(st, l, law, sidx, guess)
+    _rhs(y, dy, 0, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv)
     trace[row, T_TIME] = t
-    trace[row, T_VX] = x[S_VX, i]
-    trace[row, T_VY] = x[S_VY, i]
-    trace[row, T_SPEED] = math.sqrt(x[S_VX, i] ** 2 + x[S_VY, i] ** 2)
-    trace[row, T_YR] = x[S_YR, i]
-    trace[row, T_PSI] = x[S_PSI, i]
-    trace[row, T_X] = x[S_X, i]
-    trace[row, T_Y] = x[S_Y, i]
-    trace[row, T_DELTA] = x[S_DELTA, i]
-    trace[row, T_AX] = ax
-    trace[row, T_AY] = ay
-    trace[row, T_DIST] = dist[i]
+    trace[row, T_VX] = y[S_VX]
+    trace[row, T_VY] = y[S_VY]
+    trace[row, T_SPEED] = math.sqrt(y[S_VX] ** 2 + y[S_VY] ** 2)
+    trace[row, T_YR] = y[S_YR]
+    trace[row, T_PSI] = y[S_PSI]
+    trace[row, T_X] = y[S_X]
+    trace[row, T_Y] = y[S_Y]
+    trace[row, T_DELTA] = y[S_DELTA]
+    trace[row, T_AX] = guess[0, 0]
+    trace[row, T_AY] = guess[1, 0]
+    trace[row, T_DIST] = _get(st, R_DIST, l)
     for j in range(4):
-        trace[row, T_WV + j] = x[S_W + j, i] * p[P_R]
-        trace[row, T_SLIP + j] = slip[j, i] if row > 0 else sc[W_SLIP, j]
-        trace[row, T_TARGET + j] = surfs[sidx[j, i], SF_TARGET]
+        trace[row, T_WV + j] = y[S_W + j] * p[P_R]
+        trace[row, T_SLIP + j] = _get(st, R_SLIP + j, l) if row > 0 else sc[W_SLIP, j]
+        trace[row, T_TARGET + j] = surfs[sidx[j, 0], SF_TARGET]
         trace[row, T_FZ + j] = sc[W_FZ, j]
-        trace[row, T_TB + j] = p[P_KQ] * x[S_Q + j, i]
+        trace[row, T_TB + j] = p[P_KQ] * y[S_Q + j]
         trace[row, T_FX + j] = sc[W_FXW, j]
-        trace[row, T_SURF + j] = sidx[j, i]
+        trace[row, T_SURF + j] = sidx[j, 0]

@@ -5,9 +5,10 @@ thresholds such as dt_s, t_max_s, v_stop_m_s and lock_ratio are not). Valid rang
 parameter dataclasses' field metadata (positive: (0, inf); non-negative: [0, inf); unit
 interval: [0, 1]).
 
-`mu_scale` (abs-wheel, default 1) is a road parameter of every tire curve (`plants.tires`): it
-multiplies the whole mu-slip curve. The peak slip, hence the target slip, stays; the adhesion
-bound, hence `distance_ratio`, follows the scaled peak.
+`mu_scale` (abs-wheel and abs-vehicle, default 1) is a road parameter of every tire curve
+(`plants.tires`, `plants.vehicle_roads`): it multiplies the whole mu-slip curve. The peak slip,
+hence the target slip, stays; the adhesion bound, hence `distance_ratio`, follows the scaled
+peak.
 """
 
 from __future__ import annotations
@@ -50,6 +51,10 @@ def known_ranges(scenario: Scenario) -> dict[str, ParamRange]:
         out.update(ranges_of(scenario.tire))  # type: ignore[attr-defined]
         if "slip_opt" in out:
             out["slip_opt"] = ParamRange(0.0, 1.0, lo_open=True, hi_open=True)
+        return out
+    if scenario.plant == "abs-vehicle":  # the vehicle's roads are named surfaces: mu_scale
+        out = ranges_of(scenario.plant_params)  # type: ignore[attr-defined]
+        out["mu_scale"] = ParamRange(0.0, math.inf, lo_open=True)
         return out
     if scenario.plant == "quarter-car":
         out = ranges_of(scenario.vehicle)  # type: ignore[attr-defined]

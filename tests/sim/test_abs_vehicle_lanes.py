@@ -1,0 +1,87 @@
+"""The vehicle kernel's pinned results (tests/golden/abs_vehicle.json) are reproduced bit for bit:
+every controller on every road, the options (select-low, driver, per-axle gains, split by road,
+high-to-low jump, h = 0) and populations with unstable and NaN gains (`abs_vehicle_pins`)."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent))
+
+import abs_vehicle_pins as pins
+
+PINNED = json.loads(pins.PINNED.read_text())
+
+
+@pytest.fixture(scope="module")
+def computed() -> dict:
+    return pins.compute()
+
+
+def test_every_case_is_pinned(computed):
+    assert sorted(computed) == sorted(PINNED)
+    n_arrays = sum(len(case["raw"]) + len(case) - 1 for case in PINNED.values())
+    assert len(PINNED) == 28 and n_arrays > 900
+
+
+@pytest.mark.parametrize("key", sorted(PINNED))
+def test_case_is_bitwise_unchanged(computed, key):
+    assert computed[key] == PINNED[key]
+
+
+def test_wild_candidates_end_with_a_status_not_an_exception():
+    from chassistune.scenarios.abs_vehicle import PLANT
+    from chassistune.scenarios.base import PENALTY
+
+    sc = PLANT.scenario(None, "dry-concrete", "fuzzy-pid")
+    pop = pins.population(sc.controller.bounds())
+    cost = sc.cost(pop)
+    assert np.all(np.isfinite(cost)) and cost[-1] == PENALTY
+
+
+def test_rows_do_not_depend_on_the_lane_or_the_population():
+    """More candidates than lanes (refilled and repacked): each row equals its run alone."""
+    from chassistune.scenarios.abs_vehicle import PLANT
+    from chassistune.sim import abs_vehicle_kernel as K
+
+    sc = PLANT.scenario(None, "mu-jump", "fuzzy-pid")
+    pop = pins.population(sc.controller.bounds())
+    pop = np.concatenate([pop, pop[::-1]])[: K.LANES + 5]
+    batch = sc.raw(pop, workers=1)
+    for i in (0, 3, K.LANES - 1, K.LANES, K.LANES + 4):
+        np.testing.assert_array_equal(sc.raw(pop[i:i + 1], workers=1)[0], batch[i])
+
+
+def _has_avx() -> bool:
+    try:
+        return " avx2 " in Path("/proc/cpuinfo").read_text().replace("\n", " ")
+    except OSError:
+        return False
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not _has_avx(), reason="needs an x86 CPU with AVX2")
+def test_lane_step_vectorizes():
+    """Packed double arithmetic on ymm/zmm registers in the compiled kernel: a call or a branch
+    chain added to the lane step would silently fall back to scalar code."""
+    import re
+
+    import numba
+
+    from chassistune.scenarios.abs_vehicle import PLANT
+    from chassistune.sim import abs_vehicle_kernel as K
+
+    fresh = numba.njit(nogil=True, error_model="numpy")(K.simulate_abs_vehicle.py_func)
+    sc = PLANT.scenario(None, "dry-concrete", "pid")
+    p, geo, surfs, ckind, c, table = sc._kernel_args
+    out = np.zeros((1, K.N_METRICS))
+    fresh(np.array([[1200.0, 0.0, 20.0]]), p, geo, surfs, ckind, c, table,
+          np.zeros((0, K.N_TRACE)), out)
+    asm = fresh.inspect_asm(fresh.signatures[0])
+    packed = re.findall(r"\bv(?:mul|add|sub|div|fmadd\w*)pd\s[^\n]*%[yz]mm", asm)
+    assert len(packed) >= 600, "the lane step no longer vectorizes"
