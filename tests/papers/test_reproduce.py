@@ -116,7 +116,6 @@ def test_published_distances_below_the_bound_are_flagged(reproduced) -> None:
     assert not math.isnan(ratio.max())
 
 
-@pytest.mark.parametrize("paper", ["derlsp-ao-abs", "fuzzy-immune-abs"])
 def _page_cells(html: str) -> list[str]:
     """Every table cell's text of a page, in order."""
     from html.parser import HTMLParser
@@ -184,6 +183,7 @@ def test_the_budgets_show_the_evaluations_each_optimizer_spent(reproduced) -> No
         assert (df["iterations done"].astype(str) != "").all() and df["population"].gt(0).all()
 
 
+@pytest.mark.parametrize("paper", ["derlsp-ao-abs", "fuzzy-immune-abs"])
 def test_one_paper_alone_reuses_nothing_and_refuses_a_bad_folder(cli, tmp_path, paper) -> None:
     blocker = tmp_path / "file"
     blocker.write_text("x")
