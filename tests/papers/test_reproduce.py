@@ -190,3 +190,15 @@ def test_one_paper_alone_reuses_nothing_and_refuses_a_bad_folder(cli, tmp_path, 
     res = cli("reproduce", paper, "--quick", "--out", str(blocker))
     assert res.code == 2 and res.err.count("\n") == 1 and "--out" in res.err
     assert blocker.read_text() == "x"
+
+
+def test_interactive_without_plotly_refuses_before_writing_anything(cli, tmp_path,
+                                                                   monkeypatch) -> None:
+    import sys
+
+    monkeypatch.setitem(sys.modules, "plotly.graph_objects", None)  # import fails
+    out = tmp_path / "out"
+    res = cli("reproduce", "all", "--quick", "--interactive", "--out", str(out))
+    assert res.code == 2 and res.err.count("\n") == 1
+    assert "--interactive" in res.err and "chassistune[interactive]" in res.err
+    assert not out.exists()
