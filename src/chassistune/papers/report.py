@@ -188,24 +188,34 @@ def _page(w: _Writer, sections: Sequence[PaperSection], plots: PaperPlots | None
     return [_first_section(w, sections)] + [_paper_section(w, s, plots) for s in sections]
 
 
-def _heading(sections: Sequence[PaperSection], quick: bool, wall_time_s: float
+def timing_text(wall_time_s: float, studies: Mapping[str, StudyData]) -> str:
+    """This command's wall time and the runs' own: a resumed reproduction's wall time covers
+    only what it ran, the summed run times every run stored."""
+    runs = [r for d in studies.values() for r in d.records]
+    summed = sum(r.wall_time_s or 0.0 for r in runs)
+    return (f"wall time of this command {wall_time_s:.1f} s; the {len(runs)} stored runs took "
+            f"{summed:.0f} s summed over runs (their own wall times, on whatever workers ran "
+            "them)")
+
+
+def _heading(sections: Sequence[PaperSection], quick: bool, timing: str
              ) -> tuple[str, str, str]:
     kind = "quick run (reduced budgets and seeds)" if quick else "full run"
     return (f"of {len(sections)} paper(s)",
-            f"chassistune reproduce, {kind}; wall time {wall_time_s:.1f} s.",
+            f"chassistune reproduce, {kind}; {timing}.",
             "Each paper's tables put its published numbers beside ours; figures are redrawn "
             "from our runs; the stores under studies/ hold every run.")
 
 
 def write_report(out: Path, sections: Sequence[PaperSection], quick: bool,
-                 wall_time_s: float) -> ReportFiles:
+                 timing: str) -> ReportFiles:
     """Write report.html, tables/*.csv and verdicts.csv into `out` (figures are there already)."""
     w = _Writer(out)
     page = _page(w, sections)
     verdicts = out / "verdicts.csv"
     write_table(verdict_frame([v for s in sections for v in s.verdicts]), str(verdicts))
     html = out / "report.html"
-    write_text(html, render(*_heading(sections, quick, wall_time_s), page, _version(),
+    write_text(html, render(*_heading(sections, quick, timing), page, _version(),
                             kind="Reproduction"))
     figures = tuple(f.path for s in sections for f in s.figures)
     return ReportFiles(html, verdicts, tuple(w.written), figures)
@@ -213,7 +223,7 @@ def write_report(out: Path, sections: Sequence[PaperSection], quick: bool,
 
 def write_interactive(out: Path, sections: Sequence[PaperSection],
                       studies: Mapping[str, Sequence[tuple[str, StudyData]]], quick: bool,
-                      wall_time_s: float) -> Path:
+                      timing: str) -> Path:
     """Write OUT/report_interactive.html: the static page's sections (tables sortable) with each
     paper's studies drawn by plotly (`studies`: (study name, data) by paper key)."""
     from chassistune.reports import sections as study_sections
@@ -233,6 +243,6 @@ def write_interactive(out: Path, sections: Sequence[PaperSection],
         return items
 
     html = out / INTERACTIVE_NAME
-    write_text(html, interactive_page(*_heading(sections, quick, wall_time_s),
+    write_text(html, interactive_page(*_heading(sections, quick, timing),
                                       _page(w, sections, plots), kind="Reproduction"))
     return html

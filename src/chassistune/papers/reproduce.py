@@ -25,7 +25,12 @@ from chassistune.papers import (
     iabc_suspension,
 )
 from chassistune.papers.common import Context, PaperSection
-from chassistune.papers.report import ReportFiles, write_interactive, write_report
+from chassistune.papers.report import (
+    ReportFiles,
+    timing_text,
+    write_interactive,
+    write_report,
+)
 from chassistune.reports.tables import StudyData, load_study
 from chassistune.studies.executors import Executor
 from chassistune.studies.runner import check_out_dir, pending_runs, run_study
@@ -137,9 +142,10 @@ def reproduce(which: str, quick: bool, out: str | Path, executor: Executor,
     keys = paper_keys(which)
     sections = [PAPERS[k].build(ctx) for k in keys]
     wall = time.perf_counter() - t0
-    files = write_report(out, sections, quick, wall)
+    timing = timing_text(wall, data)
+    files = write_report(out, sections, quick, timing)
     if interactive:
         by_paper = {k: [(n, data[n]) for n in PAPERS[k].studies() if n in data] for k in keys}
         files = replace(files, interactive=write_interactive(out, sections, by_paper, quick,
-                                                             wall))
+                                                             timing))
     return Outcome(files, sections, wall)
