@@ -11,6 +11,8 @@ import pytest
 
 from chassistune.papers import published
 from chassistune.papers.common import VERDICTS
+from chassistune.reports.tables import load_study
+from chassistune.studies.store import open_study
 
 TABLES = [
     "verdicts", "bounds",
@@ -55,6 +57,12 @@ def test_every_listed_table_and_figure_is_written(reproduced) -> None:
     html = (reproduced.out / "report.html").read_text(encoding="utf-8")
     assert html.count("data:image/png;base64,") >= len(FIGURES)
     assert "report.html" in reproduced.stdout
+    assert "report_interactive.html" in reproduced.stdout
+    runs = 0
+    for folder in (reproduced.out / "studies").iterdir():
+        with open_study(folder) as store:
+            runs += len(load_study(store).records)
+    assert f"the {runs} stored runs took" in html  # a resumed run's wall time is not all
 
 
 def test_every_stopping_distance_of_ours_respects_its_bound(reproduced) -> None:
