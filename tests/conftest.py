@@ -48,6 +48,6 @@ def reproduced(tmp_path_factory: pytest.TempPathFactory) -> Reproduced:
     out = tmp_path_factory.mktemp("reproduce") / "report"
     buf = io.StringIO()
     with contextlib.redirect_stdout(buf), pytest.raises(SystemExit) as exc:
-        main(["reproduce", "all", "--quick", "--out", str(out)])
+        main(["reproduce", "all", "--quick", "--interactive", "--out", str(out)])
     assert exc.value.code == 0
     return Reproduced(out, buf.getvalue())

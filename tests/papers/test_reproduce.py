@@ -11,9 +11,13 @@ import pytest
 
 from chassistune.papers import published
 from chassistune.papers.common import VERDICTS
+from chassistune.reports.tables import load_study
+from chassistune.studies.store import open_study
 
 TABLES = [
     "verdicts", "bounds",
+    "verdict_counts",
+    *(f"{k}_{t}" for k in published.PAPER_KEYS for t in ("published", "evaluations_spent")),
     *(f"derlsp-ao-abs_{t}" for t in ("setting", "budgets", "table2_dry-concrete",
                                       "table3_wet-asphalt", "table4_ice", "figs6_7_functions",
                                       "verdicts")),
@@ -53,6 +57,12 @@ def test_every_listed_table_and_figure_is_written(reproduced) -> None:
     html = (reproduced.out / "report.html").read_text(encoding="utf-8")
     assert html.count("data:image/png;base64,") >= len(FIGURES)
     assert "report.html" in reproduced.stdout
+    assert "report_interactive.html" in reproduced.stdout
+    runs = 0
+    for folder in (reproduced.out / "studies").iterdir():
+        with open_study(folder) as store:
+            runs += len(load_study(store).records)
+    assert f"the {runs} stored runs took" in html  # a resumed run's wall time is not all
 
 
 def test_every_stopping_distance_of_ours_respects_its_bound(reproduced) -> None:
@@ -114,6 +124,73 @@ def test_published_distances_below_the_bound_are_flagged(reproduced) -> None:
     assert not math.isnan(ratio.max())
 
 
+def _page_cells(html: str) -> list[str]:
+    """Every table cell's text of a page, in order."""
+    from html.parser import HTMLParser
+
+    class Cells(HTMLParser):
+        def __init__(self) -> None:
+            super().__init__()
+            self.cells: list[str] = []
+            self.inside = False
+
+        def handle_starttag(self, tag: str, attrs: object) -> None:
+            if tag == "td":
+                self.inside = True
+                self.cells.append("")
+
+        def handle_endtag(self, tag: str) -> None:
+            self.inside = self.inside and tag != "td"
+
+        def handle_data(self, data: str) -> None:
+            if self.inside:
+                self.cells[-1] += data
+
+    parser = Cells()
+    parser.feed(html)
+    return [c.strip() for c in parser.cells]
+
+
+@pytest.mark.parametrize("page", ["report.html", "report_interactive.html"])
+def test_the_pages_quote_every_published_number_in_full(reproduced, page) -> None:
+    cells = _page_cells((reproduced.out / page).read_text(encoding="utf-8"))
+    for key in published.PAPER_KEYS:
+        for q in published.quantities(key):
+            for value in q.values:
+                assert f"{value:.15g}" in cells, (key, q.source, q.name, value)
+    # what a 4-digit rendering would have lost: Table 2's 3.69271 s, Table 4's 25007.2
+    assert "3.69271" in cells and "25007.2" in cells and "6.0243e-32" in cells
+
+
+@pytest.mark.parametrize("page", ["report.html", "report_interactive.html"])
+def test_every_published_distance_below_its_bound_is_flagged_on_the_page(reproduced,
+                                                                        page) -> None:
+    from chassistune.reports.html import FLAG
+
+    cells = _page_cells((reproduced.out / page).read_text(encoding="utf-8"))
+    flagged = sum(FLAG in c and "below the bound" in c for c in cells)
+    below = 0
+    for csv in (reproduced.out / "tables").glob("*.csv"):
+        df = pd.read_csv(csv)
+        for col in ("paper / bound", "published / bound"):
+            if col in df:
+                below += int((df[col] < 1).sum())
+    assert flagged == below >= 28  # 15 + 12 + 1 published distances, the bounds table again
+
+
+def test_the_budgets_show_the_evaluations_each_optimizer_spent(reproduced) -> None:
+    spent = _table(reproduced, "derlsp-ao-abs_evaluations_spent").set_index(
+        ["study", "optimizer"])
+    ratio = spent["spent / (population x iterations)"]
+    # DERLSP-AO evaluates twice per iteration (its two strategies), AO once
+    fn = "derlsp-ao-abs-functions"
+    assert ratio[(fn, "DERLSP-AO")] > 1.8 * ratio[(fn, "AO")]
+    assert ratio[("derlsp-ao-abs", "DERLSP-AO-PID")] > 1.8 * ratio[("derlsp-ao-abs", "AO-PID")]
+    for key in published.PAPER_KEYS:
+        df = _table(reproduced, f"{key}_evaluations_spent")
+        assert (df["iterations done"].astype(str) != "").all() and df["population"].gt(0).all()
+
+
 @pytest.mark.parametrize("paper", ["derlsp-ao-abs", "fuzzy-immune-abs"])
 def test_one_paper_alone_reuses_nothing_and_refuses_a_bad_folder(cli, tmp_path, paper) -> None:
     blocker = tmp_path / "file"
@@ -121,3 +198,15 @@ def test_one_paper_alone_reuses_nothing_and_refuses_a_bad_folder(cli, tmp_path, 
     res = cli("reproduce", paper, "--quick", "--out", str(blocker))
     assert res.code == 2 and res.err.count("\n") == 1 and "--out" in res.err
     assert blocker.read_text() == "x"
+
+
+def test_interactive_without_plotly_refuses_before_writing_anything(cli, tmp_path,
+                                                                   monkeypatch) -> None:
+    import sys
+
+    monkeypatch.setitem(sys.modules, "plotly.graph_objects", None)  # import fails
+    out = tmp_path / "out"
+    res = cli("reproduce", "all", "--quick", "--interactive", "--out", str(out))
+    assert res.code == 2 and res.err.count("\n") == 1
+    assert "--interactive" in res.err and "chassistune[interactive]" in res.err
+    assert not out.exists()

@@ -24,6 +24,11 @@ RANKING_ONLY = "holds in ranking only"
 FAILS = "does not hold"
 UNCHECKED = "cannot be checked"
 VERDICTS = (HOLDS, RANKING_ONLY, FAILS, UNCHECKED)
+VERDICT_MARKS = {HOLDS: "✔", RANKING_ONLY: "≈", FAILS: "✘", UNCHECKED: "?"}
+"""Shown before each verdict on the page (the same symbols as the study report's better /
+same / worse), so a verdict cannot be taken for a blank or misread."""
+BOUND_RATIOS = ("paper / bound", "published / bound")
+"""Columns of a published distance over its adhesion bound: below 1 is flagged on the page."""
 
 SLIP_BAND = 0.05
 """A slip has settled once it stays within this of its target (absolute slip)."""
@@ -48,12 +53,14 @@ class Verdict:
 
 @dataclass(frozen=True)
 class Table:
-    """A report table: `name` is its CSV file's stem."""
+    """A report table: `name` is its CSV file's stem; `quoted` names the columns holding a
+    paper's published numbers (shown on the page in full, exactly as published)."""
 
     name: str
     title: str
     frame: pd.DataFrame
     caption: str = ""
+    quoted: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -94,6 +101,12 @@ class Context:
         return self.figures_dir / f"{paper}_{name}.png"
 
 
+def budget_tables(ctx: Context, names: Sequence[str]) -> list[Table]:
+    """The budgets asked of the studies `names` (full and quick) and what this report's runs
+    spent."""
+    return [budget_table(ctx, names), spent_table(ctx, names)]
+
+
 def budget_table(ctx: Context, names: Sequence[str]) -> Table:
     """Population, iterations and seeds of each study's scenarios, full and quick."""
     rows = []
@@ -104,11 +117,43 @@ def budget_table(ctx: Context, names: Sequence[str]) -> Table:
                 b = sc.budget or cfg.budget
                 rows.append({"study": name, "scenario": sc.name or "", "run": kind,
                              "population": b.pop_size, "iterations": b.iterations,
-                             "evaluations": b.evaluations, "seeds": len(cfg.study.seeds),
+                             "evaluations cap": b.evaluations or "none",
+                             "seeds": len(cfg.study.seeds),
                              "this report": "yes" if (kind == "quick") == ctx.quick else ""})
     return Table("budgets", "Budgets of the studies (full run and --quick)", pd.DataFrame(rows),
                  "Each run is one optimizer on one scenario with one seed; the report shows the "
-                 "run marked 'this report'.")
+                 "run marked 'this report'. What each optimizer actually spent: the next table.")
+
+
+def spent_table(ctx: Context, names: Sequence[str]) -> Table:
+    """Per study and optimizer: the evaluations and iterations its completed runs of this report
+    actually spent, and the median spent against population x iterations (an optimizer that
+    evaluates twice per iteration, as DERLSP-AO's strategies do, shows about 2)."""
+    from chassistune.reports.study_setup import optimizer_table
+
+    frames = []
+    for name in names:
+        if name not in ctx.studies:
+            continue
+        data = ctx.studies[name]
+        table = optimizer_table(data).drop(columns=["hyperparameters"])
+        ratios = []
+        for opt in table["optimizer"]:
+            done = [r for r in data.records if r.spec.optimizer == opt and r.completed
+                    and r.nfev is not None]
+            spec = done[0].spec if done else None
+            nominal = (spec.pop_size * spec.max_iter if spec is not None
+                       and spec.max_iter is not None else None)
+            ratios.append(float(np.median([r.nfev for r in done])) / nominal
+                          if nominal else float("nan"))
+        table.insert(0, "study", name)
+        table["spent / (population x iterations)"] = ratios
+        frames.append(table)
+    frame = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+    return Table("evaluations_spent", "Evaluations actually spent (this report's runs)", frame,
+                 "Objective evaluations and iterations over the completed runs (min / median / "
+                 "max); the last column: median evaluations spent over population x iterations "
+                 "asked, so optimizers given the same iterations can be compared at equal cost.")
 
 
 def final_costs(runs: Sequence[RunRecord]) -> np.ndarray:

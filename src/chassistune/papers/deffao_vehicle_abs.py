@@ -23,7 +23,7 @@ from chassistune.papers.common import (
     Verdict,
     bound_row,
     bound_verdict,
-    budget_table,
+    budget_tables,
     combine,
     median_run,
     order_verdict,
@@ -80,7 +80,7 @@ def studies() -> tuple[str, ...]:
 def build(ctx: Context) -> PaperSection:
     """The section of paper 003."""
     sec = PaperSection(KEY, published.paper(KEY).citation, SETTING)
-    sec.tables.append(budget_table(ctx, studies()))
+    sec.tables += budget_tables(ctx, studies())
     data = ctx.studies[FUNCTIONS_STUDY]
     rows, parts = [], []
     for f, name, title in TABLE4:
@@ -97,7 +97,8 @@ def build(ctx: Context) -> PaperSection:
                            f"Table 4 functions: {f} ({title})")
         sec.figures.append(Figure(path.stem, f"Convergence on {f} ({title})", path))
     sec.tables.append(Table("table4", "Table 4: best fitness, paper beside ours",
-                            pd.DataFrame(rows)))
+                            pd.DataFrame(rows), "Paper: Table 4 as printed (unitless).",
+                            quoted=("paper best",)))
     sec.verdicts.append(Verdict(KEY, "DEFFAO is best on Table 4's five functions",
                                 combine([w for w, _ in parts]), "; ".join(e for _, e in parts)))
     checks = _adhesion_checks()
@@ -165,7 +166,8 @@ def _table5(ctx: Context, sec: PaperSection, checks: list[BoundCheck]) -> Verdic
         parts.append((word, f"{road}: {evidence}"))
     sec.tables.append(Table("table5", "Table 5: braking time and distance, paper beside ours",
                             pd.DataFrame(rows), "Ours: the defaults and each optimizer's median "
-                            "run; bound with our v_stop (DESIGN 3.3)."))
+                            "run; bound with our v_stop (DESIGN 3.3). Paper: Table 5 as printed.",
+                            quoted=("paper stop time (s)", "paper distance (m)")))
     return Verdict(KEY, "DEFFAO-fuzzy PID stops shortest on each of its three roads",
                    combine([w for w, _ in parts]), "; ".join(e for _, e in parts))
 
@@ -175,4 +177,5 @@ def _t5_row(road: str, label: str, m: dict[str, Any], t_pub: dict[str, float],
     return {"road": road, "controller": label, "paper stop time (s)": t_pub.get(label),
             "ours stop time (s)": m["stop_time_s"], "paper distance (m)": d_pub.get(label),
             "ours distance (m)": m["stop_distance_m"], "bound (m)": bound,
+            "paper / bound": d_pub[label] / bound if label in d_pub else None,
             "ours / bound": m["stop_distance_m"] / bound}

@@ -20,7 +20,7 @@ from chassistune.papers.common import (
     Verdict,
     bound_row,
     bound_verdict,
-    budget_table,
+    budget_tables,
     combine,
     median_run,
     order_verdict,
@@ -72,7 +72,7 @@ def build(ctx: Context) -> PaperSection:
 
     data = ctx.studies[STUDY]
     sec = PaperSection(KEY, published.paper(KEY).citation, SETTING)
-    sec.tables.append(budget_table(ctx, (STUDY,)))
+    sec.tables += budget_tables(ctx, (STUDY,))
     settle_parts, shortest_parts, checks = [], [], []
     for road, fig in ROADS:
         settle_pub = published.lookup(KEY, "slip_settles_at_s", road).as_dict()
@@ -100,11 +100,14 @@ def build(ctx: Context) -> PaperSection:
             for r in rows:
                 if r["controller"] == f"{CLAIMED} (tuned)":
                     r["paper distance (m)"], r["paper stop time (s)"] = d_pub, t_pub
+                    r["paper / bound"] = d_pub / bound
             checks.append(bound_row(KEY, road, CLAIMED, d_pub, bound))
         sec.tables.append(Table(f"{fig.replace('. ', '')}_{road}", f"{fig} ({road}): settling, "
                                 "stop time and distance, paper beside ours", pd.DataFrame(rows),
                                 "Tuned rows: the median run of the tuning seeds; the paper "
-                                "reads its settling times off its figures."))
+                                f"reads its settling times off its figures (section 4.2, {fig}).",
+                                quoted=("paper settle (s)", "paper stop time (s)",
+                                        "paper distance (m)")))
         path = ctx.figure(KEY, f"{fig.replace('. ', '').lower()}_{road}")
         plot_comparison(traces[CLAIMED][0], [(k, t) for k, (_, t) in traces.items()], str(path),
                         title=f"{fig} redrawn: {road}")
@@ -139,4 +142,4 @@ def _row(label: str, tr: Trace, settle_pub: dict[str, float]) -> dict[str, objec
     return {"controller": label, "paper settle (s)": paper_settle,
             "ours settle (s)": _settle(tr), "ours stop time (s)": m["stop_time_s"],
             "ours distance (m)": m["stop_distance_m"], "paper stop time (s)": None,
-            "paper distance (m)": None}
+            "paper distance (m)": None, "paper / bound": None}

@@ -1,34 +1,53 @@
 """The reproduction's report: one self-contained HTML page (figures and CSV tables embedded),
-the CSV tables under OUT/tables/, the PNG figures under OUT/figures/ and OUT/verdicts.csv.
+the CSV tables under OUT/tables/, the PNG figures under OUT/figures/ and OUT/verdicts.csv; with
+`--interactive`, OUT/report_interactive.html beside it.
 
-The first section holds the verdict table of every paper reproduced and what the physical bounds
-say about the papers' distances; then one section per paper: its setting, every table (the
-paper's numbers beside ours), every figure redrawn from our runs, and its verdicts.
+The first section holds the verdict table of every paper reproduced, the verdict counts per
+paper and what the physical bounds say about the papers' distances; then one section per paper:
+its setting, the papers' numbers it quotes (source, unit, value exactly as published), budgets
+(asked and spent), every table (the paper's numbers beside ours), every figure redrawn from our
+runs, and its verdicts. The interactive page has the same sections, its tables sortable, and
+adds to each paper's section the study report's plotly figures of the paper's studies
+(`reports.sections`: best responses over the baseline, convergence bands, final-cost spread).
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, replace
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 import pandas as pd
 
 from chassistune._io import write_text
-from chassistune.papers.common import PaperSection, Table, Verdict
-from chassistune.reports.html import Download, FigureView, Section, TableView, render
-from chassistune.reports.tables import write_table
+from chassistune.papers import published
+from chassistune.papers.common import (
+    BOUND_RATIOS,
+    VERDICT_MARKS,
+    VERDICTS,
+    PaperSection,
+    Table,
+    Verdict,
+)
+from chassistune.reports.html import FLAG, Download, FigureView, Item, Section, TableView, render
+from chassistune.reports.tables import StudyData, write_table
+
+INTERACTIVE_NAME = "report_interactive.html"
+PaperPlots = Callable[[PaperSection], list[Item]]
+"""The extra items of a paper's section (the interactive page's plotly figures)."""
 
 
 @dataclass(frozen=True)
 class ReportFiles:
-    """The files a reproduction wrote."""
+    """The files a reproduction wrote (`interactive`: None without --interactive)."""
 
     html: Path
     verdicts: Path
     tables: tuple[Path, ...]
     figures: tuple[Path, ...]
+    interactive: Path | None = None
 
 
 def verdict_frame(verdicts: Sequence[Verdict]) -> pd.DataFrame:
@@ -36,6 +55,39 @@ def verdict_frame(verdicts: Sequence[Verdict]) -> pd.DataFrame:
     return pd.DataFrame([{"paper": v.paper, "claim": v.claim, "verdict": v.verdict,
                           "evidence": v.evidence} for v in verdicts],
                         columns=["paper", "claim", "verdict", "evidence"])
+
+
+def verdict_counts(sections: Sequence[PaperSection]) -> pd.DataFrame:
+    """Per paper: its claims and how many get each verdict."""
+    return pd.DataFrame([{"paper": s.key, "claims": len(s.verdicts),
+                          **{w: sum(v.verdict == w for v in s.verdicts) for w in VERDICTS}}
+                         for s in sections])
+
+
+def counts_text(verdicts: Sequence[Verdict]) -> str:
+    """'16 claims: 2 holds, 1 holds in ranking only, 13 does not hold' (verdicts present)."""
+    words = [v.verdict for v in verdicts]
+    return f"{len(words)} claims: " + ", ".join(f"{words.count(w)} {w}" for w in VERDICTS
+                                               if w in words)
+
+
+def quote(value: object) -> str:
+    """A published number in full (shortest exact decimal, no exponent padding); blank for
+    none."""
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return ""
+    return f"{value:.15g}" if isinstance(value, float) else str(value)
+
+
+def published_table(key: str) -> Table:
+    """Every number of paper `key` that the report quotes, with where it is printed and its
+    unit."""
+    rows = [{"printed at": q.source, "quantity": q.name, "road": q.road or "", "unit": q.unit,
+             "label": label, "value": value, "note": q.note}
+            for q in published.quantities(key) for label, value in q.as_dict().items()]
+    return Table("published", "The paper's numbers quoted in this report", pd.DataFrame(rows),
+                 "Exactly as published (package data chassistune/data/paper_results.toml); the "
+                 "tables below quote them in their 'paper' columns.", quoted=("value",))
 
 
 class _Writer:
@@ -46,66 +98,151 @@ class _Writer:
         self.tables_dir.mkdir(parents=True, exist_ok=True)
         self.written: list[Path] = []
         self.count = 0
+        self._ids = 0
+
+    def next_id(self, kind: str) -> str:
+        self._ids += 1
+        return f"{kind}-{self._ids}"
 
     def table(self, t: Table, prefix: str) -> TableView:
         path = self.tables_dir / f"{prefix}{t.name}.csv"
         write_table(t.frame, str(path))
-        self.written.append(path)
+        if path not in self.written:
+            self.written.append(path)
         self.count += 1
-        return TableView.from_frame(t.frame, f"t{self.count}", t.title, t.caption,
+        view = TableView.from_frame(t.frame, f"t{self.count}", t.title, t.caption,
                                     (Download.from_csv(path),))
+        return replace(view, rows=_shown(t, view.rows))
+
+
+def _shown(t: Table, rows: list[list[str]]) -> list[list[str]]:
+    """The page's cells: quoted columns in full, a verdict with its mark, a published distance
+    below its adhesion bound flagged."""
+    out = [list(r) for r in rows]
+    for j, col in enumerate(t.frame.columns):
+        values = t.frame.iloc[:, j].tolist()
+        for i, v in enumerate(values):
+            if col in t.quoted:
+                out[i][j] = quote(v)
+            elif col == "verdict" and v in VERDICT_MARKS:
+                out[i][j] = f"{VERDICT_MARKS[v]} {v}"
+            elif col in BOUND_RATIOS and isinstance(v, float) and v < 1.0:
+                out[i][j] = f"{out[i][j]} {FLAG} below the bound"
+    return out
 
 
 def _first_section(w: _Writer, sections: Sequence[PaperSection]) -> Section:
     verdicts = [v for s in sections for v in s.verdicts]
     bounds = [b for s in sections for b in s.bounds]
-    items: list[TableView | FigureView] = [w.table(Table(
-        "verdicts", "Verdict per claim, all papers", verdict_frame(verdicts),
-        "holds / holds in ranking only / does not hold / cannot be checked; the evidence gives "
-        "the numbers and tests (rank-sum p-values at alpha 0.05)."), "")]
+    items: list[Item] = [
+        w.table(Table("verdict_counts", "Verdicts per paper", verdict_counts(sections),
+                      "Claims per paper and how many get each verdict."), ""),
+        w.table(Table(
+            "verdicts", "Verdict per claim, all papers", verdict_frame(verdicts),
+            "✔ holds / ≈ holds in ranking only / ✘ does not hold / ? cannot be checked; the "
+            "evidence gives the numbers and tests (rank-sum p-values at alpha 0.05)."), "")]
     below = [b for b in bounds if not b.possible]
-    intro = (f"{len(verdicts)} claims judged. Physical bounds: {len(below)} of {len(bounds)} "
+    intro = (f"{counts_text(verdicts)}. Physical bounds: {len(below)} of {len(bounds)} "
              "published stopping distances are shorter than the adhesion bound "
              "v0^2/(2 mu_peak g) of their own speed and road"
              + (f" (papers {', '.join(sorted({b.paper for b in below}))})" if below else "")
-             + "; no run of ours beats its bound (each table lists ours / bound).")
+             + f" ({FLAG} below the bound); no run of ours beats its bound (each table lists "
+             "ours / bound).")
     if bounds:
-        items.append(w.table(Table("bounds", "Published distances against the physical bound",
-                                   pd.DataFrame([b.row() for b in bounds])), ""))
-    return Section("Verdicts and physical bounds", intro, list(items), id="verdicts")
+        items.append(w.table(Table(
+            "bounds", "Published distances against the physical bound",
+            pd.DataFrame([b.row() for b in bounds]),
+            "published: the paper's stopping distance, as printed; bound: the shortest "
+            "distance tire adhesion allows from the paper's speed on that road.",
+            quoted=("published (m)",)), ""))
+    return Section("Verdicts and physical bounds", intro, items, id="verdicts")
 
 
-def _paper_section(w: _Writer, s: PaperSection) -> Section:
+def _paper_section(w: _Writer, s: PaperSection, plots: PaperPlots | None) -> Section:
     prefix = f"{s.key}_"
-    items: list[TableView | FigureView] = [w.table(Table(
+    items: list[Item] = [w.table(Table(
         "setting", "Setting: our reading, assumptions, the paper's defects",
-        pd.DataFrame(s.setting, columns=["topic", "text"])), prefix)]
+        pd.DataFrame(s.setting, columns=["topic", "text"])), prefix),
+        w.table(published_table(s.key), prefix)]
     items += [w.table(t, prefix) for t in s.tables]
     for f in s.figures:
         w.count += 1
         items.append(FigureView.from_png(f.path, f"f{w.count}", f.title, f.caption,
                                          file=f"figures/{f.path.name}"))
+    if plots is not None:
+        items += plots(s)
     items.append(w.table(Table("verdicts", "Verdicts", verdict_frame(s.verdicts)), prefix))
-    return Section(s.title, f"Paper key: {s.key}.", list(items), id=s.key)
+    return Section(s.title, f"Paper key: {s.key}. {counts_text(s.verdicts)}.", items, id=s.key)
+
+
+def _version() -> str:
+    try:
+        return version("chassistune")
+    except PackageNotFoundError:  # pragma: no cover - source tree without metadata
+        return "unknown"
+
+
+def _page(w: _Writer, sections: Sequence[PaperSection], plots: PaperPlots | None = None
+          ) -> list[Section]:
+    """Every section of the page, in order."""
+    return [_first_section(w, sections)] + [_paper_section(w, s, plots) for s in sections]
+
+
+def timing_text(wall_time_s: float, studies: Mapping[str, StudyData]) -> str:
+    """This command's wall time and the runs' own: a resumed reproduction's wall time covers
+    only what it ran, the summed run times every run stored."""
+    runs = [r for d in studies.values() for r in d.records]
+    summed = sum(r.wall_time_s or 0.0 for r in runs)
+    return (f"wall time of this command {wall_time_s:.1f} s; the {len(runs)} stored runs took "
+            f"{summed:.0f} s summed over runs (their own wall times, on whatever workers ran "
+            "them)")
+
+
+def _heading(sections: Sequence[PaperSection], quick: bool, timing: str
+             ) -> tuple[str, str, str]:
+    kind = "quick run (reduced budgets and seeds)" if quick else "full run"
+    return (f"of {len(sections)} paper(s)",
+            f"chassistune reproduce, {kind}; {timing}.",
+            "Each paper's tables put its published numbers beside ours; figures are redrawn "
+            "from our runs; the stores under studies/ hold every run.")
 
 
 def write_report(out: Path, sections: Sequence[PaperSection], quick: bool,
-                 wall_time_s: float) -> ReportFiles:
+                 timing: str) -> ReportFiles:
     """Write report.html, tables/*.csv and verdicts.csv into `out` (figures are there already)."""
     w = _Writer(out)
-    page = [_first_section(w, sections)] + [_paper_section(w, s) for s in sections]
+    page = _page(w, sections)
     verdicts = out / "verdicts.csv"
     write_table(verdict_frame([v for s in sections for v in s.verdicts]), str(verdicts))
-    try:
-        ver = version("chassistune")
-    except PackageNotFoundError:  # pragma: no cover - source tree without metadata
-        ver = "unknown"
-    kind = "quick run (reduced budgets and seeds)" if quick else "full run"
     html = out / "report.html"
-    write_text(html, render(
-        f"reproduction of {len(sections)} paper(s)",
-        f"chassistune reproduce, {kind}; wall time {wall_time_s:.1f} s.",
-        "Each paper's tables put its published numbers beside ours; figures are redrawn from "
-        "our runs; the stores under studies/ hold every run.", page, ver))
+    write_text(html, render(*_heading(sections, quick, timing), page, _version(),
+                            kind="Reproduction"))
     figures = tuple(f.path for s in sections for f in s.figures)
     return ReportFiles(html, verdicts, tuple(w.written), figures)
+
+
+def write_interactive(out: Path, sections: Sequence[PaperSection],
+                      studies: Mapping[str, Sequence[tuple[str, StudyData]]], quick: bool,
+                      timing: str) -> Path:
+    """Write OUT/report_interactive.html: the static page's sections (tables sortable) with each
+    paper's studies drawn by plotly (`studies`: (study name, data) by paper key)."""
+    from chassistune.reports import sections as study_sections
+    from chassistune.reports.interactive import PlotlyFigures, interactive_page, require_plotly
+
+    require_plotly()
+    w = _Writer(out)
+    figures = PlotlyFigures(w)
+
+    def plots(s: PaperSection) -> list[Item]:
+        items: list[Item] = []
+        for name, data in studies.get(s.key, ()):
+            for i, sc in enumerate(data.scenarios, start=1):
+                tag = f"{name}-{i:02d}-{study_sections.slug(sc)}"
+                items += study_sections.response_items(data, sc, tag, figures)
+                items += study_sections.cost_figures(data, sc, tag, figures)
+        return items
+
+    html = out / INTERACTIVE_NAME
+    write_text(html, interactive_page(*_heading(sections, quick, timing),
+                                      _page(w, sections, plots), kind="Reproduction"))
+    return html

@@ -4,7 +4,8 @@ Each paper names its studies (package data `data/studies/<name>.toml`, a user ca
 change it); each study runs through the study machinery into OUT/studies/<study name>/ (SQLite
 store: a killed reproduction resumes where it stopped, and every executor gives the same
 numbers). `--quick` runs each config's `[quick]` version (study `<name>-quick`). Then every
-paper builds its section from the stores and the report is written (`papers.report`).
+paper builds its section from the stores and the report is written (`papers.report`; with
+`--interactive` also the plotly page).
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from __future__ import annotations
 import time
 import tomllib
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
 from types import ModuleType
@@ -24,7 +25,12 @@ from chassistune.papers import (
     iabc_suspension,
 )
 from chassistune.papers.common import Context, PaperSection
-from chassistune.papers.report import ReportFiles, write_report
+from chassistune.papers.report import (
+    ReportFiles,
+    timing_text,
+    write_interactive,
+    write_report,
+)
 from chassistune.reports.tables import StudyData, load_study
 from chassistune.studies.executors import Executor
 from chassistune.studies.runner import check_out_dir, pending_runs, run_study
@@ -125,14 +131,21 @@ def run_studies(runs: Sequence[StudyRun], out: Path, executor: Executor,
 
 
 def reproduce(which: str, quick: bool, out: str | Path, executor: Executor,
-              progress: Progress | None = None) -> Outcome:
-    """Run the studies of paper `which` (or `all`) and write the report into `out`."""
+              progress: Progress | None = None, interactive: bool = False) -> Outcome:
+    """Run the studies of paper `which` (or `all`) and write the report into `out` (and, with
+    `interactive`, report_interactive.html beside it)."""
     t0 = time.perf_counter()
     out = Path(out)
     runs = check_reproduction(which, quick, out)
     data = run_studies(runs, out, executor, progress)
     ctx = Context(out / "figures", data, {r.name: r.configs for r in runs}, quick)
-    sections = [PAPERS[k].build(ctx) for k in paper_keys(which)]
+    keys = paper_keys(which)
+    sections = [PAPERS[k].build(ctx) for k in keys]
     wall = time.perf_counter() - t0
-    files = write_report(out, sections, quick, wall)
+    timing = timing_text(wall, data)
+    files = write_report(out, sections, quick, timing)
+    if interactive:
+        by_paper = {k: [(n, data[n]) for n in PAPERS[k].studies() if n in data] for k in keys}
+        files = replace(files, interactive=write_interactive(out, sections, by_paper, quick,
+                                                             timing))
     return Outcome(files, sections, wall)

@@ -22,8 +22,10 @@ from chassistune.reports.versus import BETTER, REFERENCE, SAME, WORSE
 FLAG = "⚑"
 """Marks a tuned gain within 1 % of its bound (see reports.gains)."""
 
-_CELL_CLASSES = ((BETTER, "better"), (WORSE, "worse"), (SAME, "same"), (REFERENCE, "ref"),
-                 (FLAG, "flag"))
+_CELL_CLASSES = ((BETTER[0], "better"), (WORSE[0], "worse"), (SAME[0], "same"),
+                 (REFERENCE, "ref"), (FLAG, "flag"))
+"""A cell holding one of these marks (a verdict symbol, 'reference', the bound flag) is styled
+by the class."""
 
 
 def format_cell(x: Any) -> str:
@@ -230,12 +232,12 @@ TEMPLATE = TABLE_MACRO + """<!DOCTYPE html>
 <meta charset="utf-8">
 <meta name="viewport" content="width=device-width, initial-scale=1">
 <meta name="generator" content="chassistune {{ version }}">
-<title>Study {{ name }}: chassistune {{ "interactive " if interactive else "" }}report</title>
+<title>{{ kind }} {{ name }}: chassistune {{ "interactive " if interactive else "" }}report</title>
 <style>{{ style | safe }}{{ extra_style | safe }}</style>
 {% if interactive %}<script>{{ interactive.plotly_js | safe }}</script>{% endif %}
 </head>
 <body>
-<h1>Study {{ name }}</h1>
+<h1>{{ kind }} {{ name }}</h1>
 <p class="meta">{{ summary }}{% if interactive %} Interactive version: sort a table by clicking
 its header; zoom, hover and hide curves in the figures.{% endif %}</p>
 {% if description %}<p>{{ description }}</p>{% endif %}
@@ -306,9 +308,10 @@ def environment() -> jinja2.Environment:
 
 
 def render(name: str, summary: str, description: str, sections: list[Section],
-           version: str, interactive: Interactive | None = None) -> str:
-    """The page's HTML text (autoescaped); tables and figures numbered in page order."""
+           version: str, interactive: Interactive | None = None, kind: str = "Study") -> str:
+    """The page's HTML text (autoescaped); tables and figures numbered in page order. The
+    heading and title read '{kind} {name}'."""
     return environment().from_string(TEMPLATE).render(
-        name=name, summary=summary, description=description, sections=sections,
+        kind=kind, name=name, summary=summary, description=description, sections=sections,
         version=version, labels=number(sections), interactive=interactive,
         extra_style=interactive.style if interactive else "")

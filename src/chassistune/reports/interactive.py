@@ -12,7 +12,7 @@ from __future__ import annotations
 import json
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -21,7 +21,7 @@ from chassistune.errors import InputError
 from chassistune.reports import sections
 from chassistune.reports.bands import convergence_bands, log_scale_suits
 from chassistune.reports.build import ReportFiles, read_study
-from chassistune.reports.html import Interactive, PlotView, render
+from chassistune.reports.html import Interactive, PlotView, Section, render
 from chassistune.reports.responses import ResponseSet
 from chassistune.studies.store import RunRecord
 
@@ -59,16 +59,22 @@ def _layout(title: str, height: int, **extra: Any) -> dict[str, Any]:
             "legend": {"orientation": "h", "y": -0.18}, **extra}
 
 
+class Ids(Protocol):
+    """Hands out the page's item ids (`sections.Assets` does)."""
+
+    def next_id(self, kind: str) -> str: ...
+
+
 class PlotlyFigures:
     """The interactive `sections.Figures`: plotly figures kept as JSON for the page."""
 
-    def __init__(self, assets: sections.Assets) -> None:
-        self.assets = assets
+    def __init__(self, ids: Ids) -> None:
+        self.ids = ids
         self.go = require_plotly()
 
     def _view(self, fig: Any, title: str, caption: str) -> PlotView:
         compact = json.dumps(json.loads(fig.to_json()), separators=(",", ":"))
-        return PlotView(self.assets.next_id("plot"), title, compact, len(fig.data), caption)
+        return PlotView(self.ids.next_id("plot"), title, compact, len(fig.data), caption)
 
     def convergence(self, scenario: str, runs: Mapping[str, Sequence[RunRecord]],
                     name: str) -> PlotView:
@@ -199,22 +205,30 @@ def _safe(text: str) -> str:
     return text.replace("</", "<\\/")
 
 
-def build_interactive(study_dir: str | Path, reference: str | None = None) -> ReportFiles:
-    """Write DIR/report_interactive.html (and refresh the CSV tables beside it)."""
+def interactive_page(name: str, summary: str, description: str,
+                     page_sections: list[Section], kind: str = "Study") -> str:
+    """The interactive page's HTML: `render` with plotly.js inlined once, every PlotView's
+    figure JSON in one data element, and the scripts drawing them and sorting the tables."""
     from importlib.metadata import version
 
     require_plotly()
     from plotly.offline import get_plotlyjs
 
-    study = read_study(study_dir, reference)
-    assets = sections.Assets(study.root)
-    page_sections = study.sections(assets, PlotlyFigures(assets))
     plots = [item for s in page_sections for item in s.items if isinstance(item, PlotView)]
     figures = "{" + ",".join(f"{json.dumps(p.id)}:{_safe(p.figure_json)}" for p in plots) + "}"
     script = f"var PLOT_CONFIG = {json.dumps(PLOT_CONFIG)};\n{PLOT_SCRIPT}\n{SORT_SCRIPT}"
-    page = render(study.data.name, study.summary, study.description, page_sections,
-                  version("chassistune"), Interactive(
-                      get_plotlyjs().replace("</script", "<\\/script"), figures, script, STYLE))
+    return render(name, summary, description, page_sections, version("chassistune"),
+                  Interactive(get_plotlyjs().replace("</script", "<\\/script"), figures, script,
+                              STYLE), kind)
+
+
+def build_interactive(study_dir: str | Path, reference: str | None = None) -> ReportFiles:
+    """Write DIR/report_interactive.html (and refresh the CSV tables beside it)."""
+    require_plotly()
+    study = read_study(study_dir, reference)
+    assets = sections.Assets(study.root)
+    page = interactive_page(study.data.name, study.summary, study.description,
+                            study.sections(assets, PlotlyFigures(assets)))
     html = study.root / INTERACTIVE_NAME
     write_text(html, page)
     return ReportFiles(html, study.root / sections.ASSETS, assets.tables, [])

@@ -154,8 +154,7 @@ def scenario_section(data: tables.StudyData, sc: str, index: int, reference: str
         f"Best cost found per run over the completed runs; reference {reference}. "
         f"{VERDICT_NOTE}", sources["summary"], sources["rank_sum"]))
     name = f"{index:02d}-{slug(sc)}"
-    for rs_ in response_sets(data, sc) if spec.plant != FUNCTION_KIND else []:
-        section.items.append(figures.responses(rs_, f"responses-{name}-{slug(rs_.road)}"))
+    section.items += response_items(data, sc, name, figures)
     gains = gains_table(data, sc)
     if not gains.empty and spec.bounds:
         section.items.append(a.table(
@@ -165,11 +164,25 @@ def scenario_section(data: tables.StudyData, sc: str, index: int, reference: str
             f"bound's range from that bound (the box may cut the optimum off). Bounds: "
             + ", ".join(f"{g} [{lo:g}, {hi:g}]" for g, (lo, hi) in spec.bounds.items()) + ".",
             a.csv(gains.assign(scenario=sc), f"gains-{name}")))
-    done = {o: data.runs(sc, o) for o in data.optimizers}
-    section.items.append(figures.convergence(sc, done, f"convergence-{name}"))
-    section.items.append(figures.final_costs(sc, {o: data.costs(sc, o) for o in data.optimizers},
-                                             f"final-cost-{name}"))
+    section.items += cost_figures(data, sc, name, figures)
     return section
+
+
+def response_items(data: tables.StudyData, sc: str, name: str, figures: Figures) -> list[Item]:
+    """Each optimizer's best controller over the plant's baseline, one figure per tuned road
+    (none for a benchmark function or a plant without a response view)."""
+    if data.runs(sc, completed=False)[0].spec.plant == FUNCTION_KIND:
+        return []
+    return [figures.responses(rs, f"responses-{name}-{slug(rs.road)}")
+            for rs in response_sets(data, sc)]
+
+
+def cost_figures(data: tables.StudyData, sc: str, name: str, figures: Figures) -> list[Item]:
+    """Convergence (median and interquartile band) and final-cost spread of the optimizers that
+    completed runs of scenario `sc`."""
+    done = {o: runs for o in data.optimizers if (runs := data.runs(sc, o))}
+    return [figures.convergence(sc, done, f"convergence-{name}"),
+            figures.final_costs(sc, {o: data.costs(sc, o) for o in done}, f"final-cost-{name}")]
 
 
 def _gains_view(gains: pd.DataFrame, names: list[str]) -> pd.DataFrame:
