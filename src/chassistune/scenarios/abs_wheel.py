@@ -26,8 +26,7 @@ from chassistune.plants.abs_wheel import (
     check_consistency,
     default_t_max_s,
 )
-from chassistune.plants.presets import PresetInfo
-from chassistune.plants.roads import friction_roads, tire_for_road
+from chassistune.plants.roads import tire_for_road
 from chassistune.plants.tires import TireCurve
 from chassistune.scenarios.abs_wheel_ecu import (
     ECU_PARAM_NAMES,
@@ -271,12 +270,6 @@ class AbsWheelPlant(Plant):
     """The single-wheel ABS plant."""
 
     spec = ABS_WHEEL
-
-    def presets(self) -> dict[str, PresetInfo]:
-        return {n: p.info for n, p in PRESETS.items()}
-
-    def roads(self) -> dict[str, str]:
-        return friction_roads()
 
     def controllers(self) -> list[ControllerSpec]:
         return catalogue.for_plant(ABS_WHEEL.name)

@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from chassistune._registry import resolve
 from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
 from chassistune.plants.presets import PresetInfo
@@ -51,6 +52,9 @@ class PlantSpec:
     `key_metrics` are its lower-is-better metrics summarized in reports (each a metric name of
     its scenarios); `plot` names the function drawing a trace, lazily as "module:attr"
     (signature `plot(scenario, trace, path)`), so that no computation module imports matplotlib.
+    `presets` ("module:attr" of the presets by name, each with its `info`) and `roads`
+    ("module:attr" of a function: road name -> description) point into light modules, so that
+    listing them imports no kernel; empty, the plant's builder answers (`Plant.presets`).
     """
 
     name: str
@@ -59,6 +63,18 @@ class PlantSpec:
     default_preset: str
     key_metrics: tuple[str, ...]
     plot: str
+    presets: str = ""
+    roads: str = ""
+
+    def preset_infos(self) -> dict[str, PresetInfo]:
+        """The presets by name, read from the `presets` module (imported now)."""
+        presets: Mapping[str, Any] = resolve(self.presets)  # type: ignore[assignment]
+        return {name: preset.info for name, preset in presets.items()}
+
+    def road_descriptions(self) -> dict[str, str]:
+        """Road name -> one-line description, from the `roads` function (imported now)."""
+        roads: Any = resolve(self.roads)
+        return dict(roads())
 
 
 @dataclass
@@ -134,13 +150,13 @@ class Plant(ABC):
     def default_preset(self) -> str:
         return self.spec.default_preset
 
-    @abstractmethod
     def presets(self) -> dict[str, PresetInfo]:
-        """Presets by name."""
+        """Presets by name (those of the spec; a plant whose spec names none overrides this)."""
+        return self.spec.preset_infos()
 
-    @abstractmethod
     def roads(self) -> dict[str, str]:
-        """Road name -> one-line description."""
+        """Road name -> one-line description (the spec's; else overridden)."""
+        return self.spec.road_descriptions()
 
     @abstractmethod
     def controllers(self) -> list[ControllerSpec]:

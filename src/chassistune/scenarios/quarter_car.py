@@ -22,9 +22,8 @@ from chassistune.errors import InputError
 from chassistune.params import as_dict, override, validate
 from chassistune.plants import iso_roads
 from chassistune.plants import quarter_car as model
-from chassistune.plants.presets import PresetInfo
-from chassistune.plants.quarter_car import PRESETS, QuarterCarParams
-from chassistune.plants.roads import roughness_class, roughness_roads
+from chassistune.plants.quarter_car_params import PRESETS, QuarterCarParams
+from chassistune.plants.roads import roughness_class
 from chassistune.scenarios.base import (
     PENALTY,
     Plant,
@@ -280,12 +279,6 @@ class QuarterCarPlant(Plant):
     """The quarter-car active suspension plant."""
 
     spec = QUARTER_CAR
-
-    def presets(self) -> dict[str, PresetInfo]:
-        return {n: p.info for n, p in PRESETS.items()}
-
-    def roads(self) -> dict[str, str]:
-        return roughness_roads()
 
     def controllers(self) -> list[ControllerSpec]:
         return catalogue.for_plant(QUARTER_CAR.name)
