@@ -13,7 +13,7 @@ import math
 from abc import ABC, abstractmethod
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Generic, TypeVar
 
 import numpy as np
 
@@ -66,10 +66,14 @@ class PlantSpec:
     presets: str = ""
     roads: str = ""
 
+    def preset_table(self) -> Mapping[str, Any]:
+        """The presets by name as the plant defines them (each with its `info`), imported now."""
+        presets: Mapping[str, Any] = resolve(self.presets)  # type: ignore[assignment]
+        return presets
+
     def preset_infos(self) -> dict[str, PresetInfo]:
         """The presets by name, read from the `presets` module (imported now)."""
-        presets: Mapping[str, Any] = resolve(self.presets)  # type: ignore[assignment]
-        return {name: preset.info for name, preset in presets.items()}
+        return {name: preset.info for name, preset in self.preset_table().items()}
 
     def road_descriptions(self) -> dict[str, str]:
         """Road name -> one-line description, from the `roads` function (imported now)."""
@@ -103,6 +107,14 @@ class Scenario(ABC):
     def gain_names(self) -> tuple[str, ...]:
         return self.controller.gain_names
 
+    def pick_objective(self, objective: str | None) -> str:
+        """The objective to use (the default when None), or InputError listing the known ones."""
+        objective = objective or self.default_objective
+        if objective not in self.objectives:
+            raise InputError("objective", f"unknown objective {objective!r} for {self.plant} "
+                             f"(known: {', '.join(self.objectives)})")
+        return objective
+
     @abstractmethod
     def params(self) -> dict[str, Any]:
         """Every plant, road, solver and controller value used, by name, in SI (JSON echo)."""
@@ -133,8 +145,11 @@ class Scenario(ABC):
         return np.array([values[n] for n in self.gain_names], dtype=np.float64)
 
 
-class Plant(ABC):
-    """A registered plant: its spec, presets, roads and how to build a scenario."""
+S = TypeVar("S", bound=Scenario)
+
+
+class Plant(ABC, Generic[S]):
+    """A registered plant: its spec, presets, roads and how to build a scenario (of type S)."""
 
     spec: PlantSpec
 
@@ -168,7 +183,6 @@ class Plant(ABC):
         field metadata (unit, valid and plausible range). Plants override it."""
         return {}
 
-    @abstractmethod
     def scenario(
         self,
         preset: str | None = None,
@@ -176,5 +190,20 @@ class Plant(ABC):
         controller: str = "none",
         params: Mapping[str, object] | None = None,
         seed: int = 0,
-    ) -> Scenario:
-        """Resolve and validate; unknown names or bad values raise InputError."""
+    ) -> S:
+        """Resolve and validate; unknown names or bad values raise InputError.
+
+        The preset (default when None) and road (the preset's first when None) are resolved
+        here from the spec's presets; `build` does the rest."""
+        presets = self.spec.preset_table()
+        name = pick_preset(self.name, preset, self.default_preset, presets)
+        pre = presets[name]
+        return self.build(name, pre, road or pre.info.roads[0], controller, dict(params or {}),
+                          seed)
+
+    def build(self, preset: str, pre: Any, road: str, controller: str,
+              values: dict[str, object], seed: int) -> S:
+        """The scenario of preset `preset` (its object `pre` from the spec's presets) on `road`
+        with `controller` and parameter overrides `values`. Plants whose spec declares no
+        presets override `scenario` instead."""
+        raise NotImplementedError(f"plant {self.name!r} defines neither build nor scenario")
