@@ -20,13 +20,14 @@ T = TypeVar("T")
 
 
 def parse_assignments(items: list[str] | tuple[str, ...], field: str) -> dict[str, str]:
-    """Parse ["a=1", "b=x"] into {"a": "1", "b": "x"}; `field` names the option for errors."""
+    """Parse ["a=1", "b=x"] into {"a": "1", "b": "x"}; `field` ("params" or "gains") names the
+    values for errors; gains may be comma-separated and "@FILE.json" reads a gains file."""
     out: dict[str, str] = {}
     for item in items:
-        if field == "--gains" and item.startswith("@"):
+        if field == "gains" and item.startswith("@"):
             out.update(read_gains_file(item[1:]))
             continue
-        for part in item.split(",") if field == "--gains" else [item]:
+        for part in item.split(",") if field == "gains" else [item]:
             name, sep, value = part.partition("=")
             name, value = name.strip(), value.strip()
             if not sep or not name or not value:
@@ -49,14 +50,14 @@ def read_json(path: str, field: str) -> Any:
 
 
 def read_gains_file(path: str) -> dict[str, str]:
-    """`--gains @FILE.json`: a JSON object of gain name -> number (e.g. a tune's
+    """A gains file (`@FILE.json`): a JSON object of gain name -> number (e.g. a tune's
     best_gains.json), or a tune.json (its `best_gains`)."""
-    doc = read_json(path, "--gains")
+    doc = read_json(path, "gains")
     if isinstance(doc, dict) and isinstance(doc.get("best_gains"), dict):
         doc = doc["best_gains"]
     if not isinstance(doc, dict) or not all(isinstance(v, int | float) and not isinstance(v, bool)
                                             for v in doc.values()):
-        raise InputError("--gains", f"{path!r} must hold an object of gain name -> number")
+        raise InputError("gains", f"{path!r} must hold an object of gain name -> number")
     return {str(k): repr(float(v)) for k, v in doc.items()}
 
 

@@ -29,7 +29,8 @@ from chassistune.plants.abs_vehicle import (
     tire_force,
 )
 from chassistune.plants.roads import BILINEAR_ROADS
-from chassistune.plants.tires import BilinearTire, tire_mu
+from chassistune.plants.tire_kernel import tire_mu
+from chassistune.plants.tires import BilinearTire
 
 SURFACES = {name: surface_row(s, h, g, 60_000.0)[None, :]
             for name, (s, h, g, _) in BILINEAR_ROADS.items()}

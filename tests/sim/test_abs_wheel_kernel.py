@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 
 from chassistune._branchfree import stack_copy
-from chassistune.plants.tires import KIND_BILINEAR, KIND_BURCKHARDT, KIND_TABLE, tire_mu
+from chassistune.plants.tire_kernel import tire_mu
+from chassistune.plants.tires import KIND_BILINEAR, KIND_BURCKHARDT, KIND_TABLE
 from chassistune.scenarios.abs_wheel import PLANT, AbsWheelScenario
 from chassistune.sim import abs_wheel_kernel as K
 from chassistune.sim import abs_wheel_layout as KL

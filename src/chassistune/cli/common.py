@@ -20,7 +20,8 @@ _FLAGS = {
     "max_iter": "--iters", "max_evals": "--evals", "dim": "--dim", "plant": "PLANT",
     "function": "FUNCTION", "source": "SOURCE", "out": "--out", "format": "--format",
     "vary": "--vary", "scenarios": "--scenarios", "sampler": "--sampler", "validate": "--validate",
-    "beta": "--beta",
+    "beta": "--beta", "inputs": "--input", "executor": "--executor", "scheduler": "--scheduler",
+    "workers": "--workers",
 }
 """The command line's word for the head of a domain field path."""
 

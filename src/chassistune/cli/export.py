@@ -40,8 +40,8 @@ def export_command(source: str | None, plant: str | None, controller: str | None
 
     check_output_dir(out_dir, "--out", parents=True)  # export creates missing folders
     check_folder(out_dir)
-    ec = export_source.resolve(source, plant, controller, parse_assignments(gains, "--gains"),
-                               parse_assignments(params, "--param"), preset, road)
+    ec = export_source.resolve(source, plant, controller, parse_assignments(gains, "gains"),
+                               parse_assignments(params, "params"), preset, road)
     for path in write(ec, fmt, out_dir):
         click.echo(f"wrote {path}")
 

@@ -15,7 +15,7 @@ KINDS = ["plants", "presets", "roads", "controllers", "optimizers", "functions",
 
 def catalogue(kind: str) -> object:
     """The JSON-ready listing of one kind (grouped by plant where it applies)."""
-    from chassistune.scenarios.registry import get_plant, plant_names, plant_spec
+    from chassistune.scenarios.registry import plant_names, plant_presets, plant_roads, plant_spec
 
     if kind == "plants":
         return [
@@ -27,13 +27,13 @@ def catalogue(kind: str) -> object:
         return {
             n: [
                 {"name": p.name, "description": p.description, "roads": list(p.roads)}
-                for p in get_plant(n).presets().values()
+                for p in plant_presets(n).values()
             ]
             for n in plant_names()
         }
     if kind == "roads":
         return {
-            n: [{"name": r, "description": d} for r, d in get_plant(n).roads().items()]
+            n: [{"name": r, "description": d} for r, d in plant_roads(n).items()]
             for n in plant_names()
         }
     if kind == "controllers":

@@ -129,10 +129,10 @@ def simulate_command(plant: str | None, preset: str | None, road: str | None,
     if compare is not None and csv_path is not None:
         raise InputError("--csv", "one time series per file: not with --compare")
     values: dict[str, object] = dict(overrides(doc)) if doc else {}
-    values.update(parse_assignments(params, "--param"))
+    values.update(parse_assignments(params, "params"))
     if ecu:
         values["ecu"] = ecu
-    given = parse_assignments(gains, "--gains")
+    given = parse_assignments(gains, "gains")
     if doc is not None:
         preset = preset or doc["preset"]
         road = road or doc["roads"][0]

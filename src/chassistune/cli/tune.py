@@ -82,7 +82,7 @@ def tune_command(plant: str, preset: str | None, roads: tuple[str, ...], aggrega
     if iters is None and evals is None:
         iters = 100
     check_output_dir(out_dir, "--out")
-    values = parse_assignments(params, "--param")
+    values = parse_assignments(params, "params")
     if ecu:
         values["ecu"] = ecu
     problem = build_problem(plant, controller, preset, roads, objective, aggregate, values,

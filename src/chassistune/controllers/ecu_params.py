@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from chassistune._rng import make_rng
 from chassistune.errors import InputError
 from chassistune.params import override
 
@@ -207,7 +208,7 @@ def draw_noise(p: EcuParams, seed: int, n_edges: int = 4096, n_samples: int = 16
     Spacing errors are zero-mean normal with std `sensor_spacing_error` pitches, demeaned and
     clipped at 0.45 pitch (edges stay in order); jitter and accelerometer noise are normal.
     """
-    rng = np.random.default_rng(np.random.SeedSequence([seed, 15]))
+    rng = make_rng(np.random.SeedSequence([seed, 15]))
     pitch = 2.0 * math.pi / p.sensor_teeth
     zero = np.zeros(1)
     spacing = zero

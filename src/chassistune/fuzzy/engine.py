@@ -191,14 +191,14 @@ def evaluate_named(rb: RuleBase, inputs: Mapping[str, ArrayLike]) -> dict[str, N
     for name in inputs:
         if name not in rb.input_names:
             raise InputError(
-                "--input",
+                "inputs",
                 f"unknown input {name!r} of rule base {rb.name!r} "
                 f"(inputs: {', '.join(rb.input_names)})",
             )
     missing = [n for n in rb.input_names if n not in inputs]
     if missing:
         raise InputError(
-            "--input", f"missing a value for input {missing[0]!r} of rule base {rb.name!r}"
+            "inputs", f"missing a value for input {missing[0]!r} of rule base {rb.name!r}"
         )
     columns = np.broadcast_arrays(
         *(np.asarray(inputs[n], dtype=np.float64) for n in rb.input_names)

@@ -27,15 +27,13 @@ plain `abs_max_rel_err_*` keeps every stopped run).
 
 from __future__ import annotations
 
-import time
 import warnings
-from collections.abc import Callable
 
 import numpy as np
 
 from chassistune._rng import make_rng
 from chassistune.params import ImplausibleValue
-from chassistune.perf.timing import best_time
+from chassistune.perf.timing import best_cpu_time, best_time
 from chassistune.plants.abs_wheel import PRESETS
 from chassistune.scenarios.abs_wheel import PLANT, AbsWheelScenario
 from chassistune.sim import abs_wheel_layout as KL
@@ -59,17 +57,6 @@ def box_population(scenario: AbsWheelScenario, n: int, seed: int) -> np.ndarray:
     """n gain rows uniform in the controller's tuning bounds."""
     lo, hi = np.array([(g.lo, g.hi) for g in scenario.controller.gains]).T
     return lo + (hi - lo) * make_rng(seed).random((n, lo.size))
-
-
-def best_cpu_time(fn: Callable[[], object], repeats: int) -> float:
-    """Shortest thread CPU time of `repeats` calls (time descheduled on a shared machine is not
-    counted)."""
-    best = float("inf")
-    for _ in range(repeats):
-        t0 = time.thread_time()
-        fn()
-        best = min(best, time.thread_time() - t0)
-    return best
 
 
 def _rel_change(a: np.ndarray, ref: np.ndarray) -> np.ndarray:

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from functools import partial
 
-from chassistune.perf.abs import bench_population, best_cpu_time
-from chassistune.perf.timing import best_time
+from chassistune.perf.abs import bench_population
+from chassistune.perf.timing import best_cpu_time, best_time
 from chassistune.scenarios.abs_wheel import PLANT
 
 

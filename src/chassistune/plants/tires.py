@@ -1,7 +1,7 @@
 """Longitudinal tire friction curves mu(S) and their peaks (DESIGN 3.2).
 
-Three families, all evaluated by one compiled function (`tire_mu`) from plain arrays so that roads
-are data, not code paths:
+Three families, all evaluated from plain arrays (`kernel_data`; compiled: `plants.tire_kernel`) so
+that roads are data, not code paths:
 
 * bilinear (derlsp-ao-abs eq. 5): mu = mu_h S / S_T for S <= S_T, else
   (mu_h - mu_g S_T)/(1 - S_T) - (mu_h - mu_g) S / (1 - S_T); stored as the piecewise-linear table
@@ -16,10 +16,8 @@ Burckhardt c1 and c3, a table's mus. The peak slip stays; the peak friction scal
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
-import numba
 import numpy as np
 
 from chassistune.errors import InputError
@@ -35,32 +33,12 @@ _MU_SCALE = {"positive": True}
 """mu_scale's metadata (every curve's road parameter; no plausible range declared)."""
 
 
-@numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
-def tire_mu(kind: int, coef: np.ndarray, xs: np.ndarray, ys: np.ndarray, s: float) -> float:
-    """Friction coefficient at slip s in [0, 1].
-
-    kind 0: linear table (xs, ys); 1: Burckhardt, coef = (c1, c2, c3); 2: bilinear in closed form,
-    coef = (S_T, mu_h / S_T, (mu_h - mu_g S_T)/(1 - S_T), (mu_h - mu_g)/(1 - S_T)).
-    """
-    if kind == KIND_BILINEAR:
-        rising = coef[1] * s
-        falling = coef[2] - coef[3] * s
-        return rising if s <= coef[0] else falling
-    if kind == KIND_BURCKHARDT:
-        return coef[0] * (1.0 - math.exp(-coef[1] * s)) - coef[2] * s
-    n = xs.shape[0]
-    j = 1
-    while j < n - 1 and s > xs[j]:
-        j += 1
-    return ys[j - 1] + (ys[j] - ys[j - 1]) * (s - xs[j - 1]) / (xs[j] - xs[j - 1])
-
-
 @dataclass(frozen=True)
 class TireCurve:
     """Base: a curve mu(S) on S in [0, 1], with its kernel representation."""
 
     def kernel_data(self) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
-        """(kind, coef, xs, ys) as `tire_mu` takes them."""
+        """(kind, coef, xs, ys) as `tire_kernel.tire_mu` takes them."""
         raise NotImplementedError
 
     def mu(self, slip: np.ndarray | float) -> np.ndarray:

@@ -9,7 +9,6 @@ from __future__ import annotations
 import dataclasses
 import math
 import warnings
-from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -22,12 +21,12 @@ from chassistune.params import as_dict, implausible, override, to_float, validat
 from chassistune.plants.abs_wheel import (
     PRESETS,
     AbsWheelParams,
+    Preset,
     bound_time_s,
     check_consistency,
     default_t_max_s,
 )
-from chassistune.plants.presets import PresetInfo
-from chassistune.plants.roads import friction_roads, tire_for_road
+from chassistune.plants.roads import tire_for_road
 from chassistune.plants.tires import TireCurve
 from chassistune.scenarios.abs_wheel_ecu import (
     ECU_PARAM_NAMES,
@@ -44,6 +43,7 @@ from chassistune.scenarios.base import (
     json_scalar,
     pick_preset,
 )
+from chassistune.scenarios.controller_params import kernel_gains, resolve_controller_params
 from chassistune.scenarios.registry import ABS_WHEEL
 from chassistune.sim import abs_wheel_ecu_layout as EL
 from chassistune.sim import abs_wheel_kernel as K
@@ -177,18 +177,6 @@ class AbsWheelScenario(Scenario):
             out.update(self.ecu.echo())
         return out
 
-    def _kernel_gains(self, gains: np.ndarray) -> np.ndarray:
-        g = np.asarray(gains, dtype=np.float64)
-        if g.ndim == 1:
-            g = g[None, :]
-        k = len(self.gain_names)
-        if g.ndim != 2 or g.shape[1] != k:
-            raise InputError("gains", f"expected shape (n, {k}) for {self.controller.name}, got "
-                             f"{tuple(np.shape(gains))}")
-        if k == 0:  # laws without gains: the kernel reads no column
-            return np.zeros((g.shape[0], 1))
-        return np.ascontiguousarray(g)
-
     def raw(self, gains: np.ndarray, workers: int | None = None) -> np.ndarray:
         """The kernel's metrics matrix (n, N_METRICS) for a population of gain rows."""
         if self.ecu is not None:
@@ -199,7 +187,7 @@ class AbsWheelScenario(Scenario):
         def call(g: np.ndarray, out: np.ndarray) -> None:
             K.simulate_abs_wheel(g, p, kind, coef, xs, ys, ckind, c, table, empty, out)
 
-        return run_chunked(call, self._kernel_gains(gains), len(KL.METRICS), workers)
+        return run_chunked(call, kernel_gains(gains, self.controller), len(KL.METRICS), workers)
 
     def _ecu_call(self, gains: np.ndarray, trace: np.ndarray, out: np.ndarray) -> None:
         """The realistic kernel on gain rows (issue 15)."""
@@ -214,7 +202,7 @@ class AbsWheelScenario(Scenario):
     def _raw_ecu(self, gains: np.ndarray, workers: int | None) -> np.ndarray:
         empty = np.zeros((0, len(EL.TRACE)))
         return run_chunked(lambda g, out: self._ecu_call(g, empty, out),
-                           self._kernel_gains(gains), len(EL.METRICS), workers)
+                           kernel_gains(gains, self.controller), len(EL.METRICS), workers)
 
     def metrics_from_raw(self, raw: np.ndarray) -> dict[str, np.ndarray]:
         """Metrics by name; stop metrics NaN (JSON null) for runs that did not stop; status
@@ -233,10 +221,7 @@ class AbsWheelScenario(Scenario):
         return self.metrics_from_raw(self.raw(gains))
 
     def cost_from_raw(self, raw: np.ndarray, objective: str | None = None) -> np.ndarray:
-        objective = objective or self.default_objective
-        if objective not in OBJECTIVE_COLUMNS:
-            raise InputError("objective", f"unknown objective {objective!r} for abs-wheel "
-                             f"(known: {', '.join(OBJECTIVE_COLUMNS)})")
+        objective = self.pick_objective(objective)
         cost = raw[:, OBJECTIVE_COLUMNS[objective]] + (
             self.scoring.lock_penalty_per_s * raw[:, KL.METRICS["locked_time_s"]]
         )
@@ -251,7 +236,7 @@ class AbsWheelScenario(Scenario):
 
     def trace(self, gains: np.ndarray) -> Trace:
         p, kind, coef, xs, ys, ckind, c, table = self._kernel_args
-        g = self._kernel_gains(np.asarray(gains, dtype=np.float64).reshape(1, -1))
+        g = kernel_gains(np.asarray(gains, dtype=np.float64).reshape(1, -1), self.controller)
         n_rows = math.ceil(self.plant_params.t_max_s / self.plant_params.dt_s) + 2
         if self.ecu is not None:
             tr = np.zeros((n_rows, len(EL.TRACE)))
@@ -267,16 +252,10 @@ class AbsWheelScenario(Scenario):
 
 
 
-class AbsWheelPlant(Plant):
+class AbsWheelPlant(Plant[AbsWheelScenario]):
     """The single-wheel ABS plant."""
 
     spec = ABS_WHEEL
-
-    def presets(self) -> dict[str, PresetInfo]:
-        return {n: p.info for n, p in PRESETS.items()}
-
-    def roads(self) -> dict[str, str]:
-        return friction_roads()
 
     def controllers(self) -> list[ControllerSpec]:
         return catalogue.for_plant(ABS_WHEEL.name)
@@ -287,44 +266,19 @@ class AbsWheelPlant(Plant):
         return {"plant": pre.params, f"road ({road}; others have their own values)":
                 tire_for_road(road, {})[0], "scoring": Scoring()}
 
-    def scenario(
-        self,
-        preset: str | None = None,
-        road: str | None = None,
-        controller: str = "none",
-        params: Mapping[str, object] | None = None,
-        seed: int = 0,
-    ) -> AbsWheelScenario:
-        preset = pick_preset(self.name, preset, self.default_preset, PRESETS)
-        pre = PRESETS[preset]
-        road = road or pre.info.roads[0]
+    def build(self, preset: str, pre: Preset, road: str, controller: str,
+              values: dict[str, object], seed: int) -> AbsWheelScenario:
         spec = catalogue.get(ABS_WHEEL.name, controller)
-        values = dict(params or {})
         mode = ecu_mode(values)
         plant_params, used = override(pre.params, values)
         used.add("ecu")
         tire, used_tire = tire_for_road(road, values)
         scoring, used_scoring = override(Scoring(), values)
         used |= used_tire | used_scoring
-        ctrl_values: dict[str, Any] = {}
-        for ps in spec.params:
-            if isinstance(ps.default, str):
-                ctrl_values[ps.name] = str(values.get(ps.name, ps.default))
-                used.add(ps.name)
-                continue
-            if ps.name in values:
-                ctrl_values[ps.name] = to_float(values[ps.name], f"params.{ps.name}")
-                used.add(ps.name)
-            elif ps.name in pre.controller_defaults:
-                ctrl_values[ps.name] = pre.controller_defaults[ps.name]
-            elif isinstance(ps.default, float):
-                ctrl_values[ps.name] = ps.default
-            if ps.positive and ps.name in ctrl_values and not ctrl_values[ps.name] > 0:
-                raise InputError(f"params.{ps.name}", f"must be positive, got "
-                                 f"{ctrl_values[ps.name]:g}")
-        if "amplitude" in spec.param_names and "amplitude" not in ctrl_values:
-            # default command: reaches q_max in 0.15 s through the integrating actuator
-            ctrl_values["amplitude"] = plant_params.q_max / (0.15 * plant_params.actuator_gain)
+        # default command: reaches q_max in 0.15 s through the integrating actuator
+        amplitude = plant_params.q_max / (0.15 * plant_params.actuator_gain)
+        ctrl_values = resolve_controller_params(spec, values, used, pre.controller_defaults,
+                                                amplitude)
         target = tire.peak()[2]
         if "target_slip" in values:
             target = to_float(values["target_slip"], "params.target_slip")

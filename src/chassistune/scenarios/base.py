@@ -13,10 +13,11 @@ import math
 from abc import ABC, abstractmethod
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Generic, TypeVar
 
 import numpy as np
 
+from chassistune._registry import resolve
 from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
 from chassistune.plants.presets import PresetInfo
@@ -51,6 +52,9 @@ class PlantSpec:
     `key_metrics` are its lower-is-better metrics summarized in reports (each a metric name of
     its scenarios); `plot` names the function drawing a trace, lazily as "module:attr"
     (signature `plot(scenario, trace, path)`), so that no computation module imports matplotlib.
+    `presets` ("module:attr" of the presets by name, each with its `info`) and `roads`
+    ("module:attr" of a function: road name -> description) point into light modules, so that
+    listing them imports no kernel; empty, the plant's builder answers (`Plant.presets`).
     """
 
     name: str
@@ -59,6 +63,22 @@ class PlantSpec:
     default_preset: str
     key_metrics: tuple[str, ...]
     plot: str
+    presets: str = ""
+    roads: str = ""
+
+    def preset_table(self) -> Mapping[str, Any]:
+        """The presets by name as the plant defines them (each with its `info`), imported now."""
+        presets: Mapping[str, Any] = resolve(self.presets)  # type: ignore[assignment]
+        return presets
+
+    def preset_infos(self) -> dict[str, PresetInfo]:
+        """The presets by name, read from the `presets` module (imported now)."""
+        return {name: preset.info for name, preset in self.preset_table().items()}
+
+    def road_descriptions(self) -> dict[str, str]:
+        """Road name -> one-line description, from the `roads` function (imported now)."""
+        roads: Any = resolve(self.roads)
+        return dict(roads())
 
 
 @dataclass
@@ -86,6 +106,14 @@ class Scenario(ABC):
     @property
     def gain_names(self) -> tuple[str, ...]:
         return self.controller.gain_names
+
+    def pick_objective(self, objective: str | None) -> str:
+        """The objective to use (the default when None), or InputError listing the known ones."""
+        objective = objective or self.default_objective
+        if objective not in self.objectives:
+            raise InputError("objective", f"unknown objective {objective!r} for {self.plant} "
+                             f"(known: {', '.join(self.objectives)})")
+        return objective
 
     @abstractmethod
     def params(self) -> dict[str, Any]:
@@ -117,8 +145,11 @@ class Scenario(ABC):
         return np.array([values[n] for n in self.gain_names], dtype=np.float64)
 
 
-class Plant(ABC):
-    """A registered plant: its spec, presets, roads and how to build a scenario."""
+S = TypeVar("S", bound=Scenario)
+
+
+class Plant(ABC, Generic[S]):
+    """A registered plant: its spec, presets, roads and how to build a scenario (of type S)."""
 
     spec: PlantSpec
 
@@ -134,13 +165,13 @@ class Plant(ABC):
     def default_preset(self) -> str:
         return self.spec.default_preset
 
-    @abstractmethod
     def presets(self) -> dict[str, PresetInfo]:
-        """Presets by name."""
+        """Presets by name (those of the spec; a plant whose spec names none overrides this)."""
+        return self.spec.preset_infos()
 
-    @abstractmethod
     def roads(self) -> dict[str, str]:
-        """Road name -> one-line description."""
+        """Road name -> one-line description (the spec's; else overridden)."""
+        return self.spec.road_descriptions()
 
     @abstractmethod
     def controllers(self) -> list[ControllerSpec]:
@@ -152,7 +183,6 @@ class Plant(ABC):
         field metadata (unit, valid and plausible range). Plants override it."""
         return {}
 
-    @abstractmethod
     def scenario(
         self,
         preset: str | None = None,
@@ -160,5 +190,20 @@ class Plant(ABC):
         controller: str = "none",
         params: Mapping[str, object] | None = None,
         seed: int = 0,
-    ) -> Scenario:
-        """Resolve and validate; unknown names or bad values raise InputError."""
+    ) -> S:
+        """Resolve and validate; unknown names or bad values raise InputError.
+
+        The preset (default when None) and road (the preset's first when None) are resolved
+        here from the spec's presets; `build` does the rest."""
+        presets = self.spec.preset_table()
+        name = pick_preset(self.name, preset, self.default_preset, presets)
+        pre = presets[name]
+        return self.build(name, pre, road or pre.info.roads[0], controller, dict(params or {}),
+                          seed)
+
+    def build(self, preset: str, pre: Any, road: str, controller: str,
+              values: dict[str, object], seed: int) -> S:
+        """The scenario of preset `preset` (its object `pre` from the spec's presets) on `road`
+        with `controller` and parameter overrides `values`. Plants whose spec declares no
+        presets override `scenario` instead."""
+        raise NotImplementedError(f"plant {self.name!r} defines neither build nor scenario")

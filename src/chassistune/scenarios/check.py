@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from chassistune._registry import resolve
+from chassistune._rng import make_rng
 from chassistune.scenarios.base import PENALTY, Scenario
 from chassistune.scenarios.registry import get_plant, plant_spec
 
@@ -103,7 +104,7 @@ def check_scenario(sc: Scenario, key_metrics: tuple[str, ...], plot: str | None,
             raise fail(f"gain bounds must be finite with lo < hi, got [{lo}, {hi}]")
     if not math.isfinite(PENALTY):
         raise fail("PENALTY is not finite")
-    gains = _population(sc, np.random.default_rng(seed))
+    gains = _population(sc, make_rng(seed))
     _check_costs(sc, gains, fail)
     _check_metrics(sc, gains, key_metrics, fail)
     trace = sc.trace(sc.gains_array(None))

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
@@ -22,16 +21,14 @@ from chassistune.errors import InputError
 from chassistune.params import as_dict, override, validate
 from chassistune.plants import iso_roads
 from chassistune.plants import quarter_car as model
-from chassistune.plants.presets import PresetInfo
-from chassistune.plants.quarter_car import PRESETS, QuarterCarParams
-from chassistune.plants.roads import roughness_class, roughness_roads
+from chassistune.plants.quarter_car_params import Preset, QuarterCarParams
+from chassistune.plants.roads import roughness_class
 from chassistune.scenarios.base import (
     PENALTY,
     Plant,
     Scenario,
     Trace,
     json_scalar,
-    pick_preset,
 )
 from chassistune.scenarios.registry import QUARTER_CAR
 from chassistune.sim import lyapunov
@@ -215,10 +212,7 @@ class QuarterCarScenario(Scenario):
         self, gains: np.ndarray, objective: str | None = None, workers: int | None = None
     ) -> np.ndarray:
         """Eq. 10 per row; `workers` threads for the simulation (default: all cores)."""
-        objective = objective or self.default_objective
-        if objective not in OBJECTIVES:
-            raise InputError("objective", f"unknown objective {objective!r} for quarter-car "
-                             f"(known: {', '.join(OBJECTIVES)})")
+        objective = self.pick_objective(objective)
         exact = self.exact(gains)
         stable = exact[:, lyapunov.E_STABLE] == 1.0
         if objective == "rms-ratio-exact":
@@ -276,36 +270,20 @@ PASSIVE_SIGNALS = ("body_acc_m_s2", "susp_travel_m", "tire_defl_m")
 
 
 
-class QuarterCarPlant(Plant):
+class QuarterCarPlant(Plant[QuarterCarScenario]):
     """The quarter-car active suspension plant."""
 
     spec = QUARTER_CAR
 
-    def presets(self) -> dict[str, PresetInfo]:
-        return {n: p.info for n, p in PRESETS.items()}
-
-    def roads(self) -> dict[str, str]:
-        return roughness_roads()
-
     def controllers(self) -> list[ControllerSpec]:
         return catalogue.for_plant(QUARTER_CAR.name)
 
-    def scenario(
-        self,
-        preset: str | None = None,
-        road: str | None = None,
-        controller: str = "none",
-        params: Mapping[str, object] | None = None,
-        seed: int = 0,
-    ) -> QuarterCarScenario:
-        preset = pick_preset(self.name, preset, self.default_preset, PRESETS)
-        pre = PRESETS[preset]
-        road = road or pre.info.roads[0]
+    def build(self, preset: str, pre: Preset, road: str, controller: str,
+              values: dict[str, object], seed: int) -> QuarterCarScenario:
         gq = roughness_class(road)
         spec = catalogue.get(QUARTER_CAR.name, "passive" if controller == "none" else controller)
         if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
             raise InputError("seed", f"must be a non-negative integer, got {seed!r}")
-        values = dict(params or {})
         vehicle, used = override(pre.vehicle, values)
         road_params, used_road = override(iso_roads.RoadParams(gq_m3=gq), values)
         solver, used_solver = override(SolverParams(), values)

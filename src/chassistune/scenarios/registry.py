@@ -8,6 +8,7 @@ a user's model) under the same rules: a name once, its builder as an object or "
 from __future__ import annotations
 
 from chassistune._registry import Registry
+from chassistune.plants.presets import PresetInfo
 from chassistune.scenarios.base import Plant, PlantSpec
 
 ABS_WHEEL = PlantSpec(
@@ -18,6 +19,8 @@ ABS_WHEEL = PlantSpec(
     key_metrics=("stop_distance_m", "distance_ratio", "stop_time_s", "slip_itae",
                  "locked_time_s"),
     plot="chassistune.plots.abs_wheel:plot_trace",
+    presets="chassistune.plants.abs_wheel:PRESETS",
+    roads="chassistune.plants.roads:friction_roads",
 )
 ABS_VEHICLE = PlantSpec(
     name="abs-vehicle",
@@ -28,6 +31,8 @@ ABS_VEHICLE = PlantSpec(
     key_metrics=("stop_distance_m", "distance_ratio", "stop_time_s", "slip_itae",
                  "locked_time_s"),
     plot="chassistune.plots.abs_vehicle:plot_trace",
+    presets="chassistune.scenarios.abs_vehicle:PRESETS",
+    roads="chassistune.plants.vehicle_roads:road_names",
 )
 QUARTER_CAR = PlantSpec(
     name="quarter-car",
@@ -38,6 +43,8 @@ QUARTER_CAR = PlantSpec(
     key_metrics=("objective_exact", "body_acc_rms", "susp_travel_rms", "tire_defl_rms",
                  "force_rms"),
     plot="chassistune.plots.quarter_car:plot_trace",
+    presets="chassistune.plants.quarter_car_params:PRESETS",
+    roads="chassistune.plants.roads:roughness_roads",
 )
 
 SPECS: Registry[PlantSpec] = Registry("plant")
@@ -70,6 +77,20 @@ def plant_names() -> list[str]:
 def plant_spec(name: str) -> PlantSpec:
     """The spec of plant `name`, or InputError listing the known plants (imports no kernel)."""
     return SPECS.get(name)
+
+
+def plant_presets(name: str) -> dict[str, PresetInfo]:
+    """The presets of plant `name` by name: from its spec when it declares them (no kernel is
+    imported), else from its builder."""
+    spec = plant_spec(name)
+    return spec.preset_infos() if spec.presets else get_plant(name).presets()
+
+
+def plant_roads(name: str) -> dict[str, str]:
+    """Road name -> description for plant `name`: from its spec when it declares them, else from
+    its builder."""
+    spec = plant_spec(name)
+    return spec.road_descriptions() if spec.roads else get_plant(name).roads()
 
 
 def get_plant(name: str) -> Plant:

@@ -1,6 +1,6 @@
 """Branch-free tire laws mu(S) for the vectorized ABS kernel, one per tire family (DESIGN 3.2).
 
-Bitwise the same numbers as `plants.tires.tire_mu`, in a form a vector loop accepts: no calls
+Bitwise the same numbers as `plants.tire_kernel.tire_mu`, in a form a vector loop accepts: no calls
 (inline), no branches (selects), no data-dependent reads of argument arrays. A piecewise-linear
 table is passed as three tuples of TABLE_CAP floats (`table_tuples`), copied once per kernel call
 to the stack (`_branchfree.stack_copy`); the segment index is a count of the interior nodes below

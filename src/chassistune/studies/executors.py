@@ -181,7 +181,7 @@ class ProcessExecutor(Executor):
 
 
 def _dask_missing() -> InputError:
-    return InputError("--executor", 'dask is not installed: pip install "chassistune[dask]" '
+    return InputError("executor", 'dask is not installed: pip install "chassistune[dask]" '
                       '(or pip install "dask[distributed]")')
 
 
@@ -238,7 +238,7 @@ class DaskExecutor(Executor):
             try:
                 self._client = Client(address, timeout=f"{SCHEDULER_TIMEOUT_S}s")
             except (OSError, ValueError, TypeError) as exc:
-                raise InputError("--scheduler", f"cannot reach a Dask scheduler at {address!r} "
+                raise InputError("scheduler", f"cannot reach a Dask scheduler at {address!r} "
                                  f"within {SCHEDULER_TIMEOUT_S} s ({type(exc).__name__}: "
                                  f"{exc})") from None
 
@@ -284,15 +284,15 @@ def _collect(fut: Any, spec: RunSpec) -> RunResult | None:
 def make_executor(name: str, workers: int | None = None, scheduler: str | None = None) -> Executor:
     """An executor by name (`serial`, `process`, `dask`)."""
     if name not in EXECUTORS:
-        raise InputError("--executor", f"unknown executor {name!r} (known: {', '.join(EXECUTORS)})")
+        raise InputError("executor", f"unknown executor {name!r} (known: {', '.join(EXECUTORS)})")
     if scheduler is not None and name != "dask":
-        raise InputError("--scheduler", "a scheduler address needs --executor dask")
+        raise InputError("scheduler", "a scheduler address needs the dask executor")
     if workers is not None and workers < 1:
-        raise InputError("--workers", f"must be a positive whole number, got {workers}")
+        raise InputError("workers", f"must be a positive whole number, got {workers}")
     if name == "serial":
         if workers is not None:
-            raise InputError("--workers", "the serial executor runs in the driver alone; use "
-                             "--executor process or dask for workers")
+            raise InputError("workers", "the serial executor runs in the driver alone; use the "
+                             "process or dask executor for workers")
         return SerialExecutor()
     if name == "process":
         return ProcessExecutor(workers)

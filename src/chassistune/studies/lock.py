@@ -19,7 +19,7 @@ LOCK_NAME = ".study.lock"
 
 
 def _in_use(out_dir: str | Path, pid: bytes) -> InputError:
-    return InputError("--out", f"{str(out_dir)!r} is in use by another study run (process "
+    return InputError("out", f"{str(out_dir)!r} is in use by another study run (process "
                       f"{pid.decode('ascii', 'replace').strip() or 'unknown'}); wait for it to "
                       "finish or stop it")
 

@@ -40,11 +40,11 @@ def check_out_dir(out_dir: str | Path) -> None:
     """Refuse an output folder that cannot hold a study (before anything is written)."""
     p = Path(out_dir)
     if p.exists() and not p.is_dir():
-        raise InputError("--out", f"{str(p)!r} exists and is not a folder")
+        raise InputError("out", f"{str(p)!r} exists and is not a folder")
     if not p.exists() and not p.resolve().parent.is_dir():
-        raise InputError("--out", f"folder {str(p.resolve().parent)!r} does not exist")
+        raise InputError("out", f"folder {str(p.resolve().parent)!r} does not exist")
     if p.is_dir() and (p / STORE_NAME).exists() and not (p / STORE_NAME).is_file():
-        raise InputError("--out", f"{str(p / STORE_NAME)!r} is not a file")
+        raise InputError("out", f"{str(p / STORE_NAME)!r} is not a file")
 
 
 def pending_runs(plan: StudyPlan, out_dir: str | Path,
@@ -52,11 +52,11 @@ def pending_runs(plan: StudyPlan, out_dir: str | Path,
     """The plan's runs that still have to be done (reading an existing store, never creating)."""
     if not store_path(out_dir).exists():
         return list(plan.runs)
-    with Store.open(out_dir, "--out") as store:
+    with Store.open(out_dir, "out") as store:
         finished = store.finished()
         name = store.meta().get("study")
     if name is not None and name != plan.config.study.name:
-        raise InputError("--out", f"{str(out_dir)!r} holds the study {name!r}, not "
+        raise InputError("out", f"{str(out_dir)!r} holds the study {name!r}, not "
                          f"{plan.config.study.name!r}; use a new --out folder")
     todo = []
     for spec in plan.runs:
@@ -65,7 +65,7 @@ def pending_runs(plan: StudyPlan, out_dir: str | Path,
             continue
         spec_hash, status = finished[spec.key]
         if spec_hash != spec.spec_hash:
-            raise InputError("--out", f"{str(out_dir)!r} already holds run {spec.key!r} made "
+            raise InputError("out", f"{str(out_dir)!r} already holds run {spec.key!r} made "
                              "from a different config; use a new --out folder")
         if retry_failed and status is not RunStatus.COMPLETED:
             todo.append(spec)

@@ -66,10 +66,7 @@ def build_problem(
     spec = scenarios[0].controller
     if not spec.gains:
         raise InputError("controller", f"{controller} has no gains to tune")
-    objective = objective or scenarios[0].default_objective
-    if objective not in scenarios[0].objectives:
-        raise InputError("objective", f"unknown objective {objective!r} for {plant} "
-                         f"(known: {', '.join(scenarios[0].objectives)})")
+    objective = scenarios[0].pick_objective(objective)
     box = dict(zip(spec.gain_names, spec.bounds(), strict=True))
     for name, (lo, hi) in (bounds or {}).items():
         if name not in box:

@@ -134,7 +134,7 @@ def run_optimizer(
     """Drive `optimizer` over `problem`; `progress(nit, nfev, best)` after each iteration;
     `incumbent` (wrapping `problem`) keeps the best so far while the run goes on."""
     if max_iter is None and max_evals is None:
-        raise InputError("--iters", "give an iteration or an evaluation budget")
+        raise InputError("max_iter", "give an iteration or an evaluation budget")
     check_covers_population(pop_size, max_evals)
     opt = make(optimizer, problem.bounds, pop_size, seed, max_iter=max_iter, max_evals=max_evals,
                **hyper)

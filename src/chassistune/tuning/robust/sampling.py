@@ -20,6 +20,7 @@ import numpy as np
 from scipy import stats
 from scipy.stats import qmc
 
+from chassistune._rng import child_seed, make_rng
 from chassistune.tuning.robust.spec import UncertainParam, check_sampler
 
 SeedLike = int | np.random.SeedSequence | np.random.Generator
@@ -49,10 +50,8 @@ def scenario_stream(seed: SeedLike, key: int) -> np.random.Generator:
         parent = seed.bit_generator.seed_seq
         if not isinstance(parent, np.random.SeedSequence):
             raise TypeError("the run's Generator must be seeded from a SeedSequence")
-        ss = parent
-    else:
-        ss = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(int(seed))
-    return np.random.default_rng(np.random.SeedSequence(ss.entropy, spawn_key=(*ss.spawn_key, key)))
+        return make_rng(child_seed(parent, key))
+    return make_rng(child_seed(seed, key))
 
 
 def from_unit(params: Sequence[UncertainParam], u: np.ndarray) -> np.ndarray:
