@@ -16,6 +16,7 @@ Burckhardt c1 and c3, a table's mus. The peak slip stays; the peak friction scal
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
