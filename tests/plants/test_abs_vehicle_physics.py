@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 import chassistune
-from chassistune.plants.abs_vehicle import VehicleParams, axle_limited_deceleration, mu_jump_bound
+from chassistune.plants.abs_vehicle import axle_limited_deceleration, mu_jump_bound
+from chassistune.plants.abs_vehicle_params import VehicleParams
 from chassistune.scenarios.abs_vehicle import PLANT
 
 CONTROLLERS = ["none", "pid", "fuzzy-pid", "threshold"]

@@ -19,7 +19,6 @@ from chassistune.plants.abs_vehicle import (
     WK_SN,
     WK_SX,
     WK_VR,
-    VehicleParams,
     bilinear_mu,
     geometry,
     load_coefficients,
@@ -28,6 +27,7 @@ from chassistune.plants.abs_vehicle import (
     surface_row,
     tire_force,
 )
+from chassistune.plants.abs_vehicle_params import VehicleParams
 from chassistune.plants.roads import BILINEAR_ROADS
 from chassistune.plants.tire_kernel import tire_mu
 from chassistune.plants.tires import BilinearTire

@@ -41,8 +41,6 @@ def test_list_roads_imports_no_numba(args: tuple[str, ...]) -> None:
     assert _heavy_imports(*args) == []
 
 
-@pytest.mark.xfail(strict=True, reason="abs-vehicle's presets are built from VehicleParams, "
-                   "which lives next to its numba tire in plants/abs_vehicle.py")
 def test_list_presets_imports_no_numba() -> None:
     assert _heavy_imports("list", "presets") == []
 

@@ -1,8 +1,8 @@
 """7-DOF vehicle ABS physics (`abs-vehicle`, DESIGN 3.3; deffao-vehicle-abs Table 2).
 
-Parameters (frozen dataclasses, preset `paper-deffao`), the combined-slip tire, the load/force loop
-solved exactly at every evaluation, and the exact stopping bounds. The closed loop itself is
-compiled in `chassistune.sim.abs_vehicle_kernel`.
+The combined-slip tire, the load/force loop solved exactly at every evaluation, and the exact
+stopping bounds (the parameters and the preset `paper-deffao`: `plants.abs_vehicle_params`). The
+closed loop itself is compiled in `chassistune.sim.abs_vehicle_kernel`.
 
 Axes ISO 8855: x forward, y left, yaw counter-clockwise positive. Wheels fl, fr, rl, rr at
 x_i = (lf, lf, -lr, -lr), y_i = (tf/2, -tf/2, tr/2, -tr/2).
@@ -21,25 +21,12 @@ centre's speed floored at `min_speed_m_s`:
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numba
 import numpy as np
 
-
-def _pos(lo: float, hi: float, **extra: object) -> dict[str, object]:
-    """Metadata: valid if positive, plausible in [lo, hi] (outside: a warning)."""
-    return {"positive": True, "plausible": (lo, hi), **extra}
-
-
-def _nonneg(lo: float, hi: float) -> dict[str, object]:
-    """Metadata: valid if non-negative, plausible in [lo, hi] (outside: a warning)."""
-    return {"nonnegative": True, "plausible": (lo, hi)}
-
-
-MAX_STEER_LIMIT_RAD = 0.5 * math.pi
-"""max_steer_rad must stay below 90 degrees (refused at or above it: the wheel would turn
-sideways)."""
+from chassistune.plants.abs_vehicle_params import VehicleParams
 
 WHEELS = ("fl", "fr", "rl", "rr")
 N_WHEELS = 4
@@ -58,65 +45,6 @@ N_GEO = 5
 
 RK4_REAL_LIMIT = 2.785
 """RK4's stability limit on the negative real axis (|lambda dt| below it)."""
-
-
-@dataclass(frozen=True)
-class VehicleParams:
-    """Vehicle, brake and solver parameters, SI (q in the preset's pressure unit, Tb = kq q)."""
-
-    mass_kg: float = field(default=1110.0, metadata=_pos(300.0, 5000.0))
-    """Total mass, used in every equation (deffao-vehicle-abs Table 2)."""
-    front_unsprung_kg: float = field(default=60.0, metadata=_nonneg(0.0, 500.0))
-    """Paper deffao-vehicle-abs's m1: recorded, unused by the planar model."""
-    rear_unsprung_kg: float = field(default=60.0, metadata=_nonneg(0.0, 500.0))
-    """Paper deffao-vehicle-abs's m2: recorded, unused by the planar model."""
-    yaw_inertia_kg_m2: float = field(default=1440.0, metadata=_pos(100.0, 20_000.0))
-    """Printed 1.44 kg m^2 in deffao-vehicle-abs Table 2, read as 1440."""
-    wheel_inertia_kg_m2: float = field(default=0.6, metadata=_pos(0.1, 50.0))
-    wheel_radius_m: float = field(default=0.4, metadata=_pos(0.15, 1.0))
-    cg_to_front_m: float = field(default=1.04, metadata=_pos(0.3, 4.0))
-    cg_to_rear_m: float = field(default=1.56, metadata=_pos(0.3, 4.0))
-    cg_height_m: float = field(default=0.5, metadata=_nonneg(0.0, 2.0))
-    track_front_m: float = field(default=1.5, metadata=_pos(0.8, 2.6))
-    track_rear_m: float = field(default=1.5, metadata=_pos(0.8, 2.6))
-    cornering_stiffness_n_rad: float = field(default=60_000.0,
-                                             metadata=_pos(5e3, 5e5, unit="N/rad"))
-    v0_m_s: float = field(default=120.0 / 3.6, metadata=_pos(1.0, 70.0))
-    g_m_s2: float = field(default=9.8, metadata=_pos(9.7, 9.9))
-    actuator_gain: float = field(default=100.0, metadata=_pos(1.0, 1e4, unit="1/s"))
-    actuator_tau_s: float = field(default=0.01, metadata=_pos(1e-3, 0.5))
-    brake_gain: float = field(default=1.0, metadata=_pos(0.1, 1000.0,
-                                                          unit="N m per pressure unit"))
-    """kq in N m per pressure unit, the same on all four wheels (no brake balance)."""
-    q_max: float = field(default=2500.0, metadata=_pos(10.0, 1e5, unit="pressure unit"))
-    v_stop_m_s: float = field(default=2.0, metadata=_pos(0.01, 10.0))
-    t_max_s: float = field(default=60.0, metadata=_pos(0.1, 600.0))
-    dt_s: float = field(default=1e-3, metadata=_pos(1e-5, 0.01))
-    lock_ratio: float = field(default=0.01, metadata={"unit_interval": True,
-                                                      "plausible": (0.001, 0.2)})
-    """A wheel counts as locked while w R < lock_ratio |V|."""
-    min_speed_m_s: float = field(default=0.1, metadata=_pos(0.01, 1.0))
-    """Floor of |V| in the slip definitions."""
-
-    @property
-    def wheelbase_m(self) -> float:
-        return self.cg_to_front_m + self.cg_to_rear_m
-
-
-@dataclass(frozen=True)
-class SteeringParams:
-    """Front steering: `fixed` at 0 or a counter-steering `driver` (DESIGN 3.3):
-    d(delta)/dt = (clip(-k_psi psi - k_r r, +-delta_max) - delta) / tau."""
-
-    steering: str = "fixed"
-    heading_gain: float = field(default=1.0, metadata=_nonneg(0.0, 10.0))
-    yaw_rate_gain_s: float = field(default=0.2, metadata=_nonneg(0.0, 2.0))
-    max_steer_rad: float = field(default=0.1, metadata=_nonneg(0.0, 0.7))
-    """Refused at or above pi/2 (MAX_STEER_LIMIT_RAD)."""
-    steer_tau_s: float = field(default=0.15, metadata=_pos(0.02, 2.0))
-
-
-STEERING_MODES = ("fixed", "driver")
 
 
 def wheel_positions(pp: VehicleParams) -> tuple[np.ndarray, np.ndarray]:

@@ -21,18 +21,21 @@ from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
 from chassistune.params import as_dict, implausible, override, validate
 from chassistune.plants.abs_vehicle import (
-    MAX_STEER_LIMIT_RAD,
     RK4_REAL_LIMIT,
-    STEERING_MODES,
     Bound,
-    SteeringParams,
-    VehicleParams,
     geometry,
     mu_jump_bound,
     split_mu_bound,
     surface_row,
     uniform_bound,
     wheel_mode_rate,
+)
+from chassistune.plants.abs_vehicle_params import (
+    MAX_STEER_LIMIT_RAD,
+    PRESETS,
+    STEERING_MODES,
+    SteeringParams,
+    VehicleParams,
 )
 from chassistune.plants.presets import PresetInfo
 from chassistune.plants.vehicle_roads import (
@@ -73,24 +76,6 @@ class VehicleScoring:
     yaw_window_s: float = field(default=1.0, metadata={"positive": True})
 
 
-@dataclass(frozen=True)
-class _Preset:
-    info: PresetInfo
-    params: VehicleParams
-
-
-PRESETS: dict[str, _Preset] = {
-    "paper-deffao": _Preset(
-        PresetInfo(
-            "paper-deffao",
-            "Tian 2025 Table 2: m = 1110 kg total, Iz = 1440 kg m^2 (printed 1.44), J = 0.6 kg "
-            "m^2, R = 0.4 m, lf/lr = 1.04/1.56 m, v0 = 120 km/h, g = 9.8; ours: h = 0.5 m, "
-            "tracks 1.5 m, C = 60 kN/rad, kq = 1, q_max = 2500 on all wheels, K = 100, T = 0.01 s",
-            ("dry-concrete", "mu-jump", "split-mu", "ice"),
-        ),
-        VehicleParams(),
-    ),
-}
 
 OBJECTIVE_COLUMNS = {"itae": K.M_ITAE, "iae": K.M_IAE, "ise": K.M_ISE, "distance": K.M_DIST,
                      "time": K.M_TIME}

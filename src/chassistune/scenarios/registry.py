@@ -31,7 +31,7 @@ ABS_VEHICLE = PlantSpec(
     key_metrics=("stop_distance_m", "distance_ratio", "stop_time_s", "slip_itae",
                  "locked_time_s"),
     plot="chassistune.plots.abs_vehicle:plot_trace",
-    presets="chassistune.scenarios.abs_vehicle:PRESETS",
+    presets="chassistune.plants.abs_vehicle_params:PRESETS",
     roads="chassistune.plants.vehicle_roads:road_names",
 )
 QUARTER_CAR = PlantSpec(
