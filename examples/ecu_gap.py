@@ -38,21 +38,32 @@ SLEW = {"ecu": "realistic", "vref": "slew-limited"}
 def _period(ts_s: float) -> dict[str, object]:
     """The realistic ECU at period ts_s (dead time and minimum on-time at most ts / 2)."""
     short = min(2e-3, ts_s / 2)
-    return {**REALISTIC, "ecu_ts_s": ts_s, "valve_dead_time_s": min(2e-3, short),
-            "valve_min_on_s": short}
+    return {
+        **REALISTIC,
+        "ecu_ts_s": ts_s,
+        "valve_dead_time_s": min(2e-3, short),
+        "valve_min_on_s": short,
+    }
 
 
-def evaluate(controller: str, road: str, gains: Mapping[str, float],
-             params: Mapping[str, object], adhesion: object) -> tuple[float, float, float]:
+def evaluate(
+    controller: str,
+    road: str,
+    gains: Mapping[str, float],
+    params: Mapping[str, object],
+    adhesion: object,
+) -> tuple[float, float, float]:
     """(distance ratio, r13h_epsilon, true-slip ITAE) of one controller and ECU."""
     sc = PLANT.scenario(PRESET, road, controller, params)
     g = sc.gains_array(dict(gains))[None, :]
     m = sc.metrics(g)
-    eps = r13h_epsilon(controller, PRESET, road, dict(gains), params,
-                       adhesion=adhesion).epsilon  # type: ignore[arg-type]
+    eps = r13h_epsilon(controller, PRESET, road, dict(gains), params, adhesion=adhesion).epsilon  # type: ignore[arg-type]
     ok = m["status"][0] == "stopped"
-    return (float(m["distance_ratio"][0]) if ok else float("inf"), eps,
-            float(m["slip_itae"][0]) if ok else float("inf"))
+    return (
+        float(m["distance_ratio"][0]) if ok else float("inf"),
+        eps,
+        float(m["slip_itae"][0]) if ok else float("inf"),
+    )
 
 
 def study_gains(study_dir: str) -> dict[tuple[str, str], dict[str, float]]:
@@ -83,34 +94,47 @@ def main() -> None:
     from_study = study_gains(a.study) if a.study else {}
     best: dict[tuple[str, str, str], dict[str, float]] = {}
 
-    def tuned(controller: str, road: str, params: Mapping[str, object], key: str
-              ) -> dict[str, float]:
+    def tuned(
+        controller: str, road: str, params: Mapping[str, object], key: str
+    ) -> dict[str, float]:
         """Gains of `controller` tuned on `road` with `params`; `key` names the study scenario's
         suffix (ideal, realistic, vref-true, vref-slew, ts-1ms, ...)."""
         if a.study:
             return from_study[f"{controller}-{key}", road]
         if (controller, road, key) not in best:
             best[controller, road, key] = tune(
-                "abs-wheel", controller, "derlsp-ao", PRESET, road, "itae", pop_size=a.pop,
-                max_iter=a.iters, seed=a.seed, params=params).best_gains
+                "abs-wheel",
+                controller,
+                "derlsp-ao",
+                PRESET,
+                road,
+                "itae",
+                pop_size=a.pop,
+                max_iter=a.iters,
+                seed=a.seed,
+                params=params,
+            ).best_gains
         return best[controller, road, key]
 
-    print("| controller, road | ideal-tuned, ideal | ideal-tuned, realistic slew vref | "
-          "ideal-tuned, realistic | realistic-tuned, realistic |")
+    print(
+        "| controller, road | ideal-tuned, ideal | ideal-tuned, realistic slew vref | "
+        "ideal-tuned, realistic | realistic-tuned, realistic |"
+    )
     print("|---|---|---|---|---|")
     for controller in TUNED:
         for road in ROADS:
             gi = tuned(controller, road, {}, "ideal")
             gr = tuned(controller, road, REALISTIC, "realistic")
-            cells = [evaluate(controller, road, gi, {}, adhesion[road]),
-                     evaluate(controller, road, gi, SLEW, adhesion[road]),
-                     evaluate(controller, road, gi, REALISTIC, adhesion[road]),
-                     evaluate(controller, road, gr, REALISTIC, adhesion[road])]
+            cells = [
+                evaluate(controller, road, gi, {}, adhesion[road]),
+                evaluate(controller, road, gi, SLEW, adhesion[road]),
+                evaluate(controller, road, gi, REALISTIC, adhesion[road]),
+                evaluate(controller, road, gr, REALISTIC, adhesion[road]),
+            ]
             print(f"| {controller}, {road} | " + " | ".join(_fmt(c) for c in cells) + " |")
     for road in ROADS:
         cells = [evaluate("threshold", road, {}, p, adhesion[road]) for p in ({}, SLEW, REALISTIC)]
-        print(f"| threshold (defaults), {road} | " + " | ".join(_fmt(c) for c in cells)
-              + " | - |")
+        print(f"| threshold (defaults), {road} | " + " | ".join(_fmt(c) for c in cells) + " | - |")
 
     vref_keys = {"true": "vref-true", "slew-limited": "vref-slew", "accel": "realistic"}
     print("\n| reference, controller | " + " | ".join(ROADS) + " |")
@@ -126,19 +150,24 @@ def main() -> None:
                 g = tuned(controller, road, params, key) if key else {}
                 sc = PLANT.scenario(PRESET, road, controller, params)
                 m = sc.metrics(sc.gains_array(dict(g))[None, :])
-                texts.append(f"{m['distance_ratio'][0]:.3f} (gap {m['vref_gap_max_m_s'][0]:.2f}"
-                             " m/s)")
+                texts.append(
+                    f"{m['distance_ratio'][0]:.3f} (gap {m['vref_gap_max_m_s'][0]:.2f} m/s)"
+                )
             print(f"| {vref}, {label} | " + " | ".join(texts) + " |")
 
-    print("\n| ecu_ts_s | PID ideal-tuned | PID realistic-tuned (5 ms) | "
-          + ("PID tuned at this period | " if a.study else "") + "threshold |")
+    print(
+        "\n| ecu_ts_s | PID ideal-tuned | PID realistic-tuned (5 ms) | "
+        + ("PID tuned at this period | " if a.study else "")
+        + "threshold |"
+    )
     print("|---|---|---|---|" + ("---|" if a.study else ""))
     road = "wet-asphalt"
     for ts in (1e-3, 2e-3, 5e-3, 10e-3, 20e-3):
         p = _period(ts)
-        cells = [evaluate("pid", road, tuned("pid", road, {}, "ideal"), p, adhesion[road]),
-                 evaluate("pid", road, tuned("pid", road, REALISTIC, "realistic"), p,
-                          adhesion[road])]
+        cells = [
+            evaluate("pid", road, tuned("pid", road, {}, "ideal"), p, adhesion[road]),
+            evaluate("pid", road, tuned("pid", road, REALISTIC, "realistic"), p, adhesion[road]),
+        ]
         if a.study:
             key = "realistic" if ts == 5e-3 else f"ts-{ts * 1e3:g}ms"
             cells.append(evaluate("pid", road, tuned("pid", road, p, key), p, adhesion[road]))
@@ -146,8 +175,13 @@ def main() -> None:
         print(f"| {ts * 1e3:g} ms | " + " | ".join(_fmt(c) for c in cells) + " |")
     if a.study:
         best = {(name, road, "study"): g for (name, road), g in from_study.items()}
-    print("\ngains:", {f"{k[0]}/{k[1]}/{k[2]}": {n: float(np.round(v, 4)) for n, v in g.items()}
-                       for k, g in best.items()})
+    print(
+        "\ngains:",
+        {
+            f"{k[0]}/{k[1]}/{k[2]}": {n: float(np.round(v, 4)) for n, v in g.items()}
+            for k, g in best.items()
+        },
+    )
 
 
 if __name__ == "__main__":

@@ -36,15 +36,21 @@ def main() -> None:
         assert isinstance(problem, RobustProblem)
         gains = np.array([rec.best_gains[g] for g in problem.gain_names])
         metric = METRIC[s.plant]
-        sens = controller_sensitivity(problem.builders[0], problem.spec, gains, a.n,
-                                      s.seed_sequence(), metric)
+        sens = controller_sensitivity(
+            problem.builders[0], problem.spec, gains, a.n, s.seed_sequence(), metric
+        )
         for name, s1, st in zip(sens.names, sens.first_order, sens.total, strict=True):
             print(f"| {s.scenario} | {metric} | {name} | {s1:.3f} | {st:.3f} |")
         if a.plot:
             from chassistune.plots.sensitivity import plot_sobol_indices
 
-            plot_sobol_indices(sens.names, sens.first_order, sens.total,
-                               f"{a.plot}/sobol_{s.group}.png", f"{s.group}: {metric}")
+            plot_sobol_indices(
+                sens.names,
+                sens.first_order,
+                sens.total,
+                f"{a.plot}/sobol_{s.group}.png",
+                f"{s.group}: {metric}",
+            )
 
 
 if __name__ == "__main__":

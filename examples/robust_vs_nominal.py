@@ -42,8 +42,12 @@ def main() -> None:
     ap.add_argument("--vary", action="append", default=[])
     ap.add_argument("--metric", default="distance_ratio")
     ap.add_argument("--objective", default=None)
-    ap.add_argument("--max-cost", type=float, default=0.0,
-                    help="pass test on the objective instead of stop/lock/distance (quarter car)")
+    ap.add_argument(
+        "--max-cost",
+        type=float,
+        default=0.0,
+        help="pass test on the objective instead of stop/lock/distance (quarter car)",
+    )
     ap.add_argument("--optimizer", default="derlsp-ao")
     ap.add_argument("--aggregate", default="max")
     ap.add_argument("--scenarios", type=int, default=16)
@@ -57,10 +61,15 @@ def main() -> None:
     a = ap.parse_args()
 
     nominal = build_problem(a.plant, a.controller, objective=a.objective)
-    criterion = (PassCriterion(False, True, 0.0, a.max_cost) if a.max_cost > 0
-                 else PassCriterion())
-    spec = UncertaintySpec(parse_vary(a.vary or VARY, known_for(nominal)), a.scenarios, "sobol",
-                           parse_aggregate(a.aggregate), a.validate, criterion=criterion)
+    criterion = PassCriterion(False, True, 0.0, a.max_cost) if a.max_cost > 0 else PassCriterion()
+    spec = UncertaintySpec(
+        parse_vary(a.vary or VARY, known_for(nominal)),
+        a.scenarios,
+        "sobol",
+        parse_aggregate(a.aggregate),
+        a.validate,
+        criterion=criterion,
+    )
     robust = robust_problem(nominal, spec, seed=a.seed)
     draws = validation_set(spec, a.validation_seed)
     out = {}
@@ -69,8 +78,7 @@ def main() -> None:
         gains = np.array(list(res.best_gains.values()))
         train = robust.costs(gains[None, :])[0, :, 0]
         val = robust.validate(gains, draws)
-        sens = controller_sensitivity(robust.builders[0], spec, gains, a.sobol_n, a.seed,
-                                      a.metric)
+        sens = controller_sensitivity(robust.builders[0], spec, gains, a.sobol_n, a.seed, a.metric)
         train_metrics = [sc.metrics(gains[None, :]) for (sc,) in robust.grid]
         out[label] = {
             "best_gains": res.best_gains,
@@ -81,17 +89,24 @@ def main() -> None:
             "training_cost_mean": float(train.mean()),
             "training_cost_max": float(train.max()),
             f"training_worst_{a.metric}": max(float(m[a.metric][0]) for m in train_metrics),
-            **({"training_worst_peak_slip": max(float(m["peak_slip"][0]) for m in train_metrics)}
-               if a.plant == "abs-wheel" else {}),
+            **(
+                {"training_worst_peak_slip": max(float(m["peak_slip"][0]) for m in train_metrics)}
+                if a.plant == "abs-wheel"
+                else {}
+            ),
             "validation": val.as_dict(),
             "sobol": sens.rows(),
         }
         if a.plot:
             from chassistune.plots.sensitivity import plot_sobol_indices
 
-            plot_sobol_indices(sens.names, sens.first_order, sens.total,
-                               f"{a.plot}/sobol_{a.plant}_{a.controller}_{label}.png",
-                               f"{a.plant} {a.controller} {label}: {a.metric}")
+            plot_sobol_indices(
+                sens.names,
+                sens.first_order,
+                sens.total,
+                f"{a.plot}/sobol_{a.plant}_{a.controller}_{label}.png",
+                f"{a.plant} {a.controller} {label}: {a.metric}",
+            )
     print(json.dumps(out, indent=1))
 
 

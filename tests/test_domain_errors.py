@@ -23,9 +23,13 @@ def _flag_fields(path: Path) -> list[str]:
     """The `--flag` fields of InputError(...) calls in one module."""
     found = []
     for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-        if (isinstance(node, ast.Call) and getattr(node.func, "id", None) == "InputError"
-                and node.args and isinstance(node.args[0], ast.Constant)
-                and str(node.args[0].value).startswith("--")):
+        if (
+            isinstance(node, ast.Call)
+            and getattr(node.func, "id", None) == "InputError"
+            and node.args
+            and isinstance(node.args[0], ast.Constant)
+            and str(node.args[0].value).startswith("--")
+        ):
             found.append(f"{node.lineno}: {node.args[0].value}")
     return found
 
@@ -39,11 +43,18 @@ def test_no_domain_module_raises_with_a_flag() -> None:
     assert set(offenders) <= PENDING, offenders
 
 
-@pytest.mark.parametrize(("field", "words"), [
-    ("params.v0_m_s", "--param v0_m_s"), ("gains", "--gains"), ("max_iter", "--iters"),
-    ("inputs", "--input"), ("workers", "--workers"), ("out", "--out"),
-    ("scenarios[0].roads", "scenarios[0].roads"),
-])
+@pytest.mark.parametrize(
+    ("field", "words"),
+    [
+        ("params.v0_m_s", "--param v0_m_s"),
+        ("gains", "--gains"),
+        ("max_iter", "--iters"),
+        ("inputs", "--input"),
+        ("workers", "--workers"),
+        ("out", "--out"),
+        ("scenarios[0].roads", "scenarios[0].roads"),
+    ],
+)
 def test_the_cli_words_of_a_field(field: str, words: str) -> None:
     assert cli_field(field) == words
 

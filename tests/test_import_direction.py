@@ -19,13 +19,22 @@ import pytest
 SRC = Path(__file__).resolve().parents[1] / "src" / "chassistune"
 
 RANK = {
-    "plants": 0, "controllers": 0, "fuzzy": 0, "optimizers": 0, "benchmarks": 0,
+    "plants": 0,
+    "controllers": 0,
+    "fuzzy": 0,
+    "optimizers": 0,
+    "benchmarks": 0,
     "sim": 1,
     "scenarios": 2,
-    "tuning": 3, "simulate": 3,
+    "tuning": 3,
+    "simulate": 3,
     "studies": 4,
-    "reports": 5, "perf": 5, "plots": 5, "export": 5,
-    "papers": 6, "results": 6,
+    "reports": 5,
+    "perf": 5,
+    "plots": 5,
+    "export": 5,
+    "papers": 6,
+    "results": 6,
     "cli": 7,
 }
 """Layer of each subpackage (or top-level module); unlisted top-level modules are helpers."""
@@ -62,8 +71,7 @@ def _imports(path: Path) -> list[tuple[int, str]]:
             else:
                 name = node.module or ""
             out.append((node.lineno, name))
-            out += [(node.lineno, f"{name}.{a.name}") for a in node.names
-                    if name == "chassistune"]
+            out += [(node.lineno, f"{name}.{a.name}") for a in node.names if name == "chassistune"]
     return out
 
 
@@ -85,8 +93,11 @@ def _violation(importer: str, path: Path, target: str) -> str | None:
         return None  # the public API, or a shared helper on either side
     if RANK[imported] > RANK[importer]:
         return f"{importer} (layer {RANK[importer]}) imports {imported} (layer {RANK[imported]})"
-    if RANK[imported] == RANK[importer] and (importer, imported) not in ALLOWED_PEERS \
-            and imported != "plots":
+    if (
+        RANK[imported] == RANK[importer]
+        and (importer, imported) not in ALLOWED_PEERS
+        and imported != "plots"
+    ):
         return f"{importer} imports its peer {imported}"
     return None
 
@@ -99,23 +110,27 @@ def test_the_parser_sees_top_level_and_lazy_imports() -> None:
     assert "chassistune.fuzzy.loader" in {name for _, name in _imports(lazy)}  # inside a function
 
 
-@pytest.mark.parametrize(("importer", "target", "allowed"), [
-    ("plants", "chassistune.sim.batch", False),
-    ("sim", "chassistune.plants.tires", True),
-    ("scenarios", "chassistune.tuning.problem", False),
-    ("controllers", "chassistune.fuzzy.surface", True),
-    ("fuzzy", "chassistune.controllers.specs", False),
-    ("tuning", "chassistune.plots.registry", False),
-    ("reports", "chassistune.plots.registry", True),
-    ("studies", "chassistune.cli.common", False),
-    ("sim", "matplotlib.pyplot", False),
-    ("export", "chassistune.studies.store", True),
-    ("export", "chassistune.reports.outputs", False),
-    ("export", "chassistune.cli.common", False),
-    ("studies", "chassistune.export.source", False),
-])
-def test_the_rules_refuse_what_the_design_forbids(importer: str, target: str,
-                                                   allowed: bool) -> None:
+@pytest.mark.parametrize(
+    ("importer", "target", "allowed"),
+    [
+        ("plants", "chassistune.sim.batch", False),
+        ("sim", "chassistune.plants.tires", True),
+        ("scenarios", "chassistune.tuning.problem", False),
+        ("controllers", "chassistune.fuzzy.surface", True),
+        ("fuzzy", "chassistune.controllers.specs", False),
+        ("tuning", "chassistune.plots.registry", False),
+        ("reports", "chassistune.plots.registry", True),
+        ("studies", "chassistune.cli.common", False),
+        ("sim", "matplotlib.pyplot", False),
+        ("export", "chassistune.studies.store", True),
+        ("export", "chassistune.reports.outputs", False),
+        ("export", "chassistune.cli.common", False),
+        ("studies", "chassistune.export.source", False),
+    ],
+)
+def test_the_rules_refuse_what_the_design_forbids(
+    importer: str, target: str, allowed: bool
+) -> None:
     path = SRC / importer / "x.py"
     assert (_violation(importer, path, target) is None) == allowed
 

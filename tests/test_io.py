@@ -42,11 +42,25 @@ def test_temporary_keeps_the_suffix_and_lives_beside_the_target(tmp_path: Path) 
 
 
 def test_jsonable_converts_numpy_and_non_finite_values() -> None:
-    data = {1: np.float64(0.5), "a": np.arange(3), "b": (np.int64(2), np.bool_(True)),
-            "nan": math.nan, "inf": np.array([np.inf, -1.0]), "s": np.str_("x"), "n": None}
+    data = {
+        1: np.float64(0.5),
+        "a": np.arange(3),
+        "b": (np.int64(2), np.bool_(True)),
+        "nan": math.nan,
+        "inf": np.array([np.inf, -1.0]),
+        "s": np.str_("x"),
+        "n": None,
+    }
     out = jsonable(data)
-    assert out == {"1": 0.5, "a": [0, 1, 2], "b": [2, True], "nan": None, "inf": [None, -1.0],
-                   "s": "x", "n": None}
+    assert out == {
+        "1": 0.5,
+        "a": [0, 1, 2],
+        "b": [2, True],
+        "nan": None,
+        "inf": [None, -1.0],
+        "s": "x",
+        "n": None,
+    }
     assert type(out["a"][0]) is int and type(out["1"]) is float
     assert json.loads(dumps(data)) == out
 

@@ -36,9 +36,14 @@ if TYPE_CHECKING:
     from chassistune.simulate import compare
     from chassistune.tuning.tune import tune
 
-_LAZY = {"minimize": "chassistune.optimizers.minimize", "tune": "chassistune.tuning.tune",
-         "compare": "chassistune.simulate", "load_tune": "chassistune.results",
-         "simulate_tuned": "chassistune.results", "load_study": "chassistune.results"}
+_LAZY = {
+    "minimize": "chassistune.optimizers.minimize",
+    "tune": "chassistune.tuning.tune",
+    "compare": "chassistune.simulate",
+    "load_tune": "chassistune.results",
+    "simulate_tuned": "chassistune.results",
+    "load_study": "chassistune.results",
+}
 
 
 def __getattr__(name: str) -> Any:
@@ -51,5 +56,13 @@ def __getattr__(name: str) -> Any:
     return value
 
 
-__all__ = ["__version__", "compare", "load_study", "load_tune", "minimize", "simulate",
-           "simulate_tuned", "tune"]
+__all__ = [
+    "__version__",
+    "compare",
+    "load_study",
+    "load_tune",
+    "minimize",
+    "simulate",
+    "simulate_tuned",
+    "tune",
+]

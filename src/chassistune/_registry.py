@@ -31,8 +31,9 @@ class Registry(Generic[T]):
     `key` normalizes a looked-up name (e.g. `str.lower`).
     """
 
-    def __init__(self, kind: str, field: str | None = None,
-                 key: Callable[[str], str] | None = None) -> None:
+    def __init__(
+        self, kind: str, field: str | None = None, key: Callable[[str], str] | None = None
+    ) -> None:
         self.kind = kind
         self.field = field or kind
         self._key = key or (lambda name: name)

@@ -35,8 +35,9 @@ def child_seed(root: RootSeed, index: int) -> np.random.SeedSequence:
     """Child `index` of `root` (an int >= 0 means `SeedSequence(root)`), the root left unchanged."""
     if not isinstance(root, np.random.SeedSequence):
         return np.random.SeedSequence(_check_int(root), spawn_key=(index,))
-    return np.random.SeedSequence(root.entropy, spawn_key=(*root.spawn_key, index),
-                                  pool_size=root.pool_size)
+    return np.random.SeedSequence(
+        root.entropy, spawn_key=(*root.spawn_key, index), pool_size=root.pool_size
+    )
 
 
 def int_seed(seed: np.random.SeedSequence) -> int:

@@ -55,8 +55,9 @@ def read_gains_file(path: str) -> dict[str, str]:
     doc = read_json(path, "gains")
     if isinstance(doc, dict) and isinstance(doc.get("best_gains"), dict):
         doc = doc["best_gains"]
-    if not isinstance(doc, dict) or not all(isinstance(v, int | float) and not isinstance(v, bool)
-                                            for v in doc.values()):
+    if not isinstance(doc, dict) or not all(
+        isinstance(v, int | float) and not isinstance(v, bool) for v in doc.values()
+    ):
         raise InputError("gains", f"{path!r} must hold an object of gain name -> number")
     return {str(k): repr(float(v)) for k, v in doc.items()}
 
@@ -92,9 +93,19 @@ class ImplausibleValue(UserWarning):
         super().__init__(f"{field}: {problem}")
 
 
-_SUFFIX_UNITS = {"_per_s": "1/s", "_kg_m2": "kg m^2", "_m_s2": "m/s^2", "_m_s": "m/s",
-                 "_kg": "kg", "_n_m": "N m", "_m": "m", "_s": "s", "_n": "N", "_hz": "Hz",
-                 "_rad": "rad"}
+_SUFFIX_UNITS = {
+    "_per_s": "1/s",
+    "_kg_m2": "kg m^2",
+    "_m_s2": "m/s^2",
+    "_m_s": "m/s",
+    "_kg": "kg",
+    "_n_m": "N m",
+    "_m": "m",
+    "_s": "s",
+    "_n": "N",
+    "_hz": "Hz",
+    "_rad": "rad",
+}
 """Name suffix -> unit, most specific first (the first match wins)."""
 
 
@@ -129,18 +140,28 @@ def implausible(obj: Any, where: str = "params.") -> list[ImplausibleValue]:
             continue
         lo, hi = span
         if not lo <= value <= hi:
-            out.append(ImplausibleValue(f"{where}{f.name}", f"{value:g} {unit_of(f)} is outside "
-                                        f"the plausible range [{lo:g}, {hi:g}]"))
+            out.append(
+                ImplausibleValue(
+                    f"{where}{f.name}",
+                    f"{value:g} {unit_of(f)} is outside the plausible range [{lo:g}, {hi:g}]",
+                )
+            )
     return out
 
 
 def describe(obj: Any) -> list[dict[str, Any]]:
     """Each field of a parameter dataclass: name, unit, default (its value in `obj`), valid and
     plausible range (`list params`)."""
-    return [{"name": f.name, "unit": unit_of(f), "default": getattr(obj, f.name),
-             "valid": valid_range(f), "plausible": list(f.metadata["plausible"])
-             if "plausible" in f.metadata else None}
-            for f in dataclasses.fields(obj)]
+    return [
+        {
+            "name": f.name,
+            "unit": unit_of(f),
+            "default": getattr(obj, f.name),
+            "valid": valid_range(f),
+            "plausible": list(f.metadata["plausible"]) if "plausible" in f.metadata else None,
+        }
+        for f in dataclasses.fields(obj)
+    ]
 
 
 def validate(obj: T, where: str = "") -> T:

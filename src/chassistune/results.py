@@ -49,21 +49,34 @@ def overrides(doc: Mapping[str, Any]) -> dict[str, object]:
     minus what the preset, road and controller give anyway)."""
     from chassistune.scenarios.registry import get_plant
 
-    plain = get_plant(doc["plant"]).scenario(doc["preset"], doc["roads"][0], doc["controller"],
-                                             {}, 0).params()
+    plain = (
+        get_plant(doc["plant"])
+        .scenario(doc["preset"], doc["roads"][0], doc["controller"], {}, 0)
+        .params()
+    )
     return {k: v for k, v in doc["params"].items() if k != "seed" and plain.get(k) != v}
 
 
-def simulate_tuned(path: str | os.PathLike[str], road: str | None = None,
-                   params: Mapping[str, object] | None = None) -> SimulationResult:
+def simulate_tuned(
+    path: str | os.PathLike[str],
+    road: str | None = None,
+    params: Mapping[str, object] | None = None,
+) -> SimulationResult:
     """The tuned controller of a tune result simulated again: on its first road (or `road`),
     with its parameters (`params` overriding them) and its seed."""
     from chassistune.simulate import simulate
 
     doc = load_tune(path)
     values = {**overrides(doc), **(params or {})}
-    return simulate(doc["plant"], doc["preset"], road or doc["roads"][0], doc["controller"],
-                    values, doc["best_gains"], int(doc["params"].get("seed", 0)))
+    return simulate(
+        doc["plant"],
+        doc["preset"],
+        road or doc["roads"][0],
+        doc["controller"],
+        values,
+        doc["best_gains"],
+        int(doc["params"].get("seed", 0)),
+    )
 
 
 def load_study(study_dir: str | os.PathLike[str], field: str = "path") -> StudyData:

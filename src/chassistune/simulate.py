@@ -85,8 +85,9 @@ def prepare(
 
 def run(scenario: Scenario, gains: np.ndarray) -> SimulationResult:
     """Simulate a prepared scenario with one gain vector."""
-    return SimulationResult(scenario, dict(zip(scenario.gain_names, gains.tolist(),
-                                               strict=True)), scenario.trace(gains))
+    return SimulationResult(
+        scenario, dict(zip(scenario.gain_names, gains.tolist(), strict=True)), scenario.trace(gains)
+    )
 
 
 COMPARISON_PLOT = "chassistune.plots.overlay:plot_results"
@@ -101,8 +102,15 @@ class Comparison:
 
     def table(self) -> list[dict[str, Any]]:
         """One row per run: label, controller, gains, then its metrics."""
-        return [{"label": label, "controller": r.scenario.controller.name, "gains": r.gains,
-                 **r.metrics} for label, r in self.results.items()]
+        return [
+            {
+                "label": label,
+                "controller": r.scenario.controller.name,
+                "gains": r.gains,
+                **r.metrics,
+            }
+            for label, r in self.results.items()
+        ]
 
     def plot(self, path: str) -> None:
         """All runs on one figure (shared time axis, one panel per signal) into `path`."""

@@ -10,15 +10,33 @@ has the unit of `x`. Light: no numpy.
 from __future__ import annotations
 
 METRIC_UNITS: dict[str, str] = {
-    "body_acc_rms": "m/s^2", "susp_travel_rms": "m", "tire_defl_rms": "m", "force_rms": "N",
-    "objective": "-", "objective_exact": "-", "damping_ratio": "-",
-    "dynamic_tire_load_ratio": "-", "distance_ratio": "-", "mean_slip": "-", "peak_slip": "-",
-    "slip_iae": "s", "slip_ise": "s", "slip_itae": "s^2",
+    "body_acc_rms": "m/s^2",
+    "susp_travel_rms": "m",
+    "tire_defl_rms": "m",
+    "force_rms": "N",
+    "objective": "-",
+    "objective_exact": "-",
+    "damping_ratio": "-",
+    "dynamic_tire_load_ratio": "-",
+    "distance_ratio": "-",
+    "mean_slip": "-",
+    "peak_slip": "-",
+    "slip_iae": "s",
+    "slip_ise": "s",
+    "slip_itae": "s^2",
 }
 """SI unit of each metric whose name does not end in one."""
 
-SUFFIXES = (("_m_s2", "m/s^2"), ("_m_s", "m/s"), ("_n_m", "N m"), ("_per_s", "1/s"),
-            ("_kg", "kg"), ("_m", "m"), ("_s", "s"), ("_n", "N"))
+SUFFIXES = (
+    ("_m_s2", "m/s^2"),
+    ("_m_s", "m/s"),
+    ("_n_m", "N m"),
+    ("_per_s", "1/s"),
+    ("_kg", "kg"),
+    ("_m", "m"),
+    ("_s", "s"),
+    ("_n", "N"),
+)
 """Name suffix -> SI unit, longest first."""
 
 IN_MM = frozenset({"susp_travel_rms", "tire_defl_rms", "travel_3sigma_m"})

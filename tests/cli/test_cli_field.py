@@ -7,17 +7,19 @@ import pytest
 from chassistune.cli.common import cli_field
 
 
-@pytest.mark.parametrize(("field", "command", "words"), [
-    ("params.dt_s", None, "--param dt_s"),
-    ("gains.kp", "tune", "--gains kp"),
-    ("roads", "tune", "--road"),
-    ("plant", "simulate", "PLANT"),
-    ("plant", "export", "--plant"),  # export takes the plant as an option
-    ("source", "export", "SOURCE"),
-    ("out", "export", "--out"),
-    ("params.ecu_ts_s", "export", "--param ecu_ts_s"),
-    ("bounds.kp", "tune", "bounds.kp"),  # no command-line word: the path itself
-])
-def test_field_paths_become_the_commands_words(field: str, command: str | None,
-                                                words: str) -> None:
+@pytest.mark.parametrize(
+    ("field", "command", "words"),
+    [
+        ("params.dt_s", None, "--param dt_s"),
+        ("gains.kp", "tune", "--gains kp"),
+        ("roads", "tune", "--road"),
+        ("plant", "simulate", "PLANT"),
+        ("plant", "export", "--plant"),  # export takes the plant as an option
+        ("source", "export", "SOURCE"),
+        ("out", "export", "--out"),
+        ("params.ecu_ts_s", "export", "--param ecu_ts_s"),
+        ("bounds.kp", "tune", "bounds.kp"),  # no command-line word: the path itself
+    ],
+)
+def test_field_paths_become_the_commands_words(field: str, command: str | None, words: str) -> None:
     assert cli_field(field, command) == words

@@ -10,8 +10,19 @@ import pytest
 
 from chassistune.cli.main import cli
 
-COMMANDS = {"list", "simulate", "tune", "optimize", "study", "fuzzy", "export", "bench", "demo",
-            "reproduce", "warmup"}
+COMMANDS = {
+    "list",
+    "simulate",
+    "tune",
+    "optimize",
+    "study",
+    "fuzzy",
+    "export",
+    "bench",
+    "demo",
+    "reproduce",
+    "warmup",
+}
 
 PROBE = """
 import sys
@@ -27,8 +38,12 @@ print("HEAVY", code, ",".join(heavy) or "-", file=sys.stderr)
 
 
 def _probe(*args: str) -> tuple[str, str]:
-    done = subprocess.run([sys.executable, "-c", PROBE.format(args=list(args))],
-                          capture_output=True, text=True, check=True)
+    done = subprocess.run(
+        [sys.executable, "-c", PROBE.format(args=list(args))],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     last = done.stderr.strip().splitlines()[-1].split()
     assert last[0] == "HEAVY" and last[1] == "0", done.stderr
     return done.stdout, last[2]
@@ -45,10 +60,18 @@ def test_no_arguments_prints_the_multi_line_help(cli) -> None:  # type: ignore[n
     assert len(res.out.splitlines()) > 10 and "Commands:" in res.out
 
 
-@pytest.mark.parametrize("args", [("--help",), ("--version",), ("study", "--help"),
-                                  ("export", "--help"),
-                                  ("list", "plants"), ("list", "plants", "--json"),
-                                  ("list", "controllers")])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("--help",),
+        ("--version",),
+        ("study", "--help"),
+        ("export", "--help"),
+        ("list", "plants"),
+        ("list", "plants", "--json"),
+        ("list", "controllers"),
+    ],
+)
 def test_fast_paths_import_no_numba(args: tuple[str, ...]) -> None:
     out, heavy = _probe(*args)
     assert out and heavy == "-"

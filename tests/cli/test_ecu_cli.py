@@ -7,8 +7,17 @@ import json
 
 def test_simulate_realistic_echoes_the_ecu_and_its_metrics(cli, tmp_path):
     csv = tmp_path / "run.csv"
-    r = cli("simulate", "abs-wheel", "--ecu", "realistic", "--param", "vref=accel",
-            "--csv", str(csv), "--json")
+    r = cli(
+        "simulate",
+        "abs-wheel",
+        "--ecu",
+        "realistic",
+        "--param",
+        "vref=accel",
+        "--csv",
+        str(csv),
+        "--json",
+    )
     assert r.code == 0, r.err
     doc = json.loads(r.out)
     assert doc["params"]["ecu"] == "realistic" and doc["params"]["vref"] == "accel"
@@ -18,18 +27,34 @@ def test_simulate_realistic_echoes_the_ecu_and_its_metrics(cli, tmp_path):
 
 
 def test_ecu_bad_input_is_one_line_naming_the_field(cli):
-    for args, field in ((["--ecu", "realistic", "--param", "sensor_teeth=many"],
-                         "--param sensor_teeth"),
-                        (["--param", "sensor_teeth=60"], "--param sensor_teeth"),
-                        (["--ecu", "fancy"], "--ecu")):
+    for args, field in (
+        (["--ecu", "realistic", "--param", "sensor_teeth=many"], "--param sensor_teeth"),
+        (["--param", "sensor_teeth=60"], "--param sensor_teeth"),
+        (["--ecu", "fancy"], "--ecu"),
+    ):
         r = cli("simulate", "abs-wheel", *args)
         assert r.code == 2, (args, r.err)
         assert field in r.err and "Traceback" not in r.err
 
 
 def test_tune_realistic(cli):
-    r = cli("tune", "abs-wheel", "--controller", "pid", "--optimizer", "de", "--ecu",
-            "realistic", "--param", "vref=accel", "--pop", "4", "--iters", "2", "--json")
+    r = cli(
+        "tune",
+        "abs-wheel",
+        "--controller",
+        "pid",
+        "--optimizer",
+        "de",
+        "--ecu",
+        "realistic",
+        "--param",
+        "vref=accel",
+        "--pop",
+        "4",
+        "--iters",
+        "2",
+        "--json",
+    )
     assert r.code == 0, r.err
     doc = json.loads(r.out)
     assert doc["params"]["ecu"] == "realistic"

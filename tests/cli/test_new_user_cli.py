@@ -9,8 +9,18 @@ import json
 import numpy as np
 import pytest
 
-TUNE = ("tune", "abs-wheel", "--controller", "pid", "--optimizer", "pso", "--pop", "6",
-        "--iters", "2")
+TUNE = (
+    "tune",
+    "abs-wheel",
+    "--controller",
+    "pid",
+    "--optimizer",
+    "pso",
+    "--pop",
+    "6",
+    "--iters",
+    "2",
+)
 
 
 def test_history_csv_holds_plain_numbers(cli, tmp_path):
@@ -54,13 +64,16 @@ def test_a_penalty_only_tune_says_so_and_exits_1(cli):
     assert "dry-concrete: timeout" in r.err
 
 
-@pytest.mark.parametrize(("args", "field"), [
-    (["--param", "t_max_s=1e9"], "--param t_max_s"),
-    (["--param", "dt_s=1e-8"], "--param dt_s"),
-    (["--param", "v_stop_m_s=40"], "--param v_stop_m_s"),
-    (["--param", "v0_m_s=0.3"], "--param v0_m_s"),
-    (["--controller", "none", "--gains", "kp=1"], "--gains"),
-])
+@pytest.mark.parametrize(
+    ("args", "field"),
+    [
+        (["--param", "t_max_s=1e9"], "--param t_max_s"),
+        (["--param", "dt_s=1e-8"], "--param dt_s"),
+        (["--param", "v_stop_m_s=40"], "--param v_stop_m_s"),
+        (["--param", "v0_m_s=0.3"], "--param v0_m_s"),
+        (["--controller", "none", "--gains", "kp=1"], "--gains"),
+    ],
+)
 def test_errors_name_the_field_the_user_set(cli, args, field):
     """Bug 8: t_max_s=1e9 blamed dt_s, v_stop_m_s=40 blamed v0_m_s, `none` listed "known:
     none"."""
@@ -79,12 +92,14 @@ def test_tune_pop_1_names_the_option_on_one_line(cli):
 def test_mu_lock_above_mu_peak_is_bad_input(cli):
     """Bug 9: mu_lock = 2 above mu_peak = 0.9 passed, and the bound used mu 2."""
     r = cli("simulate", "abs-wheel", "--param", "mu_lock=2")
-    assert r.code == 2 and r.err.startswith("chassistune: error: --param mu_lock: must not "
-                                            "exceed mu_peak")
+    assert r.code == 2 and r.err.startswith(
+        "chassistune: error: --param mu_lock: must not exceed mu_peak"
+    )
 
 
-@pytest.mark.parametrize("assignment", ["mass_kg=1e30", "wheel_radius_m=500", "v0_m_s=108",
-                                        "wheel_inertia_kg_m2=400"])
+@pytest.mark.parametrize(
+    "assignment", ["mass_kg=1e30", "wheel_radius_m=500", "v0_m_s=108", "wheel_inertia_kg_m2=400"]
+)
 def test_implausible_values_warn_on_one_line_and_run(cli, assignment):
     """Bug 9: absurd values passed silently."""
     r = cli("simulate", "abs-wheel", "--controller", "none", "--param", assignment, "--json")
@@ -125,8 +140,11 @@ def test_the_default_time_limit_follows_the_bound_time(cli):
     assert doc["metrics"]["stopped"] is True
     dry = json.loads(cli("simulate", "abs-wheel", "--json").out)
     assert dry["params"]["t_max_s"] == 60.0  # short bound times keep the 60 s floor
-    explicit = json.loads(cli("simulate", "abs-wheel", "--road", "burckhardt-ice", "--param",
-                              "t_max_s=60", "--json").out)
+    explicit = json.loads(
+        cli(
+            "simulate", "abs-wheel", "--road", "burckhardt-ice", "--param", "t_max_s=60", "--json"
+        ).out
+    )
     assert explicit["params"]["t_max_s"] == 60.0 and explicit["metrics"]["stopped"] is False
 
 
@@ -141,26 +159,42 @@ def test_a_budget_below_one_population_is_refused(cli):
 def test_a_tune_result_loads_back_and_compares(cli, tmp_path):
     """`simulate --from`, `--gains @file`, `--compare`: the tuned gains in full precision."""
     out = tmp_path / "t"
-    assert cli(*TUNE, "--road", "wet-asphalt", "--param", "v0_m_s=25", "--out",
-               str(out)).code == 0
+    assert cli(*TUNE, "--road", "wet-asphalt", "--param", "v0_m_s=25", "--out", str(out)).code == 0
     tuned = json.loads((out / "tune.json").read_text())
     again = json.loads(cli("simulate", "--from", str(out), "--json").out)
     assert again["road"] == "wet-asphalt" and again["params"]["v0_m_s"] == 25.0
     assert again["gains"] == tuned["best_gains"]
     assert again["metrics"]["slip_itae"] == tuned["metrics"]["slip_itae"]
-    via_file = json.loads(cli("simulate", "abs-wheel", "--road", "wet-asphalt", "--param",
-                              "v0_m_s=25", "--gains", f"@{out / 'best_gains.json'}",
-                              "--json").out)
+    via_file = json.loads(
+        cli(
+            "simulate",
+            "abs-wheel",
+            "--road",
+            "wet-asphalt",
+            "--param",
+            "v0_m_s=25",
+            "--gains",
+            f"@{out / 'best_gains.json'}",
+            "--json",
+        ).out
+    )
     assert via_file["metrics"] == again["metrics"]
     png = tmp_path / "cmp.png"
-    r = cli("simulate", "--from", str(out / "tune.json"), "--compare", "none,pid", "--plot",
-            str(png), "--json")
+    r = cli(
+        "simulate",
+        "--from",
+        str(out / "tune.json"),
+        "--compare",
+        "none,pid",
+        "--plot",
+        str(png),
+        "--json",
+    )
     runs = json.loads(r.out)["runs"]
     assert list(runs) == ["tuned", "none", "pid"] and png.stat().st_size > 0
     assert runs["tuned"]["gains"] == tuned["best_gains"]
     assert runs["pid"]["gains"] != tuned["best_gains"]  # the registry's defaults
-    assert runs["none"]["metrics"]["stop_distance_m"] > runs["tuned"]["metrics"][
-        "stop_distance_m"]
+    assert runs["none"]["metrics"]["stop_distance_m"] > runs["tuned"]["metrics"]["stop_distance_m"]
 
 
 def test_compare_in_the_python_api(tmp_path):
@@ -185,8 +219,9 @@ def test_list_params_gives_unit_default_valid_and_plausible_range(cli):
     assert plant["mass_kg"]["valid"] == "> 0"
     scoring = {f["name"]: f for f in doc["scoring"]}
     assert scoring["lock_penalty_per_s"]["unit"] == "1/s"
-    sldemo = json.loads(cli("list", "params", "abs-wheel", "--preset", "sldemo",
-                            "--json").out)["params"]
+    sldemo = json.loads(cli("list", "params", "abs-wheel", "--preset", "sldemo", "--json").out)[
+        "params"
+    ]
     assert {f["name"]: f for f in sldemo["plant"]}["load_fraction"]["default"] == 0.25
     r = cli("list", "params")
     assert r.code == 2 and r.err.startswith("chassistune: error: PLANT")
@@ -194,8 +229,9 @@ def test_list_params_gives_unit_default_valid_and_plausible_range(cli):
     assert r.code == 0 and "plausible [0.1, 50]" in r.out
 
 
-def test_the_first_use_announces_compiling_and_bad_input_does_not(cli, tmp_path, monkeypatch,
-                                                                  capsys):
+def test_the_first_use_announces_compiling_and_bad_input_does_not(
+    cli, tmp_path, monkeypatch, capsys
+):
     from chassistune.cli.common import announce_compile
 
     cache = tmp_path / "cache"

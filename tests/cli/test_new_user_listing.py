@@ -10,8 +10,7 @@ import sys
 import pytest
 
 
-def test_list_roads_plot_draws_every_friction_road_labelled_with_units(cli, tmp_path,
-                                                                       monkeypatch):
+def test_list_roads_plot_draws_every_friction_road_labelled_with_units(cli, tmp_path, monkeypatch):
     import chassistune.plots.roads as roads_plot
     from chassistune.plants.roads import friction_roads
 
@@ -30,14 +29,21 @@ def test_list_roads_plot_draws_every_friction_road_labelled_with_units(cli, tmp_
     assert png.stat().st_size > 10_000 and f"wrote {png}" in r.out
     assert [label.split(" (peak")[0] for label in seen["labels"]] == list(friction_roads())
     assert "dry-concrete (peak 0.9 at S = 0.2)" in seen["labels"]
-    assert seen["axes"][0] == ("longitudinal slip S = (v - w R) / v [-]",
-                               "friction coefficient mu [-]")
+    assert seen["axes"][0] == (
+        "longitudinal slip S = (v - w R) / v [-]",
+        "friction coefficient mu [-]",
+    )
 
 
-@pytest.mark.parametrize("args", [["list", "plants", "--plot", "x.png"],
-                                  ["list", "roads", "--plot", "x.svg"],
-                                  ["list", "roads", "--plot", "/proc/x.png"],
-                                  ["list", "roads", "--plot", "missing/x.png"]])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["list", "plants", "--plot", "x.png"],
+        ["list", "roads", "--plot", "x.svg"],
+        ["list", "roads", "--plot", "/proc/x.png"],
+        ["list", "roads", "--plot", "missing/x.png"],
+    ],
+)
 def test_list_plot_refuses_before_drawing(cli, tmp_path, monkeypatch, args):
     monkeypatch.chdir(tmp_path)
     r = cli(*args)
@@ -73,14 +79,16 @@ def test_help_lists_the_choices_of_the_registries(cli, private_cache):
 
     truth = collect()
     text = cli("tune", "--help").out
-    section = text[text.index("\nChoices:\n"):]
+    section = text[text.index("\nChoices:\n") :]
     lines = [line.strip() for line in section.splitlines()]
     for plant, info in truth["plants"].items():
-        presets = ", ".join(f"{p} (default)" if p == info["default_preset"] else p
-                            for p in info["presets"])
+        presets = ", ".join(
+            f"{p} (default)" if p == info["default_preset"] else p for p in info["presets"]
+        )
         assert f"{plant}: {presets}" in lines
-        objectives = ", ".join(f"{o} (default)" if o == info["default_objective"] else o
-                               for o in info["objectives"])
+        objectives = ", ".join(
+            f"{o} (default)" if o == info["default_objective"] else o for o in info["objectives"]
+        )
         assert f"{plant}: {objectives}" in " ".join(lines)
         for road in info["roads"]:  # every road, never broken at its hyphens
             assert any(road in line.replace(",", " ").split() for line in lines), road
@@ -100,8 +108,9 @@ def test_help_reads_the_stored_choices_and_imports_no_numba(tmp_path):
     env["XDG_CACHE_HOME"] = str(tmp_path)
 
     def probe() -> str:
-        done = subprocess.run([sys.executable, "-c", HELP_PROBE], env=env, capture_output=True,
-                              text=True, check=True)
+        done = subprocess.run(
+            [sys.executable, "-c", HELP_PROBE], env=env, capture_output=True, text=True, check=True
+        )
         assert "Choices:" in done.stdout and "burckhardt-snow" in done.stdout
         return done.stderr.strip().splitlines()[-1]
 

@@ -11,8 +11,25 @@ import pytest
 import chassistune
 from chassistune.errors import InputError
 
-TUNE = ("tune", "abs-wheel", "--controller", "pid", "--optimizer", "pso", "--pop", "6",
-        "--iters", "2", "--road", "wet-asphalt", "--param", "v0_m_s=25", "--seed", "4")
+TUNE = (
+    "tune",
+    "abs-wheel",
+    "--controller",
+    "pid",
+    "--optimizer",
+    "pso",
+    "--pop",
+    "6",
+    "--iters",
+    "2",
+    "--road",
+    "wet-asphalt",
+    "--param",
+    "v0_m_s=25",
+    "--seed",
+    "4",
+)
+
 
 def test_a_tune_folder_loads_back_and_simulates_as_simulate_from(cli, tmp_path):
     out = tmp_path / "t"
@@ -24,8 +41,9 @@ def test_a_tune_folder_loads_back_and_simulates_as_simulate_from(cli, tmp_path):
     assert again.scenario.road == "wet-asphalt" and again.scenario.params()["v0_m_s"] == 25.0
     assert again.metrics["slip_itae"] == saved["metrics"]["slip_itae"]
     on_ice = chassistune.simulate_tuned(out, road="ice", params={"v0_m_s": 20})
-    via_cli = json.loads(cli("simulate", "--from", str(out), "--road", "ice", "--param",
-                             "v0_m_s=20", "--json").out)
+    via_cli = json.loads(
+        cli("simulate", "--from", str(out), "--road", "ice", "--param", "v0_m_s=20", "--json").out
+    )
     assert on_ice.as_dict() == via_cli
 
 

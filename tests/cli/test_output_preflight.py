@@ -91,21 +91,46 @@ def _commands(tmp_path: Path, out: str) -> dict[str, list[str]]:
     return {
         "simulate --plot": ["simulate", "abs-wheel", "--plot", out],
         "simulate --csv": ["simulate", "abs-wheel", "--csv", out],
-        "tune --out": ["tune", "abs-wheel", "--controller", "pid", "--optimizer", "pso", "--pop",
-                       "4", "--iters", "1", "--out", out],
+        "tune --out": [
+            "tune",
+            "abs-wheel",
+            "--controller",
+            "pid",
+            "--optimizer",
+            "pso",
+            "--pop",
+            "4",
+            "--iters",
+            "1",
+            "--out",
+            out,
+        ],
         "study run --out": ["study", "run", str(config), "--out", out],
-        "study export --output": ["study", "export", str(tmp_path), "--format", "csv",
-                                  "--output", out],
+        "study export --output": [
+            "study",
+            "export",
+            str(tmp_path),
+            "--format",
+            "csv",
+            "--output",
+            out,
+        ],
         "fuzzy show --plot": ["fuzzy", "show", "deffao", "--plot", out],
         "demo --out": ["demo", "--out", out],
         "export --out": ["export", "--controller", "pid", "--format", "json", "--out", out],
     }
 
 
-OPTIONS = {"simulate --plot": ("file", "x.png"), "simulate --csv": ("file", "x.csv"),
-           "tune --out": ("dir", "tuned"), "study run --out": ("dir", "st"),
-           "study export --output": ("file", "x.csv"), "fuzzy show --plot": ("file", "x.png"),
-           "demo --out": ("dir", "demo"), "export --out": ("dir", "ecu")}
+OPTIONS = {
+    "simulate --plot": ("file", "x.png"),
+    "simulate --csv": ("file", "x.csv"),
+    "tune --out": ("dir", "tuned"),
+    "study run --out": ("dir", "st"),
+    "study export --output": ("file", "x.csv"),
+    "fuzzy show --plot": ("file", "x.png"),
+    "demo --out": ("dir", "demo"),
+    "export --out": ("dir", "ecu"),
+}
 
 
 def _snapshot(tmp_path: Path) -> set[str]:

@@ -22,8 +22,11 @@ from pathlib import Path
 
 import pytest
 
-CLI = [sys.executable, "-c", "import sys; sys.argv[0] = 'chassistune'; "
-       "from chassistune.cli import main; main()"]
+CLI = [
+    sys.executable,
+    "-c",
+    "import sys; sys.argv[0] = 'chassistune'; from chassistune.cli import main; main()",
+]
 
 STUDY = """
 [study]
@@ -46,8 +49,9 @@ iterations = 2000
 
 def _interrupt(args: list[str], delay_s: float, threads: str) -> tuple[int, str, float]:
     env = dict(os.environ, CHASSISTUNE_THREADS=threads)
-    proc = subprocess.Popen(CLI + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=True, env=env)
+    proc = subprocess.Popen(
+        CLI + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env
+    )
     time.sleep(delay_s)
     sent = time.monotonic()
     proc.send_signal(signal.SIGINT)
@@ -61,15 +65,30 @@ def _interrupt(args: list[str], delay_s: float, threads: str) -> tuple[int, str,
 
 
 def _tune(out: Path, pop: int) -> list[str]:
-    return ["tune", "abs-wheel", "--controller", "pid", "--optimizer", "pso", "--pop", str(pop),
-            "--iters", "100000", "--out", str(out)]  # never finishes before the signal
+    return [
+        "tune",
+        "abs-wheel",
+        "--controller",
+        "pid",
+        "--optimizer",
+        "pso",
+        "--pop",
+        str(pop),
+        "--iters",
+        "100000",
+        "--out",
+        str(out),
+    ]  # never finishes before the signal
 
 
 def _one_line(err: str) -> bool:
     """One interruption line, last; before it at most the first-use compile notice."""
     lines = err.splitlines()
-    return (len(lines) >= 1 and lines[-1].startswith("chassistune: interrupted")
-            and all("compiling kernels (first use" in x for x in lines[:-1]))
+    return (
+        len(lines) >= 1
+        and lines[-1].startswith("chassistune: interrupted")
+        and all("compiling kernels (first use" in x for x in lines[:-1])
+    )
 
 
 def _check_tune(code: int, err: str, out: Path) -> bool:
@@ -87,8 +106,9 @@ def _check_tune(code: int, err: str, out: Path) -> bool:
 
 
 def test_ctrl_c_at_random_moments_stops_at_once_with_130_and_one_line(tmp_path):
-    warm = subprocess.run(CLI + _tune(tmp_path / "warm", 4)[:-4] + ["--iters", "1"],
-                          capture_output=True, text=True)  # compiles the kernel once
+    warm = subprocess.run(
+        CLI + _tune(tmp_path / "warm", 4)[:-4] + ["--iters", "1"], capture_output=True, text=True
+    )  # compiles the kernel once
     assert warm.returncode == 0, warm.stderr
     rng = random.Random(20261123)
     # from 0.3 s: before that the interpreter itself may still be starting (site, encodings),
@@ -108,7 +128,8 @@ def test_ctrl_c_during_a_study_says_how_many_runs_are_stored(tmp_path):
     config = tmp_path / "study.toml"
     config.write_text(STUDY)
     for delay in (1.0, 5.0):  # still importing; then running
-        code, err, _ = _interrupt(["study", "run", str(config), "--out",
-                                   str(tmp_path / "st")], delay, "1")
+        code, err, _ = _interrupt(
+            ["study", "run", str(config), "--out", str(tmp_path / "st")], delay, "1"
+        )
         assert code == 130 and _one_line(err), err
     assert "runs are stored in" in err and "same command to resume" in err, err

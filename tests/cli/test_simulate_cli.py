@@ -8,8 +8,19 @@ import pytest
 
 
 def test_simulate_json_has_the_contract_keys_and_echoes_every_parameter(cli):
-    r = cli("simulate", "abs-wheel", "--road", "wet-asphalt", "--gains", "kp=4000,kd=200",
-            "--param", "v0_m_s=25", "--seed", "3", "--json")
+    r = cli(
+        "simulate",
+        "abs-wheel",
+        "--road",
+        "wet-asphalt",
+        "--gains",
+        "kp=4000,kd=200",
+        "--param",
+        "v0_m_s=25",
+        "--seed",
+        "3",
+        "--json",
+    )
     assert r.code == 0, r.err
     doc = json.loads(r.out)
     assert set(doc) >= {"plant", "preset", "road", "controller", "gains", "params", "metrics"}
@@ -17,16 +28,27 @@ def test_simulate_json_has_the_contract_keys_and_echoes_every_parameter(cli):
     assert doc["params"]["v0_m_s"] == 25.0 and doc["params"]["seed"] == 3
     assert doc["params"]["mu_peak"] == 0.78
     m = doc["metrics"]
-    for key in ("stopped", "stop_time_s", "stop_distance_m", "wheel_lock_time_s", "slip_iae",
-                "slip_itae", "mean_slip", "peak_slip", "bound_distance_m", "bound_time_s"):
+    for key in (
+        "stopped",
+        "stop_time_s",
+        "stop_distance_m",
+        "wheel_lock_time_s",
+        "slip_iae",
+        "slip_itae",
+        "mean_slip",
+        "peak_slip",
+        "bound_distance_m",
+        "bound_time_s",
+    ):
         assert key in m
     assert m["bound_distance_m"] == pytest.approx((25**2 - 0.5**2) / (2 * 0.78 * 9.81))
 
 
 def test_simulate_writes_plot_and_csv(cli, tmp_path):
     png, csv = tmp_path / "run.png", tmp_path / "run.csv"
-    r = cli("simulate", "abs-wheel", "--controller", "threshold", "--plot", str(png),
-            "--csv", str(csv))
+    r = cli(
+        "simulate", "abs-wheel", "--controller", "threshold", "--plot", str(png), "--csv", str(csv)
+    )
     assert r.code == 0, r.err
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     header = csv.read_text().splitlines()[0]
@@ -86,7 +108,8 @@ def test_demo_prints_the_table_and_writes_three_plots(cli, tmp_path):
     assert r.code == 0, r.err
     rows = json.loads(r.out)["rows"]
     assert {(x["road"], x["controller"]) for x in rows} == {
-        (road, c) for road in ("dry-concrete", "wet-asphalt", "ice") for c in ("none", "pid")}
+        (road, c) for road in ("dry-concrete", "wet-asphalt", "ice") for c in ("none", "pid")
+    }
     for x in rows:
         assert x["distance_ratio"] >= 1.0
     assert len(list((tmp_path / "demo").glob("*.png"))) == 3

@@ -79,10 +79,12 @@ def _run(road, gains, plant, modes, ecu, spacing, jitter, accel_noise):
                 vref = E.vref_slew(vref, vw, a_max, ts)
             else:
                 s_true = min(max((v - w * r_w) / v, 0.0), 1.0)
-                a_meas = E.accelerometer(-_mu(s_true, st, mh, mg) * g, bias,
-                                         accel_noise[tick % accel_noise.shape[0]])
-                vref, _ = E.vref_accel(vref, vw, a_wheel, a_meas, ts, agree, agree_accel,
-                                       q <= p_free, 0, 1)  # re-anchors on one sample
+                a_meas = E.accelerometer(
+                    -_mu(s_true, st, mh, mg) * g, bias, accel_noise[tick % accel_noise.shape[0]]
+                )
+                vref, _ = E.vref_accel(
+                    vref, vw, a_wheel, a_meas, ts, agree, agree_accel, q <= p_free, 0, 1
+                )  # re-anchors on one sample
             if v > 5.0:
                 gap = max(gap, abs(v - vref))
             e = st - (vref - vw) / vref
@@ -104,8 +106,9 @@ def _run(road, gains, plant, modes, ecu, spacing, jitter, accel_noise):
                 if cut:
                     mode, on = E.VALVE_BUILD, ts
                 else:
-                    mode, on, resid = E.duty_pulse(gain * cmd, resid, q, ts, kb, kdv, q_max, 0.0,
-                                                   min_on)
+                    mode, on, resid = E.duty_pulse(
+                        gain * cmd, resid, q, ts, kb, kdv, q_max, 0.0, min_on
+                    )
                 pulses[0], pulses[1], pulses[2] = pulses[3], pulses[4], pulses[5]
                 pulses[3], pulses[4], pulses[5] = mode, t + dead, on
             tick += 1
@@ -120,9 +123,21 @@ def _run(road, gains, plant, modes, ecu, spacing, jitter, accel_noise):
                 krd[j] = (gain * u0 - rr) / tau
                 kqd[j] = 0.0 if ((qq >= q_max and rr > 0.0) or (qq <= 0.0 and rr < 0.0)) else rr
             else:
-                qq = E.modulator_advance(q, t, c * dt, int(pulses[0]), pulses[1], pulses[2],
-                                         int(pulses[3]), pulses[4], pulses[5], kb, kdv, q_max,
-                                         0.0)
+                qq = E.modulator_advance(
+                    q,
+                    t,
+                    c * dt,
+                    int(pulses[0]),
+                    pulses[1],
+                    pulses[2],
+                    int(pulses[3]),
+                    pulses[4],
+                    pulses[5],
+                    kb,
+                    kdv,
+                    q_max,
+                    0.0,
+                )
             fx = _mu(min(max((vv - ww * r_w) / vv, 0.0), 1.0), st, mh, mg) * mass * g
             kv[j] = -fx / mass
             dw = (r_w * fx - kq * qq) / inertia
@@ -131,16 +146,43 @@ def _run(road, gains, plant, modes, ecu, spacing, jitter, accel_noise):
         wn = max(w + dt / 6.0 * (kw[0] + 2.0 * kw[1] + 2.0 * kw[2] + kw[3]), 0.0)
         theta_n = theta + dt / 6.0 * (ws[0] + 2.0 * ws[1] + 2.0 * ws[2] + ws[3])
         if valves == 0:
-            qn = min(max(q + dt / 6.0 * (kqd[0] + 2.0 * kqd[1] + 2.0 * kqd[2] + kqd[3]), 0.0),
-                     q_max)
+            qn = min(
+                max(q + dt / 6.0 * (kqd[0] + 2.0 * kqd[1] + 2.0 * kqd[2] + kqd[3]), 0.0), q_max
+            )
             r += dt / 6.0 * (krd[0] + 2.0 * krd[1] + 2.0 * krd[2] + krd[3])
         else:
-            qn = E.modulator_advance(q, t, dt, int(pulses[0]), pulses[1], pulses[2],
-                                     int(pulses[3]), pulses[4], pulses[5], kb, kdv, q_max, 0.0)
+            qn = E.modulator_advance(
+                q,
+                t,
+                dt,
+                int(pulses[0]),
+                pulses[1],
+                pulses[2],
+                int(pulses[3]),
+                pulses[4],
+                pulses[5],
+                kb,
+                kdv,
+                q_max,
+                0.0,
+            )
         if sensor == 1:
             k_next, t_last, t_prev, w_est = E.sensor_step(
-                theta, theta_n, w, wn, t, dt, k_next, t_last, t_prev, w_est, teeth, timer,
-                spacing, jitter)
+                theta,
+                theta_n,
+                w,
+                wn,
+                t,
+                dt,
+                k_next,
+                t_last,
+                t_prev,
+                w_est,
+                teeth,
+                timer,
+                spacing,
+                jitter,
+            )
         if v_lo < vn < v_hi:
             e_low = max(e_low, abs(st - min(max((vn - wn * r_w) / vn, 0.0), 1.0)))
         q_lo = min(q_lo, qn)
@@ -172,21 +214,58 @@ class Stop:
     """Largest |S_target - S| (true slip) between 1 and 9 m/s."""
 
 
-def ecu_stop(road: str, params: EcuParams, *, sensor: int = SENSOR_IDEAL,
-             vref: int = VREF_TRUE, three_state: bool = False, m: int = 1, delay: int = 0,
-             scheduled: bool = False, cutout: bool = False, seed: int = 0,
-             gains: tuple[float, float, float] = (5000.0, 0.0, 230.0)) -> Stop:
+def ecu_stop(
+    road: str,
+    params: EcuParams,
+    *,
+    sensor: int = SENSOR_IDEAL,
+    vref: int = VREF_TRUE,
+    three_state: bool = False,
+    m: int = 1,
+    delay: int = 0,
+    scheduled: bool = False,
+    cutout: bool = False,
+    seed: int = 0,
+    gains: tuple[float, float, float] = (5000.0, 0.0, 230.0),
+) -> Stop:
     """One stop of the oracle loop on a bilinear road with the PID `gains` (kp, ki, kd)."""
     st, mh, mg = bilinear_road(road)
     kb, kdv = orifice_gains(params, PLANT[7], 0.0)
     noise = draw_noise(params, seed)
     dead = round(params.valve_dead_time_s / PLANT[10]) * PLANT[10]
-    modes = (sensor, vref, int(three_state), m, delay, int(scheduled),
-             int(params.sensor_stale == "bound"))
-    ecu = np.array([params.sensor_teeth, params.sensor_timer_s, params.vref_decel_max_m_s2,
-                    params.accel_bias_m_s2, params.vref_agree_m_s, params.vref_agree_m_s2,
-                    params.vref_free_pressure * PLANT[7], kb, kdv, dead, params.valve_min_on_s,
-                    params.abs_cutout_m_s if cutout else 0.0])
-    out = _run(np.array([st, mh, mg]), np.array([*gains, 100.0]), PLANT, modes, ecu,
-               noise.spacing_rad, noise.jitter_s, noise.accel_noise_m_s2)
+    modes = (
+        sensor,
+        vref,
+        int(three_state),
+        m,
+        delay,
+        int(scheduled),
+        int(params.sensor_stale == "bound"),
+    )
+    ecu = np.array(
+        [
+            params.sensor_teeth,
+            params.sensor_timer_s,
+            params.vref_decel_max_m_s2,
+            params.accel_bias_m_s2,
+            params.vref_agree_m_s,
+            params.vref_agree_m_s2,
+            params.vref_free_pressure * PLANT[7],
+            kb,
+            kdv,
+            dead,
+            params.valve_min_on_s,
+            params.abs_cutout_m_s if cutout else 0.0,
+        ]
+    )
+    out = _run(
+        np.array([st, mh, mg]),
+        np.array([*gains, 100.0]),
+        PLANT,
+        modes,
+        ecu,
+        noise.spacing_rad,
+        noise.jitter_s,
+        noise.accel_noise_m_s2,
+    )
     return Stop(*(float(x) for x in out))

@@ -28,8 +28,9 @@ def test_unknown_controller_lists_the_plants_controllers() -> None:
     with pytest.raises(InputError) as err:
         catalogue.get("quarter-car", "lqr")
     assert err.value.field == "controller"
-    assert err.value.problem == ("unknown controller 'lqr' for plant 'quarter-car' "
-                                 "(known: passive, pid, skyhook)")
+    assert err.value.problem == (
+        "unknown controller 'lqr' for plant 'quarter-car' (known: passive, pid, skyhook)"
+    )
     with pytest.raises(InputError, match="for plant 'half-car' \\(known: none\\)"):
         catalogue.get("half-car", "pid")
 

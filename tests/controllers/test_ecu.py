@@ -21,8 +21,9 @@ def _edge_time(k: int, pitch: float, w0: float, alpha: float) -> float:
     return 2.0 * theta / (w0 + math.sqrt(w0 * w0 - 2.0 * alpha * theta))
 
 
-def _decelerating_wheel(teeth: int, timer_s: float, w0: float = 60.0, alpha: float = 18.0,
-                        dt: float = 1e-3) -> list[tuple[float, float, float, int, float]]:
+def _decelerating_wheel(
+    teeth: int, timer_s: float, w0: float = 60.0, alpha: float = 18.0, dt: float = 1e-3
+) -> list[tuple[float, float, float, int, float]]:
     """Drive the sensor over a wheel decelerating uniformly from w0 (rad/s) to near rest.
 
     Returns per step end: (t, true speed, estimate, last edge index, captured t_prev)."""
@@ -34,15 +35,29 @@ def _decelerating_wheel(teeth: int, timer_s: float, w0: float = 60.0, alpha: flo
         ta, tb = i * dt, (i + 1) * dt
         th_a, th_b = w0 * ta - 0.5 * alpha * ta * ta, w0 * tb - 0.5 * alpha * tb * tb
         k_next, t_last, t_prev, w_est = E.sensor_step(
-            th_a, th_b, w0 - alpha * ta, w0 - alpha * tb, ta, dt, k_next, t_last, t_prev,
-            w_est, teeth, timer_s, ZERO, ZERO)
+            th_a,
+            th_b,
+            w0 - alpha * ta,
+            w0 - alpha * tb,
+            ta,
+            dt,
+            k_next,
+            t_last,
+            t_prev,
+            w_est,
+            teeth,
+            timer_s,
+            ZERO,
+            ZERO,
+        )
         rows.append((tb, w0 - alpha * tb, w_est, k_next - 1, t_prev))
     assert pitch > 0.0
     return rows
 
 
-def _error_and_bound(teeth: int, timer_s: float, alpha: float = 18.0
-                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _error_and_bound(
+    teeth: int, timer_s: float, alpha: float = 18.0
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """|estimate - true speed|, its analytic bound and the true speed at every step end after
     two captured edges. Bound: the captured period is within one timer tick of the true one,
     T_hat in (T - tau, T + tau), so |pitch/T_hat - w_mean| <= w_mean tau / (T - tau), and the
@@ -61,8 +76,9 @@ def _error_and_bound(teeth: int, timer_s: float, alpha: float = 18.0
     return np.array(err), np.array(bound), np.array(speed)
 
 
-@pytest.mark.parametrize(("teeth", "timer_s"), [(48, 1e-6), (1000, 1e-7), (10_000, 1e-9),
-                                                (1_000_000, 1e-9)])
+@pytest.mark.parametrize(
+    ("teeth", "timer_s"), [(48, 1e-6), (1000, 1e-7), (10_000, 1e-9), (1_000_000, 1e-9)]
+)
 def test_sensor_error_within_the_tooth_and_timer_bound(teeth: int, timer_s: float) -> None:
     err, bound, speed = _error_and_bound(teeth, timer_s)
     assert speed.min() < 0.5  # edges arrive down to a crawl: every speed is checked
@@ -95,8 +111,9 @@ def test_fine_sensor_converges_to_the_true_speed() -> None:
     assert (err48 / speed48)[crawl].max() > 1.0
 
 
-def _constant_speed_edges(w: float, teeth: int, spacing: np.ndarray, seconds: float,
-                          jitter: np.ndarray = ZERO) -> tuple[np.ndarray, np.ndarray]:
+def _constant_speed_edges(
+    w: float, teeth: int, spacing: np.ndarray, seconds: float, jitter: np.ndarray = ZERO
+) -> tuple[np.ndarray, np.ndarray]:
     """(estimate, captured period) after each captured edge at constant speed (timer 1 ps)."""
     dt = 1e-4
     k_next = E.sensor_first_edge(0.0, teeth, spacing)
@@ -106,16 +123,28 @@ def _constant_speed_edges(w: float, teeth: int, spacing: np.ndarray, seconds: fl
         ta = i * dt
         k_old = k_next
         k_next, t_last, t_prev, w_est = E.sensor_step(
-            w * ta, w * (ta + dt), w, w, ta, dt, k_next, t_last, t_prev, w_est, teeth, 1e-12,
-            spacing, jitter)
+            w * ta,
+            w * (ta + dt),
+            w,
+            w,
+            ta,
+            dt,
+            k_next,
+            t_last,
+            t_prev,
+            w_est,
+            teeth,
+            1e-12,
+            spacing,
+            jitter,
+        )
         if k_next > k_old and t_prev >= 0.0:
             est.append(w_est)
             periods.append(t_last - t_prev)
     return np.array(est), np.array(periods)
 
 
-def _constant_speed_estimates(w: float, teeth: int, spacing: np.ndarray, revs: int
-                              ) -> np.ndarray:
+def _constant_speed_estimates(w: float, teeth: int, spacing: np.ndarray, revs: int) -> np.ndarray:
     return _constant_speed_edges(w, teeth, spacing, revs * 2.0 * math.pi / w)[0]
 
 
@@ -123,7 +152,7 @@ def test_spacing_error_shows_as_lines_at_the_rotation_harmonics() -> None:
     teeth, w, revs = 48, 50.0, 17
     spacing = draw_noise(EcuParams(sensor_spacing_error=0.05), seed=3).spacing_rad
     assert spacing.shape == (teeth,)
-    est = _constant_speed_estimates(w, teeth, spacing, revs)[:teeth * (revs - 2)]
+    est = _constant_speed_estimates(w, teeth, spacing, revs)[: teeth * (revs - 2)]
     n_rev = revs - 2
     spec = np.abs(np.fft.rfft(est - est.mean())) ** 2
     harmonic = np.arange(spec.size) % n_rev == 0  # multiples of the rotation frequency
@@ -149,15 +178,16 @@ KB, KD = orifice_gains(VALVES, P_S, P_R)
 
 
 def test_orifice_law_is_exact_and_meets_its_fill_times() -> None:
-    assert E.orifice_advance(P_R, E.VALVE_BUILD, VALVES.valve_build_time_s, KB, KD, P_S, P_R) \
-        == P_S
-    assert E.orifice_advance(P_R, E.VALVE_BUILD, 0.99 * VALVES.valve_build_time_s, KB, KD, P_S,
-                             P_R) < P_S
-    assert E.orifice_advance(P_S, E.VALVE_DUMP, VALVES.valve_dump_time_s, KB, KD, P_S, P_R) \
-        == P_R
+    assert E.orifice_advance(P_R, E.VALVE_BUILD, VALVES.valve_build_time_s, KB, KD, P_S, P_R) == P_S
+    assert (
+        E.orifice_advance(P_R, E.VALVE_BUILD, 0.99 * VALVES.valve_build_time_s, KB, KD, P_S, P_R)
+        < P_S
+    )
+    assert E.orifice_advance(P_S, E.VALVE_DUMP, VALVES.valve_dump_time_s, KB, KD, P_S, P_R) == P_R
     p, h = 300.0, 0.01
-    half = E.orifice_advance(E.orifice_advance(p, 1, h / 2, KB, KD, P_S, P_R), 1, h / 2, KB, KD,
-                             P_S, P_R)
+    half = E.orifice_advance(
+        E.orifice_advance(p, 1, h / 2, KB, KD, P_S, P_R), 1, h / 2, KB, KD, P_S, P_R
+    )
     assert half == pytest.approx(E.orifice_advance(p, 1, h, KB, KD, P_S, P_R), rel=1e-13)
     q, n = p, 10_000  # RK4 on dp/dt = kb sqrt(ps - p)
     for _ in range(n):
@@ -170,8 +200,9 @@ def test_orifice_law_is_exact_and_meets_its_fill_times() -> None:
     assert E.orifice_advance(p, 1, h, KB, KD, P_S, P_R) == pytest.approx(q, rel=1e-10)
 
 
-def _run_modulator(rates: list[float], p0: float, params: EcuParams = VALVES
-                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _run_modulator(
+    rates: list[float], p0: float, params: EcuParams = VALVES
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Drive the modulator with one duty-quantized pulse per control period.
 
     Returns pressures at every 1e-5 s, the valve state there, and the sample times."""
@@ -196,10 +227,12 @@ def _run_modulator(rates: list[float], p0: float, params: EcuParams = VALVES
 
 
 @settings(max_examples=40, deadline=None)
-@given(st.lists(st.floats(-1e6, 1e6, allow_nan=False), min_size=2, max_size=40),
-       st.floats(0.0, 1500.0))
-def test_valves_stay_between_return_and_supply_and_respect_min_on(rates: list[float],
-                                                                  p0: float) -> None:
+@given(
+    st.lists(st.floats(-1e6, 1e6, allow_nan=False), min_size=2, max_size=40), st.floats(0.0, 1500.0)
+)
+def test_valves_stay_between_return_and_supply_and_respect_min_on(
+    rates: list[float], p0: float
+) -> None:
     ps, modes, times = _run_modulator(rates, p0)
     assert np.all(np.isfinite(ps))
     assert np.all((ps >= P_R) & (ps <= P_S))
@@ -323,36 +356,81 @@ finite = st.floats(-1e6, 1e6, allow_nan=False, allow_infinity=False)
 
 
 @settings(max_examples=200, deadline=None)
-@given(theta0=st.floats(0.0, 1e3), dtheta=st.floats(0.0, 20.0), w0=st.floats(0.0, 400.0),
-       w1=st.floats(0.0, 400.0), t0=st.floats(0.0, 100.0), dt=st.floats(1e-6, 1e-2),
-       teeth=st.integers(1, 1_000_000), timer=st.floats(1e-10, 1e-3),
-       t_last=st.floats(-1.0, 100.0), jit=st.floats(0.0, 1e-3), w_est=st.floats(0.0, 1e3))
-def test_sensor_never_produces_nan(theta0: float, dtheta: float, w0: float, w1: float,
-                                   t0: float, dt: float, teeth: int, timer: float,
-                                   t_last: float, jit: float, w_est: float) -> None:
+@given(
+    theta0=st.floats(0.0, 1e3),
+    dtheta=st.floats(0.0, 20.0),
+    w0=st.floats(0.0, 400.0),
+    w1=st.floats(0.0, 400.0),
+    t0=st.floats(0.0, 100.0),
+    dt=st.floats(1e-6, 1e-2),
+    teeth=st.integers(1, 1_000_000),
+    timer=st.floats(1e-10, 1e-3),
+    t_last=st.floats(-1.0, 100.0),
+    jit=st.floats(0.0, 1e-3),
+    w_est=st.floats(0.0, 1e3),
+)
+def test_sensor_never_produces_nan(
+    theta0: float,
+    dtheta: float,
+    w0: float,
+    w1: float,
+    t0: float,
+    dt: float,
+    teeth: int,
+    timer: float,
+    t_last: float,
+    jit: float,
+    w_est: float,
+) -> None:
     k = E.sensor_first_edge(theta0, teeth, ZERO)
     jitter = np.array([jit, -jit])
-    k2, tl, tp, w = E.sensor_step(theta0, theta0 + dtheta, w0, w1, t0, dt, k, t_last, -1.0,
-                                  w_est, teeth, timer, ZERO, jitter)
-    k3, tl, tp, w = E.sensor_step(theta0 + dtheta, theta0 + 2 * dtheta, w1, w0, t0 + dt, dt,
-                                  k2, tl, tp, w, teeth, timer, ZERO, jitter)
+    k2, tl, tp, w = E.sensor_step(
+        theta0, theta0 + dtheta, w0, w1, t0, dt, k, t_last, -1.0, w_est, teeth, timer, ZERO, jitter
+    )
+    k3, tl, tp, w = E.sensor_step(
+        theta0 + dtheta,
+        theta0 + 2 * dtheta,
+        w1,
+        w0,
+        t0 + dt,
+        dt,
+        k2,
+        tl,
+        tp,
+        w,
+        teeth,
+        timer,
+        ZERO,
+        jitter,
+    )
     assert k <= k2 <= k3
     assert math.isfinite(w) and w >= 0.0
     assert math.isfinite(E.sensor_read(w, tl, t0 + 3 * dt, teeth, True))
 
 
 @settings(max_examples=300, deadline=None)
-@given(rate=finite, p=st.floats(-1e4, 1e4), ts=st.floats(1e-4, 0.05),
-       frac=st.floats(0.0, 0.5), v=st.floats(0.0, 100.0), a=finite, noise=finite)
-def test_modulator_and_vref_never_produce_nan(rate: float, p: float, ts: float, frac: float,
-                                              v: float, a: float, noise: float) -> None:
+@given(
+    rate=finite,
+    p=st.floats(-1e4, 1e4),
+    ts=st.floats(1e-4, 0.05),
+    frac=st.floats(0.0, 0.5),
+    v=st.floats(0.0, 100.0),
+    a=finite,
+    noise=finite,
+)
+def test_modulator_and_vref_never_produce_nan(
+    rate: float, p: float, ts: float, frac: float, v: float, a: float, noise: float
+) -> None:
     mode, on, residual = E.duty_pulse(rate, noise, p, ts, KB, KD, P_S, P_R, frac * ts)
     assert mode in (-1, 0, 1) and 0.0 <= on <= ts and math.isfinite(residual)
     q = E.modulator_advance(p, 0.0, ts, mode, 0.0, on, -mode, 0.5 * ts, on, KB, KD, P_S, P_R)
     assert P_R <= q <= P_S
     assert math.isfinite(E.vref_slew(v, 0.5 * v, abs(a), ts))
-    assert math.isfinite(E.vref_accel(v, 0.5 * v, a, E.accelerometer(a, 0.1, noise), ts, 0.3,
-                                      0.5, frac > 0.25, 0, 4)[0])
+    assert math.isfinite(
+        E.vref_accel(
+            v, 0.5 * v, a, E.accelerometer(a, 0.1, noise), ts, 0.3, 0.5, frac > 0.25, 0, 4
+        )[0]
+    )
     assert math.isfinite(E.speed_schedule(v, 30.0, 0.05))
 
 
@@ -377,8 +455,21 @@ def _edge_time_errors(dt: float) -> np.ndarray:
         ta, tb = i * dt, (i + 1) * dt
         k_old = k_next
         k_next, t_last, t_prev, w_est = E.sensor_step(
-            theta(ta), theta(tb), speed(ta), speed(tb), ta, dt, k_next, t_last, t_prev, w_est,
-            teeth, 1e-15, ZERO, ZERO)
+            theta(ta),
+            theta(tb),
+            speed(ta),
+            speed(tb),
+            ta,
+            dt,
+            k_next,
+            t_last,
+            t_prev,
+            w_est,
+            teeth,
+            1e-15,
+            ZERO,
+            ZERO,
+        )
         if k_next > k_old:
             k = k_next - 1
             exact = brentq(lambda t, k=k: theta(t) - k * pitch, ta, tb, xtol=1e-16, rtol=1e-15)
@@ -429,8 +520,9 @@ def test_state_read_from_float_rows() -> None:
     args = (0.0, 1.0, 20.0, 20.0, 0.0, 0.05)
     tail = (-1.0, -1.0, 20.0, 48, 1e-6, ZERO, ZERO)
     assert E.sensor_step(*args, 1.0, *tail) == E.sensor_step(*args, 1, *tail)
-    assert E.orifice_advance(100.0, 1.0, 1e-3, KB, KD, P_S, P_R) == \
-        E.orifice_advance(100.0, E.VALVE_BUILD, 1e-3, KB, KD, P_S, P_R)
-    assert E.modulator_advance(100.0, 0.0, 5e-3, 0.0, 0.0, 0.0, -1.0, 1e-3, 2e-3, KB, KD, P_S,
-                               P_R) == E.modulator_advance(100.0, 0.0, 5e-3, 0, 0.0, 0.0, -1,
-                                                           1e-3, 2e-3, KB, KD, P_S, P_R)
+    assert E.orifice_advance(100.0, 1.0, 1e-3, KB, KD, P_S, P_R) == E.orifice_advance(
+        100.0, E.VALVE_BUILD, 1e-3, KB, KD, P_S, P_R
+    )
+    assert E.modulator_advance(
+        100.0, 0.0, 5e-3, 0.0, 0.0, 0.0, -1.0, 1e-3, 2e-3, KB, KD, P_S, P_R
+    ) == E.modulator_advance(100.0, 0.0, 5e-3, 0, 0.0, 0.0, -1, 1e-3, 2e-3, KB, KD, P_S, P_R)

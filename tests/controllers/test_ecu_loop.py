@@ -17,13 +17,16 @@ ROADS = ("dry-concrete", "wet-asphalt", "ice")
 @pytest.fixture(scope="module")
 def kernel_distance() -> dict[str, float]:
     """Stop distance of the package's kernel with the registry PID (ideal mode)."""
-    return {road: ct.simulate("abs-wheel", road=road, controller="pid").metrics[
-        "stop_distance_m"] for road in ROADS}
+    return {
+        road: ct.simulate("abs-wheel", road=road, controller="pid").metrics["stop_distance_m"]
+        for road in ROADS
+    }
 
 
 @pytest.mark.parametrize("road", ROADS)
 def test_oracle_reproduces_the_kernel_in_the_ideal_limit(
-        road: str, kernel_distance: dict[str, float]) -> None:
+    road: str, kernel_distance: dict[str, float]
+) -> None:
     """Ideal sensor, true speed, no delay, continuous valves, sampled every step: the discrete
     PID (forward-Euler integrator, backward-Euler filter) lands on the continuous one."""
     d = ecu_stop(road, EcuParams()).distance_m
@@ -34,17 +37,20 @@ def test_sampling_converges_to_the_ideal_mode(kernel_distance: dict[str, float])
     """ecu_ts_s = m dt for m = 8, 4, 2, 1: the distance error shrinks with m, within 1 % at
     m = 1 (measured 0.86 %, 0.15 %, 0.025 %, 0.012 % on dry concrete)."""
     ref = kernel_distance["dry-concrete"]
-    errs = [abs(ecu_stop("dry-concrete", EcuParams(), m=m).distance_m - ref) / ref
-            for m in (8, 4, 2, 1)]
+    errs = [
+        abs(ecu_stop("dry-concrete", EcuParams(), m=m).distance_m - ref) / ref for m in (8, 4, 2, 1)
+    ]
     assert all(a > b for a, b in itertools.pairwise(errs))
     assert errs[-1] < 0.01
 
 
-@pytest.mark.parametrize(("teeth", "timer_s", "tol"), [(10_000, 1e-9, 2e-3),
-                                                       (1_000_000, 1e-12, 2e-3),
-                                                       (1_000_000, 1e-9, 1e-2)])
-def test_fine_toothed_sensors_converge(teeth: int, timer_s: float, tol: float,
-                                       kernel_distance: dict[str, float]) -> None:
+@pytest.mark.parametrize(
+    ("teeth", "timer_s", "tol"),
+    [(10_000, 1e-9, 2e-3), (1_000_000, 1e-12, 2e-3), (1_000_000, 1e-9, 1e-2)],
+)
+def test_fine_toothed_sensors_converge(
+    teeth: int, timer_s: float, tol: float, kernel_distance: dict[str, float]
+) -> None:
     """The issue's 10^6 teeth and 1 ns are within 1 % (0.22 % dry, 0.40 % ice); 10^4 teeth
     with 1 ns, or 10^6 with 1 ps, are finer (see docs/ecu.md, sensor table)."""
     params = EcuParams(sensor_teeth=teeth, sensor_timer_s=timer_s)
@@ -58,8 +64,16 @@ def test_fine_toothed_sensors_converge(teeth: int, timer_s: float, tol: float,
 def test_realistic_ecu_stays_physical(road: str, vref: int) -> None:
     """48 teeth, 5 ms with a sample of delay, three-state valves, cut-out at 2 m/s: the run
     stops, never beats the adhesion bound, and the pressure stays in [0, q_max]."""
-    s = ecu_stop(road, EcuParams(), sensor=SENSOR_TOOTHED, vref=vref, three_state=True, m=5,
-                 delay=1, cutout=True)
+    s = ecu_stop(
+        road,
+        EcuParams(),
+        sensor=SENSOR_TOOTHED,
+        vref=vref,
+        three_state=True,
+        m=5,
+        delay=1,
+        cutout=True,
+    )
     mu_peak = bilinear_road(road)[1]
     bound = (30.0**2 - 0.5**2) / (2.0 * mu_peak * 9.81)
     assert s.time_s > 0.0 and math.isfinite(s.distance_m)

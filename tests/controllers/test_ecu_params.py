@@ -23,8 +23,13 @@ def test_defaults_carry_unit_and_source() -> None:
     assert {r["name"] for r in rows} >= {"ecu_ts_s", "sensor_teeth", "abs_cutout_m_s"}
     assert all(r["unit"] and r["source"] for r in rows)
     p = EcuParams()
-    assert (p.ecu_ts_s, p.ecu_delay_samples, p.sensor_teeth, p.sensor_timer_s,
-            p.abs_cutout_m_s) == (5e-3, 1, 48, 1e-6, 2.0)
+    assert (
+        p.ecu_ts_s,
+        p.ecu_delay_samples,
+        p.sensor_teeth,
+        p.sensor_timer_s,
+        p.abs_cutout_m_s,
+    ) == (5e-3, 1, 48, 1e-6, 2.0)
 
 
 def test_override_by_name() -> None:
@@ -33,21 +38,24 @@ def test_override_by_name() -> None:
     assert used == {"sensor_teeth", "vref"}
 
 
-@pytest.mark.parametrize(("values", "field"), [
-    ({"sensor_teeth": "0"}, "params.sensor_teeth"),
-    ({"sensor_teeth": "4.5"}, "params.sensor_teeth"),
-    ({"ecu_ts_s": "-1"}, "params.ecu_ts_s"),
-    ({"ecu_ts_s": "nan"}, "params.ecu_ts_s"),
-    ({"ecu_delay_samples": "-1"}, "params.ecu_delay_samples"),
-    ({"ecu_delay_samples": "9"}, "params.ecu_delay_samples"),
-    ({"valves": "two-state"}, "params.valves"),
-    ({"vref": "magic"}, "params.vref"),
-    ({"sensor": "radar"}, "params.sensor"),
-    ({"valve_dead_time_s": "0.005"}, "params.valve_dead_time_s"),
-    ({"valve_min_on_s": "0.003"}, "params.valve_min_on_s"),
-    ({"sensor_spacing_error": "0.3"}, "params.sensor_spacing_error"),
-    ({"gain_schedule_floor": "2"}, "params.gain_schedule_floor"),
-])
+@pytest.mark.parametrize(
+    ("values", "field"),
+    [
+        ({"sensor_teeth": "0"}, "params.sensor_teeth"),
+        ({"sensor_teeth": "4.5"}, "params.sensor_teeth"),
+        ({"ecu_ts_s": "-1"}, "params.ecu_ts_s"),
+        ({"ecu_ts_s": "nan"}, "params.ecu_ts_s"),
+        ({"ecu_delay_samples": "-1"}, "params.ecu_delay_samples"),
+        ({"ecu_delay_samples": "9"}, "params.ecu_delay_samples"),
+        ({"valves": "two-state"}, "params.valves"),
+        ({"vref": "magic"}, "params.vref"),
+        ({"sensor": "radar"}, "params.sensor"),
+        ({"valve_dead_time_s": "0.005"}, "params.valve_dead_time_s"),
+        ({"valve_min_on_s": "0.003"}, "params.valve_min_on_s"),
+        ({"sensor_spacing_error": "0.3"}, "params.sensor_spacing_error"),
+        ({"gain_schedule_floor": "2"}, "params.gain_schedule_floor"),
+    ],
+)
 def test_bad_values_name_the_field(values: dict[str, str], field: str) -> None:
     with pytest.raises(InputError) as exc:
         ecu_params(values)

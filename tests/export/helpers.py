@@ -46,8 +46,9 @@ def gain_rows(ec: ExportedController) -> np.ndarray:
 def ideal_mode(ec: ExportedController, params: dict[str, object]) -> AbsWheelScenario:
     """The export's plant, road and controller in the IDEAL kernel (`ecu = ideal`): the
     continuous PID, the adaptive fuzzy surfaces, the laws sampled at the scenario's ts_s."""
-    sc = get_plant("abs-wheel").scenario(ec.scenario.preset, ec.scenario.road, ec.controller,
-                                         params)
+    sc = get_plant("abs-wheel").scenario(
+        ec.scenario.preset, ec.scenario.road, ec.controller, params
+    )
     assert isinstance(sc, AbsWheelScenario) and sc.ecu is None
     return sc
 
@@ -57,8 +58,22 @@ class CLaw:
 
     def __init__(self, folder: Path, flags: tuple[str, ...]) -> None:
         lib = folder / "libcontroller.so"
-        subprocess.run([str(CC), *flags, "-Wall", "-Wextra", "-pedantic", "-Werror", "-shared",
-                        "-fPIC", "-o", str(lib), str(folder / c99.SOURCE)], check=True)
+        subprocess.run(
+            [
+                str(CC),
+                *flags,
+                "-Wall",
+                "-Wextra",
+                "-pedantic",
+                "-Werror",
+                "-shared",
+                "-fPIC",
+                "-o",
+                str(lib),
+                str(folder / c99.SOURCE),
+            ],
+            check=True,
+        )
         self._lib = ctypes.CDLL(str(lib))
         self._lib.ct_step.restype = ctypes.c_double
         self._state = ctypes.create_string_buffer(4096)  # ct_state is a few hundred bytes
@@ -68,8 +83,9 @@ class CLaw:
 
     def __call__(self, inputs: np.ndarray) -> float:
         row = np.ascontiguousarray(inputs, dtype=np.float64)
-        return float(self._lib.ct_step(self._state, row.ctypes.data_as(
-            ctypes.POINTER(ctypes.c_double))))
+        return float(
+            self._lib.ct_step(self._state, row.ctypes.data_as(ctypes.POINTER(ctypes.c_double)))
+        )
 
     def run(self, inputs: np.ndarray) -> np.ndarray:
         self.reset()

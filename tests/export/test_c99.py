@@ -40,8 +40,9 @@ def test_header_declares_inputs_and_prints_every_number_exactly(controller: str)
         assert float(_macro(text, f"CT_P_{c99.c_name(name)}")) == value
     if ec.table_outputs:
         for k, out in enumerate(ec.table_outputs):
-            assert np.array_equal(_numbers(_macro(text, f"CT_TABLE_{c99.c_name(out)}")),
-                                  ec.table[k].ravel())
+            assert np.array_equal(
+                _numbers(_macro(text, f"CT_TABLE_{c99.c_name(out)}")), ec.table[k].ravel()
+            )
         for name, bp in zip(ec.table_inputs, ec.breakpoints, strict=True):
             assert np.array_equal(_numbers(_macro(text, f"CT_BP_{c99.c_name(name)}")), bp)
         assert "(rows)" in text and "(columns)" in text
@@ -74,8 +75,12 @@ def test_fma_build_stays_within_1e9_relative(controller: str, tmp_path: Path) ->
     c = case(controller)
     folder = write_c(c.ec, tmp_path)
     flags = ("-std=c99", "-O2", "-ffp-contract=fast", "-mfma")
-    asm = subprocess.run([str(CC), *flags, "-S", "-o", "-", str(folder / c99.SOURCE)],
-                         check=True, capture_output=True, text=True).stdout
+    asm = subprocess.run(
+        [str(CC), *flags, "-S", "-o", "-", str(folder / c99.SOURCE)],
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout
     assert "vfmadd" in asm or "vfmsub" in asm or "vfnmadd" in asm  # contraction did happen
     u = CLaw(folder, flags).run(c.inputs)
     scale = np.max(np.abs(c.u))
@@ -86,21 +91,25 @@ def test_fma_build_stays_within_1e9_relative(controller: str, tmp_path: Path) ->
 def test_object_calls_no_library_function(controller: str, tmp_path: Path) -> None:
     folder = write_c(case(controller).ec, tmp_path)
     obj = folder / "controller.o"
-    subprocess.run([str(CC), *c99.BITWISE_FLAGS, "-c", "-o", str(obj), str(folder / c99.SOURCE)],
-                   check=True)
-    undefined = subprocess.run(["nm", "-u", str(obj)], check=True, capture_output=True,
-                               text=True).stdout.split()
+    subprocess.run(
+        [str(CC), *c99.BITWISE_FLAGS, "-c", "-o", str(obj), str(folder / c99.SOURCE)], check=True
+    )
+    undefined = subprocess.run(
+        ["nm", "-u", str(obj)], check=True, capture_output=True, text=True
+    ).stdout.split()
     assert undefined == []
-    defined = subprocess.run(["nm", "-g", "--defined-only", str(obj)], check=True,
-                             capture_output=True, text=True).stdout
+    defined = subprocess.run(
+        ["nm", "-g", "--defined-only", str(obj)], check=True, capture_output=True, text=True
+    ).stdout
     assert sorted(line.split()[-1] for line in defined.splitlines()) == ["ct_init", "ct_step"]
     data = subprocess.run(["nm", str(obj)], check=True, capture_output=True, text=True).stdout
     assert not re.search(r" [BbDd] ", data)  # no mutable globals (tables are read-only)
 
 
 @pytest.mark.parametrize("controller", LAWS)
-def test_real_closed_loop_with_the_c_controller_gives_the_kernels_stop(controller: str,
-                                                                      tmp_path: Path) -> None:
+def test_real_closed_loop_with_the_c_controller_gives_the_kernels_stop(
+    controller: str, tmp_path: Path
+) -> None:
     """Must show: the plant integrated as the kernel does (`closed_loop`, from the plant's public
     interface) with the compiled C called through ctypes at each control step gives the stop
     distance of the kernel that runs the discrete law (the realistic ECU kernel with the ideal
@@ -118,8 +127,9 @@ def test_real_closed_loop_with_the_c_controller_gives_the_kernels_stop(controlle
 
 
 @pytest.mark.parametrize("controller", CONTINUOUS)
-def test_closed_loop_check_sees_a_gain_one_part_in_a_billion_off(controller: str,
-                                                                 tmp_path: Path) -> None:
+def test_closed_loop_check_sees_a_gain_one_part_in_a_billion_off(
+    controller: str, tmp_path: Path
+) -> None:
     """The 1e-12 check can fail: a C controller whose first gain is 1e-9 (relative) off moves
     the stop by more than 1e-11 m."""
     ec = case(controller).ec
@@ -136,27 +146,41 @@ def test_shipped_check_program_replays_the_vectors_and_catches_a_change(tmp_path
     for name, data in files(case("fuzzy-immune-pid").ec, "c").items():
         (tmp_path / name).write_bytes(data)
     exe = tmp_path / "ct_check"
-    subprocess.run([str(CC), *c99.BITWISE_FLAGS, "-o", str(exe), str(tmp_path / c99.SOURCE),
-                    str(tmp_path / c99.CHECK)], check=True)
+    subprocess.run(
+        [
+            str(CC),
+            *c99.BITWISE_FLAGS,
+            "-o",
+            str(exe),
+            str(tmp_path / c99.SOURCE),
+            str(tmp_path / c99.CHECK),
+        ],
+        check=True,
+    )
     ok = subprocess.run([str(exe)], cwd=tmp_path, capture_output=True, text=True, check=False)
     assert ok.returncode == 0 and " 0 mismatches" in ok.stdout
     lines = (tmp_path / "test_vectors.csv").read_text().splitlines()
     last = lines[-1].split(",")
     last[-1] = repr(np.nextafter(float(last[-1]), np.inf))  # one ulp off
     (tmp_path / "bad.csv").write_text("\n".join([*lines[:-1], ",".join(last)]) + "\n")
-    bad = subprocess.run([str(exe), "bad.csv"], cwd=tmp_path, capture_output=True, text=True,
-                         check=False)
+    bad = subprocess.run(
+        [str(exe), "bad.csv"], cwd=tmp_path, capture_output=True, text=True, check=False
+    )
     assert bad.returncode == 1 and " 1 mismatches" in bad.stdout
 
 
-@pytest.mark.parametrize(("controller", "road", "params"), [
-    ("fuzzy-pid", "ice", {"rulebase": "classic", "fuzzy_table_points": 33}),
-    ("fuzzy-immune-pid", "dirt-0.2", {"ts_s": 0.002}),
-    ("pid", "wet-asphalt", {"ecu_ts_s": 0.01, "dt_s": 5e-4}),
-    ("threshold", "ice", {"ts_s": 0.005}),
-])
+@pytest.mark.parametrize(
+    ("controller", "road", "params"),
+    [
+        ("fuzzy-pid", "ice", {"rulebase": "classic", "fuzzy_table_points": 33}),
+        ("fuzzy-immune-pid", "dirt-0.2", {"ts_s": 0.002}),
+        ("pid", "wet-asphalt", {"ecu_ts_s": 0.01, "dt_s": 5e-4}),
+        ("threshold", "ice", {"ts_s": 0.005}),
+    ],
+)
 def test_bitwise_on_other_roads_presets_rule_bases_and_random_gains(
-        controller: str, road: str, params: dict[str, object], tmp_path: Path) -> None:
+    controller: str, road: str, params: dict[str, object], tmp_path: Path
+) -> None:
     preset = "paper-fuzzy-immune" if road == "dirt-0.2" else None
     ec = source.resolve(None, None, controller, {}, params, preset, road)
     rng = np.random.default_rng(zlib.crc32(controller.encode()))

@@ -36,10 +36,12 @@ def _table_error(name: str, points: int) -> np.ndarray:
 
 
 # the bounds stated in controllers/discrete.py (measured there over 200,000 points)
-@pytest.mark.parametrize(("name", "bound"), [("deffao", 0.044), ("classic", 0.064),
-                                             ("immune", 0.077)])
-def test_default_table_error_is_the_stated_one_and_falls_with_points(name: str,
-                                                                     bound: float) -> None:
+@pytest.mark.parametrize(
+    ("name", "bound"), [("deffao", 0.044), ("classic", 0.064), ("immune", 0.077)]
+)
+def test_default_table_error_is_the_stated_one_and_falls_with_points(
+    name: str, bound: float
+) -> None:
     coarse = _table_error(name, discrete.DEFAULT_TABLE_POINTS)
     assert coarse.max() <= bound
     assert coarse.max() > 0.5 * bound  # the statement is not loose either
@@ -69,18 +71,24 @@ def test_pid_forward_euler_integral_and_conditional_integration() -> None:
     ts, e = 1e-3, 0.05
     slip = 0.2 - e
     free = np.tile([slip, 0.0, 0.0], (50, 1))
-    u = discrete.run_vectors(discrete.K_PID, free, _pid_params(100.0, 30.0, 0.0, 100.0, ts),
-                             table, grid)
+    u = discrete.run_vectors(
+        discrete.K_PID, free, _pid_params(100.0, 30.0, 0.0, 100.0, ts), table, grid
+    )
     k = np.arange(50)
     np.testing.assert_allclose(u, 100.0 * e + 30.0 * ts * e * k, rtol=1e-12)
     # pressure at q_max and e > 0: the integral holds (no windup); at q = 0 and e > 0 it runs
     held = np.tile([slip, 1.0, 0.0], (50, 1))
-    u_held = discrete.run_vectors(discrete.K_PID, held,
-                                  _pid_params(100.0, 30.0, 0.0, 100.0, ts), table, grid)
+    u_held = discrete.run_vectors(
+        discrete.K_PID, held, _pid_params(100.0, 30.0, 0.0, 100.0, ts), table, grid
+    )
     assert np.all(u_held == u_held[0])
     at_min = np.tile([slip, 0.0, 1.0], (50, 1))
-    assert np.array_equal(discrete.run_vectors(discrete.K_PID, at_min, _pid_params(
-        100.0, 30.0, 0.0, 100.0, ts), table, grid), u)
+    assert np.array_equal(
+        discrete.run_vectors(
+            discrete.K_PID, at_min, _pid_params(100.0, 30.0, 0.0, 100.0, ts), table, grid
+        ),
+        u,
+    )
 
 
 @pytest.mark.parametrize("ts", [1e-3, 0.02, 0.05])
@@ -90,8 +98,7 @@ def test_backward_euler_filter_has_no_kick_and_is_stable_at_any_sample_time(ts: 
     table, grid = discrete.no_table()
     n = 100.0
     rows = np.array([[0.2, 0.0, 0.0]] * 3 + [[0.1, 0.0, 0.0]] * 40)  # e: 0, 0, 0, then 0.1
-    u = discrete.run_vectors(discrete.K_PID, rows, _pid_params(0.0, 0.0, 1.0, n, ts),
-                             table, grid)
+    u = discrete.run_vectors(discrete.K_PID, rows, _pid_params(0.0, 0.0, 1.0, n, ts), table, grid)
     assert np.all(u[:3] == 0.0)  # no derivative kick at the start
     a = ts * n
     expected = n * 0.1 * (1.0 / (1.0 + a)) ** np.arange(1, 41)
@@ -120,14 +127,16 @@ def test_sampled_threshold_loop_gives_the_ideal_kernels_stop_bit_for_bit() -> No
     """The loop integrates the plant as the kernels do: with the threshold law, sampled in the
     ideal kernel too, the stop distance and time are the ideal kernel's, exactly, on every tire
     law the kernels have (and the realistic kernel's with the export's ideal ECU)."""
-    cases = [(None, None, {}), (None, None, {"ts_s": 0.004}),
-             (None, None, {"dt_s": 5e-4, "ts_s": 0.002}),
-             (None, "burckhardt-wet-asphalt", {}),
-             ("sldemo", "sldemo-table", {})]
+    cases = [
+        (None, None, {}),
+        (None, None, {"ts_s": 0.004}),
+        (None, None, {"dt_s": 5e-4, "ts_s": 0.002}),
+        (None, "burckhardt-wet-asphalt", {}),
+        ("sldemo", "sldemo-table", {}),
+    ]
     for preset, road, params in cases:
         ts = float(params.get("ts_s", 1e-3))  # type: ignore[arg-type]
-        ec = source.resolve(None, None, "threshold", {}, {**params, "ecu_ts_s": ts}, preset,
-                            road)
+        ec = source.resolve(None, None, "threshold", {}, {**params, "ecu_ts_s": ts}, preset, road)
         run = vectors.stop(ec)
         ideal = ideal_mode(ec, params).metrics(np.zeros((1, 0)))
         realistic = ec.scenario.metrics(np.zeros((1, 0)))
@@ -167,8 +176,9 @@ def test_immune_loop_converges_to_the_ideal_kernel_as_the_table_is_refined() -> 
     (the ideal kernel reads its adaptive surface, within 2e-4 of exact): the stop converges."""
     gaps = []
     for points in (25, 49, 97):
-        ec = source.resolve(None, None, "fuzzy-immune-pid", {},
-                            {"fuzzy_table_points": points, "ecu_ts_s": 1e-3})
+        ec = source.resolve(
+            None, None, "fuzzy-immune-pid", {}, {"fuzzy_table_points": points, "ecu_ts_s": 1e-3}
+        )
         kernel = ideal_mode(ec, {}).metrics(gain_rows(ec))["stop_distance_m"][0]
         gaps.append(abs(vectors.stop(ec).stop_distance_m / kernel - 1.0))
     assert gaps[0] > gaps[1] > gaps[2]
@@ -179,29 +189,69 @@ def test_slot_constants_match_the_declared_names() -> None:
     """The numba slots (module integers) and the names the exports print agree."""
     d = discrete
     params = {
-        "pid": {"kp": d.PID_KP, "ki": d.PID_KI, "kd": d.PID_KD, "n_filter": d.PID_N,
-                "target_slip": d.PID_TARGET, "ts_s": d.PID_TS},
-        "fuzzy-pid": {"ke": d.FP_KE, "kec": d.FP_KEC, "ku_p": d.FP_KUP, "ku_i": d.FP_KUI,
-                      "ku_d": d.FP_KUD, "kp0": d.FP_KP0, "ki0": d.FP_KI0, "kd0": d.FP_KD0,
-                      "n_filter": d.FP_N, "target_slip": d.FP_TARGET, "ts_s": d.FP_TS},
-        "fuzzy-immune-pid": {"k_immune": d.IM_K, "eta": d.IM_ETA, "ki": d.IM_KI, "kd": d.IM_KD,
-                             "ke": d.IM_KE, "kec": d.IM_KEC, "target_slip": d.IM_TARGET,
-                             "ts_s": d.IM_TS},
-        "threshold": {"amplitude": d.TH_AMP, "decel_threshold_m_s2": d.TH_DECEL,
-                      "accel_threshold_m_s2": d.TH_ACCEL, "slip_margin": d.TH_MARGIN,
-                      "slow_fraction": d.TH_SLOW, "target_slip": d.TH_TARGET, "ts_s": d.TH_TS,
-                      "wheel_radius_m": d.TH_RADIUS},
+        "pid": {
+            "kp": d.PID_KP,
+            "ki": d.PID_KI,
+            "kd": d.PID_KD,
+            "n_filter": d.PID_N,
+            "target_slip": d.PID_TARGET,
+            "ts_s": d.PID_TS,
+        },
+        "fuzzy-pid": {
+            "ke": d.FP_KE,
+            "kec": d.FP_KEC,
+            "ku_p": d.FP_KUP,
+            "ku_i": d.FP_KUI,
+            "ku_d": d.FP_KUD,
+            "kp0": d.FP_KP0,
+            "ki0": d.FP_KI0,
+            "kd0": d.FP_KD0,
+            "n_filter": d.FP_N,
+            "target_slip": d.FP_TARGET,
+            "ts_s": d.FP_TS,
+        },
+        "fuzzy-immune-pid": {
+            "k_immune": d.IM_K,
+            "eta": d.IM_ETA,
+            "ki": d.IM_KI,
+            "kd": d.IM_KD,
+            "ke": d.IM_KE,
+            "kec": d.IM_KEC,
+            "target_slip": d.IM_TARGET,
+            "ts_s": d.IM_TS,
+        },
+        "threshold": {
+            "amplitude": d.TH_AMP,
+            "decel_threshold_m_s2": d.TH_DECEL,
+            "accel_threshold_m_s2": d.TH_ACCEL,
+            "slip_margin": d.TH_MARGIN,
+            "slow_fraction": d.TH_SLOW,
+            "target_slip": d.TH_TARGET,
+            "ts_s": d.TH_TS,
+            "wheel_radius_m": d.TH_RADIUS,
+        },
     }
-    state = {"pid": {"started": d.ST_STARTED, "integral": d.PS_INTEGRAL, "filter": d.PS_FILTER},
-             "fuzzy-immune-pid": {"started": d.ST_STARTED, "u_prev": d.IS_U, "e_prev": d.IS_E1,
-                                  "e_prev2": d.IS_E2},
-             "threshold": {"started": d.ST_STARTED, "phase": d.TS_PHASE,
-                           "wheel_speed_prev": d.TS_W_PREV, "wheel_accel": d.TS_AW}}
+    state = {
+        "pid": {"started": d.ST_STARTED, "integral": d.PS_INTEGRAL, "filter": d.PS_FILTER},
+        "fuzzy-immune-pid": {
+            "started": d.ST_STARTED,
+            "u_prev": d.IS_U,
+            "e_prev": d.IS_E1,
+            "e_prev2": d.IS_E2,
+        },
+        "threshold": {
+            "started": d.ST_STARTED,
+            "phase": d.TS_PHASE,
+            "wheel_speed_prev": d.TS_W_PREV,
+            "wheel_accel": d.TS_AW,
+        },
+    }
     state["fuzzy-pid"] = state["pid"]
-    inputs = {"pid": {"slip": d.IN_SLIP, "pressure_at_max": d.IN_AT_MAX,
-                      "pressure_at_min": d.IN_AT_MIN},
-              "fuzzy-immune-pid": {"slip": d.IN_SLIP},
-              "threshold": {"slip": d.IN_SLIP, "wheel_speed_rad_s": d.IN_WHEEL_SPEED}}
+    inputs = {
+        "pid": {"slip": d.IN_SLIP, "pressure_at_max": d.IN_AT_MAX, "pressure_at_min": d.IN_AT_MIN},
+        "fuzzy-immune-pid": {"slip": d.IN_SLIP},
+        "threshold": {"slip": d.IN_SLIP, "wheel_speed_rad_s": d.IN_WHEEL_SPEED},
+    }
     inputs["fuzzy-pid"] = inputs["pid"]
     for name, law in d.LAWS.items():
         assert {n: law.params.index(n) for n in law.params} == params[name]

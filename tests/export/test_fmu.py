@@ -42,21 +42,27 @@ def _built(controller: str, folder: Path) -> tuple[Path, Path]:
     with zipfile.ZipFile(path) as zf:
         zf.extractall(unzipped)
     (folder / "build").mkdir()
-    build_platform_binary(unzipped, folder / "build",
-                          cmake_options={"CMAKE_C_FLAGS:STRING": "-ffp-contract=off"})
+    build_platform_binary(
+        unzipped, folder / "build", cmake_options={"CMAKE_C_FLAGS:STRING": "-ffp-contract=off"}
+    )
     return path, unzipped
 
 
 def _slave(unzipped: Path) -> tuple[FMU2Slave, dict[str, int]]:
     md = read_model_description(unzipped)
-    slave = FMU2Slave(guid=md.guid, unzipDirectory=str(unzipped),
-                      modelIdentifier=md.coSimulation.modelIdentifier, instanceName="test")
+    slave = FMU2Slave(
+        guid=md.guid,
+        unzipDirectory=str(unzipped),
+        modelIdentifier=md.coSimulation.modelIdentifier,
+        instanceName="test",
+    )
     slave.instantiate()
     return slave, {v.name: v.valueReference for v in md.modelVariables}
 
 
-def _loop(slave: FMU2Slave, vr: dict[str, int], names: tuple[str, ...], inputs: np.ndarray,
-          ts: float) -> np.ndarray:
+def _loop(
+    slave: FMU2Slave, vr: dict[str, int], names: tuple[str, ...], inputs: np.ndarray, ts: float
+) -> np.ndarray:
     """Set the inputs of row k, doStep(t_k, ts), read u: the k-th command."""
     ins = [vr[n] for n in names]
     out = np.empty(inputs.shape[0])
@@ -69,7 +75,8 @@ def _loop(slave: FMU2Slave, vr: dict[str, int], names: tuple[str, ...], inputs: 
 
 @pytest.mark.parametrize("controller", LAWS)
 def test_fmu_validates_and_its_slave_matches_the_c_library_bit_for_bit(
-        controller: str, tmp_path: Path) -> None:
+    controller: str, tmp_path: Path
+) -> None:
     c = case(controller)
     path, unzipped = _built(controller, tmp_path)
     assert validate_fmu(str(path)) == []
@@ -78,8 +85,12 @@ def test_fmu_validates_and_its_slave_matches_the_c_library_bit_for_bit(
     assert float(md.defaultExperiment.stepSize) == c.ec.ts_s
     with zipfile.ZipFile(path) as zf:
         names = set(zf.namelist())
-    assert {"modelDescription.xml", "sources/controller.c", "sources/controller.h",
-            "sources/fmu.c"} <= names
+    assert {
+        "modelDescription.xml",
+        "sources/controller.c",
+        "sources/controller.h",
+        "sources/fmu.c",
+    } <= names
     assert not any(n.startswith("binaries/") for n in names)  # a source FMU
     assert not any("fmi2" in n for n in names)  # the FMI headers are the importer's
     slave, vr = _slave(unzipped)

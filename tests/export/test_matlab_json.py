@@ -55,8 +55,7 @@ def test_mat_file_round_trips_every_number(controller: str, tmp_path: Path) -> N
 
 @pytest.mark.skipif(shutil.which("octave") is None, reason="Octave is not installed")
 @pytest.mark.parametrize("controller", ["fuzzy-pid", "pid"])
-def test_m_script_loads_simulink_style_variables_in_octave(controller: str,
-                                                           tmp_path: Path) -> None:
+def test_m_script_loads_simulink_style_variables_in_octave(controller: str, tmp_path: Path) -> None:
     ec = case(controller).ec
     written = _write(controller, "mat", tmp_path)
     script = written[f"{ec.model_name}.m"]
@@ -64,9 +63,13 @@ def test_m_script_loads_simulink_style_variables_in_octave(controller: str,
     if ec.table_outputs:
         names += [f"ct_table_{ec.table_outputs[0]}(3,5)", f"ct_bp_{ec.table_inputs[1]}(7)"]
     printf = "; ".join(f"printf('%.17g\\n', {n})" for n in names)
-    proc = subprocess.run(["octave", "--no-gui", "--norc", "--quiet", "--eval",
-                           f"run('{script}'); {printf}"], capture_output=True, text=True,
-                          timeout=120, check=False)
+    proc = subprocess.run(
+        ["octave", "--no-gui", "--norc", "--quiet", "--eval", f"run('{script}'); {printf}"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
     assert proc.returncode == 0, proc.stderr
     values = [float(v) for v in proc.stdout.split()]
     pid = ec.pid_form()
@@ -78,8 +81,9 @@ def test_m_script_loads_simulink_style_variables_in_octave(controller: str,
 
 
 @pytest.mark.parametrize("controller", LAWS)
-def test_json_holds_everything_and_reruns_the_source_scenario(controller: str,
-                                                             tmp_path: Path) -> None:
+def test_json_holds_everything_and_reruns_the_source_scenario(
+    controller: str, tmp_path: Path
+) -> None:
     c = case(controller)
     ec = c.ec
     path = _write(controller, "json", tmp_path)[f"{ec.model_name}.json"]

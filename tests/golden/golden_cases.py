@@ -42,8 +42,20 @@ QUARTER_CASES: list[tuple[str, str, str]] = [
     ("paper-iabc", "iso-c", "skyhook"),
     ("typical", "iso-b", "pid"),
 ]
-OPTIMIZERS = ["ao", "derlsp-ao", "deffao", "abc", "iabc", "ga", "pso", "de", "gwo", "mfo", "poa",
-              "dbo"]
+OPTIMIZERS = [
+    "ao",
+    "derlsp-ao",
+    "deffao",
+    "abc",
+    "iabc",
+    "ga",
+    "pso",
+    "de",
+    "gwo",
+    "mfo",
+    "poa",
+    "dbo",
+]
 
 
 def _hex(x: Any) -> Any:
@@ -85,8 +97,10 @@ def quarter_case(preset: str, road: str, controller: str) -> dict[str, Any]:
     import chassistune
 
     res = chassistune.simulate("quarter-car", preset, road, controller, {}, seed=3)
-    return {"metrics": {k: _hex(v) for k, v in sorted(res.metrics.items())},
-            "trace": {k: _digest(v) for k, v in sorted(res.trace.signals.items())}}
+    return {
+        "metrics": {k: _hex(v) for k, v in sorted(res.metrics.items())},
+        "trace": {k: _digest(v) for k, v in sorted(res.trace.signals.items())},
+    }
 
 
 def optimizer_case(name: str) -> dict[str, Any]:
@@ -94,26 +108,39 @@ def optimizer_case(name: str) -> dict[str, Any]:
     from chassistune import benchmarks
 
     f = benchmarks.get("F5")
-    r = chassistune.minimize(f, [(-30.0, 30.0)] * 10, method=name, pop_size=20, max_iter=30,
-                             seed=11)
-    return {"fun": _hex(r.fun), "x": _digest(np.asarray(r.x)), "nfev": int(r.nfev),
-            "nit": int(r.nit), "history": _digest(np.asarray(r.history)),
-            "history_nfev": [int(v) for v in r.history_nfev]}
+    r = chassistune.minimize(
+        f, [(-30.0, 30.0)] * 10, method=name, pop_size=20, max_iter=30, seed=11
+    )
+    return {
+        "fun": _hex(r.fun),
+        "x": _digest(np.asarray(r.x)),
+        "nfev": int(r.nfev),
+        "nit": int(r.nit),
+        "history": _digest(np.asarray(r.history)),
+        "history_nfev": [int(v) for v in r.history_nfev],
+    }
 
 
 def tune_case(plant: str, controller: str, optimizer: str, roads: list[str]) -> dict[str, Any]:
     import chassistune
 
-    r = chassistune.tune(plant, controller, optimizer, roads=roads, pop_size=10, max_iter=8,
-                         seed=5)
-    return {"best_gains": {k: _hex(v) for k, v in r.best_gains.items()},
-            "best_cost": _hex(r.best_cost), "nfev": int(r.nfev),
-            "history": _digest(np.asarray(r.history))}
+    r = chassistune.tune(plant, controller, optimizer, roads=roads, pop_size=10, max_iter=8, seed=5)
+    return {
+        "best_gains": {k: _hex(v) for k, v in r.best_gains.items()},
+        "best_cost": _hex(r.best_cost),
+        "nfev": int(r.nfev),
+        "history": _digest(np.asarray(r.history)),
+    }
 
 
 def compute() -> dict[str, Any]:
-    out: dict[str, Any] = {"abs": {}, "abs_population": {}, "quarter": {}, "optimizers": {},
-                           "tune": {}}
+    out: dict[str, Any] = {
+        "abs": {},
+        "abs_population": {},
+        "quarter": {},
+        "optimizers": {},
+        "tune": {},
+    }
     for preset, road, ctrl, params in ABS_CASES:
         out["abs"][f"{preset}/{road}/{ctrl}"] = abs_case(preset, road, ctrl, params)
     for ctrl in ("pid", "fuzzy-pid", "fuzzy-immune-pid"):
@@ -122,8 +149,9 @@ def compute() -> dict[str, Any]:
         out["quarter"][f"{preset}/{road}/{ctrl}"] = quarter_case(preset, road, ctrl)
     for name in OPTIMIZERS:
         out["optimizers"][name] = optimizer_case(name)
-    out["tune"]["abs-wheel/pid/derlsp-ao"] = tune_case("abs-wheel", "pid", "derlsp-ao",
-                                                       ["dry-concrete", "ice"])
+    out["tune"]["abs-wheel/pid/derlsp-ao"] = tune_case(
+        "abs-wheel", "pid", "derlsp-ao", ["dry-concrete", "ice"]
+    )
     out["tune"]["quarter-car/pid/iabc"] = tune_case("quarter-car", "pid", "iabc", ["iso-b"])
     return out
 

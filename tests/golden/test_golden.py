@@ -18,8 +18,10 @@ PINNED = json.loads(golden_cases.PINNED.read_text())
 @pytest.mark.parametrize("case", golden_cases.ABS_CASES, ids=lambda c: "/".join(c[:3]))
 def test_abs_wheel_runs(case: tuple) -> None:
     preset, road, ctrl, params = case
-    assert golden_cases.abs_case(preset, road, ctrl, params) == PINNED["abs"][
-        f"{preset}/{road}/{ctrl}"]
+    assert (
+        golden_cases.abs_case(preset, road, ctrl, params)
+        == PINNED["abs"][f"{preset}/{road}/{ctrl}"]
+    )
 
 
 @pytest.mark.parametrize("ctrl", ["pid", "fuzzy-pid", "fuzzy-immune-pid"])

@@ -15,30 +15,56 @@ from chassistune.reports.tables import load_study
 from chassistune.studies.store import open_study
 
 TABLES = [
-    "verdicts", "bounds",
+    "verdicts",
+    "bounds",
     "verdict_counts",
     *(f"{k}_{t}" for k in published.PAPER_KEYS for t in ("published", "evaluations_spent")),
-    *(f"derlsp-ao-abs_{t}" for t in ("setting", "budgets", "table2_dry-concrete",
-                                      "table3_wet-asphalt", "table4_ice", "figs6_7_functions",
-                                      "verdicts")),
-    *(f"iabc-suspension_{t}" for t in ("setting", "budgets", "table2", "improvement", "final_q",
-                                        "convergence", "verdicts")),
+    *(
+        f"derlsp-ao-abs_{t}"
+        for t in (
+            "setting",
+            "budgets",
+            "table2_dry-concrete",
+            "table3_wet-asphalt",
+            "table4_ice",
+            "figs6_7_functions",
+            "verdicts",
+        )
+    ),
+    *(
+        f"iabc-suspension_{t}"
+        for t in (
+            "setting",
+            "budgets",
+            "table2",
+            "improvement",
+            "final_q",
+            "convergence",
+            "verdicts",
+        )
+    ),
     *(f"deffao-vehicle-abs_{t}" for t in ("setting", "budgets", "table4", "table5", "verdicts")),
-    *(f"fuzzy-immune-abs_{t}" for t in ("setting", "budgets", "Fig4_asphalt-0.8",
-                                         "Fig5_dirt-0.2", "verdicts")),
+    *(
+        f"fuzzy-immune-abs_{t}"
+        for t in ("setting", "budgets", "Fig4_asphalt-0.8", "Fig5_dirt-0.2", "verdicts")
+    ),
 ]
 FIGURES = [
-    "derlsp-ao-abs_fig4_no_abs_vs_pid", "derlsp-ao-abs_fig10_dry-concrete",
-    "derlsp-ao-abs_fig11_wet-asphalt", "derlsp-ao-abs_fig12_ice",
+    "derlsp-ao-abs_fig4_no_abs_vs_pid",
+    "derlsp-ao-abs_fig10_dry-concrete",
+    "derlsp-ao-abs_fig11_wet-asphalt",
+    "derlsp-ao-abs_fig12_ice",
     *(f"derlsp-ao-abs_fig{n}_{f}" for n in (6, 7) for f in ("F4", "F5", "F6", "F14")),
-    "iabc-suspension_fig6_convergence", "iabc-suspension_fig7_responses",
+    "iabc-suspension_fig6_convergence",
+    "iabc-suspension_fig7_responses",
     *(f"deffao-vehicle-abs_table4_convergence_{f}" for f in ("F2", "F3", "F5", "F8", "F21")),
-    "deffao-vehicle-abs_fig7_dry-concrete", "deffao-vehicle-abs_fig8_mu-jump",
+    "deffao-vehicle-abs_fig7_dry-concrete",
+    "deffao-vehicle-abs_fig8_mu-jump",
     "deffao-vehicle-abs_fig9_split-mu",
-    "fuzzy-immune-abs_fig4_asphalt-0.8", "fuzzy-immune-abs_fig5_dirt-0.2",
+    "fuzzy-immune-abs_fig4_asphalt-0.8",
+    "fuzzy-immune-abs_fig5_dirt-0.2",
 ]
-CLAIMS = {"derlsp-ao-abs": 6, "iabc-suspension": 4, "deffao-vehicle-abs": 3,
-          "fuzzy-immune-abs": 3}
+CLAIMS = {"derlsp-ao-abs": 6, "iabc-suspension": 4, "deffao-vehicle-abs": 3, "fuzzy-immune-abs": 3}
 """Claims of issue 14, item 4, per paper."""
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
@@ -76,12 +102,16 @@ def test_every_stopping_distance_of_ours_respects_its_bound(reproduced) -> None:
 
 
 def test_the_tables_hold_the_papers_numbers_exactly_as_published(reproduced) -> None:
-    for table, road in (("table2_dry-concrete", "dry-concrete"), ("table3_wet-asphalt",
-                                                                  "wet-asphalt"),
-                        ("table4_ice", "ice")):
+    for table, road in (
+        ("table2_dry-concrete", "dry-concrete"),
+        ("table3_wet-asphalt", "wet-asphalt"),
+        ("table4_ice", "ice"),
+    ):
         df = _table(reproduced, f"derlsp-ao-abs_{table}").set_index("controller")
-        for q, col in (("stop_distance_m", "paper distance (m)"),
-                       ("stop_time_s", "paper stop time (s)")):
+        for q, col in (
+            ("stop_distance_m", "paper distance (m)"),
+            ("stop_time_s", "paper stop time (s)"),
+        ):
             for label, value in published.lookup("derlsp-ao-abs", q, road).as_dict().items():
                 assert df.loc[label, col] == value
     t2 = _table(reproduced, "iabc-suspension_table2").set_index("controller")
@@ -96,8 +126,10 @@ def test_the_tables_hold_the_papers_numbers_exactly_as_published(reproduced) -> 
                 assert value in rows, (q.name, label)
     t5 = _table(reproduced, "deffao-vehicle-abs_table5").set_index(["road", "controller"])
     for road in ("dry-concrete", "mu-jump", "split-mu"):
-        for q, col in (("stop_distance_m", "paper distance (m)"),
-                       ("stop_time_s", "paper stop time (s)")):
+        for q, col in (
+            ("stop_distance_m", "paper distance (m)"),
+            ("stop_time_s", "paper stop time (s)"),
+        ):
             for label, value in published.lookup("deffao-vehicle-abs", q, road).as_dict().items():
                 assert t5.loc[(road, label), col] == value
     imp = _table(reproduced, "iabc-suspension_improvement").iloc[0]
@@ -163,8 +195,7 @@ def test_the_pages_quote_every_published_number_in_full(reproduced, page) -> Non
 
 
 @pytest.mark.parametrize("page", ["report.html", "report_interactive.html"])
-def test_every_published_distance_below_its_bound_is_flagged_on_the_page(reproduced,
-                                                                        page) -> None:
+def test_every_published_distance_below_its_bound_is_flagged_on_the_page(reproduced, page) -> None:
     from chassistune.reports.html import FLAG
 
     cells = _page_cells((reproduced.out / page).read_text(encoding="utf-8"))
@@ -179,8 +210,7 @@ def test_every_published_distance_below_its_bound_is_flagged_on_the_page(reprodu
 
 
 def test_the_budgets_show_the_evaluations_each_optimizer_spent(reproduced) -> None:
-    spent = _table(reproduced, "derlsp-ao-abs_evaluations_spent").set_index(
-        ["study", "optimizer"])
+    spent = _table(reproduced, "derlsp-ao-abs_evaluations_spent").set_index(["study", "optimizer"])
     ratio = spent["spent / (population x iterations)"]
     # DERLSP-AO evaluates twice per iteration (its two strategies), AO once
     fn = "derlsp-ao-abs-functions"
@@ -200,8 +230,9 @@ def test_one_paper_alone_reuses_nothing_and_refuses_a_bad_folder(cli, tmp_path, 
     assert blocker.read_text() == "x"
 
 
-def test_interactive_without_plotly_refuses_before_writing_anything(cli, tmp_path,
-                                                                   monkeypatch) -> None:
+def test_interactive_without_plotly_refuses_before_writing_anything(
+    cli, tmp_path, monkeypatch
+) -> None:
     import sys
 
     monkeypatch.setitem(sys.modules, "plotly.graph_objects", None)  # import fails

@@ -17,8 +17,12 @@ SECOND_STORE = Path("studies") / "derlsp-ao-abs-functions-quick" / "study.sqlite
 
 def _run(out: Path, *args: str) -> subprocess.Popen[bytes]:
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
-    return subprocess.Popen([sys.executable, str(SCRIPT), str(out), *args], env=env,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    return subprocess.Popen(
+        [sys.executable, str(SCRIPT), str(out), *args],
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+    )
 
 
 def _tables(out: Path) -> dict[str, bytes]:

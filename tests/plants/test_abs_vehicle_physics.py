@@ -46,8 +46,9 @@ def test_bounds_have_their_closed_forms():
     assert dry.bound_distance_m == pytest.approx((v0**2 - vs**2) / (2 * 0.9 * g), rel=1e-14)
     assert dry.bound_distance_m == pytest.approx(62.761, abs=5e-4)
     split = PLANT.scenario(None, "split-mu", "pid")
-    assert split.bound_distance_m == pytest.approx((v0**2 - vs**2) / ((0.9 + 0.1028) * g),
-                                                   rel=1e-14)
+    assert split.bound_distance_m == pytest.approx(
+        (v0**2 - vs**2) / ((0.9 + 0.1028) * g), rel=1e-14
+    )
     jump = PLANT.scenario(None, "mu-jump", "pid", {"v_stop_m_s": 0.5, "dt_s": 2.5e-4})
     assert jump.bound_distance_m == pytest.approx(85.74, abs=5e-3)
 
@@ -64,7 +65,8 @@ def test_mu_jump_bound_integrates_the_axle_wise_limit():
     x = np.linspace(0.0, 200.0, 2_000_001)
     a = np.where(x < xj, mu1, np.where(x < xj + pp.wheelbase_m, a_mix / pp.g_m_s2, mu2))
     half_v2 = 0.5 * pp.v0_m_s**2 - np.concatenate(([0.0], np.cumsum(a[:-1] * np.diff(x)))) * (
-        pp.g_m_s2)
+        pp.g_m_s2
+    )
     x_stop = float(np.interp(-0.5 * pp.v_stop_m_s**2, -half_v2, x))
     bound = mu_jump_bound(pp, mu1, mu2, xj)
     assert bound.distance_m == pytest.approx(x_stop, abs=2e-4)
@@ -73,10 +75,15 @@ def test_mu_jump_bound_integrates_the_axle_wise_limit():
     assert down.distance_m > bound.distance_m
 
 
-@pytest.mark.parametrize("road,params", [
-    ("dry-concrete", {}), ("ice", {}), ("mu-jump", {}),
-    ("mu-jump", {"first_surface": "dry-concrete", "second_surface": "ice"}),
-])
+@pytest.mark.parametrize(
+    "road,params",
+    [
+        ("dry-concrete", {}),
+        ("ice", {}),
+        ("mu-jump", {}),
+        ("mu-jump", {"first_surface": "dry-concrete", "second_surface": "ice"}),
+    ],
+)
 @pytest.mark.parametrize("controller", CONTROLLERS)
 def test_straight_line_braking_stays_straight(road, params, controller):
     _sc, tr = run(road, controller, **params)
@@ -95,8 +102,9 @@ def test_locked_wheels_skid_as_coulomb_friction_says(road, height):
     remaining = m["stop_distance_m"] - m["all_locked_distance_m"]
     expected = (m["all_locked_speed_m_s"] ** 2 - pp.v_stop_m_s**2) / (2 * mu_lock * pp.g_m_s2)
     assert remaining == pytest.approx(expected, rel=1e-4)
-    assert max(m["lock_time_rl_s"], m["lock_time_rr_s"]) < min(m["lock_time_fl_s"],
-                                                               m["lock_time_fr_s"])
+    assert max(m["lock_time_rl_s"], m["lock_time_rr_s"]) < min(
+        m["lock_time_fl_s"], m["lock_time_fr_s"]
+    )
 
 
 def test_rear_and_front_lock_times_without_abs():
@@ -131,26 +139,44 @@ def test_load_transfer_with_locked_wheels_and_without_cg_height():
     np.testing.assert_allclose(total, 1110 * 9.8, rtol=1e-12)
 
 
-@pytest.mark.parametrize("road,controller,reference", [
-    ("dry-concrete", "pid", (64.895049, 3.780500)),
-    ("dry-concrete", "none", None),
-    ("ice", "none", None),
-])
+@pytest.mark.parametrize(
+    "road,controller,reference",
+    [
+        ("dry-concrete", "pid", (64.895049, 3.780500)),
+        ("dry-concrete", "none", None),
+        ("ice", "none", None),
+    ],
+)
 def test_single_wheel_limit(road, controller, reference):
     """lf = lr and h = 0: each wheel is the abs-wheel plant with M = m/4, I = J."""
     pp = VehicleParams()
-    common = {"v0_m_s": pp.v0_m_s, "g_m_s2": pp.g_m_s2, "q_max": pp.q_max, "v_stop_m_s": 0.5,
-              "dt_s": 2.5e-4, "wheel_radius_m": pp.wheel_radius_m,
-              "actuator_gain": pp.actuator_gain, "actuator_tau_s": pp.actuator_tau_s,
-              "brake_gain": pp.brake_gain}
+    common = {
+        "v0_m_s": pp.v0_m_s,
+        "g_m_s2": pp.g_m_s2,
+        "q_max": pp.q_max,
+        "v_stop_m_s": 0.5,
+        "dt_s": 2.5e-4,
+        "wheel_radius_m": pp.wheel_radius_m,
+        "actuator_gain": pp.actuator_gain,
+        "actuator_tau_s": pp.actuator_tau_s,
+        "brake_gain": pp.brake_gain,
+    }
     gains = {"kp": 1200.0, "ki": 0.0, "kd": 20.0} if controller == "pid" else None
     half = pp.wheelbase_m / 2
-    car = chassistune.simulate("abs-vehicle", road=road, controller=controller, gains=gains,
-                               params={**common, "cg_to_front_m": half, "cg_to_rear_m": half,
-                                       "cg_height_m": 0.0})
-    wheel = chassistune.simulate("abs-wheel", road=road, controller=controller, gains=gains,
-                                 params={**common, "mass_kg": pp.mass_kg / 4,
-                                         "wheel_inertia_kg_m2": pp.wheel_inertia_kg_m2})
+    car = chassistune.simulate(
+        "abs-vehicle",
+        road=road,
+        controller=controller,
+        gains=gains,
+        params={**common, "cg_to_front_m": half, "cg_to_rear_m": half, "cg_height_m": 0.0},
+    )
+    wheel = chassistune.simulate(
+        "abs-wheel",
+        road=road,
+        controller=controller,
+        gains=gains,
+        params={**common, "mass_kg": pp.mass_kg / 4, "wheel_inertia_kg_m2": pp.wheel_inertia_kg_m2},
+    )
     for key in ("stop_distance_m", "stop_time_s"):
         assert car.metrics[key] == pytest.approx(wheel.metrics[key], rel=1e-6)
     if reference:
@@ -158,12 +184,15 @@ def test_single_wheel_limit(road, controller, reference):
         assert car.metrics["stop_time_s"] == pytest.approx(reference[1], rel=1e-6)
 
 
-@pytest.mark.parametrize("road,controller,params,distance,ratio", [
-    ("dry-concrete", "pid", {}, 65.072, 1.037),
-    ("dry-concrete", "none", {}, 76.584, 1.220),
-    ("ice", "pid", {}, 556.42, 1.013),
-    ("mu-jump", "pid", FINE, 87.62, 1.022),
-])
+@pytest.mark.parametrize(
+    "road,controller,params,distance,ratio",
+    [
+        ("dry-concrete", "pid", {}, 65.072, 1.037),
+        ("dry-concrete", "none", {}, 76.584, 1.220),
+        ("ice", "pid", {}, 556.42, 1.013),
+        ("mu-jump", "pid", FINE, 87.62, 1.022),
+    ],
+)
 def test_default_gain_reference_figures(road, controller, params, distance, ratio):
     _sc, tr = run(road, controller, **params)
     m = tr.metrics
@@ -198,8 +227,11 @@ def test_mu_jump_each_wheel_switches_at_its_own_contact_point(surfaces):
 
 def test_split_mu_yaw_in_the_first_second():
     peaks = {}
-    for label, ctrl, params in [("none", "none", {}), ("pid", "pid", {}),
-                                ("select-low", "pid", {"rear": "select-low"})]:
+    for label, ctrl, params in [
+        ("none", "none", {}),
+        ("pid", "pid", {}),
+        ("select-low", "pid", {"rear": "select-low"}),
+    ]:
         _sc, tr = run("split-mu", ctrl, **params)
         peaks[label] = tr.metrics["yaw_rate_peak_1s_rad_s"]
         assert peaks[label] > 0  # towards the dry (left) side

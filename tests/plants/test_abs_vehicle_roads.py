@@ -29,7 +29,8 @@ def test_mu_scale_one_gives_the_nominal_run_bit_for_bit_and_less_grip_a_longer_s
     g = PLANT.scenario(None, "dry-concrete", "pid").gains_array(None)[None, :]
     nominal = PLANT.scenario(None, "dry-concrete", "pid").raw(g)
     np.testing.assert_array_equal(
-        PLANT.scenario(None, "dry-concrete", "pid", {"mu_scale": "1.0"}).raw(g), nominal)
+        PLANT.scenario(None, "dry-concrete", "pid", {"mu_scale": "1.0"}).raw(g), nominal
+    )
     slick = PLANT.scenario(None, "dry-concrete", "pid", {"mu_scale": "0.7"})
     m = slick.metrics(g)
     base = PLANT.scenario(None, "dry-concrete", "pid").metrics(g)["stop_distance_m"][0]

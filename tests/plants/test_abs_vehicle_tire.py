@@ -32,8 +32,9 @@ from chassistune.plants.roads import BILINEAR_ROADS
 from chassistune.plants.tire_kernel import tire_mu
 from chassistune.plants.tires import BilinearTire
 
-SURFACES = {name: surface_row(s, h, g, 60_000.0)[None, :]
-            for name, (s, h, g, _) in BILINEAR_ROADS.items()}
+SURFACES = {
+    name: surface_row(s, h, g, 60_000.0)[None, :] for name, (s, h, g, _) in BILINEAR_ROADS.items()
+}
 """One-row surface tables by name (the tire reads row 0)."""
 surface_names = st.sampled_from(sorted(SURFACES))
 speeds = st.floats(-40.0, 40.0, allow_nan=False)
@@ -42,8 +43,9 @@ loads = st.floats(1.0, 8000.0, allow_nan=False)
 MIN_SPEED = 0.1
 
 
-def force(u: float, v: float, wr: float, fz: float, surf: np.ndarray
-          ) -> tuple[float, float, float, float]:
+def force(
+    u: float, v: float, wr: float, fz: float, surf: np.ndarray
+) -> tuple[float, float, float, float]:
     """The tire force for contact-centre velocity (u, v) and wheel circumferential speed wr."""
     vabs = max(math.hypot(u, v), MIN_SPEED)
     return tire_force((u - wr) / vabs, v / vabs, fz, surf, 0)
@@ -86,8 +88,13 @@ def test_a_locked_wheel_slides_against_its_contact_velocity_in_every_direction(u
 
 
 @settings(max_examples=200, deadline=None)
-@given(u=st.floats(1.0, 40.0), v=st.floats(-5.0, 5.0), wr=wheel_speeds, fz=st.floats(100.0, 8000.0),
-       name=surface_names)
+@given(
+    u=st.floats(1.0, 40.0),
+    v=st.floats(-5.0, 5.0),
+    wr=wheel_speeds,
+    fz=st.floats(100.0, 8000.0),
+    name=surface_names,
+)
 def test_load_derivative_matches_finite_differences(u, v, wr, fz, name):
     surf = SURFACES[name]
     _, _, dfx, dfy = force(u, v, wr, fz, surf)
@@ -110,22 +117,27 @@ def test_pure_cornering_gives_the_cornering_stiffness_up_to_the_peak():
     assert abs(fy_big) <= 0.9 * 4000.0
 
 
-def solve(sx, vr, delta: float, h: float, sidx, surfs) -> tuple[float, float, int, np.ndarray,
-                                                                 VehicleParams]:
+def solve(
+    sx, vr, delta: float, h: float, sidx, surfs
+) -> tuple[float, float, int, np.ndarray, VehicleParams]:
     pp = VehicleParams(cg_height_m=h)
     wk = np.zeros((N_WORK, 4))
     wk[WK_SX], wk[WK_VR] = sx, vr
     wk[WK_CS] = [math.cos(delta)] * 2 + [1.0] * 2
     wk[WK_SN] = [math.sin(delta)] * 2 + [0.0] * 2
-    ax, ay, it = solve_loads(wk, surfs, np.asarray(sidx).reshape(4, 1), 0, geometry(pp),
-                             pp.mass_kg, 0.0, 0.0)
+    ax, ay, it = solve_loads(
+        wk, surfs, np.asarray(sidx).reshape(4, 1), 0, geometry(pp), pp.mass_kg, 0.0, 0.0
+    )
     return ax, ay, it, wk, pp
 
 
 @settings(max_examples=100, deadline=None)
-@given(sx=st.lists(st.floats(-0.5, 1.0), min_size=4, max_size=4),
-       vr=st.lists(st.floats(-0.3, 0.3), min_size=4, max_size=4),
-       delta=st.floats(-0.1, 0.1), h=st.floats(0.0, 0.8))
+@given(
+    sx=st.lists(st.floats(-0.5, 1.0), min_size=4, max_size=4),
+    vr=st.lists(st.floats(-0.3, 0.3), min_size=4, max_size=4),
+    delta=st.floats(-0.1, 0.1),
+    h=st.floats(0.0, 0.8),
+)
 def test_load_force_loop_is_solved_exactly(sx, vr, delta, h):
     surfs = np.concatenate([SURFACES["dry-concrete"], SURFACES["ice"]])
     ax, ay, it, wk, pp = solve(sx, vr, delta, h, [0, 1, 0, 1], surfs)
@@ -143,8 +155,9 @@ def test_load_force_loop_is_solved_exactly(sx, vr, delta, h):
 def test_straight_line_loop_has_the_closed_form():
     surf = SURFACES["dry-concrete"]
     # every wheel at the peak: ax = -0.9 g
-    ax, ay, it, wk, pp = solve(np.full(4, 0.2), np.zeros(4), 0.0, 0.5, [0, 0, 0, 0],
-                               np.concatenate([surf, surf]))
+    ax, ay, it, wk, pp = solve(
+        np.full(4, 0.2), np.zeros(4), 0.0, 0.5, [0, 0, 0, 0], np.concatenate([surf, surf])
+    )
     assert it == 0 and ay == 0.0
     assert ax == pytest.approx(-0.9 * pp.g_m_s2, rel=1e-14)
     assert wk[WK_FZ, 0] == pytest.approx(4204.8, abs=0.05)

@@ -11,7 +11,8 @@ from chassistune.scenarios.base import PENALTY
 
 PRESET_ROADS = [(p, r) for p, info in PLANT.presets().items() for r in info.roads]
 ALL_ROADS = [("paper-derlsp-ao", r) for r in friction_roads() if r != "sldemo-table"] + [
-    ("sldemo", "sldemo-table")]
+    ("sldemo", "sldemo-table")
+]
 CONTROLLERS = ["none", "pid", "bang-bang", "threshold"]
 GOOD_PID = {"kp": 5000.0, "ki": 0.0, "kd": 230.0}
 
@@ -25,8 +26,9 @@ def run(preset: str, road: str, controller: str, gains=None, **params):
 @pytest.mark.parametrize("controller", CONTROLLERS)
 def test_no_controller_beats_the_physical_bound_and_slip_stays_physical(preset, road, controller):
     # t_max 150 s: Burckhardt ice (mu 0.05) needs about 61 s from 30 m/s
-    _sc, tr = run(preset, road, controller, GOOD_PID if controller == "pid" else None,
-                 t_max_s=150.0)
+    _sc, tr = run(
+        preset, road, controller, GOOD_PID if controller == "pid" else None, t_max_s=150.0
+    )
     m = tr.metrics
     assert m["stopped"], m["status"]
     assert m["stop_distance_m"] >= m["bound_distance_m"] * (1 - 1e-9)
@@ -62,8 +64,9 @@ def test_energy_balance_kinetic_energy_equals_friction_work():
     assert work_per_kg == pytest.approx(kinetic_per_kg, rel=2e-3)
 
 
-@pytest.mark.parametrize(("road", "tolerance"),
-                         [("dry-concrete", 0.08), ("wet-asphalt", 0.08), ("ice", 0.03)])
+@pytest.mark.parametrize(
+    ("road", "tolerance"), [("dry-concrete", 0.08), ("wet-asphalt", 0.08), ("ice", 0.03)]
+)
 def test_a_hand_set_pid_stops_near_the_bound_and_tracks_the_target_slip(road, tolerance):
     sc, tr = run("paper-derlsp-ao", road, "pid", GOOD_PID)
     m = tr.metrics
@@ -90,8 +93,9 @@ def test_distance_and_itae_converge_as_the_step_halves(controller):
 
 def test_a_batch_row_equals_the_single_run_and_runs_are_deterministic():
     rng = np.random.default_rng(7)
-    gains = np.column_stack([rng.uniform(0, 1e4, 70), rng.uniform(0, 1e3, 70),
-                             rng.uniform(0, 1e3, 70)])
+    gains = np.column_stack(
+        [rng.uniform(0, 1e4, 70), rng.uniform(0, 1e3, 70), rng.uniform(0, 1e3, 70)]
+    )
     sc = PLANT.scenario("paper-derlsp-ao", "wet-asphalt", "pid")
     batch = sc.raw(gains, workers=2)
     np.testing.assert_array_equal(batch, sc.raw(gains, workers=1))
@@ -103,8 +107,15 @@ def test_a_batch_row_equals_the_single_run_and_runs_are_deterministic():
 
 def test_wild_gains_get_a_finite_penalty_never_nan():
     sc = PLANT.scenario("paper-derlsp-ao", "dry-concrete", "pid")
-    gains = np.array([[1e12, 1e12, 1e12], [-1e4, -1e4, -1e3], [0.0, 0.0, 0.0],
-                      [1e-3, 0.0, 0.0], [5000.0, 0.0, 230.0]])
+    gains = np.array(
+        [
+            [1e12, 1e12, 1e12],
+            [-1e4, -1e4, -1e3],
+            [0.0, 0.0, 0.0],
+            [1e-3, 0.0, 0.0],
+            [5000.0, 0.0, 230.0],
+        ]
+    )
     for objective in sc.objectives:
         cost = sc.cost(gains, objective)
         assert np.all(np.isfinite(cost)) and np.all(cost <= PENALTY)
@@ -118,7 +129,8 @@ def test_a_wheel_lock_is_penalized_in_proportion_to_its_duration():
     locked = raw.copy()
     locked[0, 9] = 0.5  # M_LOCKED_S
     assert sc.cost_from_raw(locked)[0] == pytest.approx(
-        sc.cost_from_raw(raw)[0] + 0.5 * sc.scoring.lock_penalty_per_s)
+        sc.cost_from_raw(raw)[0] + 0.5 * sc.scoring.lock_penalty_per_s
+    )
 
 
 def test_sldemo_reproduces_mathworks_published_behaviour():

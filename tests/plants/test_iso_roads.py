@@ -71,4 +71,4 @@ def test_profile_starts_at_rest_and_has_stationary_variance() -> None:
     z = R.road_profile(road, R.white_noise(3, round(3000 / dt), dt), dt)
     assert z[0] == 0.0
     var_exact = R.NOISE_INTENSITY * road.gain**2 / (2 * road.pole_rad_s)
-    assert np.var(z[round(20 / dt):]) == pytest.approx(var_exact, rel=0.1)
+    assert np.var(z[round(20 / dt) :]) == pytest.approx(var_exact, rel=0.1)

@@ -16,8 +16,15 @@ PAPER_GAINS = (182.86, 497.26, 0.035)
 @pytest.mark.parametrize("preset", ["paper-iabc", "typical"])
 def test_simulated_rms_agree_with_exact_within_3_percent(preset: str) -> None:
     sc = PLANT.scenario(preset, "iso-b", "pid", {"duration_s": DURATION_S}, seed=1)
-    gains = np.array([[0.0, 0.0, 0.0], PAPER_GAINS, [500.0, 500.0, 100.0],
-                      [1656.0, 1452.0, 0.0], [356.0, 453.0, 210.0]])
+    gains = np.array(
+        [
+            [0.0, 0.0, 0.0],
+            PAPER_GAINS,
+            [500.0, 500.0, 100.0],
+            [1656.0, 1452.0, 0.0],
+            [356.0, 453.0, 210.0],
+        ]
+    )
     sim = sc.simulate(gains)
     exact = sc.exact(gains)
     assert np.all(exact[:, L.E_STABLE] == 1.0)
@@ -38,15 +45,19 @@ def test_exact_objective_agrees_with_simulated_for_random_gains(preset: str) -> 
     np.testing.assert_allclose(q_sim, q_exact, rtol=0.03)
 
 
-@pytest.mark.parametrize("feedback", ["body_displacement", "body_acceleration",
-                                      "suspension_travel"])
+@pytest.mark.parametrize(
+    "feedback", ["body_displacement", "body_acceleration", "suspension_travel"]
+)
 def test_other_feedback_signals_agree_with_exact(feedback: str) -> None:
     """Displacement feedback leaves travel with the road's 1.6 s correlation time: 8000 s."""
-    sc = PLANT.scenario("typical", "iso-b", "pid",
-                        {"duration_s": 4 * DURATION_S, "feedback": feedback}, seed=3)
-    gains = {"body_displacement": [2000.0, 20000.0, 300.0],
-             "body_acceleration": [50.0, 400.0, 2.0],
-             "suspension_travel": [500.0, 800.0, 100.0]}[feedback]
+    sc = PLANT.scenario(
+        "typical", "iso-b", "pid", {"duration_s": 4 * DURATION_S, "feedback": feedback}, seed=3
+    )
+    gains = {
+        "body_displacement": [2000.0, 20000.0, 300.0],
+        "body_acceleration": [50.0, 400.0, 2.0],
+        "suspension_travel": [500.0, 800.0, 100.0],
+    }[feedback]
     sim = sc.simulate(np.array([gains]))[0]
     exact = sc.exact(np.array([gains]))[0]
     assert exact[L.E_STABLE] == 1.0

@@ -41,21 +41,31 @@ def test_columns_are_found_by_name_and_other_columns_ignored(tmp_path):
     assert used == {"mu_scale"} and scaled.peak()[0] == pytest.approx(0.45)
 
 
-@pytest.mark.parametrize(("rows", "message"), [
-    ([(0, 0), (0.2, "x"), (1, 0.5)], "row 3, column mu: expected a finite number, got 'x'"),
-    ([(0, 0), ("", 0.8), (1, 0.5)], "row 3, column slip: expected a finite number, got ''"),
-    ([(0, 0), (0.2, "nan"), (1, 0.5)], "row 3, column mu: expected a finite number"),
-    ([(0, 0), (0.3, 0.8), (0.2, 0.9), (1, 0.5)],
-     "row 4, column slip: slips must increase strictly, got 0.2 after 0.3"),
-    ([(0, 0), (0.2, 0.8), (0.2, 0.9), (1, 0.5)], "row 4, column slip: slips must increase"),
-    ([(0, 0), (0.2, -0.1), (1, 0.5)], "row 3, column mu: must be a finite number >= 0"),
-    ([(0.05, 0), (0.2, 0.8), (1, 0.5)], "row 2, column slip: the first slip must be 0"),
-    ([(0, 0.1), (0.2, 0.8), (1, 0.5)], "row 2, column mu: mu at slip 0 must be 0"),
-    ([(0, 0), (0.2, 0.8), (0.9, 0.5)], "row 4, column slip: the last slip must be 1"),
-    ([(0, 0)], "rows: needs 2 to 32 (slip, mu) nodes, got 1"),
-    ([(k / (MAX_TABLE_NODES), 0.5 * k / MAX_TABLE_NODES) for k in range(MAX_TABLE_NODES + 1)],
-     f"rows: needs 2 to 32 (slip, mu) nodes, got {MAX_TABLE_NODES + 1}"),
-])
+@pytest.mark.parametrize(
+    ("rows", "message"),
+    [
+        ([(0, 0), (0.2, "x"), (1, 0.5)], "row 3, column mu: expected a finite number, got 'x'"),
+        ([(0, 0), ("", 0.8), (1, 0.5)], "row 3, column slip: expected a finite number, got ''"),
+        ([(0, 0), (0.2, "nan"), (1, 0.5)], "row 3, column mu: expected a finite number"),
+        (
+            [(0, 0), (0.3, 0.8), (0.2, 0.9), (1, 0.5)],
+            "row 4, column slip: slips must increase strictly, got 0.2 after 0.3",
+        ),
+        ([(0, 0), (0.2, 0.8), (0.2, 0.9), (1, 0.5)], "row 4, column slip: slips must increase"),
+        ([(0, 0), (0.2, -0.1), (1, 0.5)], "row 3, column mu: must be a finite number >= 0"),
+        ([(0.05, 0), (0.2, 0.8), (1, 0.5)], "row 2, column slip: the first slip must be 0"),
+        ([(0, 0.1), (0.2, 0.8), (1, 0.5)], "row 2, column mu: mu at slip 0 must be 0"),
+        ([(0, 0), (0.2, 0.8), (0.9, 0.5)], "row 4, column slip: the last slip must be 1"),
+        ([(0, 0)], "rows: needs 2 to 32 (slip, mu) nodes, got 1"),
+        (
+            [
+                (k / (MAX_TABLE_NODES), 0.5 * k / MAX_TABLE_NODES)
+                for k in range(MAX_TABLE_NODES + 1)
+            ],
+            f"rows: needs 2 to 32 (slip, mu) nodes, got {MAX_TABLE_NODES + 1}",
+        ),
+    ],
+)
 def test_a_bad_table_names_its_row_and_column(tmp_path, rows, message):
     path = _write(tmp_path / "bad.csv", rows)
     with pytest.raises(InputError) as exc:
@@ -73,8 +83,11 @@ def test_thirty_two_nodes_are_accepted(tmp_path):
 
 def test_a_header_without_slip_or_mu_and_a_missing_file_are_bad_input(tmp_path):
     path = _write(tmp_path / "h.csv", [(0, 0), (1, 0.5)], header="s,mu")
-    with pytest.raises(InputError, match=r"row 1: the header needs the columns slip and mu "
-                       r"\(missing: slip\)"):
+    with pytest.raises(
+        InputError,
+        match=r"row 1: the header needs the columns slip and mu "
+        r"\(missing: slip\)",
+    ):
         read_mu_slip_csv(path)
     with pytest.raises(InputError, match=r"cannot read .*nope\.csv.*No such file"):
         tire_for_road(str(tmp_path / "nope.csv"), {})
@@ -93,5 +106,7 @@ def test_the_cli_takes_a_csv_road_and_names_the_row(cli, tmp_path):
     bad = _write(tmp_path / "b.csv", [(0, 0), (0.12, "high"), (1, 0.55)])
     r = cli("simulate", "abs-wheel", "--road", bad)
     assert r.code == 2
-    assert r.err == (f"chassistune: error: --road: {bad} row 3, column mu: expected a finite "
-                     "number, got 'high'\n")
+    assert r.err == (
+        f"chassistune: error: --road: {bad} row 3, column mu: expected a finite "
+        "number, got 'high'\n"
+    )

@@ -19,8 +19,12 @@ def _capture(monkeypatch, module):
         fig.canvas.draw()
         seen["fig"] = fig
         seen["labels"] = [ax.get_ylabel() for ax in fig.axes]
-        seen["cells"] = [c.get_text().get_text() for ax in fig.axes for tab in ax.tables
-                         for c in tab.get_celld().values()]
+        seen["cells"] = [
+            c.get_text().get_text()
+            for ax in fig.axes
+            for tab in ax.tables
+            for c in tab.get_celld().values()
+        ]
         real(fig, path)
 
     monkeypatch.setattr(module, "save", keep)
@@ -34,11 +38,16 @@ def test_the_quarter_car_figure_shows_mm_and_units(monkeypatch, tmp_path):
     seen = _capture(monkeypatch, qc)
     result = simulate("quarter-car", controller="skyhook")
     result.plot(str(tmp_path / "qc.png"))
-    assert {"suspension travel [mm]", "tire deflection [mm]",
-            "body acceleration [m/s^2]"} <= set(seen["labels"])
+    assert {"suspension travel [mm]", "tire deflection [mm]", "body acceleration [m/s^2]"} <= set(
+        seen["labels"]
+    )
     cells = seen["cells"]
-    assert {"travel RMS [mm]", "tire defl. RMS [mm]", "body acc. RMS [m/s^2]",
-            "force RMS [N]"} <= set(cells)
+    assert {
+        "travel RMS [mm]",
+        "tire defl. RMS [mm]",
+        "body acc. RMS [m/s^2]",
+        "force RMS [N]",
+    } <= set(cells)
     travel_mm = result.metrics["susp_travel_rms"] * 1e3
     assert f"{travel_mm:.4g}" in cells  # the value in mm, not m
     assert f"{result.metrics['susp_travel_rms']:.4g}" not in cells
@@ -58,12 +67,18 @@ def test_simulate_text_states_units_and_keeps_the_json_si(cli):
     assert any(line.split()[:2] == ["stop_distance_m", "[m]"] for line in abs_text.splitlines())
 
 
-@pytest.mark.parametrize(("name", "si", "shown"), [
-    ("body_acc_rms", "m/s^2", ("m/s^2", 1.0)), ("passive_tire_defl_rms", "m", ("mm", 1e3)),
-    ("travel_3sigma_m", "m", ("mm", 1e3)), ("brake_torque_n_m", "N m", ("N m", 1.0)),
-    ("vehicle_speed_m_s", "m/s", ("m/s", 1.0)), ("slip_itae", "s^2", ("s^2", 1.0)),
-    ("stopped", "", ("", 1.0)),
-])
+@pytest.mark.parametrize(
+    ("name", "si", "shown"),
+    [
+        ("body_acc_rms", "m/s^2", ("m/s^2", 1.0)),
+        ("passive_tire_defl_rms", "m", ("mm", 1e3)),
+        ("travel_3sigma_m", "m", ("mm", 1e3)),
+        ("brake_torque_n_m", "N m", ("N m", 1.0)),
+        ("vehicle_speed_m_s", "m/s", ("m/s", 1.0)),
+        ("slip_itae", "s^2", ("s^2", 1.0)),
+        ("stopped", "", ("", 1.0)),
+    ],
+)
 def test_metric_units(name, si, shown):
     assert si_unit(name) == si and shown_unit(name) == shown
 

@@ -24,9 +24,16 @@ EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "studies" / "abs-ro
 SEEDS = 4  # four runs a side: the smallest sample where a rank-sum can be significant
 BUDGET = {"pop_size": 6, "iterations": 4}
 
-CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
-                  "--no-first-run", "--disable-background-networking",
-                  "--disable-component-update", "--disable-sync"]
+CHROMIUM_FLAGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
 SHOTS = pytest.StashKey[list[tuple[str, Path, tuple[int, int]]]]()
 """(page, PNG path, (width, height)) of every screenshot taken, listed after the tests."""
 
@@ -64,16 +71,16 @@ def reported(tmp_path_factory: pytest.TempPathFactory) -> Reported:
 @pytest.fixture(scope="session")
 def browser_type_launch_args(browser_type_launch_args: dict[str, Any]) -> dict[str, Any]:
     """pytest-playwright launches Debian's chromium; skipped (one line) where it is missing."""
-    exe = next((shutil.which(b) for b in ("chromium", "chromium-browser") if shutil.which(b)),
-               None)
+    exe = next((shutil.which(b) for b in ("chromium", "chromium-browser") if shutil.which(b)), None)
     if exe is None:
         pytest.skip("no chromium on this machine (.ci/run installs it with apt-get where it can)")
     return {**browser_type_launch_args, "executable_path": exe, "args": CHROMIUM_FLAGS}
 
 
 @pytest.fixture(scope="session")
-def screenshot(tmp_path_factory: pytest.TempPathFactory,
-               pytestconfig: pytest.Config) -> Callable[[Any, str], np.ndarray]:
+def screenshot(
+    tmp_path_factory: pytest.TempPathFactory, pytestconfig: pytest.Config
+) -> Callable[[Any, str], np.ndarray]:
     """Takes a full-page PNG of a playwright page, lists it for the summary, returns its grey
     levels (rows x columns)."""
     folder = tmp_path_factory.mktemp("screenshots")
@@ -96,5 +103,6 @@ def pytest_terminal_summary(terminalreporter: Any, config: pytest.Config) -> Non
     if shots:
         terminalreporter.section("report screenshots (headless chromium)")
         for page, path, (w, h) in shots:
-            terminalreporter.write_line(f"{page}: {path} ({w} x {h} px, "
-                                        f"{path.stat().st_size // 1024} KiB)")
+            terminalreporter.write_line(
+                f"{page}: {path} ({w} x {h} px, {path.stat().st_size // 1024} KiB)"
+            )

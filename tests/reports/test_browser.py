@@ -22,8 +22,9 @@ class Offline:
         self.errors: list[str] = []
         page.route("**/*", self._route)
         page.on("pageerror", lambda exc: self.errors.append(str(exc)))
-        page.on("console", lambda msg: self.errors.append(msg.text)
-                if msg.type == "error" else None)
+        page.on(
+            "console", lambda msg: self.errors.append(msg.text) if msg.type == "error" else None
+        )
 
     def _route(self, route: Any) -> None:
         if route.request.url.startswith("file:"):
@@ -73,8 +74,7 @@ def _expected_traces(reported: Any) -> list[int]:
     return out
 
 
-def test_interactive_report_loads_offline_and_draws_every_trace(
-        page, reported, screenshot) -> None:
+def test_interactive_report_loads_offline_and_draws_every_trace(page, reported, screenshot) -> None:
     net = _open(page, reported.interactive)
     page.wait_for_function("document.querySelectorAll('.plot .main-svg').length > 0")
     assert net.outside == [] and net.errors == []
@@ -92,14 +92,16 @@ def test_interactive_report_loads_offline_and_draws_every_trace(
 
 def test_a_legend_click_hides_an_optimizer(page, reported) -> None:
     _open(page, reported.interactive)
-    conv = page.locator("div.plot").nth(_expected_traces(reported).index(
-        2 * len(reported.data.optimizers)))
+    conv = page.locator("div.plot").nth(
+        _expected_traces(reported).index(2 * len(reported.data.optimizers))
+    )
     conv.scroll_into_view_if_needed()
     shown = "d => d.querySelectorAll('.scatterlayer .trace').length"
     before = conv.evaluate(shown)
     conv.locator(".legend .traces").first.click()
     page.wait_for_function(
-        "d => d.data.some(t => t.visible === 'legendonly')", arg=conv.element_handle())
+        "d => d.data.some(t => t.visible === 'legendonly')", arg=conv.element_handle()
+    )
     visible = conv.evaluate("d => d.data.map(t => t.visible === undefined ? true : t.visible)")
     first = reported.data.optimizers[0]
     names = conv.evaluate("d => d.data.map(t => t.legendgroup)")
@@ -114,8 +116,9 @@ def test_a_table_sorts_by_a_clicked_header(page, reported) -> None:
     col = table.locator("thead tr").last.locator("th").all_inner_texts().index("cost")
 
     def column() -> list[float]:
-        return [float(t) for t in table.locator(f"tbody tr td:nth-child({col + 1})")
-                .all_inner_texts()]
+        return [
+            float(t) for t in table.locator(f"tbody tr td:nth-child({col + 1})").all_inner_texts()
+        ]
 
     original = column()
     assert original != sorted(original)  # grouped by optimizer, not by cost
@@ -141,8 +144,7 @@ class _Links(HTMLParser):
 
 
 @pytest.mark.parametrize("name", ["report.html", "report_interactive.html"])
-def test_pages_link_nothing_outside_and_embed_their_tables(reported,
-                                                           name: str) -> None:
+def test_pages_link_nothing_outside_and_embed_their_tables(reported, name: str) -> None:
     parser = _Links()
     parser.feed((reported.dir / name).read_text(encoding="utf-8"))
     assert not parser.script_src

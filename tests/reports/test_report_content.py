@@ -23,8 +23,9 @@ from chassistune.reports.versus import BETTER, SAME, WORSE
 
 
 def _csv(reported: Any, name: str) -> pd.DataFrame:
-    return pd.read_csv(reported.dir / "report" / "tables" / f"{name}.csv", keep_default_na=False,
-                       na_values=[""])
+    return pd.read_csv(
+        reported.dir / "report" / "tables" / f"{name}.csv", keep_default_na=False, na_values=[""]
+    )
 
 
 def test_bound_flag_marks_the_last_percent_of_the_range() -> None:
@@ -48,12 +49,18 @@ def test_gains_table_best_median_every_seed_and_bound_flags(reported) -> None:
         for g, (lo, hi) in bounds.items():
             assert mine.loc["best", g] == best.best_gains[g]
             assert mine.loc["median", g] == pytest.approx(
-                np.median([r.best_gains[g] for r in runs]), rel=1e-12)
+                np.median([r.best_gains[g] for r in runs]), rel=1e-12
+            )
             for r in runs:
                 v = r.best_gains[g]
                 flag = mine.loc[f"seed {r.spec.seed}", f"{g} at bound"]
-                want = ("lower" if v - lo <= 0.01 * (hi - lo) else
-                        "upper" if hi - v <= 0.01 * (hi - lo) else "")
+                want = (
+                    "lower"
+                    if v - lo <= 0.01 * (hi - lo)
+                    else "upper"
+                    if hi - v <= 0.01 * (hi - lo)
+                    else ""
+                )
                 assert (flag if isinstance(flag, str) else "") == want
     page = reported.static.read_text(encoding="utf-8")
     flagged = (gains.filter(like="at bound").fillna("") != "").to_numpy().sum()
@@ -85,14 +92,19 @@ def test_setup_holds_the_config_every_parameter_and_what_was_spent(reported) -> 
     spec = reported.data.records[0].spec
     params = _csv(reported, "parameters-abs-pid").set_index("parameter")
     for road in spec.test_roads:
-        expected = get_plant(spec.plant).scenario(spec.preset, road, spec.controller,
-                                                  spec.params).params()
+        expected = (
+            get_plant(spec.plant).scenario(spec.preset, road, spec.controller, spec.params).params()
+        )
         for k, v in expected.items():
             if k != "seed":
                 shown = str(params.loc[k, road])
-                assert shown == (repr(v) if isinstance(v, float) else
-                                 ", ".join(map(repr, v)) if isinstance(v, tuple | list) else
-                                 str(v)), k
+                assert shown == (
+                    repr(v)
+                    if isinstance(v, float)
+                    else ", ".join(map(repr, v))
+                    if isinstance(v, tuple | list)
+                    else str(v)
+                ), k
     opts = _csv(reported, "optimizers").set_index("optimizer")
     for opt in reported.data.optimizers:
         runs = [r for r in reported.data.records if r.spec.optimizer == opt]
@@ -102,9 +114,16 @@ def test_setup_holds_the_config_every_parameter_and_what_was_spent(reported) -> 
         assert str(opts.loc[opt, "evaluations spent"]).startswith(str(min(nfev)))
         assert str(max(nfev)) in str(opts.loc[opt, "evaluations spent"])
     html = reported.static.read_text(encoding="utf-8")
-    for text in ("report written", "versions of the runs", "numpy", "root seed", "gain bounds",
-                 "report made with", "matplotlib",
-                 "kp in [0, 10000]"):
+    for text in (
+        "report written",
+        "versions of the runs",
+        "numpy",
+        "root seed",
+        "gain bounds",
+        "report made with",
+        "matplotlib",
+        "kp in [0, 10000]",
+    ):
         assert text in html
 
 
@@ -117,21 +136,25 @@ def test_verdicts_are_symbols_from_the_compared_side(reported) -> None:
         res = stats.rank_sum(reported.data.costs(sc, ref), reported.data.costs(sc, other))
         want = {"+": WORSE, "-": BETTER, "=": SAME}[res.sign]
         assert row[f"{other} vs reference"] == want
-        assert row[f"{ref} (reference)"] == pytest.approx(np.median(
-            reported.data.costs(sc, ref)))
+        assert row[f"{ref} (reference)"] == pytest.approx(np.median(reported.data.costs(sc, ref)))
         seen |= set(key[key.scenario == sc][f"{other} vs reference"])
     assert seen <= {BETTER, SAME, WORSE}  # never a blank or a bare sign
     html = reported.static.read_text(encoding="utf-8")
-    shown = sum(html.count(f'<td class="{c}">{v}</td>') for c, v in (
-        ("same", SAME), ("better", BETTER), ("worse", WORSE)))
+    shown = sum(
+        html.count(f'<td class="{c}">{v}</td>')
+        for c, v in (("same", SAME), ("better", BETTER), ("worse", WORSE))
+    )
     assert shown >= len(key)  # each verdict cell styled by its meaning
 
 
 def test_friedman_ranks_only_over_two_or_more_scenarios(reported, tmp_path) -> None:
     data = reported.data
-    one = StudyData(data.name, tuple(r for r in data.records
-                                     if r.spec.scenario == data.scenarios[0]),
-                    data.scenarios[:1], data.optimizers)
+    one = StudyData(
+        data.name,
+        tuple(r for r in data.records if r.spec.scenario == data.scenarios[0]),
+        data.scenarios[:1],
+        data.optimizers,
+    )
     assert comparison_section(one, data.optimizers[0], Assets(tmp_path)) is None
     full = comparison_section(data, data.optimizers[0], Assets(tmp_path))
     assert full is not None and "Friedman mean ranks" in [i.title for i in full.items]
@@ -143,12 +166,14 @@ def test_generalization_reports_stop_ratio_and_lock_time_beside_the_cost(reporte
     for opt in reported.data.optimizers:
         for road in ("dry-concrete", "ice"):
             runs = reported.data.runs(f"abs-pid/{road}", opt)
-            row = gen[(gen.optimizer == opt) & (gen.tuned_on == road)
-                      & (gen.tested_on == road)].iloc[0]
+            row = gen[
+                (gen.optimizer == opt) & (gen.tuned_on == road) & (gen.tested_on == road)
+            ].iloc[0]
             # re-simulated on the road it was tuned on: the run's own stored metrics
             for k in ("distance_ratio", "locked_time_s"):
                 assert row[f"median_{k}"] == pytest.approx(
-                    np.median([r.metrics[road][k] for r in runs]), rel=1e-9, abs=1e-12)
+                    np.median([r.metrics[road][k] for r in runs]), rel=1e-9, abs=1e-12
+                )
     ice = gen[(gen.tuned_on == "dry-concrete") & (gen.tested_on == "ice")]
     assert (ice.median_distance_ratio >= 1.0).all()  # no controller beats the physical bound
     html = reported.static.read_text(encoding="utf-8")
@@ -169,10 +194,14 @@ def test_best_responses_are_drawn_over_the_no_abs_baseline(reported) -> None:
 
 def test_every_table_link_embeds_its_csv(reported) -> None:
     html = reported.static.read_text(encoding="utf-8")
-    links = re.findall(r'download="([^"]+)"\s+href="data:text/csv;charset=utf-8;base64,'
-                       r'([^"]+)"', html)
-    assert {name for name, _ in links} == {p.name for p in (reported.dir / "report" / "tables")
-                                           .glob("*.csv")}
+    links = re.findall(
+        r'download="([^"]+)"\s+href="data:text/csv;charset=utf-8;base64,'
+        r'([^"]+)"',
+        html,
+    )
+    assert {name for name, _ in links} == {
+        p.name for p in (reported.dir / "report" / "tables").glob("*.csv")
+    }
     for name, data in links:
         assert base64.b64decode(data) == (reported.dir / "report" / "tables" / name).read_bytes()
 
@@ -180,10 +209,22 @@ def test_every_table_link_embeds_its_csv(reported) -> None:
 def test_config_toml_round_trips_awkward_values() -> None:
     from chassistune.reports.toml_text import to_toml
 
-    config = {"study": {"name": 'a "quoted" name', "description": "tabs\tand ünïcode",
-                        "seeds": [0, 2, 5], "seed": 7},
-              "scenarios": [{"name": "x", "params": {"mu peak": 0.9, "mode": "a\\b"},
-                             "bounds": {"kp": [0.0, 1e4]}, "preset": None},
-                            {"name": "y", "params": {}, "flag": True}],
-              "budget": {"pop_size": 6, "iterations": None, "evaluations": 120}}
+    config = {
+        "study": {
+            "name": 'a "quoted" name',
+            "description": "tabs\tand ünïcode",
+            "seeds": [0, 2, 5],
+            "seed": 7,
+        },
+        "scenarios": [
+            {
+                "name": "x",
+                "params": {"mu peak": 0.9, "mode": "a\\b"},
+                "bounds": {"kp": [0.0, 1e4]},
+                "preset": None,
+            },
+            {"name": "y", "params": {}, "flag": True},
+        ],
+        "budget": {"pop_size": 6, "iterations": None, "evaluations": 120},
+    }
     assert tomllib.loads(to_toml(config)) == _drop_none(config)

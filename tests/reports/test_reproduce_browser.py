@@ -39,14 +39,16 @@ def live(browser, reproduced) -> Iterator[tuple[Any, Offline]]:
     page = context.new_page()
     net = Offline(page)
     page.goto((reproduced.out / "report_interactive.html").as_uri(), wait_until="load")
-    page.wait_for_function("Array.from(document.querySelectorAll('div.plot')).every("
-                           "d => d.querySelector('.main-svg'))", timeout=120_000)
+    page.wait_for_function(
+        "Array.from(document.querySelectorAll('div.plot')).every("
+        "d => d.querySelector('.main-svg'))",
+        timeout=120_000,
+    )
     yield page, net
     context.close()
 
 
-def test_interactive_reproduction_loads_offline_with_plotly_inlined_once(live,
-                                                                          reproduced) -> None:
+def test_interactive_reproduction_loads_offline_with_plotly_inlined_once(live, reproduced) -> None:
     page, net = live
     assert net.outside == [] and net.errors == []
     text = (reproduced.out / "report_interactive.html").read_text(encoding="utf-8")
@@ -58,13 +60,16 @@ def test_interactive_reproduction_loads_offline_with_plotly_inlined_once(live,
     assert page.title() == "Reproduction of 4 paper(s): chassistune interactive report"
 
 
-def test_interactive_reproduction_has_the_static_sections_one_per_paper(live, page,
-                                                                         reproduced) -> None:
+def test_interactive_reproduction_has_the_static_sections_one_per_paper(
+    live, page, reproduced
+) -> None:
     live_page, _ = live
     sections = "Array.from(document.querySelectorAll('section')).map(s => s.id)"
-    tables = ("Array.from(document.querySelectorAll('section h3')).filter(h => "
-              "h.nextElementSibling && h.nextElementSibling.querySelector('table'))"
-              ".map(h => h.textContent.replace(/^Table \\d+: /, ''))")
+    tables = (
+        "Array.from(document.querySelectorAll('section h3')).filter(h => "
+        "h.nextElementSibling && h.nextElementSibling.querySelector('table'))"
+        ".map(h => h.textContent.replace(/^Table \\d+: /, ''))"
+    )
     page.goto((reproduced.out / "report.html").as_uri(), wait_until="domcontentloaded")
     assert live_page.evaluate(sections) == page.evaluate(sections) == ["verdicts", *PAPER_KEYS]
     assert live_page.evaluate(tables) == page.evaluate(tables)  # the same tables, in order
@@ -96,13 +101,17 @@ def test_every_paper_section_draws_its_studies_and_every_trace(live) -> None:
 
 def test_a_legend_click_hides_an_optimizer_in_a_paper_plot(live) -> None:
     page, _ = live
-    conv = page.locator("#derlsp-ao-abs-functions div.plot, #derlsp-ao-abs div.plot").filter(
-        has=page.locator(".legend")).first
+    conv = (
+        page.locator("#derlsp-ao-abs-functions div.plot, #derlsp-ao-abs div.plot")
+        .filter(has=page.locator(".legend"))
+        .first
+    )
     conv.scroll_into_view_if_needed()
     names = conv.evaluate("d => d.data.map(t => t.legendgroup || t.name)")
     conv.locator(".legend .traces").first.click()
-    page.wait_for_function("d => d.data.some(t => t.visible === 'legendonly')",
-                           arg=conv.element_handle())
+    page.wait_for_function(
+        "d => d.data.some(t => t.visible === 'legendonly')", arg=conv.element_handle()
+    )
     hidden = conv.evaluate("d => d.data.map(t => t.visible === 'legendonly')")
     assert any(hidden) and not all(hidden)
     assert {n for n, h in zip(names, hidden, strict=True) if h} == {names[hidden.index(True)]}
@@ -110,14 +119,16 @@ def test_a_legend_click_hides_an_optimizer_in_a_paper_plot(live) -> None:
 
 def test_a_papers_table_sorts_by_a_clicked_header(live) -> None:
     page, _ = live
-    table = page.locator("#deffao-vehicle-abs table.sortable",
-                         has=page.locator("th", has_text="ours median")).first
+    table = page.locator(
+        "#deffao-vehicle-abs table.sortable", has=page.locator("th", has_text="ours median")
+    ).first
     heads = table.locator("thead tr").last.locator("th")
     col = heads.all_inner_texts().index("ours median")
 
     def column() -> list[float]:
-        return [float(t) for t in table.locator(f"tbody tr td:nth-child({col + 1})")
-                .all_inner_texts()]
+        return [
+            float(t) for t in table.locator(f"tbody tr td:nth-child({col + 1})").all_inner_texts()
+        ]
 
     original = column()
     assert original != sorted(original)

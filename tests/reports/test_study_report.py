@@ -97,8 +97,9 @@ class _Page(HTMLParser):
             self.rows[self._stack[-1]] = self.rows.get(self._stack[-1], 0) + 1
         if tag == "img":
             self.images[self._stack[-1]] = str(a["src"])
-        if tag in ("script", "link", "iframe") or (tag == "img" and not str(
-                a.get("src", "")).startswith("data:")):
+        if tag in ("script", "link", "iframe") or (
+            tag == "img" and not str(a.get("src", "")).startswith("data:")
+        ):
             self.external.append(tag)
 
     def handle_endtag(self, tag: str) -> None:
@@ -140,8 +141,15 @@ def test_the_page_parses_and_holds_every_table_and_figure_it_lists(report, study
     assert "&lt;with&gt; characters to escape &amp; such" in text
     assert "worker lost &lt;on purpose&gt;" in text
     assert 'download="summary.csv" href="data:text/csv' in text and "report/figures/" in text
-    for name in ("summary", "rank_sum", "rank_sum_counts", "friedman", "posthoc",
-                 "generalization", "failures"):
+    for name in (
+        "summary",
+        "rank_sum",
+        "rank_sum_counts",
+        "friedman",
+        "posthoc",
+        "generalization",
+        "failures",
+    ):
         assert (study / "report" / "tables" / f"{name}.csv").is_file()
     pngs = list((study / "report" / "figures").glob("*.png"))
     assert len(pngs) == kinds.count("figure")
@@ -152,13 +160,20 @@ def test_summary_and_rank_sums_match_the_statistics_module(report, study):
         data = load_study(store)
     summary = pd.read_csv(study / "report" / "tables" / "summary.csv")
     costs = {o: data.costs("qc/iso-b", o) for o in data.optimizers}
-    row = summary[(summary.scenario == "qc/iso-b") & (summary.optimizer == "pso")
-                  & (summary.quantity == "best_cost")].iloc[0]
+    row = summary[
+        (summary.scenario == "qc/iso-b")
+        & (summary.optimizer == "pso")
+        & (summary.quantity == "best_cost")
+    ].iloc[0]
     expected = stats.summary(costs["pso"])
     for key in ("mean", "std", "best", "worst", "median"):
         assert row[key] == pytest.approx(expected[key], rel=1e-12)
-    assert set(summary.quantity) >= {"best_cost", "body_acc_rms", "objective_exact",
-                                     "body_acc_rms@iso-b"}
+    assert set(summary.quantity) >= {
+        "best_cost",
+        "body_acc_rms",
+        "objective_exact",
+        "body_acc_rms@iso-b",
+    }
     sky_ga = summary[(summary.scenario == "sky/iso-b") & (summary.optimizer == "ga")]
     assert (sky_ga.failed == 1).all() and (sky_ga.n == 3).all()
     ranks = pd.read_csv(study / "report" / "tables" / "rank_sum.csv")
@@ -177,8 +192,11 @@ def test_generalization_matrix_tuned_on_x_tested_on_y(report, study):
     assert set(qc.tested_on) == {"iso-b", "iso-c"}
     assert (qc.n == 4).all()
     with open_study(study) as store:
-        runs = [r for r in store.records() if r.spec.scenario == "qc/iso-c"
-                and r.spec.optimizer == "pso"]
+        runs = [
+            r
+            for r in store.records()
+            if r.spec.scenario == "qc/iso-c" and r.spec.optimizer == "pso"
+        ]
     diag = qc[(qc.tuned_on == "iso-c") & (qc.tested_on == "iso-c")].median_cost.iloc[0]
     assert diag == pytest.approx(float(np.median([r.best_cost for r in runs])), rel=1e-12)
     assert "sky" not in set(gen.group)  # one road: no matrix
@@ -193,10 +211,25 @@ def test_export_csv_and_parquet_one_row_per_run(cli, study, tmp_path):
         frames[fmt] = pd.read_csv(out) if fmt == "csv" else pd.read_parquet(out)
     df = frames["parquet"]
     assert len(df) == N_RUNS
-    for col in ("scenario", "plant", "road", "controller", "optimizer", "seed", "status",
-                "best_cost", "nfev", "gain_kp", "gain_ki", "gain_kd", "gain_c_sky",
-                "cost@iso-b", "cost@iso-c", "metric_body_acc_rms",
-                "metric_body_acc_rms@iso-c"):
+    for col in (
+        "scenario",
+        "plant",
+        "road",
+        "controller",
+        "optimizer",
+        "seed",
+        "status",
+        "best_cost",
+        "nfev",
+        "gain_kp",
+        "gain_ki",
+        "gain_kd",
+        "gain_c_sky",
+        "cost@iso-b",
+        "cost@iso-c",
+        "metric_body_acc_rms",
+        "metric_body_acc_rms@iso-c",
+    ):
         assert col in df.columns, col
     assert df.groupby(["scenario", "optimizer", "seed"]).size().max() == 1
     assert set(df.status) == {"completed", "failed"}
@@ -205,7 +238,8 @@ def test_export_csv_and_parquet_one_row_per_run(cli, study, tmp_path):
     assert np.array_equal(csv.best_cost.to_numpy(), df.best_cost.to_numpy(), equal_nan=True)
     with open_study(study) as store:
         assert df.drop(columns=["versions"]).equals(
-            runs_table(list(store.records())).drop(columns=["versions"]))
+            runs_table(list(store.records())).drop(columns=["versions"])
+        )
 
 
 def test_report_and_export_bad_input(cli, study, tmp_path):
@@ -213,8 +247,9 @@ def test_report_and_export_bad_input(cli, study, tmp_path):
     assert r.code == 2 and r.err.startswith("chassistune: error: --reference")
     r = cli("study", "export", str(study), "--format", "xlsx", "--output", str(tmp_path / "x"))
     assert r.code == 2 and len(r.err.strip().splitlines()) == 1
-    r = cli("study", "export", str(study), "--format", "csv", "--output",
-            str(tmp_path / "no" / "x.csv"))
+    r = cli(
+        "study", "export", str(study), "--format", "csv", "--output", str(tmp_path / "no" / "x.csv")
+    )
     assert r.code == 2 and "--output" in r.err
 
 

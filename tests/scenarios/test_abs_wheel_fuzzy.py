@@ -8,8 +8,16 @@ import pytest
 from chassistune.scenarios.abs_wheel import PLANT
 from chassistune.scenarios.base import PENALTY
 
-CLASSIC = {"ke": 15.0, "kec": 0.3, "ku_p": 500.0, "ku_i": 0.0, "ku_d": 20.0, "kp0": 5000.0,
-           "ki0": 0.0, "kd0": 230.0}
+CLASSIC = {
+    "ke": 15.0,
+    "kec": 0.3,
+    "ku_p": 500.0,
+    "ku_i": 0.0,
+    "ku_d": 20.0,
+    "kp0": 5000.0,
+    "ki0": 0.0,
+    "kd0": 230.0,
+}
 """Factors for the signed classic tables (outputs on [-3, 3]) around the hand-set PID."""
 
 CASES = [
@@ -21,8 +29,9 @@ CASES = [
 
 
 @pytest.mark.parametrize(("controller", "preset", "road", "params", "gains"), CASES)
-def test_fuzzy_controllers_stop_within_10_percent_of_the_bound(controller, preset, road, params,
-                                                               gains):
+def test_fuzzy_controllers_stop_within_10_percent_of_the_bound(
+    controller, preset, road, params, gains
+):
     sc = PLANT.scenario(preset, road, controller, params)
     m = sc.trace(sc.gains_array(gains)).metrics
     assert m["stopped"] and m["wheel_lock_time_s"] is None
@@ -33,8 +42,7 @@ def test_fuzzy_controllers_stop_within_10_percent_of_the_bound(controller, prese
 def test_the_immune_controller_does_not_change_when_the_step_halves():
     res = []
     for dt in (1e-3, 5e-4, 2.5e-4):
-        sc = PLANT.scenario("paper-fuzzy-immune", "asphalt-0.8", "fuzzy-immune-pid",
-                            {"dt_s": dt})
+        sc = PLANT.scenario("paper-fuzzy-immune", "asphalt-0.8", "fuzzy-immune-pid", {"dt_s": dt})
         m = sc.metrics(sc.gains_array(None)[None, :])
         res.append((m["stop_distance_m"][0], m["slip_itae"][0]))
     for k in range(2):
@@ -60,5 +68,6 @@ def test_a_rulebase_with_the_wrong_outputs_is_bad_input():
     with pytest.raises(InputError, match="rulebase"):
         PLANT.scenario("paper-derlsp-ao", "dry-concrete", "fuzzy-pid", {"rulebase": "immune"})
     with pytest.raises(InputError, match="rulebase"):
-        PLANT.scenario("paper-derlsp-ao", "dry-concrete", "fuzzy-pid",
-                       {"rulebase": "/no/such/file.toml"})
+        PLANT.scenario(
+            "paper-derlsp-ao", "dry-concrete", "fuzzy-pid", {"rulebase": "/no/such/file.toml"}
+        )

@@ -24,8 +24,7 @@ def test_every_registered_plant_passes_the_conformance_check(name: str) -> None:
 
 
 TOY = "broken-toy"
-TOY_CONTROLLER = ControllerSpec(TOY, "gain", "one gain", gains=(
-    GainSpec("k", "-", 1.0, 0.0, 2.0),))
+TOY_CONTROLLER = ControllerSpec(TOY, "gain", "one gain", gains=(GainSpec("k", "-", 1.0, 0.0, 2.0),))
 
 
 class ToyScenario(Scenario):
@@ -60,8 +59,14 @@ class ToyScenario(Scenario):
 
 class ToyPlant(Plant):
     flaw = "batch"
-    spec = PlantSpec(TOY, 1, "a plant that breaks the batch contract", "only", ("square",),
-                     "chassistune.plots.abs_wheel:plot_trace")
+    spec = PlantSpec(
+        TOY,
+        1,
+        "a plant that breaks the batch contract",
+        "only",
+        ("square",),
+        "chassistune.plots.abs_wheel:plot_trace",
+    )
 
     def presets(self) -> dict[str, PresetInfo]:
         return {"only": PresetInfo("only", "the only preset", ("flat",))}
@@ -72,9 +77,14 @@ class ToyPlant(Plant):
     def controllers(self) -> list[ControllerSpec]:
         return [TOY_CONTROLLER]
 
-    def scenario(self, preset: str | None = None, road: str | None = None,
-                 controller: str = "none", params: Mapping[str, object] | None = None,
-                 seed: int = 0) -> ToyScenario:
+    def scenario(
+        self,
+        preset: str | None = None,
+        road: str | None = None,
+        controller: str = "none",
+        params: Mapping[str, object] | None = None,
+        seed: int = 0,
+    ) -> ToyScenario:
         return ToyScenario(self.flaw)
 
 
@@ -86,14 +96,24 @@ def toy() -> Iterator[ToyPlant]:
     registry.unregister(TOY)
 
 
-@pytest.mark.parametrize(("flaw", "message"), [
-    ("batch", "plant 'broken-toy' with controller 'gain': batch row 0 differs from its single "
-              "run (square): "),
-    ("nan", "plant 'broken-toy' with controller 'gain': cost not finite or above PENALTY for "
-            "rows [7, 8] (square): [nan, nan] at gains [[2000.0], [2000000000.0]]"),
-])
-def test_a_broken_toy_plant_fails_with_a_clear_message(toy: ToyPlant, flaw: str,
-                                                        message: str) -> None:
+@pytest.mark.parametrize(
+    ("flaw", "message"),
+    [
+        (
+            "batch",
+            "plant 'broken-toy' with controller 'gain': batch row 0 differs from its single "
+            "run (square): ",
+        ),
+        (
+            "nan",
+            "plant 'broken-toy' with controller 'gain': cost not finite or above PENALTY for "
+            "rows [7, 8] (square): [nan, nan] at gains [[2000.0], [2000000000.0]]",
+        ),
+    ],
+)
+def test_a_broken_toy_plant_fails_with_a_clear_message(
+    toy: ToyPlant, flaw: str, message: str
+) -> None:
     toy.flaw = flaw
     with pytest.raises(ConformanceError) as err:
         check_plant(TOY, plot=False)

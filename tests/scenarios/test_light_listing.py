@@ -11,9 +11,15 @@ import pytest
 
 from chassistune.scenarios.registry import plant_names, plant_presets, plant_roads, plant_spec
 
-HEAVY = ("numba", "chassistune.sim.abs_wheel_kernel", "chassistune.sim.quarter_car_kernel",
-         "chassistune.sim.abs_vehicle_kernel", "chassistune.fuzzy.sets",
-         "chassistune.scenarios.abs_wheel", "chassistune.scenarios.quarter_car")
+HEAVY = (
+    "numba",
+    "chassistune.sim.abs_wheel_kernel",
+    "chassistune.sim.quarter_car_kernel",
+    "chassistune.sim.abs_vehicle_kernel",
+    "chassistune.fuzzy.sets",
+    "chassistune.scenarios.abs_wheel",
+    "chassistune.scenarios.quarter_car",
+)
 
 PROBE = """
 import json, sys
@@ -28,8 +34,12 @@ print(json.dumps([code, sorted(m for m in {heavy!r} if m in sys.modules)]), file
 
 def _heavy_imports(*args: str) -> list[str]:
     """The heavy modules a CLI call imported (it must exit 0)."""
-    done = subprocess.run([sys.executable, "-c", PROBE.format(args=list(args), heavy=HEAVY)],
-                          capture_output=True, text=True, check=True)
+    done = subprocess.run(
+        [sys.executable, "-c", PROBE.format(args=list(args), heavy=HEAVY)],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     code, heavy = json.loads(done.stderr.strip().splitlines()[-1])
     assert code == 0, done.stderr
     assert done.stdout
@@ -47,11 +57,12 @@ def test_list_presets_imports_no_numba() -> None:
 
 @pytest.mark.parametrize("plant", ["abs-wheel", "quarter-car"])
 def test_a_plants_presets_import_no_numba(plant: str) -> None:
-    code = (f"import sys\nfrom chassistune.scenarios.registry import plant_presets\n"
-            f"assert plant_presets({plant!r})\n"
-            f"print(sorted(m for m in {HEAVY!r} if m in sys.modules))")
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                          check=True)
+    code = (
+        f"import sys\nfrom chassistune.scenarios.registry import plant_presets\n"
+        f"assert plant_presets({plant!r})\n"
+        f"print(sorted(m for m in {HEAVY!r} if m in sys.modules))"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert done.stdout.strip() == "[]"
 
 

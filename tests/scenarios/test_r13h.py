@@ -31,13 +31,16 @@ def test_constants_are_the_speed_drops_over_g() -> None:
 
 @pytest.fixture(scope="module")
 def adhesion() -> dict[str, r13h.AdhesionCoefficient]:
-    return {road: r13h.adhesion_coefficient(road=road)
-            for road in ("dry-concrete", "wet-asphalt", "ice")}
+    return {
+        road: r13h.adhesion_coefficient(road=road)
+        for road in ("dry-concrete", "wet-asphalt", "ice")
+    }
 
 
 @pytest.mark.parametrize("road", ["dry-concrete", "wet-asphalt", "ice"])
 def test_adhesion_coefficient_nearly_reaches_the_peak(
-        road: str, adhesion: dict[str, r13h.AdhesionCoefficient]) -> None:
+    road: str, adhesion: dict[str, r13h.AdhesionCoefficient]
+) -> None:
     """A constant pressure cannot hold the peak (past the static limit the wheel slides over
     it), but the best cap comes within 1 % of mu_peak and never above it."""
     mu_peak = _mu_peak(road)
@@ -49,7 +52,8 @@ def test_adhesion_coefficient_nearly_reaches_the_peak(
 
 @pytest.mark.parametrize("road", ["dry-concrete", "wet-asphalt", "ice"])
 def test_threshold_abs_meets_the_regulation(
-        road: str, adhesion: dict[str, r13h.AdhesionCoefficient]) -> None:
+    road: str, adhesion: dict[str, r13h.AdhesionCoefficient]
+) -> None:
     res = r13h.r13h_epsilon("threshold", road=road, adhesion=adhesion[road])
     assert not res.abs_locked
     assert res.passed and res.epsilon >= r13h.EPSILON_REQUIRED
@@ -58,7 +62,8 @@ def test_threshold_abs_meets_the_regulation(
 
 @pytest.mark.parametrize("road", ["dry-concrete", "wet-asphalt", "ice"])
 def test_no_controller_beats_the_adhesion_limit(
-        road: str, adhesion: dict[str, r13h.AdhesionCoefficient]) -> None:
+    road: str, adhesion: dict[str, r13h.AdhesionCoefficient]
+) -> None:
     """z_AL never exceeds the deceleration at mu_peak, so epsilon <= z_limit / k_M. A slip
     controller holding the peak gets within that margin of it and can score epsilon slightly
     above 1 (docs/ecu.md: measured 1.0002-1.0023): the regulation's own case for measuring k

@@ -12,8 +12,13 @@ CONTROLLERS = ("threshold", "pid", "fuzzy-pid", "fuzzy-immune-pid")
 
 
 def _epsilon(controller: str, road: str, vref: str) -> float:
-    return r13h_epsilon(controller, PRESET, road, params={"ecu": "realistic", "vref": vref},
-                        adhesion=adhesion_coefficient(PRESET, road)).epsilon
+    return r13h_epsilon(
+        controller,
+        PRESET,
+        road,
+        params={"ecu": "realistic", "vref": vref},
+        adhesion=adhesion_coefficient(PRESET, road),
+    ).epsilon
 
 
 @pytest.mark.parametrize("road", ["dry-concrete", "wet-asphalt", "ice"])

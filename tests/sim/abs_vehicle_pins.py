@@ -76,7 +76,8 @@ def arrays() -> dict[str, dict[str, np.ndarray]]:
     for road, ctrl, params in POPULATION_CASES:
         sc = PLANT.scenario(None, road, ctrl, params)
         out["population/" + _key(road, ctrl, params)] = {
-            "raw": sc.raw(population(sc.controller.bounds()), workers=1)}
+            "raw": sc.raw(population(sc.controller.bounds()), workers=1)
+        }
     return out
 
 
@@ -96,7 +97,6 @@ if __name__ == "__main__":
         print(f"wrote {PINNED}")
     elif "--save" in sys.argv:  # arrays for development: --save FILE.npz
         target = sys.argv[sys.argv.index("--save") + 1]
-        np.savez(target, **{f"{k}|{n}": a for k, case in arrays().items()
-                            for n, a in case.items()})
+        np.savez(target, **{f"{k}|{n}": a for k, case in arrays().items() for n, a in case.items()})
     else:
         print(json.dumps(compute(), indent=1, sort_keys=True))

@@ -16,11 +16,14 @@ def population(sc, n: int = 50) -> np.ndarray:
     return np.random.default_rng(12345).uniform(b[:, 0], b[:, 1], (n, len(b)))
 
 
-@pytest.mark.parametrize("road,controller,params", [
-    ("dry-concrete", "pid", {}),
-    ("split-mu", "fuzzy-pid", {"rear": "select-low"}),
-    ("mu-jump", "pid", {"steering": "driver", "axle_gains": "per-axle"}),
-])
+@pytest.mark.parametrize(
+    "road,controller,params",
+    [
+        ("dry-concrete", "pid", {}),
+        ("split-mu", "fuzzy-pid", {"rear": "select-low"}),
+        ("mu-jump", "pid", {"steering": "driver", "axle_gains": "per-axle"}),
+    ],
+)
 def test_batch_row_equals_single_run_bit_for_bit(road, controller, params):
     sc = PLANT.scenario(None, road, controller, params)
     gains = population(sc)
@@ -28,7 +31,7 @@ def test_batch_row_equals_single_run_bit_for_bit(road, controller, params):
     threaded = sc.raw(gains, workers=3)
     np.testing.assert_array_equal(batch, threaded)
     for i in range(gains.shape[0]):
-        np.testing.assert_array_equal(sc.raw(gains[i:i + 1], workers=1)[0], batch[i])
+        np.testing.assert_array_equal(sc.raw(gains[i : i + 1], workers=1)[0], batch[i])
     # the traced run (trace mode of the same kernel) gives the same metrics
     tr = sc.trace(gains[7])
     assert tr.metrics["stop_distance_m"] == batch[7, K.M_DIST]
@@ -68,18 +71,21 @@ def test_layouts_declare_every_kernel_slot_once():
     assert tr.units["load_fl_n"] == "N"
 
 
-@pytest.mark.parametrize("params,field", [
-    ({"dt_s": "0.002"}, "params.dt_s"),
-    ({"v_stop_m_s": "0.5"}, "params.dt_s"),
-    ({"steering": "wheel"}, "params.steering"),
-    ({"rear": "select-high"}, "params.rear"),
-    ({"first_surface": "mud"}, "params.first_surface"),
-    ({"mass_kg": "-1"}, "params.mass_kg"),
-    ({"bogus": "1"}, "params.bogus"),
-    ({"max_steer_rad": str(np.pi / 2)}, "params.max_steer_rad"),
-    ({"hopeless_factor": "1"}, "params.hopeless_factor"),
-    ({"min_speed_m_s": "2"}, "params.min_speed_m_s"),
-])
+@pytest.mark.parametrize(
+    "params,field",
+    [
+        ({"dt_s": "0.002"}, "params.dt_s"),
+        ({"v_stop_m_s": "0.5"}, "params.dt_s"),
+        ({"steering": "wheel"}, "params.steering"),
+        ({"rear": "select-high"}, "params.rear"),
+        ({"first_surface": "mud"}, "params.first_surface"),
+        ({"mass_kg": "-1"}, "params.mass_kg"),
+        ({"bogus": "1"}, "params.bogus"),
+        ({"max_steer_rad": str(np.pi / 2)}, "params.max_steer_rad"),
+        ({"hopeless_factor": "1"}, "params.hopeless_factor"),
+        ({"min_speed_m_s": "2"}, "params.min_speed_m_s"),
+    ],
+)
 def test_bad_parameters_are_refused_naming_the_field(params, field):
     road = "mu-jump" if "first_surface" in params else "dry-concrete"
     with pytest.raises(InputError) as err:
@@ -94,17 +100,20 @@ def test_the_stability_limit_follows_dt_and_v_stop():
         PLANT.scenario(None, "mu-jump", "pid", {"v_stop_m_s": 0.5})
 
 
-@pytest.mark.parametrize("args,field", [
-    (("--param", "v_stop_m_s=0.5"), "dt_s"),
-    (("--road", "split-mu", "--param", "split_by=diagonal"), "split_by"),
-    (("--gains", "kp=1,kz=2"), "--gains"),
-    (("--param", "steering=driver", "--param", "max_steer_rad=1.6"), "max_steer_rad"),
-    (("--param", "hopeless_factor=1"), "hopeless_factor"),
-    (("--param", "hopeless_factor=0.5"), "hopeless_factor"),
-    (("--param", "min_speed_m_s=2.5"), "min_speed_m_s"),
-    (("--road", "mu-jump", "--param", "mu_scale=0"), "mu_scale"),
-    (("--param", "mu_scale=-1"), "mu_scale"),
-])
+@pytest.mark.parametrize(
+    "args,field",
+    [
+        (("--param", "v_stop_m_s=0.5"), "dt_s"),
+        (("--road", "split-mu", "--param", "split_by=diagonal"), "split_by"),
+        (("--gains", "kp=1,kz=2"), "--gains"),
+        (("--param", "steering=driver", "--param", "max_steer_rad=1.6"), "max_steer_rad"),
+        (("--param", "hopeless_factor=1"), "hopeless_factor"),
+        (("--param", "hopeless_factor=0.5"), "hopeless_factor"),
+        (("--param", "min_speed_m_s=2.5"), "min_speed_m_s"),
+        (("--road", "mu-jump", "--param", "mu_scale=0"), "mu_scale"),
+        (("--param", "mu_scale=-1"), "mu_scale"),
+    ],
+)
 def test_cli_bad_input_is_one_line_and_exit_2(cli, args, field):
     r = cli("simulate", "abs-vehicle", "--controller", "pid", *args)
     assert r.code == 2
@@ -117,8 +126,19 @@ def test_cli_simulate_json_and_plot(cli, tmp_path):
     import json
 
     png = tmp_path / "car.png"
-    r = cli("simulate", "abs-vehicle", "--road", "split-mu", "--controller", "pid", "--param",
-            "steering=driver", "--json", "--plot", str(png))
+    r = cli(
+        "simulate",
+        "abs-vehicle",
+        "--road",
+        "split-mu",
+        "--controller",
+        "pid",
+        "--param",
+        "steering=driver",
+        "--json",
+        "--plot",
+        str(png),
+    )
     assert r.code == 0, r.err
     doc = json.loads(r.out)
     assert doc["plant"] == "abs-vehicle" and doc["preset"] == "paper-deffao"
@@ -139,8 +159,15 @@ def test_general_path_agrees_with_an_independent_scipy_integration():
     sol = reference_solution(sc, g, rtol=1e-8, atol=1e-9)
     s = sc.trace(g).signals
     assert sol.t[-1] == pytest.approx(s["time_s"][-1], abs=1e-12)
-    for row, name in ((0, "vx_m_s"), (1, "vy_m_s"), (2, "yaw_rate_rad_s"), (3, "x_m"),
-                      (4, "y_m"), (5, "heading_rad"), (26, "distance_m")):
+    for row, name in (
+        (0, "vx_m_s"),
+        (1, "vy_m_s"),
+        (2, "yaw_rate_rad_s"),
+        (3, "x_m"),
+        (4, "y_m"),
+        (5, "heading_rad"),
+        (26, "distance_m"),
+    ):
         assert s[name][-1] == pytest.approx(sol.y[row, -1], rel=1e-5), name
     assert abs(s["yaw_rate_rad_s"][-1]) > 0.3  # a real yaw, not a trivial agreement
 
@@ -152,8 +179,9 @@ def test_plausible_values_pass_and_implausible_ones_are_warned_about():
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        PLANT.scenario(None, "dry-concrete", "pid", {"max_steer_rad": "0.5",
-                                                      "hopeless_factor": "1.5"})
+        PLANT.scenario(
+            None, "dry-concrete", "pid", {"max_steer_rad": "0.5", "hopeless_factor": "1.5"}
+        )
     with pytest.warns(ImplausibleValue, match="params.max_steer_rad"):
         PLANT.scenario(None, "dry-concrete", "pid", {"max_steer_rad": "1.2"})
     with pytest.warns(ImplausibleValue, match="params.yaw_inertia_kg_m2"):

@@ -54,7 +54,7 @@ def test_rows_do_not_depend_on_the_lane_or_the_population():
     pop = np.concatenate([pop, pop[::-1]])[: K.LANES + 5]
     batch = sc.raw(pop, workers=1)
     for i in (0, 3, K.LANES - 1, K.LANES, K.LANES + 4):
-        np.testing.assert_array_equal(sc.raw(pop[i:i + 1], workers=1)[0], batch[i])
+        np.testing.assert_array_equal(sc.raw(pop[i : i + 1], workers=1)[0], batch[i])
 
 
 def _has_avx() -> bool:
@@ -80,8 +80,17 @@ def test_lane_step_vectorizes():
     sc = PLANT.scenario(None, "dry-concrete", "pid")
     p, geo, surfs, ckind, c, table = sc._kernel_args
     out = np.zeros((1, K.N_METRICS))
-    fresh(np.array([[1200.0, 0.0, 20.0]]), p, geo, surfs, ckind, c, table,
-          np.zeros((0, K.N_TRACE)), out)
+    fresh(
+        np.array([[1200.0, 0.0, 20.0]]),
+        p,
+        geo,
+        surfs,
+        ckind,
+        c,
+        table,
+        np.zeros((0, K.N_TRACE)),
+        out,
+    )
     asm = fresh.inspect_asm(fresh.signatures[0])
     packed = re.findall(r"\bv(?:mul|add|sub|div|fmadd\w*)pd\s[^\n]*%[yz]mm", asm)
     assert len(packed) >= 600, "the lane step no longer vectorizes"

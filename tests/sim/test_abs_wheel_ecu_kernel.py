@@ -19,21 +19,29 @@ from chassistune.sim import abs_wheel_layout as KL
 
 PRESET = "paper-derlsp-ao"
 PID_GAINS = np.array([[5000.0, 0.0, 230.0]])
-LIMIT = {"ecu": "realistic", "sensor": "ideal", "vref": "true", "ecu_delay_samples": 0,
-         "valves": "continuous", "abs_cutout_m_s": 0.5, "valve_dead_time_s": 0.0,
-         "valve_min_on_s": 0.0}
+LIMIT = {
+    "ecu": "realistic",
+    "sensor": "ideal",
+    "vref": "true",
+    "ecu_delay_samples": 0,
+    "valves": "continuous",
+    "abs_cutout_m_s": 0.5,
+    "valve_dead_time_s": 0.0,
+    "valve_min_on_s": 0.0,
+}
 """The ideal limit of the realistic ECU (cut-out at v_stop = 0.5 m/s, dt 1 ms)."""
 
 
 def _distance(road: str, params: dict[str, object]) -> float:
-    return float(PLANT.scenario(PRESET, road, "pid", params).metrics(PID_GAINS)[
-        "stop_distance_m"][0])
+    return float(
+        PLANT.scenario(PRESET, road, "pid", params).metrics(PID_GAINS)["stop_distance_m"][0]
+    )
 
 
 def test_law_codes_are_the_discrete_laws() -> None:
-    assert [EL.LAW_KINDS.index(n) for n in ("pid", "fuzzy-pid", "fuzzy-immune-pid",
-                                             "threshold")] == [
-        D.K_PID, D.K_FUZZY_PID, D.K_IMMUNE, D.K_THRESHOLD]
+    assert [
+        EL.LAW_KINDS.index(n) for n in ("pid", "fuzzy-pid", "fuzzy-immune-pid", "threshold")
+    ] == [D.K_PID, D.K_FUZZY_PID, D.K_IMMUNE, D.K_THRESHOLD]
     assert EL.METRICS.names[: len(KL.METRICS)] == KL.METRICS.names
     assert EL.TRACE.names[: len(KL.TRACE)] == KL.TRACE.names
 
@@ -44,21 +52,31 @@ def test_sampling_converges_to_the_ideal_mode_first_order(road: str) -> None:
     at least 1.8 (first order or better; measured 0.86 %, 0.16 %, 0.026 %, 0.011 % on dry
     concrete, 0.13 %, 0.036 %, 0.014 %, 0.0063 % on ice), within 1 % at m = 1."""
     ideal = _distance(road, {})
-    errs = [abs(_distance(road, {**LIMIT, "ecu_ts_s": m * 1e-3}) - ideal) / ideal
-            for m in (8, 4, 2, 1)]
+    errs = [
+        abs(_distance(road, {**LIMIT, "ecu_ts_s": m * 1e-3}) - ideal) / ideal for m in (8, 4, 2, 1)
+    ]
     assert all(a > 1.8 * b for a, b in itertools.pairwise(errs)), errs
     assert errs[-1] < 0.01
 
 
-@pytest.mark.parametrize(("teeth", "timer_s", "tol"), [(10_000, 1e-9, 2e-3),
-                                                       (1_000_000, 1e-9, 1e-2)])
+@pytest.mark.parametrize(
+    ("teeth", "timer_s", "tol"), [(10_000, 1e-9, 2e-3), (1_000_000, 1e-9, 1e-2)]
+)
 def test_fine_toothed_sensor_converges(teeth: int, timer_s: float, tol: float) -> None:
     """At m = 1 a toothed wheel timed to 1 ns lands within 1 % of the ideal distance (measured
     10^4 teeth: 0.10 % dry, 0.067 % ice; 10^6 teeth: 0.32 %, 0.37 %: coarser, its period is
     only about a hundred timer ticks at speed, see docs/ecu.md)."""
     for road in ("dry-concrete", "ice"):
-        d = _distance(road, {**LIMIT, "ecu_ts_s": 1e-3, "sensor": "toothed",
-                             "sensor_teeth": teeth, "sensor_timer_s": timer_s})
+        d = _distance(
+            road,
+            {
+                **LIMIT,
+                "ecu_ts_s": 1e-3,
+                "sensor": "toothed",
+                "sensor_teeth": teeth,
+                "sensor_timer_s": timer_s,
+            },
+        )
         assert d == pytest.approx(_distance(road, {}), rel=tol), road
 
 
@@ -68,8 +86,9 @@ def test_batch_row_equals_single_run_no_nan_physical_valves(controller: str) -> 
     three-state valves, cut-out): row i of a batch is bitwise run i alone (also on 2 threads),
     the costs are finite, the pressure stays within [return, supply] = [0, q_max], and no valve
     state lasts less than the minimum on-time."""
-    sc = PLANT.scenario(PRESET, "wet-asphalt", controller, {"ecu": "realistic",
-                                                           "sensor_jitter_s": 2e-6})
+    sc = PLANT.scenario(
+        PRESET, "wet-asphalt", controller, {"ecu": "realistic", "sensor_jitter_s": 2e-6}
+    )
     g = _population(sc, 20, CONTROLLERS.index(controller))
     batch = sc.raw(g, workers=1)
     for i in range(0, len(g), 3):
@@ -84,8 +103,9 @@ def test_batch_row_equals_single_run_no_nan_physical_valves(controller: str) -> 
 
 @pytest.mark.parametrize("controller", CONTROLLERS)
 def test_continuous_valves_random_gains_give_no_nan(controller: str) -> None:
-    sc = PLANT.scenario(PRESET, "ice", controller, {"ecu": "realistic", "valves": "continuous",
-                                                   "vref": "accel"})
+    sc = PLANT.scenario(
+        PRESET, "ice", controller, {"ecu": "realistic", "valves": "continuous", "vref": "accel"}
+    )
     g = _population(sc, 12, 7)
     raw = sc.raw(g)
     assert np.all(np.isfinite(sc.cost_from_raw(raw)))
@@ -93,8 +113,7 @@ def test_continuous_valves_random_gains_give_no_nan(controller: str) -> None:
 
 
 def test_diverging_gains_end_diverged_with_a_finite_penalty() -> None:
-    sc = PLANT.scenario(PRESET, "dry-concrete", "pid", {"ecu": "realistic",
-                                                       "valves": "continuous"})
+    sc = PLANT.scenario(PRESET, "dry-concrete", "pid", {"ecu": "realistic", "valves": "continuous"})
     g = np.array([[5000.0, 0.0, 230.0], [1e308, 1e308, 0.0], [-1e4, 0.0, -1e3]])
     m = sc.metrics(g)
     assert m["status"][0] == "stopped" and m["status"][1] == "diverged"
@@ -117,6 +136,7 @@ def test_slew_limited_reference_drifts_threshold_does_not_anchor_it() -> None:
     keep it anchored either (26.0 m/s on ice, 9.2 m/s on dry): its release phases end when the
     wheel stops re-accelerating, judged against the drifting reference, so the wheel never
     reaches the vehicle speed again. The accelerometer reference holds on dry concrete."""
+
     def gap(road: str, controller: str, vref: str) -> float:
         sc = PLANT.scenario(PRESET, road, controller, {"ecu": "realistic", "vref": vref})
         return float(sc.metrics(sc.gains_array(None)[None, :])["vref_gap_max_m_s"][0])
@@ -134,9 +154,11 @@ def test_speed_scheduled_gains_remove_the_low_speed_oscillation(road: str) -> No
     9 m/s reaches 0.084 on ice and 0.13 on dirt-0.2 (the equilibrium is unstable at low speed);
     with kp, kd scaled by v_ref / v0 it stays at 3e-15 on ice and halves on dirt-0.2 (0.066);
     on dry concrete fixed gains already hold it (2.6e-6)."""
+
     def err(r: str, schedule: str) -> float:
-        sc = PLANT.scenario(PRESET, r, "pid", {**LIMIT, "ecu_ts_s": 1e-3,
-                                              "gain_schedule": schedule})
+        sc = PLANT.scenario(
+            PRESET, r, "pid", {**LIMIT, "ecu_ts_s": 1e-3, "gain_schedule": schedule}
+        )
         return float(sc.metrics(PID_GAINS)["low_speed_slip_error"][0])
 
     fixed, scheduled = err(road, "off"), err(road, "speed")
@@ -198,7 +220,7 @@ def test_sensor_estimate_within_the_edge_timing_bound_on_the_trace(road: str) ->
         assert est[i] == pytest.approx(pitch_m / period, rel=1e-12)
         lo = max(np.searchsorted(t, ta[i] - tau) - 1, 0)
         hi = min(np.searchsorted(t, tb[i] + tau) + 1, t.size)
-        slack = dw[lo:hi - 1].max() if hi - lo > 1 else 0.0
+        slack = dw[lo : hi - 1].max() if hi - lo > 1 else 0.0
         assert est[i] >= (w[lo:hi].min() - slack) * (1.0 - tau / period) - 1e-12
         assert est[i] <= (w[lo:hi].max() + slack) * (1.0 + tau / period) + 1e-12
         age_bound = est[i] * tau / (period - tau) + (alpha[i] + slack / 1e-3) * (t[i] - ta[i])
@@ -218,8 +240,9 @@ def test_spacing_error_shows_as_periodic_noise_of_the_tooth_pattern() -> None:
     the estimate is w to the timer resolution (tau w / pitch = 4.6e-4 here)."""
     base = {"ecu": "realistic", "valves": "continuous", "vref": "true"}
     for sigma in (0.05, 0.0):
-        sc = PLANT.scenario(PRESET, "dry-concrete", "pid",
-                            {**base, "sensor_spacing_error": sigma}, seed=7)
+        sc = PLANT.scenario(
+            PRESET, "dry-concrete", "pid", {**base, "sensor_spacing_error": sigma}, seed=7
+        )
         s = sc.trace(np.zeros(3)).signals
         r = sc.plant_params.wheel_radius_m
         w = sc.plant_params.v0_m_s / r

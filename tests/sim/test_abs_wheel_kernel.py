@@ -22,9 +22,11 @@ from chassistune.sim import abs_wheel_kernel as K
 from chassistune.sim import abs_wheel_layout as KL
 from chassistune.sim.abs_wheel_tires import table_tuples, tire_law_mu
 
-ROADS = {KIND_BILINEAR: ("paper-derlsp-ao", "wet-asphalt"),
-         KIND_BURCKHARDT: ("paper-derlsp-ao", "burckhardt-wet-asphalt"),
-         KIND_TABLE: ("sldemo", "sldemo-table")}
+ROADS = {
+    KIND_BILINEAR: ("paper-derlsp-ao", "wet-asphalt"),
+    KIND_BURCKHARDT: ("paper-derlsp-ao", "burckhardt-wet-asphalt"),
+    KIND_TABLE: ("sldemo", "sldemo-table"),
+}
 CONTROLLERS = ["pid", "none", "bang-bang", "threshold", "fuzzy-pid", "fuzzy-immune-pid"]
 
 
@@ -86,8 +88,12 @@ def test_tire_laws_equal_the_physics_module_bitwise() -> None:
 def test_per_row_plant_parameters() -> None:
     """A plant row per candidate gives what a scenario with those parameters gives."""
     base = PLANT.scenario("paper-derlsp-ao", "dry-concrete", "pid")
-    heavy = PLANT.scenario("paper-derlsp-ao", "dry-concrete", "pid",
-                           {"mass_kg": 130.0, "actuator_tau_s": 0.02, "v0_m_s": 25.0})
+    heavy = PLANT.scenario(
+        "paper-derlsp-ao",
+        "dry-concrete",
+        "pid",
+        {"mass_kg": 130.0, "actuator_tau_s": 0.02, "v0_m_s": 25.0},
+    )
     g = _population(base, 40, 3)
     p_base, kind, coef, xs, ys, ck, c, table = base._kernel_args
     p_heavy = heavy._kernel_args[0]
@@ -118,8 +124,19 @@ def test_entry_points_vectorize(law: int) -> None:
     c4[: len(coef)] = coef
     xc, xp, yp = table_tuples(xs, ys)
     out = np.zeros((1, len(KL.METRICS)))
-    fresh(np.array([[5000.0, 0.0, 230.0]]), p[None, :], c4, xc, xp, yp, ck, c, table,
-          np.zeros((0, len(KL.TRACE))), out)
+    fresh(
+        np.array([[5000.0, 0.0, 230.0]]),
+        p[None, :],
+        c4,
+        xc,
+        xp,
+        yp,
+        ck,
+        c,
+        table,
+        np.zeros((0, len(KL.TRACE))),
+        out,
+    )
     asm = fresh.inspect_asm(fresh.signatures[0])
     packed = re.findall(r"\bv(?:mul|add|sub|div|fmadd\w*)pd\s[^\n]*%[yz]mm", asm)
     scalar = re.findall(r"\bv(?:mul|add|sub|div)sd\s", asm)
@@ -149,8 +166,9 @@ def test_numba_cache_hits_in_a_second_process(tmp_path: Path) -> None:
     code = _CACHE_PROBE % (list(ROADS.values()),)
 
     def probe() -> dict:
-        res = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
-                             text=True, check=True)
+        res = subprocess.run(
+            [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+        )
         return json.loads(res.stdout.strip().splitlines()[-1])
 
     folder = Path(probe()["cache_dir"])  # compiles and stores: the private cache is cold

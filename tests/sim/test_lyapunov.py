@@ -18,8 +18,9 @@ def plant_vector(preset: str) -> np.ndarray:
     return PLANT.scenario(preset, controller="pid").plant_vector
 
 
-def minimal(p: np.ndarray, fb: int, g: np.ndarray, n_filter: float = 100.0
-            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def minimal(
+    p: np.ndarray, fb: int, g: np.ndarray, n_filter: float = 100.0
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     a = np.zeros((M.MAX_STATES, M.MAX_STATES))
     b = np.zeros(M.MAX_STATES)
     c = np.zeros((M.N_OUT, M.MAX_STATES))
@@ -62,8 +63,9 @@ def test_quarter_car_covariance_matches_scipy(preset: str, fb: int) -> None:
         x = np.zeros_like(a)
         assert L.solve_lyapunov(a, a.shape[0], b, L.W_ROAD, pp, x)
         assert np.max(np.abs(pp - ref)) <= 1e-9 * np.max(np.abs(ref))
-        rms_ref = np.sqrt([c[j] @ ref @ c[j] for j in (M.OUT_ACC, M.OUT_TRAVEL, M.OUT_TIRE,
-                                                      M.OUT_FORCE)])
+        rms_ref = np.sqrt(
+            [c[j] @ ref @ c[j] for j in (M.OUT_ACC, M.OUT_TRAVEL, M.OUT_TIRE, M.OUT_FORCE)]
+        )
         np.testing.assert_allclose(row[:4], rms_ref, rtol=1e-9)
         assert row[L.E_STABLE] == 1.0
         checked += 1
@@ -79,8 +81,18 @@ def test_stability_flag_agrees_with_eigenvalues(preset: str) -> None:
         out = L.exact_rms(p, fb, 100.0, gains)
         for g, row in zip(gains, out, strict=True):
             a = np.zeros((M.MAX_STATES, M.MAX_STATES))
-            m = M.closed_loop(p, fb, g[0], g[1], g[2], 100.0, False, a, np.zeros(M.MAX_STATES),
-                              np.zeros((M.N_OUT, M.MAX_STATES)))
+            m = M.closed_loop(
+                p,
+                fb,
+                g[0],
+                g[1],
+                g[2],
+                100.0,
+                False,
+                a,
+                np.zeros(M.MAX_STATES),
+                np.zeros((M.N_OUT, M.MAX_STATES)),
+            )
             if m < 0:
                 assert row[L.E_STABLE] == 0.0
                 continue
@@ -107,15 +119,23 @@ def test_minimal_realization_sizes() -> None:
 def test_realization_matches_laplace_domain_equations(fb: int) -> None:
     """RMS from the frequency response written from the equations of motion (independent path)."""
     p = plant_vector("typical")
-    g = {M.FB_DISPLACEMENT: (2000.0, 3000.0, 300.0), M.FB_VELOCITY: (800.0, 1500.0, 150.0),
-         M.FB_ACCELERATION: (50.0, 400.0, 2.0), M.FB_TRAVEL: (500.0, 800.0, 100.0)}[fb]
+    g = {
+        M.FB_DISPLACEMENT: (2000.0, 3000.0, 300.0),
+        M.FB_VELOCITY: (800.0, 1500.0, 150.0),
+        M.FB_ACCELERATION: (50.0, 400.0, 2.0),
+        M.FB_TRAVEL: (500.0, 800.0, 100.0),
+    }[fb]
     exact = L.exact_rms(p, fb, 100.0, np.array([g]))[0]
     assert exact[L.E_STABLE] == 1.0
     omega = np.geomspace(1e-6, 1e6, 240_001)
     resp = M.frequency_response(p, fb, *g, 100.0, omega)
     road = p[M.P_B] / (1j * omega + p[M.P_LAM])  # Z0 / w
-    for col, key in [(L.E_ACC, "body_acc"), (L.E_TRAVEL, "susp_travel"),
-                     (L.E_TIRE, "tire_defl"), (L.E_FORCE, "force")]:
+    for col, key in [
+        (L.E_ACC, "body_acc"),
+        (L.E_TRAVEL, "susp_travel"),
+        (L.E_TIRE, "tire_defl"),
+        (L.E_FORCE, "force"),
+    ]:
         power = np.abs(resp[key] * road) ** 2
         var = L.W_ROAD / np.pi * np.trapezoid(power * omega, np.log(omega))
         assert np.sqrt(var) == pytest.approx(exact[col], rel=1e-5), key

@@ -33,13 +33,23 @@ def test_zoh_step_of_a_first_order_lag() -> None:
     assert gam[0] == pytest.approx(2.0 * (1 - np.exp(-0.3)) / 3.0, rel=1e-14)
 
 
-def run(scenario: QuarterCarScenario, gains: np.ndarray, n_rec: int = 0
-        ) -> tuple[np.ndarray, np.ndarray]:
+def run(
+    scenario: QuarterCarScenario, gains: np.ndarray, n_rec: int = 0
+) -> tuple[np.ndarray, np.ndarray]:
     pid = scenario.pid_gains(gains)
     out = np.empty((pid.shape[0], K.N_RESULT))
     rec = np.zeros((M.N_OUT, n_rec))
-    K.simulate_batch(scenario.plant_vector, scenario.feedback_code, 100.0, pid, scenario.noise,
-                     scenario.solver.dt_s, rec, 1, out)
+    K.simulate_batch(
+        scenario.plant_vector,
+        scenario.feedback_code,
+        100.0,
+        pid,
+        scenario.noise,
+        scenario.solver.dt_s,
+        rec,
+        1,
+        out,
+    )
     return out, rec
 
 
@@ -52,11 +62,11 @@ def test_batch_rows_equal_single_runs(feedback: str) -> None:
     serial, _ = run(sc, gains)
     np.testing.assert_array_equal(batch, serial)
     for i in (0, 1, 37, 63, 64, 69):
-        single, _ = run(sc, gains[i:i + 1])
+        single, _ = run(sc, gains[i : i + 1])
         np.testing.assert_array_equal(single[0], batch[i])
     exact = sc.exact(gains)
     for i in (0, 5, 69):
-        np.testing.assert_array_equal(sc.exact(gains[i]), exact[i:i + 1])
+        np.testing.assert_array_equal(sc.exact(gains[i]), exact[i : i + 1])
 
 
 def test_road_in_the_loop_is_the_generated_profile() -> None:
@@ -70,8 +80,12 @@ def test_road_in_the_loop_is_the_generated_profile() -> None:
 def test_trace_samples_match_the_rms() -> None:
     sc = PLANT.scenario("typical", controller="pid", params={"duration_s": 5}, seed=2)
     out, rec = run(sc, np.array([[800.0, 900.0, 50.0]]), n_rec=sc.solver.n_steps + 1)
-    for col, row in [(K.R_ACC, M.OUT_ACC), (K.R_TRAVEL, M.OUT_TRAVEL), (K.R_TIRE, M.OUT_TIRE),
-                     (K.R_FORCE, M.OUT_FORCE)]:
+    for col, row in [
+        (K.R_ACC, M.OUT_ACC),
+        (K.R_TRAVEL, M.OUT_TRAVEL),
+        (K.R_TIRE, M.OUT_TIRE),
+        (K.R_FORCE, M.OUT_FORCE),
+    ]:
         assert out[0, col] == pytest.approx(np.sqrt(np.mean(rec[row, 1:] ** 2)), rel=1e-12)
 
 
@@ -80,6 +94,6 @@ def test_divergence_is_detected_and_frozen() -> None:
     gains = np.array([[0.0, -1e6, 0.0], [500.0, 500.0, 100.0]])
     out, _ = run(sc, gains)
     assert out[0, K.R_DIVERGED] == 1.0
-    assert np.all(np.isnan(out[0, :K.N_RMS]))
+    assert np.all(np.isnan(out[0, : K.N_RMS]))
     assert out[1, K.R_DIVERGED] == 0.0
-    assert np.all(np.isfinite(out[1, :K.N_RMS]))
+    assert np.all(np.isfinite(out[1, : K.N_RMS]))

@@ -23,8 +23,9 @@ MESSAGE = "test objective raised on purpose"
 class RaisingScenario(QuarterCarScenario):
     objectives = (*QuarterCarScenario.objectives, "raises", "dies")
 
-    def cost(self, gains: np.ndarray, objective: str | None = None,
-             workers: int | None = None) -> np.ndarray:
+    def cost(
+        self, gains: np.ndarray, objective: str | None = None, workers: int | None = None
+    ) -> np.ndarray:
         if objective == "raises":
             raise RuntimeError(MESSAGE)
         if objective == "dies":
@@ -38,12 +39,25 @@ class RaisingScenario(QuarterCarScenario):
 class RaisingPlant(QuarterCarPlant):
     spec = dataclasses.replace(registry.QUARTER_CAR, name=NAME)
 
-    def scenario(self, preset: str | None = None, road: str | None = None,
-                 controller: str = "none", params: Mapping[str, object] | None = None,
-                 seed: int = 0) -> RaisingScenario:
+    def scenario(
+        self,
+        preset: str | None = None,
+        road: str | None = None,
+        controller: str = "none",
+        params: Mapping[str, object] | None = None,
+        seed: int = 0,
+    ) -> RaisingScenario:
         sc = super().scenario(preset, road, controller, params, seed)
-        return RaisingScenario(sc.preset, sc.road, sc.controller, sc.vehicle, sc.road_params,
-                               sc.solver, sc.controller_params, sc.seed)
+        return RaisingScenario(
+            sc.preset,
+            sc.road,
+            sc.controller,
+            sc.vehicle,
+            sc.road_params,
+            sc.solver,
+            sc.controller_params,
+            sc.seed,
+        )
 
 
 PLANT = RaisingPlant()

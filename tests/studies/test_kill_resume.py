@@ -59,8 +59,11 @@ def _count(store: Path) -> int:
 
 
 def _start(config: Path, out: Path) -> subprocess.Popen[bytes]:
-    return subprocess.Popen([sys.executable, "-c", CLI, "study", "run", str(config), "--out",
-                             str(out)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return subprocess.Popen(
+        [sys.executable, "-c", CLI, "study", "run", str(config), "--out", str(out)],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
 
 
 def _table(folder: Path):
@@ -93,11 +96,16 @@ def test_sigkilled_study_resumes_to_the_uninterrupted_result(tmp_path):
             counts.append(_count(store))
         if _count(store) == RUNS:
             break
-    print(f"\nkill-and-resume: {len(counts)} SIGKILLs at {counts} stored runs "
-          f"({attempts} attempts)")
+    print(
+        f"\nkill-and-resume: {len(counts)} SIGKILLs at {counts} stored runs ({attempts} attempts)"
+    )
     assert sum(c < RUNS for c in counts) >= 3, counts  # most kills left runs to do
-    final = subprocess.run([sys.executable, "-c", CLI, "study", "run", str(config), "--out",
-                            str(out)], capture_output=True, text=True, timeout=120)
+    final = subprocess.run(
+        [sys.executable, "-c", CLI, "study", "run", str(config), "--out", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert final.returncode == 0, final.stderr
     conn = sqlite3.connect(store)
     assert conn.execute("PRAGMA integrity_check").fetchone()[0] == "ok"

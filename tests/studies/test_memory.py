@@ -35,8 +35,12 @@ print(outcome.completed, int(hwm.split()[1]))
 def test_a_100_run_study_peaks_under_500_mb(tmp_path):
     config, plan = write_plan(tmp_path, tiny_config(seeds=25, roads='["iso-b", "iso-c"]'))
     assert len(plan.runs) == 100
-    done = subprocess.run([sys.executable, "-c", SCRIPT, str(config), str(tmp_path / "out")],
-                          capture_output=True, text=True, timeout=300)
+    done = subprocess.run(
+        [sys.executable, "-c", SCRIPT, str(config), str(tmp_path / "out")],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert done.returncode == 0, done.stderr
     completed, maxrss_kb = map(int, done.stdout.split()[-2:])
     peak_mb = maxrss_kb / 1024  # VmHWM is in kB

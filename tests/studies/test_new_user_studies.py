@@ -53,8 +53,9 @@ def test_unequal_evaluations_are_shown_and_warned(cli, tmp_path):
 
 
 def test_equal_budgets_give_no_warning(tmp_path):
-    _, plan = write_plan(tmp_path, tiny_config(seeds=2).replace("iterations = 3",
-                                                                "evaluations = 24"))
+    _, plan = write_plan(
+        tmp_path, tiny_config(seeds=2).replace("iterations = 3", "evaluations = 24")
+    )
     run_study(plan, tmp_path / "st", SerialExecutor())
     with open_study(tmp_path / "st") as store:
         assert budget_warnings(load_study(store)) == []
@@ -80,18 +81,29 @@ def test_the_docs_script_runs_under_spawn_and_an_unguarded_one_is_refused(tmp_pa
     config, _ = write_plan(tmp_path, tiny_config(seeds=1))
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
     guarded = tmp_path / "guarded.py"
-    guarded.write_text(SCRIPT.format(body='if __name__ == "__main__":\n'
-                                     + textwrap.indent(BODY, "    ")))
-    done = subprocess.run([sys.executable, str(guarded), str(config), str(tmp_path / "a")],
-                          capture_output=True, text=True, env=env, timeout=300)
+    guarded.write_text(
+        SCRIPT.format(body='if __name__ == "__main__":\n' + textwrap.indent(BODY, "    "))
+    )
+    done = subprocess.run(
+        [sys.executable, str(guarded), str(config), str(tmp_path / "a")],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+    )
     assert done.returncode == 0, done.stderr
     assert "completed 2 failed 0" in done.stdout
     bare = tmp_path / "bare.py"
     bare.write_text(SCRIPT.format(body=BODY))
-    done = subprocess.run([sys.executable, str(bare), str(config), str(tmp_path / "b")],
-                          capture_output=True, text=True, env=env, timeout=300)
+    done = subprocess.run(
+        [sys.executable, str(bare), str(config), str(tmp_path / "b")],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+    )
     assert done.returncode != 0
-    assert "put the study code under `if __name__ == \"__main__\":`" in done.stderr
+    assert 'put the study code under `if __name__ == "__main__":`' in done.stderr
     assert "worker process died" not in done.stderr + done.stdout
     assert not (tmp_path / "b" / "study.sqlite").exists()
 
@@ -101,8 +113,10 @@ def test_the_docs_snippet_itself_is_guarded():
     text = docs.read_text(encoding="utf-8")
     snippet = text.split("```python", 1)[1].split("```", 1)[0]
     assert 'if __name__ == "__main__":' in snippet
-    assert all(line.startswith(("    ", "from ", "if ")) or not line.strip()
-               for line in snippet.splitlines()), snippet
+    assert all(
+        line.startswith(("    ", "from ", "if ")) or not line.strip()
+        for line in snippet.splitlines()
+    ), snippet
 
 
 @pytest.fixture
@@ -114,8 +128,15 @@ def study_dir(tmp_path: Path) -> Path:
 
 def test_export_takes_its_format_from_the_suffix(cli, study_dir, tmp_path):
     """Bug 12: no CSV in a .parquet name; `-` is stdout."""
-    r = cli("study", "export", str(study_dir), "--format", "csv", "--output",
-            str(tmp_path / "x.parquet"))
+    r = cli(
+        "study",
+        "export",
+        str(study_dir),
+        "--format",
+        "csv",
+        "--output",
+        str(tmp_path / "x.parquet"),
+    )
     assert r.code == 2 and "--format" in r.err and not (tmp_path / "x.parquet").exists()
     r = cli("study", "export", str(study_dir), "--output", str(tmp_path / "y.csv"))
     assert r.code == 0 and (tmp_path / "y.csv").read_text().startswith("scenario,")
@@ -145,9 +166,12 @@ LONG = tiny_config(seeds=40).replace("iterations = 3", "iterations = 60")
 
 
 def _driver(config: Path, out: Path) -> subprocess.Popen[str]:
-    return subprocess.Popen([sys.executable, "-m", "chassistune.cli", "study", "run",
-                             str(config), "--out", str(out)],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    return subprocess.Popen(
+        [sys.executable, "-m", "chassistune.cli", "study", "run", str(config), "--out", str(out)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
 
 
 def _wait_for_lock(out: Path, proc: subprocess.Popen[str]) -> None:

@@ -58,19 +58,30 @@ def test_the_training_set_is_the_same_for_every_optimizer_and_executor(tmp_path)
     assert by_seed[0] != by_seed[1]  # another seed index, other scenarios
     # the validation draws of a seed index are its own Monte Carlo stream
     positive = ParamRange(0.0, np.inf, lo_open=True)
-    spec = parse_table(plan.runs[0].uncertainty,
-                       {"sprung_mass_kg": positive, "tire_stiffness_n_m": positive})
+    spec = parse_table(
+        plan.runs[0].uncertainty, {"sprung_mass_kg": positive, "tire_stiffness_n_m": positive}
+    )
     assert len(validation_set(spec, plan.runs[0].seed_sequence())) == 6
 
 
-@pytest.mark.parametrize(("table", "field"), [
-    ('[scenarios.uncertainty]\nscenarios = 6\n[scenarios.uncertainty.vary]\n'
-     'sprung_mass_kg = "256:384"\n', "scenarios[0].uncertainty.scenarios"),
-    ('[scenarios.uncertainty]\n[scenarios.uncertainty.vary]\nfoo_kg = "1:2"\n',
-     "scenarios[0].uncertainty.vary.foo_kg"),
-    ('[scenarios.uncertainty]\n[scenarios.uncertainty.vary]\nsprung_mass_kg = "384:256"\n',
-     "scenarios[0].uncertainty.vary.sprung_mass_kg"),
-])
+@pytest.mark.parametrize(
+    ("table", "field"),
+    [
+        (
+            "[scenarios.uncertainty]\nscenarios = 6\n[scenarios.uncertainty.vary]\n"
+            'sprung_mass_kg = "256:384"\n',
+            "scenarios[0].uncertainty.scenarios",
+        ),
+        (
+            '[scenarios.uncertainty]\n[scenarios.uncertainty.vary]\nfoo_kg = "1:2"\n',
+            "scenarios[0].uncertainty.vary.foo_kg",
+        ),
+        (
+            '[scenarios.uncertainty]\n[scenarios.uncertainty.vary]\nsprung_mass_kg = "384:256"\n',
+            "scenarios[0].uncertainty.vary.sprung_mass_kg",
+        ),
+    ],
+)
 def test_bad_uncertainty_tables_name_their_config_path(tmp_path, table, field):
     with pytest.raises(InputError) as exc:
         write_plan(tmp_path, tiny_config(seeds=1, extra=table))

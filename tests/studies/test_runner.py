@@ -80,8 +80,10 @@ def test_a_raising_objective_is_recorded_failed_and_the_study_goes_on(tmp_path, 
         records = list(store.records())
     failed = [r for r in records if r.status == "failed"]
     assert {r.spec.scenario for r in failed} == {"boom/iso-b"}
-    assert all(raising_plant.MESSAGE in (r.error or "") and "RuntimeError" in (r.error or "")
-               for r in failed)
+    assert all(
+        raising_plant.MESSAGE in (r.error or "") and "RuntimeError" in (r.error or "")
+        for r in failed
+    )
     assert all(r.best_cost is None and r.best_gains == {} for r in failed)
     # failed runs are finished: skipped on a rerun unless asked to retry them
     assert run_study(plan, out, SerialExecutor()).skipped == 8
@@ -105,8 +107,10 @@ def test_a_folder_made_from_another_config_is_refused(tmp_path, cli):
 
 
 def test_report_and_export_refuse_a_folder_without_a_study(cli, tmp_path):
-    for args in (["report", str(tmp_path)], ["export", str(tmp_path / "none"), "--format",
-                                             "csv", "--output", str(tmp_path / "x.csv")]):
+    for args in (
+        ["report", str(tmp_path)],
+        ["export", str(tmp_path / "none"), "--format", "csv", "--output", str(tmp_path / "x.csv")],
+    ):
         r = cli("study", *args)
         assert r.code == 2 and r.err.startswith("chassistune: error: DIR")
     with pytest.raises(InputError):
@@ -116,8 +120,7 @@ def test_report_and_export_refuse_a_folder_without_a_study(cli, tmp_path):
 
 def test_serial_process_and_dask_give_identical_tables(tmp_path, raising):
     """One plan on the three executors, with a raising scenario recorded failed in each."""
-    _, plan = write_plan(tmp_path, tiny_config(seeds=2, roads='["iso-b", "iso-c"]',
-                                               extra=RAISING))
+    _, plan = write_plan(tmp_path, tiny_config(seeds=2, roads='["iso-b", "iso-c"]', extra=RAISING))
     run_study(plan, tmp_path / "serial", SerialExecutor())
     with ProcessExecutor(2, initializer=raising_plant.register) as ex:
         run_study(plan, tmp_path / "process", ex)
@@ -135,8 +138,9 @@ def test_serial_process_and_dask_give_identical_tables(tmp_path, raising):
 def test_the_cli_runs_a_study_with_the_process_executor(cli, tmp_path):
     config, _ = write_plan(tmp_path, tiny_config(seeds=1))
     out = tmp_path / "out"
-    r = cli("study", "run", str(config), "--out", str(out), "--executor", "process",
-            "--workers", "2")
+    r = cli(
+        "study", "run", str(config), "--out", str(out), "--executor", "process", "--workers", "2"
+    )
     assert r.code == 0, r.err
     assert "2 completed and 0 failed" in r.out
     assert len(_table(out)) == 2
@@ -156,5 +160,6 @@ def test_a_run_that_kills_its_worker_process_is_found_and_recorded_failed(tmp_pa
     run_study(write_plan(tmp_path, tiny_config(seeds=2), "ok.toml")[1], serial, SerialExecutor())
     alone = _table(serial)
     ok = table[table["status"] == "completed"].reset_index(drop=True)[alone.columns]
-    pd.testing.assert_frame_equal(ok.drop(columns=["error"]), alone.drop(columns=["error"]),
-                                  check_dtype=False)  # failed rows made bool columns object
+    pd.testing.assert_frame_equal(
+        ok.drop(columns=["error"]), alone.drop(columns=["error"]), check_dtype=False
+    )  # failed rows made bool columns object

@@ -18,47 +18,80 @@ GOOD = tiny_config()
 # (what is wrong, config text, field the error line must name)
 BAD = [
     ("unknown top key", GOOD + "\n[extras]\nx = 1\n", "extras"),
-    ("unknown study key", GOOD.replace('name = "tiny"', 'name = "tiny"\ncolour = "red"'),
-     "study.colour"),
-    ("unknown scenario key", GOOD.replace('controller = "pid"', 'controller = "pid"\nroad = 1'),
-     "scenarios[0].road"),
+    (
+        "unknown study key",
+        GOOD.replace('name = "tiny"', 'name = "tiny"\ncolour = "red"'),
+        "study.colour",
+    ),
+    (
+        "unknown scenario key",
+        GOOD.replace('controller = "pid"', 'controller = "pid"\nroad = 1'),
+        "scenarios[0].road",
+    ),
     ("wrong type seeds", GOOD.replace("seeds = 2", 'seeds = "three"'), "study.seeds"),
     ("bool seeds", GOOD.replace("seeds = 2", "seeds = true"), "study.seeds"),
     ("repeated seed", GOOD.replace("seeds = 2", "seeds = [1, 1]"), "study.seeds"),
     ("wrong type pop", GOOD.replace("pop_size = 6", "pop_size = 6.5"), "budget.pop_size"),
-    ("string iterations", GOOD.replace("iterations = 3", 'iterations = "3"'),
-     "budget.iterations"),
+    ("string iterations", GOOD.replace("iterations = 3", 'iterations = "3"'), "budget.iterations"),
     ("zero iterations", GOOD.replace("iterations = 3", "iterations = 0"), "budget.iterations"),
     ("missing plant", GOOD.replace('plant = "quarter-car"\n', ""), "scenarios[0].plant"),
     ("missing study", GOOD.replace("[study]", "[other]"), "study"),
     ("no optimizers", GOOD.split("[[optimizers]]")[0], "optimizers"),
-    ("bounds lo > hi", GOOD.replace("kp = [0.0, 500.0]", "kp = [500.0, 0.0]"),
-     "scenarios[0].bounds"),
-    ("bounds not a pair", GOOD.replace("kp = [0.0, 500.0]", "kp = [0.0]"),
-     "scenarios[0].bounds: kp: expected [lo, hi]"),
-    ("bounds not numbers", GOOD.replace("kp = [0.0, 500.0]", 'kp = ["0", 5]'),
-     "scenarios[0].bounds.kp[0]"),
-    ("bounds infinite", GOOD.replace("kp = [0.0, 500.0]", "kp = [0.0, inf]"),
-     "scenarios[0].bounds.kp[1]"),
-    ("bounds of an unknown gain", GOOD.replace("kp = [0.0, 500.0]", "kq = [0.0, 5.0]"),
-     "scenarios[0].bounds"),
+    (
+        "bounds lo > hi",
+        GOOD.replace("kp = [0.0, 500.0]", "kp = [500.0, 0.0]"),
+        "scenarios[0].bounds",
+    ),
+    (
+        "bounds not a pair",
+        GOOD.replace("kp = [0.0, 500.0]", "kp = [0.0]"),
+        "scenarios[0].bounds: kp: expected [lo, hi]",
+    ),
+    (
+        "bounds not numbers",
+        GOOD.replace("kp = [0.0, 500.0]", 'kp = ["0", 5]'),
+        "scenarios[0].bounds.kp[0]",
+    ),
+    (
+        "bounds infinite",
+        GOOD.replace("kp = [0.0, 500.0]", "kp = [0.0, inf]"),
+        "scenarios[0].bounds.kp[1]",
+    ),
+    (
+        "bounds of an unknown gain",
+        GOOD.replace("kp = [0.0, 500.0]", "kq = [0.0, 5.0]"),
+        "scenarios[0].bounds",
+    ),
     ("unknown plant", GOOD.replace('"quarter-car"', '"half-car"'), "scenarios[0].plant"),
     ("unknown road", GOOD.replace('["iso-b"]', '["iso-z"]'), "scenarios[0].roads"),
     ("unknown controller", GOOD.replace('"pid"', '"lqr"'), "scenarios[0].controller"),
     ("unknown objective", GOOD.replace('"rms-ratio-exact"', '"itae"'), "scenarios[0].objective"),
-    ("unknown preset", GOOD.replace('controller = "pid"', 'controller = "pid"\npreset = "x"'),
-     "scenarios[0].preset"),
-    ("unknown param", GOOD.replace('controller = "pid"', 'controller = "pid"\nparams = { z = 1 }'),
-     "scenarios[0].params.z"),
-    ("bad param value", GOOD.replace('controller = "pid"',
-                                     'controller = "pid"\nparams = { speed_m_s = -3 }'),
-     "scenarios[0].params.speed_m_s"),
-    ("one tune road", GOOD.replace('controller = "pid"',
-                                   'controller = "pid"\ntune_roads = ["iso-b"]'),
-     "scenarios[0].tune_roads"),
+    (
+        "unknown preset",
+        GOOD.replace('controller = "pid"', 'controller = "pid"\npreset = "x"'),
+        "scenarios[0].preset",
+    ),
+    (
+        "unknown param",
+        GOOD.replace('controller = "pid"', 'controller = "pid"\nparams = { z = 1 }'),
+        "scenarios[0].params.z",
+    ),
+    (
+        "bad param value",
+        GOOD.replace('controller = "pid"', 'controller = "pid"\nparams = { speed_m_s = -3 }'),
+        "scenarios[0].params.speed_m_s",
+    ),
+    (
+        "one tune road",
+        GOOD.replace('controller = "pid"', 'controller = "pid"\ntune_roads = ["iso-b"]'),
+        "scenarios[0].tune_roads",
+    ),
     ("unknown optimizer", GOOD.replace('name = "pso"', 'name = "annealing"'), "optimizers[0].name"),
-    ("unknown hyperparameter", GOOD.replace('name = "pso"', 'name = "pso"\nhyperparameters = '
-                                            '{ inertia = 0.5 }'), "optimizers[0].hyperparameters"),
+    (
+        "unknown hyperparameter",
+        GOOD.replace('name = "pso"', 'name = "pso"\nhyperparameters = { inertia = 0.5 }'),
+        "optimizers[0].hyperparameters",
+    ),
     ("duplicate label", GOOD.replace('name = "de"', 'name = "pso"'), "optimizers[1].label"),
     ("population too small", GOOD.replace("pop_size = 6", "pop_size = 3"), "budget.pop_size"),
     ("empty file", "", "CONFIG"),
@@ -69,7 +102,8 @@ BAD = [
 
 @pytest.mark.parametrize(("case", "text", "field"), BAD, ids=[b[0] for b in BAD])
 def test_a_bad_config_gives_one_line_naming_the_field_and_writes_nothing(
-        cli, tmp_path, case, text, field):
+    cli, tmp_path, case, text, field
+):
     config = tmp_path / "bad.toml"
     config.write_text(text)
     out = tmp_path / "out"
@@ -106,9 +140,10 @@ def test_bad_options_and_missing_dask_write_nothing(cli, tmp_path, monkeypatch):
 
 
 def test_grid_roads_tune_roads_and_names(tmp_path):
-    extra = ('tune_roads = ["iso-b", "iso-c"]\naggregate = "max"\n')
+    extra = 'tune_roads = ["iso-b", "iso-c"]\naggregate = "max"\n'
     text = tiny_config(seeds=3, roads='["iso-b", "iso-c"]').replace(
-        'controller = "pid"', 'controller = "pid"\n' + extra)
+        'controller = "pid"', 'controller = "pid"\n' + extra
+    )
     _, plan = write_plan(tmp_path, text)
     assert plan.scenarios == ["qc/iso-b", "qc/iso-c", "qc/iso-b+iso-c"]
     assert plan.optimizers == ["pso", "de"]
@@ -147,7 +182,8 @@ def test_the_issue_example_expands_to_twelve_runs():
     plan = load_plan(EXAMPLES / "abs-dry-pid.toml")
     assert len(plan.runs) == 12
     assert {(r.plant, r.preset, r.road, r.controller, r.objective) for r in plan.runs} == {
-        ("abs-wheel", "paper-derlsp-ao", "dry-concrete", "pid", "itae")}
+        ("abs-wheel", "paper-derlsp-ao", "dry-concrete", "pid", "itae")
+    }
     assert {r.optimizer for r in plan.runs} == {"ao", "pso"}
     assert sorted({r.seed for r in plan.runs}) == list(range(6))
 

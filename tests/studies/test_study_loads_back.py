@@ -10,8 +10,9 @@ import chassistune
 def test_a_study_folder_loads_into_objects(cli, tmp_path):
     from chassistune.reports.tables import runs_table
 
-    config, _ = write_plan(tmp_path, tiny_config(seeds=1).replace("iterations = 3",
-                                                                  "evaluations = 12"))
+    config, _ = write_plan(
+        tmp_path, tiny_config(seeds=1).replace("iterations = 3", "evaluations = 12")
+    )
     assert cli("study", "run", str(config), "--out", str(tmp_path / "st")).code == 0
     data = chassistune.load_study(tmp_path / "st")
     assert data.name == "tiny" and data.optimizers == ("pso", "de")

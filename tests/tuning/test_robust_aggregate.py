@@ -28,8 +28,7 @@ def test_cvar_tail_counts_are_ceil_alpha_m(m):
 def test_cvar_limits_are_the_mean_and_the_max():
     rng = np.random.default_rng(3)
     costs = rng.lognormal(size=(7, 16))
-    np.testing.assert_allclose(Aggregate("cvar", 1.0)(costs), Aggregate("mean")(costs),
-                               rtol=1e-15)
+    np.testing.assert_allclose(Aggregate("cvar", 1.0)(costs), Aggregate("mean")(costs), rtol=1e-15)
     np.testing.assert_array_equal(Aggregate("cvar", 1 / 16)(costs), Aggregate("max")(costs))
     assert np.all(Aggregate("cvar", 0.25)(costs) <= Aggregate("max")(costs))
     assert np.all(Aggregate("cvar", 0.25)(costs) >= Aggregate("mean")(costs))

@@ -25,21 +25,24 @@ from chassistune.tuning.robust.spec import (
 )
 
 VARY = ["mass_kg=80:120", "mu_scale=0.85:1.15", "v0_m_s=20:35", "actuator_tau_s=0.007:0.013"]
-GAINS = np.array([[5000.0, 0.0, 230.0], [1000.0, 0.0, 100.0], [2000.0, 10.0, 50.0],
-                  [1.0, 0.0, 0.0]])
+GAINS = np.array(
+    [[5000.0, 0.0, 230.0], [1000.0, 0.0, 100.0], [2000.0, 10.0, 50.0], [1.0, 0.0, 0.0]]
+)
 
 
 def spec(aggregate: str = "max", k: int = 8, validate: int = 0) -> UncertaintySpec:
     nominal = build_problem("abs-wheel", "pid")
-    return UncertaintySpec(parse_vary(VARY, known_for(nominal)), k, "sobol",
-                           parse_aggregate(aggregate), validate)
+    return UncertaintySpec(
+        parse_vary(VARY, known_for(nominal)), k, "sobol", parse_aggregate(aggregate), validate
+    )
 
 
 def test_max_over_k_scenarios_equals_the_max_of_k_single_scenario_runs_bit_for_bit():
     s = spec("max")
     rp = robust_problem(build_problem("abs-wheel", "pid"), s, seed=11)
-    singles = np.stack([build_problem("abs-wheel", "pid", params=row)(GAINS)
-                        for row in rp.training.rows()], axis=1)
+    singles = np.stack(
+        [build_problem("abs-wheel", "pid", params=row)(GAINS) for row in rp.training.rows()], axis=1
+    )
     assert singles.shape == (4, 8)
     np.testing.assert_array_equal(rp(GAINS), singles.max(axis=1))
     np.testing.assert_array_equal(rp.costs(GAINS)[:, :, 0], singles)
@@ -52,7 +55,7 @@ def test_every_candidate_sees_the_same_k_scenarios():
     np.testing.assert_array_equal(rp.training.values, again.training.values)
     whole = rp(GAINS)
     for i in range(len(GAINS)):  # a row scored alone, or in another population, costs the same
-        np.testing.assert_array_equal(rp(GAINS[i:i + 1]), whole[i:i + 1])
+        np.testing.assert_array_equal(rp(GAINS[i : i + 1]), whole[i : i + 1])
     np.testing.assert_array_equal(rp(GAINS[::-1]), whole[::-1])
     # the grid's scenarios are the draws
     names = rp.training.names
@@ -69,11 +72,9 @@ def test_every_candidate_sees_the_same_k_scenarios():
 @pytest.mark.parametrize("road", ["wet-asphalt", "burckhardt-dry-asphalt", "sldemo-table"])
 def test_mu_scale_multiplies_the_whole_curve_and_the_bound_follows(road):
     nominal = build_problem("abs-wheel", "pid", roads=[road]).scenarios[0]
-    scaled = build_problem("abs-wheel", "pid", roads=[road],
-                           params={"mu_scale": 0.8}).scenarios[0]
+    scaled = build_problem("abs-wheel", "pid", roads=[road], params={"mu_scale": 0.8}).scenarios[0]
     s = np.linspace(0.0, 1.0, 101)
-    np.testing.assert_allclose(scaled.tire.mu(s), 0.8 * nominal.tire.mu(s), rtol=1e-14,
-                               atol=1e-16)
+    np.testing.assert_allclose(scaled.tire.mu(s), 0.8 * nominal.tire.mu(s), rtol=1e-14, atol=1e-16)
     assert scaled.target_slip == pytest.approx(nominal.target_slip, rel=1e-6)
     assert scaled.bound_distance_m == pytest.approx(nominal.bound_distance_m / 0.8, rel=1e-12)
 
@@ -122,8 +123,12 @@ def test_several_roads_are_scenarios_too():
 def test_the_quarter_car_varies_its_sprung_mass_and_tire_stiffness():
     nominal = build_problem("quarter-car", "pid")
     known = known_for(nominal)
-    s = UncertaintySpec(parse_vary(["sprung_mass_kg=256:384", "tire_stiffness_n_m=160000:240000"],
-                                   known), 8, "lhs", Aggregate("max"))
+    s = UncertaintySpec(
+        parse_vary(["sprung_mass_kg=256:384", "tire_stiffness_n_m=160000:240000"], known),
+        8,
+        "lhs",
+        Aggregate("max"),
+    )
     rp = robust_problem(nominal, s, seed=1)
     gains = np.array([[0.0, 0.0, 0.0], [200.0, 50.0, 100.0]])
     costs = rp.costs(gains)
@@ -132,8 +137,9 @@ def test_the_quarter_car_varies_its_sprung_mass_and_tire_stiffness():
     assert np.all(costs[1] < 3.0)
     assert [sc.vehicle.sprung_mass_kg for (sc,) in rp.grid] == list(rp.training.values[:, 0])
     # no stop in a suspension: validated on its objective, "no worse than passive" (Q <= 3)
-    s = UncertaintySpec(s.params, 8, "lhs", Aggregate("max"), 16,
-                        criterion=PassCriterion(False, True, 0.0, 3.0))
+    s = UncertaintySpec(
+        s.params, 8, "lhs", Aggregate("max"), 16, criterion=PassCriterion(False, True, 0.0, 3.0)
+    )
     draws = validation_set(s, 0)
     good = validate_gains(rp.builders, rp.objective, gains[1], draws, s)
     assert good.failures == 0 and good.as_dict()["worst_cost"] < 3.0
@@ -143,8 +149,7 @@ def test_the_quarter_car_varies_its_sprung_mass_and_tire_stiffness():
 
 
 def test_the_known_parameters_of_several_roads_are_those_every_road_has():
-    both = known_for(build_problem("abs-wheel", "pid", roads=["dry-concrete",
-                                                              "burckhardt-snow"]))
+    both = known_for(build_problem("abs-wheel", "pid", roads=["dry-concrete", "burckhardt-snow"]))
     assert "mu_scale" in both and "mass_kg" in both
     assert "mu_peak" not in both and "c1" not in both
 
@@ -165,8 +170,11 @@ def test_a_pid_holding_the_peak_slip_is_insensitive_to_the_locked_wheel_friction
 def test_a_draw_the_plant_refuses_is_reported_under_the_varied_name():
     nominal = build_problem("abs-wheel", "pid")
     s = UncertaintySpec(parse_vary(["v0_m_s=0.1:0.6"], known_for(nominal)), 4)
-    with pytest.raises(InputError, match=r"^vary\.v0_m_s: a draw the plant refuses: must "
-                                         r"exceed v_stop_m_s = 0.5"):
+    with pytest.raises(
+        InputError,
+        match=r"^vary\.v0_m_s: a draw the plant refuses: must "
+        r"exceed v_stop_m_s = 0.5",
+    ):
         robust_problem(nominal, s)
 
 
@@ -182,8 +190,9 @@ def test_tune_robust_reports_training_and_validation():
     v = d["validation"]
     assert v["n"] == 60 and v["failures"] + round(v["pass_rate"] * 60) == 60
     assert (v["certificate"] is None) == (v["failures"] > 0)
-    again = tune_robust(build_problem("abs-wheel", "pid", seed=3), s, "pso", pop_size=6,
-                        max_iter=3, seed=3)
+    again = tune_robust(
+        build_problem("abs-wheel", "pid", seed=3), s, "pso", pop_size=6, max_iter=3, seed=3
+    )
     assert again.result.best_gains == res.result.best_gains
     np.testing.assert_array_equal(again.training_costs, res.training_costs)
 
@@ -194,10 +203,12 @@ def test_no_training_scenarios_is_nominal_tuning_validated_on_the_same_draws():
     rp = robust_problem(nominal, s, seed=0)
     assert len(rp.training) == 0 and rp.grid == [nominal.scenarios]
     np.testing.assert_array_equal(rp(GAINS), nominal(GAINS))
-    robust = robust_problem(nominal, spec_from_options(known_for(nominal), VARY, 4, "sobol",
-                                                       "max", 20), seed=0)
-    np.testing.assert_array_equal(validation_set(rp.spec, 0).values,
-                                  validation_set(robust.spec, 0).values)
+    robust = robust_problem(
+        nominal, spec_from_options(known_for(nominal), VARY, 4, "sobol", "max", 20), seed=0
+    )
+    np.testing.assert_array_equal(
+        validation_set(rp.spec, 0).values, validation_set(robust.spec, 0).values
+    )
     assert rp.validate(GAINS[0]).passed.tolist() == robust.validate(GAINS[0]).passed.tolist()
 
 
@@ -214,8 +225,9 @@ def test_the_distance_ratio_objective_is_the_distance_cost_over_the_bound():
 
 def test_cvar_aggregates_across_roads_too():
     roads = ["dry-concrete", "wet-asphalt", "burckhardt-snow"]
-    per_road = np.stack([build_problem("abs-wheel", "pid", roads=[r])(GAINS) for r in roads],
-                        axis=1)
+    per_road = np.stack(
+        [build_problem("abs-wheel", "pid", roads=[r])(GAINS) for r in roads], axis=1
+    )
     for text, agg in (("cvar:0.5", Aggregate("cvar", 0.5)), ("max", Aggregate("max"))):
         problem = build_problem("abs-wheel", "pid", roads=roads, aggregate=text)
         assert problem.aggregate == text
@@ -227,13 +239,19 @@ def test_cvar_aggregates_across_roads_too():
 def test_chassistune_tune_with_uncertainty_does_what_tune_vary_does():
     import chassistune
 
-    table = {"vary": {"mass_kg": "80:120", "mu_scale": [0.85, 1.15]}, "scenarios": 4,
-             "aggregate": "cvar:0.5", "validate": 10}
-    res = chassistune.tune("abs-wheel", "pid", "pso", pop_size=6, max_iter=2, seed=5,
-                           uncertainty=table)
+    table = {
+        "vary": {"mass_kg": "80:120", "mu_scale": [0.85, 1.15]},
+        "scenarios": 4,
+        "aggregate": "cvar:0.5",
+        "validate": 10,
+    }
+    res = chassistune.tune(
+        "abs-wheel", "pid", "pso", pop_size=6, max_iter=2, seed=5, uncertainty=table
+    )
     nominal = build_problem("abs-wheel", "pid", seed=5)
-    s = spec_from_options(known_for(nominal), ["mass_kg=80:120", "mu_scale=0.85:1.15"], 4,
-                          "sobol", "cvar:0.5", 10)
+    s = spec_from_options(
+        known_for(nominal), ["mass_kg=80:120", "mu_scale=0.85:1.15"], 4, "sobol", "cvar:0.5", 10
+    )
     same = tune_robust(nominal, s, "pso", pop_size=6, max_iter=2, seed=5)
     assert res.result.best_gains == same.result.best_gains
     np.testing.assert_array_equal(res.problem.training.values, same.problem.training.values)

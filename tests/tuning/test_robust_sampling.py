@@ -18,8 +18,9 @@ from chassistune.tuning.robust.spec import ParamRange, UncertainParam
 
 PARAMS = (
     UncertainParam("mass_kg", "uniform", lo=80.0, hi=120.0),
-    UncertainParam("mu_scale", "normal", mean=0.3, sd=0.5,
-                   valid=ParamRange(0.0, math.inf, lo_open=True)),
+    UncertainParam(
+        "mu_scale", "normal", mean=0.3, sd=0.5, valid=ParamRange(0.0, math.inf, lo_open=True)
+    ),
     UncertainParam("v0_m_s", "uniform", lo=20.0, hi=35.0),
 )
 
@@ -40,11 +41,13 @@ def test_the_training_set_is_fixed_by_the_seed_in_this_and_other_processes():
 def test_the_streams_are_independent_and_accept_every_seed_form():
     assert scenario_stream(3, TRAINING).random() != scenario_stream(3, VALIDATION).random()
     first = scenario_stream(3, TRAINING).random(4)
-    np.testing.assert_array_equal(scenario_stream(np.random.SeedSequence(3), TRAINING).random(4),
-                                  first)
+    np.testing.assert_array_equal(
+        scenario_stream(np.random.SeedSequence(3), TRAINING).random(4), first
+    )
     # the run's Generator (seeded from the same seed) gives the same sets
-    np.testing.assert_array_equal(scenario_stream(np.random.default_rng(3), TRAINING).random(4),
-                                  first)
+    np.testing.assert_array_equal(
+        scenario_stream(np.random.default_rng(3), TRAINING).random(4), first
+    )
     # and the optimizer's own stream is not one of them
     assert np.random.default_rng(3).random() != first[0]
     child = np.random.SeedSequence(3, spawn_key=(2,))  # a study's run seed

@@ -39,8 +39,10 @@ def test_ishigami_indices_within_0_02(seed):
 
 def test_a_normal_input_is_seen_through_its_clipped_distribution():
     # f = x: all variance from x; a second parameter that does nothing has index 0
-    params = [UncertainParam("x", "normal", mean=1.0, sd=0.2, valid=ParamRange(0.0, math.inf)),
-              UncertainParam("y", "uniform", lo=0.0, hi=1.0)]
+    params = [
+        UncertainParam("x", "normal", mean=1.0, sd=0.2, valid=ParamRange(0.0, math.inf)),
+        UncertainParam("y", "uniform", lo=0.0, hi=1.0),
+    ]
     res = sobol_sensitivity(lambda v: v[:, 0] ** 2, params, 1024, np.random.default_rng(5))
     assert res.first_order[0] == pytest.approx(1.0, abs=0.02)
     assert res.total[0] == pytest.approx(1.0, abs=0.02)

@@ -16,10 +16,16 @@ from chassistune.tuning.robust.validation import (
 )
 
 
-@pytest.mark.parametrize(("eps", "beta", "n"), [
-    (0.01, 0.05, 300), (0.05, 0.05, 60), (0.01, 0.01, 461), (0.001, 0.05, 2996),
-    (0.1, 0.1, 24),
-])
+@pytest.mark.parametrize(
+    ("eps", "beta", "n"),
+    [
+        (0.01, 0.05, 300),
+        (0.05, 0.05, 60),
+        (0.01, 0.01, 461),
+        (0.001, 0.05, 2996),
+        (0.1, 0.1, 24),
+    ],
+)
 def test_required_draws_is_the_smallest_n_with_n_eps_at_least_ln_1_over_beta(eps, beta, n):
     assert required_draws(eps, beta) == n
     assert n * eps >= math.log(1 / beta) > (n - 1) * eps
@@ -40,8 +46,11 @@ def test_certified_eps_formula_and_the_exact_zero_failure_bound():
 
 
 def _metrics(n, ratio, stopped=True, lock=np.nan):
-    return {"stopped": np.full(n, stopped), "wheel_lock_time_s": np.full(n, lock),
-            "distance_ratio": np.asarray(ratio, dtype=float)}
+    return {
+        "stopped": np.full(n, stopped),
+        "wheel_lock_time_s": np.full(n, lock),
+        "distance_ratio": np.asarray(ratio, dtype=float),
+    }
 
 
 def test_all_pass_gives_the_certificate():
@@ -52,8 +61,9 @@ def test_all_pass_gives_the_certificate():
     d = res.as_dict()
     assert d["certificate"] == {"eps": certified_eps(300, 0.05), "beta": 0.05}
     assert d["worst_distance_ratio"] == 1.05
-    assert str(res.certificate) == ("failure probability <= 0.999 % with confidence 95 % "
-                                    "(300 draws, none failed)")
+    assert str(res.certificate) == (
+        "failure probability <= 0.999 % with confidence 95 % (300 draws, none failed)"
+    )
 
 
 def test_failures_give_a_pass_rate_and_no_certificate():
@@ -75,8 +85,7 @@ def test_failures_give_a_pass_rate_and_no_certificate():
 
 
 def test_the_cost_test_serves_plants_without_a_stop():
-    crit = PassCriterion(require_stop=False, allow_lock=True, max_distance_ratio=0.0,
-                         max_cost=1.0)
+    crit = PassCriterion(require_stop=False, allow_lock=True, max_distance_ratio=0.0, max_cost=1.0)
     res = validate_draws({}, np.array([0.9, 0.99, 1.01, 1e9]), crit, 0.05)
     assert res.failures == 2
     assert res.as_dict()["worst_cost"] == 1e9 and "worst_distance_ratio" not in res.as_dict()

@@ -13,8 +13,9 @@ from chassistune.tuning.tune import tune
 
 
 def test_derlsp_ao_tunes_the_abs_pid_to_within_8_percent_of_the_bound():
-    res = tune("abs-wheel", "pid", "derlsp-ao", roads="dry-concrete", pop_size=20, max_iter=40,
-               seed=1)
+    res = tune(
+        "abs-wheel", "pid", "derlsp-ao", roads="dry-concrete", pop_size=20, max_iter=40, seed=1
+    )
     m = res.metrics["dry-concrete"]
     assert m["stopped"] and m["wheel_lock_time_s"] is None
     assert 1.0 <= m["distance_ratio"] <= 1.08
@@ -57,19 +58,47 @@ def test_bad_tuning_input_raises_clear_errors():
 
 def test_tune_cli_json_and_out_folder(cli, tmp_path):
     out = tmp_path / "run"
-    r = cli("tune", "abs-wheel", "--controller", "pid", "--optimizer", "de", "--pop", "6",
-            "--iters", "3", "--seed", "2", "--json", "--out", str(out))
+    r = cli(
+        "tune",
+        "abs-wheel",
+        "--controller",
+        "pid",
+        "--optimizer",
+        "de",
+        "--pop",
+        "6",
+        "--iters",
+        "3",
+        "--seed",
+        "2",
+        "--json",
+        "--out",
+        str(out),
+    )
     assert r.code == 0, r.err
     doc = json.loads(r.out)
-    for key in ("best_gains", "best_cost", "nfev", "nit", "wall_time_s", "history",
-                "history_nfev", "metrics"):
+    for key in (
+        "best_gains",
+        "best_cost",
+        "nfev",
+        "nit",
+        "wall_time_s",
+        "history",
+        "history_nfev",
+        "metrics",
+    ):
         assert key in doc
     assert doc["nit"] == 3 and len(doc["history"]) == 3
     assert set(doc["best_gains"]) == {"kp", "ki", "kd"}
     assert "stop_distance_m" in doc["metrics"]
     names = {p.name for p in out.iterdir()}
-    assert {"best_gains.json", "tune.json", "history.csv", "convergence.png",
-            "response-dry-concrete.png"} <= names
+    assert {
+        "best_gains.json",
+        "tune.json",
+        "history.csv",
+        "convergence.png",
+        "response-dry-concrete.png",
+    } <= names
 
 
 @pytest.mark.parametrize(
@@ -91,8 +120,16 @@ def test_tune_cli_bad_input_exit_2(cli, tmp_path, args, field):
 
 
 def test_the_winner_is_checked_at_a_quarter_of_the_step_on_every_road():
-    res = tune("abs-wheel", "pid", "de", roads=["dry-concrete", "ice"], pop_size=6, max_iter=2,
-               seed=3, params={"v0_m_s": 20.0})
+    res = tune(
+        "abs-wheel",
+        "pid",
+        "de",
+        roads=["dry-concrete", "ice"],
+        pop_size=6,
+        max_iter=2,
+        seed=3,
+        params={"v0_m_s": 20.0},
+    )
     gains = np.array([list(res.best_gains.values())])
     assert set(res.step_checks) == {"dry-concrete", "ice"}
     for sc in res.problem.scenarios:
@@ -108,8 +145,21 @@ def test_the_winner_is_checked_at_a_quarter_of_the_step_on_every_road():
 
 
 def test_tune_cli_warns_when_the_winner_is_not_converged_in_the_step(cli):
-    r = cli("tune", "abs-wheel", "--controller", "pid", "--optimizer", "de", "--pop", "6",
-            "--iters", "2", "--param", "dt_s=0.01", "--json")
+    r = cli(
+        "tune",
+        "abs-wheel",
+        "--controller",
+        "pid",
+        "--optimizer",
+        "de",
+        "--pop",
+        "6",
+        "--iters",
+        "2",
+        "--param",
+        "dt_s=0.01",
+        "--json",
+    )
     assert r.code == 0, r.err
     check = json.loads(r.out)["step_check"]["dry-concrete"]
     assert check["max_rel_change"] > 1e-3 and check["dt_s"] == 0.01

@@ -330,9 +330,7 @@ for _f in [
         1.28,
         noisy=True,
     ),
-    _fn(
-        "F8", "Schwefel 2.26", _schwefel_226, -500.0, 500.0, x_min=SCHWEFEL_X, f_min=SCHWEFEL_F
-    ),
+    _fn("F8", "Schwefel 2.26", _schwefel_226, -500.0, 500.0, x_min=SCHWEFEL_X, f_min=SCHWEFEL_F),
     _fn("F9", "Rastrigin", _rastrigin, -5.12, 5.12),
     _fn("F10", "Ackley", _ackley, -32.0, 32.0),
     _fn("F11", "Griewank", _griewank, -600.0, 600.0),

@@ -18,8 +18,9 @@ AREAS = ("abs", "optimizer", "tuning", "fuzzy", "suspension", "vehicle", "ecu", 
 @click.command("bench")
 @click.option("--quick", is_flag=True, help="Fewer repetitions and a smaller baseline sample.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
-@click.option("--only", type=click.Choice(AREAS), multiple=True,
-              help="Measure only these areas (repeatable).")
+@click.option(
+    "--only", type=click.Choice(AREAS), multiple=True, help="Measure only these areas (repeatable)."
+)
 def bench_command(quick: bool, as_json: bool, only: tuple[str, ...]) -> None:
     """Measure speed and accuracy: simulations/s, errors, speedups against baselines.
 

@@ -31,16 +31,20 @@ def collect() -> dict[str, Any]:
         plant = get_plant(name)
         scenario = plant.scenario()
         plants[name] = {
-            "presets": list(plant.presets()), "default_preset": plant_spec(name).default_preset,
-            "roads": list(plant.roads()), "controllers": [c.name for c in plant.controllers()],
+            "presets": list(plant.presets()),
+            "default_preset": plant_spec(name).default_preset,
+            "roads": list(plant.roads()),
+            "controllers": [c.name for c in plant.controllers()],
             "objectives": list(scenario.objectives),
             "default_objective": scenario.default_objective,
         }
     rulebases = {}
     for name in builtin_names():
         rb = load_rulebase(name)
-        rulebases[name] = {"inputs": [v.name for v in rb.inputs],
-                           "outputs": [v.name for v in rb.outputs]}
+        rulebases[name] = {
+            "inputs": [v.name for v in rb.inputs],
+            "outputs": [v.name for v in rb.outputs],
+        }
     return {"plants": plants, "optimizers": optimizer_names(), "rulebases": rulebases}
 
 
@@ -89,8 +93,9 @@ def store(data: dict[str, Any], path: Path | None = None) -> None:
 def _per_plant(key: str, default_key: str | None = None) -> list[str]:
     lines = []
     for plant, info in choices()["plants"].items():
-        items = [f"{x} (default)" if default_key and x == info[default_key] else x
-                 for x in info[key]]
+        items = [
+            f"{x} (default)" if default_key and x == info[default_key] else x for x in info[key]
+        ]
         lines.append(f"{plant}: {', '.join(items)}")
     return lines
 
@@ -110,8 +115,10 @@ def describe(kind: str) -> list[str]:
     if kind == "optimizers":
         return [", ".join(choices()["optimizers"])]
     if kind == "rulebases":
-        return [f"{name}: inputs {', '.join(rb['inputs'])}; outputs {', '.join(rb['outputs'])}"
-                for name, rb in choices()["rulebases"].items()] + ["or a TOML file"]
+        return [
+            f"{name}: inputs {', '.join(rb['inputs'])}; outputs {', '.join(rb['outputs'])}"
+            for name, rb in choices()["rulebases"].items()
+        ] + ["or a TOML file"]
     raise ValueError(f"no choices of {kind!r}")
 
 
@@ -129,8 +136,7 @@ class ChoicesCommand(click.Command):
     shown: of its arguments (`arguments` maps a metavar such as PLANT to a kind of `describe`)
     and of its ChoicesOptions. Wrapped here, never inside a name (`wet-asphalt` stays whole)."""
 
-    def __init__(self, *args: Any, arguments: dict[str, str] | None = None,
-                 **kwargs: Any) -> None:
+    def __init__(self, *args: Any, arguments: dict[str, str] | None = None, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         self.arguments = arguments or {}
 
@@ -146,7 +152,17 @@ class ChoicesCommand(click.Command):
             for kind, names in kinds.items():
                 formatter.write_text(f"{', '.join(names)}:")
                 for line in describe(kind):
-                    formatter.write(textwrap.indent(textwrap.fill(
-                        line, width, subsequent_indent="  ", break_on_hyphens=False,
-                        break_long_words=False), " " * (formatter.current_indent + 2)) + "\n")
+                    formatter.write(
+                        textwrap.indent(
+                            textwrap.fill(
+                                line,
+                                width,
+                                subsequent_indent="  ",
+                                break_on_hyphens=False,
+                                break_long_words=False,
+                            ),
+                            " " * (formatter.current_indent + 2),
+                        )
+                        + "\n"
+                    )
         super().format_epilog(ctx, formatter)

@@ -14,13 +14,33 @@ import click
 from chassistune.errors import InputError
 
 _FLAGS = {
-    "params": "--param", "gains": "--gains", "road": "--road", "roads": "--road",
-    "preset": "--preset", "controller": "--controller", "objective": "--objective",
-    "aggregate": "--aggregate", "seed": "--seed", "optimizer": "--optimizer", "pop_size": "--pop",
-    "max_iter": "--iters", "max_evals": "--evals", "dim": "--dim", "plant": "PLANT",
-    "function": "FUNCTION", "source": "SOURCE", "out": "--out", "format": "--format",
-    "vary": "--vary", "scenarios": "--scenarios", "sampler": "--sampler", "validate": "--validate",
-    "beta": "--beta", "inputs": "--input", "executor": "--executor", "scheduler": "--scheduler",
+    "params": "--param",
+    "gains": "--gains",
+    "road": "--road",
+    "roads": "--road",
+    "preset": "--preset",
+    "controller": "--controller",
+    "objective": "--objective",
+    "aggregate": "--aggregate",
+    "seed": "--seed",
+    "optimizer": "--optimizer",
+    "pop_size": "--pop",
+    "max_iter": "--iters",
+    "max_evals": "--evals",
+    "dim": "--dim",
+    "plant": "PLANT",
+    "function": "FUNCTION",
+    "source": "SOURCE",
+    "out": "--out",
+    "format": "--format",
+    "vary": "--vary",
+    "scenarios": "--scenarios",
+    "sampler": "--sampler",
+    "validate": "--validate",
+    "beta": "--beta",
+    "inputs": "--input",
+    "executor": "--executor",
+    "scheduler": "--scheduler",
     "workers": "--workers",
 }
 """The command line's word for the head of a domain field path."""
@@ -49,8 +69,7 @@ def _probe_writable(folder: str, option: str) -> None:
     try:
         fd = os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
     except OSError as exc:
-        raise InputError(option, f"cannot write in {folder!r}: "
-                         f"{exc.strerror or exc}") from None
+        raise InputError(option, f"cannot write in {folder!r}: {exc.strerror or exc}") from None
     os.close(fd)
     os.unlink(probe)
 
@@ -62,8 +81,9 @@ def _existing_folder(folder: str, option: str) -> None:
         raise InputError(option, f"{folder!r} is a file, not a folder")
 
 
-def check_output_file(path: str | None, option: str, suffixes: tuple[str, ...] = (),
-                      stdout_ok: bool = False) -> None:
+def check_output_file(
+    path: str | None, option: str, suffixes: tuple[str, ...] = (), stdout_ok: bool = False
+) -> None:
     """Refuse, before any work, an output file that could not be written: its folder missing,
     a file, read-only or not a real file system (/proc), the path a folder, a wrong suffix.
     Nothing is left behind; `-` means stdout when `stdout_ok`."""
@@ -72,8 +92,7 @@ def check_output_file(path: str | None, option: str, suffixes: tuple[str, ...] =
     if not path or os.path.isdir(path):
         raise InputError(option, f"{path!r} is a folder, not a file name")
     if suffixes and not path.lower().endswith(suffixes):
-        raise InputError(option, f"expected a file ending in {', '.join(suffixes)}, got "
-                         f"{path!r}")
+        raise InputError(option, f"expected a file ending in {', '.join(suffixes)}, got {path!r}")
     folder = os.path.dirname(os.path.abspath(path))
     _existing_folder(folder, option)
     _probe_writable(folder, option)
@@ -104,8 +123,11 @@ def announce_compile(plants: str | list[str]) -> None:
     from chassistune._numba_cache import COLD_COMPILE_S, is_cold
 
     if any(is_cold(p) for p in ([plants] if isinstance(plants, str) else plants)):
-        click.echo(f"chassistune: compiling kernels (first use, about {COLD_COMPILE_S} s; "
-                   "cached for later runs)", err=True)
+        click.echo(
+            f"chassistune: compiling kernels (first use, about {COLD_COMPILE_S} s; "
+            "cached for later runs)",
+            err=True,
+        )
 
 
 def echo_json(obj: dict[str, Any]) -> None:

@@ -19,8 +19,11 @@ def catalogue(kind: str) -> object:
 
     if kind == "plants":
         return [
-            {"name": n, "description": plant_spec(n).description,
-             "default_preset": plant_spec(n).default_preset}
+            {
+                "name": n,
+                "description": plant_spec(n).description,
+                "default_preset": plant_spec(n).default_preset,
+            }
             for n in plant_names()
         ]
     if kind == "presets":
@@ -81,8 +84,7 @@ def parameters(plant: str, preset: str | None) -> dict[str, list[dict[str, objec
     from chassistune.params import describe
     from chassistune.scenarios.registry import get_plant
 
-    return {group: describe(obj) for group, obj in
-            get_plant(plant).parameter_sets(preset).items()}
+    return {group: describe(obj) for group, obj in get_plant(plant).parameter_sets(preset).items()}
 
 
 def _print_params(data: dict[str, list[dict[str, object]]]) -> None:
@@ -93,8 +95,10 @@ def _print_params(data: dict[str, list[dict[str, object]]]) -> None:
             plausible = f"plausible [{span[0]:g}, {span[1]:g}]" if span else ""  # type: ignore[index]
             default = f["default"]
             shown = f"{default:g}" if isinstance(default, float) else str(default)
-            click.echo(f"  {f['name']:<22} {shown:>12} {f['unit']:<22} valid {f['valid']:<7} "
-                       f"{plausible}".rstrip())
+            click.echo(
+                f"  {f['name']:<22} {shown:>12} {f['unit']:<22} valid {f['valid']:<7} "
+                f"{plausible}".rstrip()
+            )
 
 
 @click.command("list", cls=ChoicesCommand, arguments={"PLANT": "plants"})
@@ -102,10 +106,15 @@ def _print_params(data: dict[str, list[dict[str, object]]]) -> None:
 @click.argument("plant", required=False, metavar="[PLANT]")
 @click.option("--preset", help="With `params`: the preset whose values are the defaults.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
-@click.option("--plot", "plot_path", metavar="FILE.png",
-              help="With `roads`: draw the mu-slip curve of every friction road into FILE.png.")
-def list_command(kind: str, plant: str | None, preset: str | None, as_json: bool,
-                 plot_path: str | None) -> None:
+@click.option(
+    "--plot",
+    "plot_path",
+    metavar="FILE.png",
+    help="With `roads`: draw the mu-slip curve of every friction road into FILE.png.",
+)
+def list_command(
+    kind: str, plant: str | None, preset: str | None, as_json: bool, plot_path: str | None
+) -> None:
     """List plants, presets, roads, controllers (with gain bounds), optimizers or functions;
     `list params PLANT`: every parameter with unit, default, valid and plausible range;
     `list roads --plot FILE.png`: the friction roads' mu-slip curves."""
@@ -114,8 +123,11 @@ def list_command(kind: str, plant: str | None, preset: str | None, as_json: bool
 
     if plot_path is not None:
         if kind != "roads":
-            raise InputError("--plot", f"draws the roads' friction curves: `list roads --plot "
-                             f"FILE.png`, not `list {kind}`")
+            raise InputError(
+                "--plot",
+                f"draws the roads' friction curves: `list roads --plot "
+                f"FILE.png`, not `list {kind}`",
+            )
         check_output_file(plot_path, "--plot", (".png",))
     if kind == "params":
         if plant is None:

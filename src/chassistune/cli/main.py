@@ -37,9 +37,19 @@ def cli() -> None:
     """
 
 
-for _command in (list_command, simulate_command, tune_command, optimize_command, study_group,
-                 fuzzy_group, export_command, bench_command, demo_command, reproduce_command,
-                 warmup_command):
+for _command in (
+    list_command,
+    simulate_command,
+    tune_command,
+    optimize_command,
+    study_group,
+    fuzzy_group,
+    export_command,
+    bench_command,
+    demo_command,
+    reproduce_command,
+    warmup_command,
+):
     cli.add_command(_command)
 
 
@@ -47,14 +57,23 @@ def _one_line(text: str) -> str:
     return " ".join(str(text).split())
 
 
-def _show_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,
-                  file: object = None, line: str | None = None) -> None:
+def _show_warning(
+    message: Warning | str,
+    category: type[Warning],
+    filename: str,
+    lineno: int,
+    file: object = None,
+    line: str | None = None,
+) -> None:
     """A warning as one stderr line; a parameter's field named as on the command line."""
     from chassistune.cli.common import cli_field
     from chassistune.params import ImplausibleValue
 
-    text = (f"{cli_field(message.field)}: {message.problem}"
-            if isinstance(message, ImplausibleValue) else str(message))
+    text = (
+        f"{cli_field(message.field)}: {message.problem}"
+        if isinstance(message, ImplausibleValue)
+        else str(message)
+    )
     click.echo(f"chassistune: warning: {_one_line(text)}", err=True)
 
 
@@ -75,8 +94,10 @@ def main(argv: list[str] | None = None) -> None:
 
         # the command's name: the first word that is not an option (the group's take no value)
         command = next((a for a in args if not a.startswith("-")), None)
-        click.echo(f"chassistune: error: {cli_field(exc.field, command)}: "
-                   f"{_one_line(exc.problem)}", err=True)
+        click.echo(
+            f"chassistune: error: {cli_field(exc.field, command)}: {_one_line(exc.problem)}",
+            err=True,
+        )
         sys.exit(2)
     except click.UsageError as exc:
         param = getattr(exc, "param", None)

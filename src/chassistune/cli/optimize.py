@@ -69,7 +69,10 @@ def run_optimize(
     "--dim", type=int, default=None, help="Dimension (default: the function's usual one)."
 )
 @click.option(
-    "--optimizer", required=True, cls=ChoicesOption, choices_of="optimizers",
+    "--optimizer",
+    required=True,
+    cls=ChoicesOption,
+    choices_of="optimizers",
     help="Optimizer name (see `chassistune list optimizers`).",
 )
 @click.option("--pop", type=int, default=30, show_default=True, help="Population size.")

@@ -4,27 +4,58 @@ from __future__ import annotations
 
 import click
 
-PAPER_CHOICES = ["derlsp-ao-abs", "iabc-suspension", "deffao-vehicle-abs", "fuzzy-immune-abs",
-                 "all"]
+PAPER_CHOICES = [
+    "derlsp-ao-abs",
+    "iabc-suspension",
+    "deffao-vehicle-abs",
+    "fuzzy-immune-abs",
+    "all",
+]
 
 
 @click.command("reproduce")
 @click.argument("paper", type=click.Choice(PAPER_CHOICES), metavar="PAPER")
-@click.option("--quick", is_flag=True,
-              help="Reduced budgets and seeds (each config's [quick] table): about a minute.")
-@click.option("--out", "out_dir", required=True, metavar="DIR",
-              help="Report folder: DIR/report.html, tables/, figures/, verdicts.csv, studies/ "
-                   "(an existing one is resumed).")
-@click.option("--executor", default="serial", show_default=True,
-              type=click.Choice(["serial", "process", "dask"]), help="Where the runs execute.")
-@click.option("--scheduler", metavar="ADDRESS",
-              help="Dask scheduler address (default: a LocalCluster on loopback).")
+@click.option(
+    "--quick",
+    is_flag=True,
+    help="Reduced budgets and seeds (each config's [quick] table): about a minute.",
+)
+@click.option(
+    "--out",
+    "out_dir",
+    required=True,
+    metavar="DIR",
+    help="Report folder: DIR/report.html, tables/, figures/, verdicts.csv, studies/ "
+    "(an existing one is resumed).",
+)
+@click.option(
+    "--executor",
+    default="serial",
+    show_default=True,
+    type=click.Choice(["serial", "process", "dask"]),
+    help="Where the runs execute.",
+)
+@click.option(
+    "--scheduler",
+    metavar="ADDRESS",
+    help="Dask scheduler address (default: a LocalCluster on loopback).",
+)
 @click.option("--workers", type=int, help="Worker processes (default: the cores).")
-@click.option("--interactive", is_flag=True,
-              help="Also write DIR/report_interactive.html (plotly, self-contained; needs the "
-                   "extra chassistune[interactive]).")
-def reproduce_command(paper: str, quick: bool, out_dir: str, executor: str,
-                      scheduler: str | None, workers: int | None, interactive: bool) -> None:
+@click.option(
+    "--interactive",
+    is_flag=True,
+    help="Also write DIR/report_interactive.html (plotly, self-contained; needs the "
+    "extra chassistune[interactive]).",
+)
+def reproduce_command(
+    paper: str,
+    quick: bool,
+    out_dir: str,
+    executor: str,
+    scheduler: str | None,
+    workers: int | None,
+    interactive: bool,
+) -> None:
     """Reproduce PAPER (derlsp-ao-abs, iabc-suspension, deffao-vehicle-abs, fuzzy-immune-abs)
     or all four: the shipped study configs run through the study machinery (resumable after a
     kill), then one report with the papers' numbers beside ours and a verdict per claim.
@@ -42,10 +73,13 @@ def reproduce_command(paper: str, quick: bool, out_dir: str, executor: str,
     if executor == "dask":
         check_dask()
     with make_executor(executor, workers, scheduler) as ex:
-        outcome = reproduce(paper, quick, out_dir, ex, lambda line: click.echo(line, err=True),
-                            interactive)
+        outcome = reproduce(
+            paper, quick, out_dir, ex, lambda line: click.echo(line, err=True), interactive
+        )
     click.echo(counts_text([v for s in outcome.sections for v in s.verdicts]))
-    click.echo(f"report: {outcome.files.html} (wall time {outcome.wall_time_s:.1f} s; "
-               f"verdicts in {outcome.files.verdicts})")
+    click.echo(
+        f"report: {outcome.files.html} (wall time {outcome.wall_time_s:.1f} s; "
+        f"verdicts in {outcome.files.verdicts})"
+    )
     if outcome.files.interactive is not None:
         click.echo(f"interactive report: {outcome.files.interactive}")

@@ -23,18 +23,37 @@ if TYPE_CHECKING:
 F = TypeVar("F", bound=Callable[..., Any])
 
 _OPTIONS = (
-    click.option("--vary", "vary", multiple=True, metavar="NAME=LO:HI",
-                 help="Tune robustly over this parameter: uniform LO:HI or normal:MEAN:SD "
-                      "(repeatable; any plant, road or actuator parameter, and mu_scale)."),
-    click.option("--scenarios", type=int, metavar="K",
-                 help="Training scenarios per candidate (default 16; a power of two for sobol; "
-                      "0: tune on the nominal plant, validate on the uncertainty)."),
-    click.option("--sampler", type=click.Choice(["sobol", "lhs"]),
-                 help="Training-set sampler (default sobol, scrambled)."),
-    click.option("--validate", type=int, metavar="N",
-                 help="Validate the winner on N fresh Monte Carlo draws (default 0: none)."),
-    click.option("--beta", type=float,
-                 help="Confidence 1 - beta of the validation certificate (default 0.05)."),
+    click.option(
+        "--vary",
+        "vary",
+        multiple=True,
+        metavar="NAME=LO:HI",
+        help="Tune robustly over this parameter: uniform LO:HI or normal:MEAN:SD "
+        "(repeatable; any plant, road or actuator parameter, and mu_scale).",
+    ),
+    click.option(
+        "--scenarios",
+        type=int,
+        metavar="K",
+        help="Training scenarios per candidate (default 16; a power of two for sobol; "
+        "0: tune on the nominal plant, validate on the uncertainty).",
+    ),
+    click.option(
+        "--sampler",
+        type=click.Choice(["sobol", "lhs"]),
+        help="Training-set sampler (default sobol, scrambled).",
+    ),
+    click.option(
+        "--validate",
+        type=int,
+        metavar="N",
+        help="Validate the winner on N fresh Monte Carlo draws (default 0: none).",
+    ),
+    click.option(
+        "--beta",
+        type=float,
+        help="Confidence 1 - beta of the validation certificate (default 0.05).",
+    ),
 )
 ROBUST_KEYS = ("vary", "scenarios", "sampler", "validate", "beta")
 """The keyword arguments the options add to the command."""
@@ -47,8 +66,9 @@ def robust_options(command: F) -> F:
     return command
 
 
-def uncertainty_spec(nominal: TuningProblem, aggregate: str,
-                     options: Mapping[str, Any]) -> UncertaintySpec | None:
+def uncertainty_spec(
+    nominal: TuningProblem, aggregate: str, options: Mapping[str, Any]
+) -> UncertaintySpec | None:
     """The spec of the options (None without --vary), checked against the parameters every
     scenario of `nominal` may vary; errors name the field (vary.NAME, scenarios, ...)."""
     vary = tuple(options.get("vary") or ())
@@ -64,13 +84,24 @@ def uncertainty_spec(nominal: TuningProblem, aggregate: str,
         value = options.get(key)
         return default if value is None else value
 
-    return spec_from_options(known_for(nominal), vary, pick("scenarios", UncertaintySpec.scenarios),
-                             pick("sampler", UncertaintySpec.sampler), aggregate,
-                             pick("validate", 0), pick("beta", UncertaintySpec.beta))
+    return spec_from_options(
+        known_for(nominal),
+        vary,
+        pick("scenarios", UncertaintySpec.scenarios),
+        pick("sampler", UncertaintySpec.sampler),
+        aggregate,
+        pick("validate", 0),
+        pick("beta", UncertaintySpec.beta),
+    )
 
 
-def robust_or_nominal(nominal: TuningProblem, aggregate: str, options: Mapping[str, Any],
-                      params: Mapping[str, object], seed: int) -> TuningProblem:
+def robust_or_nominal(
+    nominal: TuningProblem,
+    aggregate: str,
+    options: Mapping[str, Any],
+    params: Mapping[str, object],
+    seed: int,
+) -> TuningProblem:
     """The robust problem of the options over `nominal` (built with `params`), or `nominal`
     itself without --vary; the training set is drawn here, before any evaluation."""
     spec = uncertainty_spec(nominal, aggregate, options)
@@ -96,19 +127,24 @@ def echo_validation(fields: Mapping[str, Any]) -> None:
     if not fields:
         return
     costs = fields["training"]["costs"]
-    click.echo(f"training: {len(costs)} scenarios x roads, winner's cost mean "
-               f"{fmt(float(sum(costs) / len(costs)))}, worst {fmt(float(max(costs)))}")
+    click.echo(
+        f"training: {len(costs)} scenarios x roads, winner's cost mean "
+        f"{fmt(float(sum(costs) / len(costs)))}, worst {fmt(float(max(costs)))}"
+    )
     validation = fields["validation"]
     if validation is None:
         return
-    words = [f"validation: {validation['failures']}/{validation['n']} draws failed",
-             f"pass rate {fmt(validation['pass_rate'])}"]
+    words = [
+        f"validation: {validation['failures']}/{validation['n']} draws failed",
+        f"pass rate {fmt(validation['pass_rate'])}",
+    ]
     if "worst_distance_ratio" in validation:
         words.append(f"worst distance ratio {fmt(validation['worst_distance_ratio'])}")
     if "worst_cost" in validation:
         words.append(f"worst cost {fmt(validation['worst_cost'])}")
     cert = validation["certificate"]
     if cert is not None:
-        words.append(f"failure probability <= {cert['eps']:.3%} with confidence "
-                     f"{1.0 - cert['beta']:.0%}")
+        words.append(
+            f"failure probability <= {cert['eps']:.3%} with confidence {1.0 - cert['beta']:.0%}"
+        )
     click.echo(", ".join(words))

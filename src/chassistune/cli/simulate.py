@@ -51,16 +51,21 @@ def _print_metrics(metrics: dict[str, object]) -> None:
     ratio table."""
     metrics = {k: v for k, v in metrics.items() if k not in DIAGNOSTICS}
     paired = [k for k in metrics if f"passive_{k}" in metrics]
-    alone = [k for k in metrics if k not in paired and not (
-        k.startswith("passive_") and k[len("passive_"):] in paired)]
+    alone = [
+        k
+        for k in metrics
+        if k not in paired and not (k.startswith("passive_") and k[len("passive_") :] in paired)
+    ]
     width = max(len(_label(k)) for k in metrics)
     if paired:
         click.echo(f"  {'':<{width}}  {'active':>10}  {'passive':>10}  {'ratio':>7}")
         for k in paired:
             a, b = metrics[k], metrics[f"passive_{k}"]
             ratio = a / b if isinstance(a, float) and isinstance(b, float) and b else None
-            click.echo(f"  {_label(k):<{width}}  {fmt(_shown(k, a)):>10}  "
-                       f"{fmt(_shown(k, b)):>10}  {fmt(ratio):>7}")
+            click.echo(
+                f"  {_label(k):<{width}}  {fmt(_shown(k, a)):>10}  "
+                f"{fmt(_shown(k, b)):>10}  {fmt(ratio):>7}"
+            )
     for k in alone:
         click.echo(f"  {_label(k):<{width}}  {fmt(_shown(k, metrics[k]))}")
 
@@ -77,34 +82,76 @@ def _why_not(result: SimulationResult) -> str | None:
 
 @click.command("simulate", cls=ChoicesCommand, arguments={"PLANT": "plants"})
 @click.argument("plant", metavar="PLANT", required=False)
-@click.option("--preset", cls=ChoicesOption, choices_of="presets",
-              help="Parameter preset (default: the plant's paper preset).")
-@click.option("--road", cls=ChoicesOption, choices_of="roads",
-              help="Road (default: the preset's first road).")
-@click.option("--controller", cls=ChoicesOption, choices_of="controllers",
-              help="Controller structure (default: pid, or the --from result's); "
-                   "`chassistune list controllers` shows them.")
-@click.option("--param", "params", multiple=True, metavar="NAME=VALUE",
-              help="Override a plant, road, solver or controller parameter (repeatable).")
-@click.option("--gains", "gains", multiple=True, metavar="NAME=VALUE,...|@FILE.json",
-              help="Controller gains (default: the registry's defaults); @FILE.json reads a "
-                   "JSON object such as a tune's best_gains.json.")
-@click.option("--from", "from_path", metavar="RESULT.json",
-              help="A tune's tune.json (or its folder), or an export's JSON: its plant, preset, "
-                   "road, controller, parameters and gains; options given here override them.")
-@click.option("--compare", metavar="C1,C2,...", cls=ChoicesOption, choices_of="controllers",
-              help="Simulate these controllers (with their default gains; the --from result "
-                   "as `tuned`) on one figure and one table.")
+@click.option(
+    "--preset",
+    cls=ChoicesOption,
+    choices_of="presets",
+    help="Parameter preset (default: the plant's paper preset).",
+)
+@click.option(
+    "--road", cls=ChoicesOption, choices_of="roads", help="Road (default: the preset's first road)."
+)
+@click.option(
+    "--controller",
+    cls=ChoicesOption,
+    choices_of="controllers",
+    help="Controller structure (default: pid, or the --from result's); "
+    "`chassistune list controllers` shows them.",
+)
+@click.option(
+    "--param",
+    "params",
+    multiple=True,
+    metavar="NAME=VALUE",
+    help="Override a plant, road, solver or controller parameter (repeatable).",
+)
+@click.option(
+    "--gains",
+    "gains",
+    multiple=True,
+    metavar="NAME=VALUE,...|@FILE.json",
+    help="Controller gains (default: the registry's defaults); @FILE.json reads a "
+    "JSON object such as a tune's best_gains.json.",
+)
+@click.option(
+    "--from",
+    "from_path",
+    metavar="RESULT.json",
+    help="A tune's tune.json (or its folder), or an export's JSON: its plant, preset, "
+    "road, controller, parameters and gains; options given here override them.",
+)
+@click.option(
+    "--compare",
+    metavar="C1,C2,...",
+    cls=ChoicesOption,
+    choices_of="controllers",
+    help="Simulate these controllers (with their default gains; the --from result "
+    "as `tuned`) on one figure and one table.",
+)
 @click.option("--seed", type=int, help="Seed of any random draw (road realizations; default 0).")
-@click.option("--ecu", type=click.Choice(["ideal", "realistic"]),
-              help="abs-wheel: ideal controller or the realistic ECU (docs/ecu.md).")
+@click.option(
+    "--ecu",
+    type=click.Choice(["ideal", "realistic"]),
+    help="abs-wheel: ideal controller or the realistic ECU (docs/ecu.md).",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
 @click.option("--plot", "plot_path", metavar="FILE.png", help="Draw the response into FILE.png.")
 @click.option("--csv", "csv_path", metavar="FILE.csv", help="Write the time series to FILE.csv.")
-def simulate_command(plant: str | None, preset: str | None, road: str | None,
-                     controller: str | None, params: tuple[str, ...], gains: tuple[str, ...],
-                     from_path: str | None, compare: str | None, seed: int | None, ecu: str | None,
-                     as_json: bool, plot_path: str | None, csv_path: str | None) -> None:
+def simulate_command(
+    plant: str | None,
+    preset: str | None,
+    road: str | None,
+    controller: str | None,
+    params: tuple[str, ...],
+    gains: tuple[str, ...],
+    from_path: str | None,
+    compare: str | None,
+    seed: int | None,
+    ecu: str | None,
+    as_json: bool,
+    plot_path: str | None,
+    csv_path: str | None,
+) -> None:
     """Simulate one closed-loop run of PLANT and report its metrics.
 
     PLANT is one of the plants of `chassistune list plants`. Units are SI.
@@ -117,8 +164,9 @@ def simulate_command(plant: str | None, preset: str | None, road: str | None,
     doc = load_tune(from_path, "--from") if from_path else None
     if doc is not None:
         if plant is not None and plant != doc["plant"]:
-            raise InputError("PLANT", f"{plant!r} differs from the --from result's "
-                             f"{doc['plant']!r}")
+            raise InputError(
+                "PLANT", f"{plant!r} differs from the --from result's {doc['plant']!r}"
+            )
         plant = doc["plant"]
     if plant is None:
         raise InputError("PLANT", "missing (or give --from RESULT.json)")
@@ -141,16 +189,46 @@ def simulate_command(plant: str | None, preset: str | None, road: str | None,
             given = {**doc["best_gains"], **given}
         controller = controller or doc["controller"]
     if compare is not None:
-        _compare(plant, compare, preset, road, controller, values, given, doc, seed or 0,
-                 as_json, plot_path)
+        _compare(
+            plant,
+            compare,
+            preset,
+            road,
+            controller,
+            values,
+            given,
+            doc,
+            seed or 0,
+            as_json,
+            plot_path,
+        )
         return
-    _one_run(plant, preset, road, controller or "pid", values, given, seed or 0, as_json,
-             plot_path, csv_path)
+    _one_run(
+        plant,
+        preset,
+        road,
+        controller or "pid",
+        values,
+        given,
+        seed or 0,
+        as_json,
+        plot_path,
+        csv_path,
+    )
 
 
-def _one_run(plant: str, preset: str | None, road: str | None, controller: str,
-             values: dict[str, object], gains: dict[str, Any], seed: int, as_json: bool,
-             plot_path: str | None, csv_path: str | None) -> None:
+def _one_run(
+    plant: str,
+    preset: str | None,
+    road: str | None,
+    controller: str,
+    values: dict[str, object],
+    gains: dict[str, Any],
+    seed: int,
+    as_json: bool,
+    plot_path: str | None,
+    csv_path: str | None,
+) -> None:
     from chassistune.simulate import prepare, run
 
     scenario, vector = prepare(plant, preset, road, controller, values, gains, seed)
@@ -176,9 +254,19 @@ def _one_run(plant: str, preset: str | None, road: str | None, controller: str,
             click.echo(f"wrote {path}")
 
 
-def _compare(plant: str, names: str, preset: str | None, road: str | None,
-             controller: str | None, values: dict[str, object], gains: dict[str, Any],
-             doc: dict[str, Any] | None, seed: int, as_json: bool, plot_path: str | None) -> None:
+def _compare(
+    plant: str,
+    names: str,
+    preset: str | None,
+    road: str | None,
+    controller: str | None,
+    values: dict[str, object],
+    gains: dict[str, Any],
+    doc: dict[str, Any] | None,
+    seed: int,
+    as_json: bool,
+    plot_path: str | None,
+) -> None:
     from chassistune.simulate import Comparison, compare, simulate
 
     wanted = [n.strip() for n in names.split(",") if n.strip() and n.strip() != "tuned"]
@@ -208,8 +296,10 @@ def _print_comparison(cmp: Comparison) -> None:
     col = max(10, *(len(x) for x in labels))
     click.echo(f"  {'':<{width}}  " + "  ".join(f"{x:>{col}}" for x in labels))
     for k in keys:
-        click.echo(f"  {_label(k):<{width}}  " + "  ".join(
-            f"{fmt(_shown(k, cmp.results[x].metrics.get(k))):>{col}}" for x in labels))
+        click.echo(
+            f"  {_label(k):<{width}}  "
+            + "  ".join(f"{fmt(_shown(k, cmp.results[x].metrics.get(k))):>{col}}" for x in labels)
+        )
     for label, r in cmp.results.items():
         if r.gains:
             click.echo(f"{label} gains: " + ", ".join(f"{k}={v!r}" for k, v in r.gains.items()))

@@ -18,16 +18,35 @@ def study_group() -> None:
 
 @study_group.command("run")
 @click.argument("config", metavar="CONFIG.toml")
-@click.option("--out", "out_dir", required=True, metavar="DIR",
-              help="Study folder: DIR/study.sqlite (created; an existing study is resumed).")
-@click.option("--executor", default="serial", show_default=True,
-              type=click.Choice(["serial", "process", "dask"]), help="Where the runs execute.")
-@click.option("--scheduler", metavar="ADDRESS",
-              help="Dask scheduler address (default: a LocalCluster on loopback).")
+@click.option(
+    "--out",
+    "out_dir",
+    required=True,
+    metavar="DIR",
+    help="Study folder: DIR/study.sqlite (created; an existing study is resumed).",
+)
+@click.option(
+    "--executor",
+    default="serial",
+    show_default=True,
+    type=click.Choice(["serial", "process", "dask"]),
+    help="Where the runs execute.",
+)
+@click.option(
+    "--scheduler",
+    metavar="ADDRESS",
+    help="Dask scheduler address (default: a LocalCluster on loopback).",
+)
 @click.option("--workers", type=int, help="Worker processes (default: the cores).")
 @click.option("--retry-failed", is_flag=True, help="Redo runs recorded as failed.")
-def run_command(config: str, out_dir: str, executor: str, scheduler: str | None,
-                workers: int | None, retry_failed: bool) -> None:
+def run_command(
+    config: str,
+    out_dir: str,
+    executor: str,
+    scheduler: str | None,
+    workers: int | None,
+    retry_failed: bool,
+) -> None:
     """Run every run of CONFIG.toml that DIR does not hold yet.
 
     Each finished run is one transaction in DIR/study.sqlite: kill the study at any moment
@@ -58,21 +77,32 @@ def run_command(config: str, out_dir: str, executor: str, scheduler: str | None,
         def update(done: int, failed: int, total: int) -> None:
             stored[:] = [done, total]
             progress(done, failed, total)
+
         return update
 
-    forget = on_interrupt(lambda: f"{stored[0]} of {stored[1]} runs are stored in {out_dir}; "
-                          "run the same command to resume")
+    forget = on_interrupt(
+        lambda: (
+            f"{stored[0]} of {stored[1]} runs are stored in {out_dir}; "
+            "run the same command to resume"
+        )
+    )
     with make_executor(executor, workers, scheduler) as ex:
         outcome = rich_progress(
             lambda progress: run_study(plan, out_dir, ex, retry_failed, count(progress)),
-            f"study {plan.config.study.name}")
+            f"study {plan.config.study.name}",
+        )
     forget()
-    click.echo(f"study {plan.config.study.name}: {outcome.total} runs, {outcome.skipped} "
-               f"already done, {outcome.completed} completed and {outcome.failed} failed now "
-               f"({executor}, {outcome.wall_time_s:.2f} s); store {outcome.store}")
+    click.echo(
+        f"study {plan.config.study.name}: {outcome.total} runs, {outcome.skipped} "
+        f"already done, {outcome.completed} completed and {outcome.failed} failed now "
+        f"({executor}, {outcome.wall_time_s:.2f} s); store {outcome.store}"
+    )
     if outcome.failed:
-        click.echo(f"chassistune: {outcome.failed} runs failed: their errors are in the store "
-                   "and in `chassistune study report`", err=True)
+        click.echo(
+            f"chassistune: {outcome.failed} runs failed: their errors are in the store "
+            "and in `chassistune study report`",
+            err=True,
+        )
     _warn_unequal_budgets(out_dir)
 
 
@@ -89,11 +119,16 @@ def _warn_unequal_budgets(study_dir: str) -> None:
 
 @study_group.command("report")
 @click.argument("study_dir", metavar="DIR")
-@click.option("--reference", metavar="OPTIMIZER",
-              help="Optimizer the others are compared with (default: the first of the config).")
-@click.option("--interactive", is_flag=True,
-              help="Also write DIR/report_interactive.html (plotly; needs the [interactive] "
-                   "extra).")
+@click.option(
+    "--reference",
+    metavar="OPTIMIZER",
+    help="Optimizer the others are compared with (default: the first of the config).",
+)
+@click.option(
+    "--interactive",
+    is_flag=True,
+    help="Also write DIR/report_interactive.html (plotly; needs the [interactive] extra).",
+)
 def report_command(study_dir: str, reference: str | None, interactive: bool) -> None:
     """Statistics, tables and figures of a study: DIR/report.html, CSV and PNG files."""
     from chassistune.reports.build import build_report
@@ -104,8 +139,10 @@ def report_command(study_dir: str, reference: str | None, interactive: bool) -> 
         require_plotly()  # refused before anything is written
     written = build_report(study_dir, reference)
     _warn_unequal_budgets(study_dir)
-    click.echo(f"wrote {written.html} ({len(written.tables)} tables, {len(written.figures)} "
-               f"figures in {written.folder})")
+    click.echo(
+        f"wrote {written.html} ({len(written.tables)} tables, {len(written.figures)} "
+        f"figures in {written.folder})"
+    )
     if interactive:
         click.echo(f"wrote {build_interactive(study_dir, reference).html}")
 
@@ -122,20 +159,33 @@ def status_command(study_dir: str, as_json: bool) -> None:
     b = st.config.budget
     budget = {"pop_size": b.pop_size, "iterations": b.iterations, "evaluations": b.evaluations}
     if as_json:
-        echo_json({"study": st.name, "total": st.total, "completed": st.completed,
-                   "failed": st.failed, "missing": st.missing, "scenarios": st.scenarios,
-                   "optimizers": st.optimizers, "seeds": len(st.config.study.seeds),
-                   "budget": budget, "running_pid": st.running_pid})
+        echo_json(
+            {
+                "study": st.name,
+                "total": st.total,
+                "completed": st.completed,
+                "failed": st.failed,
+                "missing": st.missing,
+                "scenarios": st.scenarios,
+                "optimizers": st.optimizers,
+                "seeds": len(st.config.study.seeds),
+                "budget": budget,
+                "running_pid": st.running_pid,
+            }
+        )
         return
-    click.echo(f"study {st.name}: {st.total} runs, {st.completed} completed, {st.failed} "
-               f"failed, {st.missing} missing" + (f"; running now (process {st.running_pid})"
-                                                   if st.running_pid else ""))
+    click.echo(
+        f"study {st.name}: {st.total} runs, {st.completed} completed, {st.failed} "
+        f"failed, {st.missing} missing"
+        + (f"; running now (process {st.running_pid})" if st.running_pid else "")
+    )
     click.echo(f"  scenarios: {', '.join(st.scenarios)}")
     click.echo(f"  optimizers: {', '.join(st.optimizers)}; seeds: {len(st.config.study.seeds)}")
     click.echo("  budget: " + ", ".join(f"{k} {v}" for k, v in budget.items() if v is not None))
     if st.missing and not st.running_pid:
-        click.echo("  `chassistune study run CONFIG.toml --out DIR` with the same config "
-                   "finishes it")
+        click.echo(
+            "  `chassistune study run CONFIG.toml --out DIR` with the same config finishes it"
+        )
 
 
 EXPORT_SUFFIXES = {".csv": "csv", ".parquet": "parquet"}
@@ -152,8 +202,11 @@ def export_format(output: str, fmt: str | None) -> str:
     implied = EXPORT_SUFFIXES.get(suffix)
     if fmt is None:
         if implied is None:
-            raise InputError("--output", f"cannot tell the format from {output!r}: name it "
-                             ".csv or .parquet, or give --format")
+            raise InputError(
+                "--output",
+                f"cannot tell the format from {output!r}: name it "
+                ".csv or .parquet, or give --format",
+            )
         return implied
     if implied is not None and implied != fmt:
         raise InputError("--format", f"{fmt} does not match the file name {output!r}")
@@ -162,10 +215,18 @@ def export_format(output: str, fmt: str | None) -> str:
 
 @study_group.command("export")
 @click.argument("study_dir", metavar="DIR")
-@click.option("--format", "fmt", type=click.Choice(["csv", "parquet"]),
-              help="File format (default: from the --output suffix).")
-@click.option("--output", required=True, metavar="FILE|-",
-              help="File to write (.csv or .parquet); - writes CSV to stdout.")
+@click.option(
+    "--format",
+    "fmt",
+    type=click.Choice(["csv", "parquet"]),
+    help="File format (default: from the --output suffix).",
+)
+@click.option(
+    "--output",
+    required=True,
+    metavar="FILE|-",
+    help="File to write (.csv or .parquet); - writes CSV to stdout.",
+)
 def export_command(study_dir: str, fmt: str | None, output: str) -> None:
     """One row per run: scenario, plant, road, controller, optimizer, seed, status, cost, gains."""
     from chassistune.reports.tables import runs_table, write_table

@@ -25,41 +25,98 @@ if TYPE_CHECKING:
 
 @click.command("tune", cls=ChoicesCommand, arguments={"PLANT": "plants"})
 @click.argument("plant", metavar="PLANT")
-@click.option("--preset", cls=ChoicesOption, choices_of="presets",
-              help="Parameter preset (default: the plant's paper preset).")
-@click.option("--road", "roads", multiple=True, cls=ChoicesOption, choices_of="roads",
-              help="Road; repeat to tune one controller for several roads.")
-@click.option("--aggregate", default="mean", show_default=True,
-              help="How costs on several roads (x --scenarios) combine: mean, max, cvar:ALPHA.")
-@click.option("--controller", required=True, cls=ChoicesOption, choices_of="controllers",
-              help="Controller whose gains are tuned.")
-@click.option("--optimizer", required=True, cls=ChoicesOption, choices_of="optimizers",
-              help="Optimizer (`chassistune list optimizers`).")
-@click.option("--pop", "pop_size", default=30, show_default=True, type=int,
-              help="Population size.")
-@click.option("--iters", type=int,
-              help="Iteration budget (default 100 unless --evals; with --evals too, the run "
-                   "stops at whichever comes first).")
-@click.option("--evals", type=int,
-              help="Evaluation budget (exact; at least one population).")
+@click.option(
+    "--preset",
+    cls=ChoicesOption,
+    choices_of="presets",
+    help="Parameter preset (default: the plant's paper preset).",
+)
+@click.option(
+    "--road",
+    "roads",
+    multiple=True,
+    cls=ChoicesOption,
+    choices_of="roads",
+    help="Road; repeat to tune one controller for several roads.",
+)
+@click.option(
+    "--aggregate",
+    default="mean",
+    show_default=True,
+    help="How costs on several roads (x --scenarios) combine: mean, max, cvar:ALPHA.",
+)
+@click.option(
+    "--controller",
+    required=True,
+    cls=ChoicesOption,
+    choices_of="controllers",
+    help="Controller whose gains are tuned.",
+)
+@click.option(
+    "--optimizer",
+    required=True,
+    cls=ChoicesOption,
+    choices_of="optimizers",
+    help="Optimizer (`chassistune list optimizers`).",
+)
+@click.option("--pop", "pop_size", default=30, show_default=True, type=int, help="Population size.")
+@click.option(
+    "--iters",
+    type=int,
+    help="Iteration budget (default 100 unless --evals; with --evals too, the run "
+    "stops at whichever comes first).",
+)
+@click.option("--evals", type=int, help="Evaluation budget (exact; at least one population).")
 @click.option("--seed", default=0, show_default=True, type=int, help="Run seed.")
-@click.option("--ecu", type=click.Choice(["ideal", "realistic"]),
-              help="abs-wheel: ideal controller or the realistic ECU (docs/ecu.md).")
-@click.option("--objective", cls=ChoicesOption, choices_of="objectives",
-              help="What the tune minimizes (default: the plant's).")
-@click.option("--param", "params", multiple=True, metavar="NAME=VALUE",
-              help="Override a plant, road, solver or controller parameter (repeatable).")
-@click.option("--test-road", "test_roads", multiple=True, metavar="ROAD", cls=ChoicesOption,
-              choices_of="roads",
-              help="Also report the tuned controller's metrics on ROAD (repeatable).")
+@click.option(
+    "--ecu",
+    type=click.Choice(["ideal", "realistic"]),
+    help="abs-wheel: ideal controller or the realistic ECU (docs/ecu.md).",
+)
+@click.option(
+    "--objective",
+    cls=ChoicesOption,
+    choices_of="objectives",
+    help="What the tune minimizes (default: the plant's).",
+)
+@click.option(
+    "--param",
+    "params",
+    multiple=True,
+    metavar="NAME=VALUE",
+    help="Override a plant, road, solver or controller parameter (repeatable).",
+)
+@click.option(
+    "--test-road",
+    "test_roads",
+    multiple=True,
+    metavar="ROAD",
+    cls=ChoicesOption,
+    choices_of="roads",
+    help="Also report the tuned controller's metrics on ROAD (repeatable).",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
 @click.option("--out", "out_dir", help="Write best gains, history and plots into this folder.")
 @robust_options
-def tune_command(plant: str, preset: str | None, roads: tuple[str, ...], aggregate: str,
-                 controller: str, optimizer: str, pop_size: int, iters: int | None,
-                 evals: int | None, seed: int, objective: str | None, params: tuple[str, ...],
-                 test_roads: tuple[str, ...], as_json: bool, out_dir: str | None,
-                 ecu: str | None, **robust: Any) -> None:
+def tune_command(
+    plant: str,
+    preset: str | None,
+    roads: tuple[str, ...],
+    aggregate: str,
+    controller: str,
+    optimizer: str,
+    pop_size: int,
+    iters: int | None,
+    evals: int | None,
+    seed: int,
+    objective: str | None,
+    params: tuple[str, ...],
+    test_roads: tuple[str, ...],
+    as_json: bool,
+    out_dir: str | None,
+    ecu: str | None,
+    **robust: Any,
+) -> None:
     """Tune the gains of a controller of PLANT with an optimizer.
 
     The box is the registry's tuning bounds (`chassistune list controllers`). The cost of every
@@ -85,8 +142,9 @@ def tune_command(plant: str, preset: str | None, roads: tuple[str, ...], aggrega
     values = parse_assignments(params, "params")
     if ecu:
         values["ecu"] = ecu
-    problem = build_problem(plant, controller, preset, roads, objective, aggregate, values,
-                            None, seed)
+    problem = build_problem(
+        plant, controller, preset, roads, objective, aggregate, values, None, seed
+    )
     problem = robust_or_nominal(problem, aggregate, robust, values, seed)
     _check_test_roads(plant, preset, controller, values, seed, test_roads)
     make(optimizer, problem.bounds, pop_size, seed, max_iter=iters, max_evals=evals)  # checks
@@ -95,11 +153,17 @@ def tune_command(plant: str, preset: str | None, roads: tuple[str, ...], aggrega
     incumbent = Incumbent(problem)
     forget = on_interrupt(lambda: _save_interrupted(incumbent, optimizer, seed, out_dir))
     if as_json or not sys.stderr.isatty():
-        result = run_optimizer(problem, optimizer, pop_size, iters, evals, seed,
-                               incumbent=incumbent)
+        result = run_optimizer(
+            problem, optimizer, pop_size, iters, evals, seed, incumbent=incumbent
+        )
     else:
-        result = _with_progress(lambda cb: run_optimizer(problem, optimizer, pop_size, iters,
-                                                         evals, seed, cb, incumbent), iters, evals)
+        result = _with_progress(
+            lambda cb: run_optimizer(
+                problem, optimizer, pop_size, iters, evals, seed, cb, incumbent
+            ),
+            iters,
+            evals,
+        )
     forget()
     on_interrupt(lambda: _finished_before_interrupt(result.nfev, out_dir))
     written = write_tune_outputs(result, out_dir) if out_dir else []
@@ -114,16 +178,21 @@ def tune_command(plant: str, preset: str | None, roads: tuple[str, ...], aggrega
     for line in result.step_warnings():
         click.echo(f"chassistune: warning: {line}", err=True)
     for name, gain, bound in result.gains_near_bounds():
-        click.echo(f"chassistune: warning: --gains {name}: tuned to {gain:.6g}, within 1 % of "
-                   f"its bound {bound:g}: the best gains may lie outside the box", err=True)
+        click.echo(
+            f"chassistune: warning: --gains {name}: tuned to {gain:.6g}, within 1 % of "
+            f"its bound {bound:g}: the best gains may lie outside the box",
+            err=True,
+        )
     if result.best_cost >= PENALTY:
         raise click.ClickException(
             f"no candidate of {result.nfev} could be scored (every one got the penalty "
-            f"{PENALTY:g}: {_why_penalized(result)}); these gains are not a tuned controller")
+            f"{PENALTY:g}: {_why_penalized(result)}); these gains are not a tuned controller"
+        )
 
 
-def _save_interrupted(incumbent: Incumbent, optimizer: str, seed: int,
-                      out_dir: str | None) -> str | None:
+def _save_interrupted(
+    incumbent: Incumbent, optimizer: str, seed: int, out_dir: str | None
+) -> str | None:
     """The Ctrl-C hook: the best so far into `out_dir` (when a batch has been scored)."""
     best = incumbent.best
     if out_dir is None:
@@ -147,12 +216,20 @@ def _why_penalized(result: TuneResult) -> str:
     return ", ".join(f"{road}: {s}" for road, s in status.items() if s) or "unscored"
 
 
-def _print_result(result: TuneResult, plant: str, controller: str, optimizer: str,
-                  written: list[str], extra: dict[str, Any]) -> None:
+def _print_result(
+    result: TuneResult,
+    plant: str,
+    controller: str,
+    optimizer: str,
+    written: list[str],
+    extra: dict[str, Any],
+) -> None:
     problem = result.problem
-    click.echo(f"{optimizer} on {plant} {controller}, roads {', '.join(problem.roads)}, "
-               f"objective {problem.objective}: best cost {fmt(result.best_cost)} after "
-               f"{result.nfev} evaluations, {result.nit} iterations, {result.wall_time_s:.2f} s")
+    click.echo(
+        f"{optimizer} on {plant} {controller}, roads {', '.join(problem.roads)}, "
+        f"objective {problem.objective}: best cost {fmt(result.best_cost)} after "
+        f"{result.nfev} evaluations, {result.nit} iterations, {result.wall_time_s:.2f} s"
+    )
     click.echo("best gains: " + ", ".join(f"{k}={v!r}" for k, v in result.best_gains.items()))
     for road, m in result.metrics.items():
         click.echo(f"  {road}: " + _metric_line(m))
@@ -162,14 +239,32 @@ def _print_result(result: TuneResult, plant: str, controller: str, optimizer: st
 
 
 def _metric_line(m: dict[str, Any]) -> str:
-    keys = [k for k in ("stop_distance_m", "bound_distance_m", "distance_ratio", "stop_time_s",
-                        "slip_itae", "objective_exact", "objective", "body_acc_rms", "status")
-            if k in m]
+    keys = [
+        k
+        for k in (
+            "stop_distance_m",
+            "bound_distance_m",
+            "distance_ratio",
+            "stop_time_s",
+            "slip_itae",
+            "objective_exact",
+            "objective",
+            "body_acc_rms",
+            "status",
+        )
+        if k in m
+    ]
     return ", ".join(f"{k}={fmt(m[k])}" for k in keys)
 
 
-def _check_test_roads(plant: str, preset: str | None, controller: str,
-                      values: dict[str, str], seed: int, roads: tuple[str, ...]) -> None:
+def _check_test_roads(
+    plant: str,
+    preset: str | None,
+    controller: str,
+    values: dict[str, str],
+    seed: int,
+    roads: tuple[str, ...],
+) -> None:
     """Refuse an unknown --test-road before tuning."""
     from chassistune.scenarios.registry import get_plant
 
@@ -182,8 +277,9 @@ def _check_test_roads(plant: str, preset: str | None, controller: str,
             raise
 
 
-def _with_progress(run: Callable[[Progress], TuneResult],
-                   iters: int | None, evals: int | None) -> TuneResult:
+def _with_progress(
+    run: Callable[[Progress], TuneResult], iters: int | None, evals: int | None
+) -> TuneResult:
     """Run with a rich progress bar on stderr (iterations or evaluations, best cost, ETA)."""
     from rich.console import Console
     from rich.progress import (
@@ -196,14 +292,23 @@ def _with_progress(run: Callable[[Progress], TuneResult],
 
     total = float(evals) if evals is not None else float(iters or 1)
     by_evals = evals is not None
-    with Progress(TextColumn("tuning"), BarColumn(), TextColumn("{task.description}"),
-                  TimeElapsedColumn(), TimeRemainingColumn(), console=Console(stderr=True),
-                  transient=True) as bar:
+    with Progress(
+        TextColumn("tuning"),
+        BarColumn(),
+        TextColumn("{task.description}"),
+        TimeElapsedColumn(),
+        TimeRemainingColumn(),
+        console=Console(stderr=True),
+        transient=True,
+    ) as bar:
         task = bar.add_task("", total=total)
 
         def update(nit: int, nfev: int, best: float) -> None:
             done = nfev if by_evals else nit
-            bar.update(task, completed=min(done, total),
-                       description=f"it {nit}  evals {nfev}  best {best:.6g}")
+            bar.update(
+                task,
+                completed=min(done, total),
+                description=f"it {nit}  evals {nfev}  best {best:.6g}",
+            )
 
         return run(update)

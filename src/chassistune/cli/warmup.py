@@ -17,5 +17,7 @@ def warmup_command() -> None:
     t0 = time.perf_counter()
     store(collect())  # the choices `--help` lists
     done = warm_up(lambda pair: click.echo(f"compiled {pair}", err=True))
-    click.echo(f"warmup: {len(done)} plant/controller pairs compiled or loaded from the cache "
-               f"in {time.perf_counter() - t0:.1f} s")
+    click.echo(
+        f"warmup: {len(done)} plant/controller pairs compiled or loaded from the cache "
+        f"in {time.perf_counter() - t0:.1f} s"
+    )

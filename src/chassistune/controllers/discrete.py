@@ -104,29 +104,61 @@ class DiscreteLaw:
 _PID_INPUTS = ("slip", "pressure_at_max", "pressure_at_min")
 LAWS: dict[str, DiscreteLaw] = {
     "pid": DiscreteLaw(
-        "pid", K_PID, _PID_INPUTS, ("kp", "ki", "kd", "n_filter", "target_slip", "ts_s"),
-        ("started", "integral", "filter"), 0,
+        "pid",
+        K_PID,
+        _PID_INPUTS,
+        ("kp", "ki", "kd", "n_filter", "target_slip", "ts_s"),
+        ("started", "integral", "filter"),
+        0,
         "parallel PID, forward-Euler integrator, backward-Euler derivative filter",
     ),
     "fuzzy-pid": DiscreteLaw(
-        "fuzzy-pid", K_FUZZY_PID, _PID_INPUTS,
-        ("ke", "kec", "ku_p", "ku_i", "ku_d", "kp0", "ki0", "kd0", "n_filter", "target_slip",
-         "ts_s"),
-        ("started", "integral", "filter"), 3,
+        "fuzzy-pid",
+        K_FUZZY_PID,
+        _PID_INPUTS,
+        (
+            "ke",
+            "kec",
+            "ku_p",
+            "ku_i",
+            "ku_d",
+            "kp0",
+            "ki0",
+            "kd0",
+            "n_filter",
+            "target_slip",
+            "ts_s",
+        ),
+        ("started", "integral", "filter"),
+        3,
         "parallel PID with table-scheduled gains, forward-Euler integrator, backward-Euler "
         "derivative filter",
     ),
     "fuzzy-immune-pid": DiscreteLaw(
-        "fuzzy-immune-pid", K_IMMUNE, ("slip",),
+        "fuzzy-immune-pid",
+        K_IMMUNE,
+        ("slip",),
         ("k_immune", "eta", "ki", "kd", "ke", "kec", "target_slip", "ts_s"),
-        ("started", "u_prev", "e_prev", "e_prev2"), 1,
+        ("started", "u_prev", "e_prev", "e_prev2"),
+        1,
         "incremental (velocity) PID with table-scheduled proportional gain",
     ),
     "threshold": DiscreteLaw(
-        "threshold", K_THRESHOLD, ("slip", "wheel_speed_rad_s"),
-        ("amplitude", "decel_threshold_m_s2", "accel_threshold_m_s2", "slip_margin",
-         "slow_fraction", "target_slip", "ts_s", "wheel_radius_m"),
-        ("started", "phase", "wheel_speed_prev", "wheel_accel"), 0,
+        "threshold",
+        K_THRESHOLD,
+        ("slip", "wheel_speed_rad_s"),
+        (
+            "amplitude",
+            "decel_threshold_m_s2",
+            "accel_threshold_m_s2",
+            "slip_margin",
+            "slow_fraction",
+            "target_slip",
+            "ts_s",
+            "wheel_radius_m",
+        ),
+        ("started", "phase", "wheel_speed_prev", "wheel_accel"),
+        0,
         "sampled phase machine (build, hold, dump, recover, slow build)",
     ),
 }
@@ -185,8 +217,9 @@ def table_value(table, k, cell):
     i, j, f0, f1 = cell
     if i < 0:
         return np.nan
-    return ((table[k, i, j] * (1.0 - f1) + table[k, i, j + 1] * f1) * (1.0 - f0)
-            + (table[k, i + 1, j] * (1.0 - f1) + table[k, i + 1, j + 1] * f1) * f0)
+    return (table[k, i, j] * (1.0 - f1) + table[k, i, j + 1] * f1) * (1.0 - f0) + (
+        table[k, i + 1, j] * (1.0 - f1) + table[k, i + 1, j + 1] * f1
+    ) * f0
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -217,8 +250,9 @@ def pid_step(state, inputs, params, table, grid):
     """Discrete PID (module docstring, `pid`)."""
     e = params[PID_TARGET] - inputs[IN_SLIP]
     d = _filtered_derivative(state, e, params[PID_N], params[PID_TS])
-    return _pid_output(state, inputs, e, d, params[PID_KP], params[PID_KI], params[PID_KD],
-                       params[PID_TS])
+    return _pid_output(
+        state, inputs, e, d, params[PID_KP], params[PID_KI], params[PID_KD], params[PID_TS]
+    )
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -246,8 +280,9 @@ def immune_step(state, inputs, params, table, grid):
         u = state[IS_U] + incremental_pid_du(kp1, params[IM_KI], 0.0, ts, e, 0.0, 0.0)
         state[IS_E2] = e
     else:
-        u = state[IS_U] + incremental_pid_du(kp1, params[IM_KI], params[IM_KD], ts, e,
-                                             state[IS_E1], state[IS_E2])
+        u = state[IS_U] + incremental_pid_du(
+            kp1, params[IM_KI], params[IM_KD], ts, e, state[IS_E1], state[IS_E2]
+        )
         state[IS_E2] = state[IS_E1]
     state[IS_E1] = e
     state[IS_U] = u
@@ -265,9 +300,17 @@ def threshold_step(state, inputs, params, table, grid):
         state[TS_AW] = wheel_deceleration_sample(w, state[TS_W_PREV], params[TH_RADIUS], ts)
     state[TS_W_PREV] = w
     state[ST_STARTED] = 1.0
-    u, ph = threshold_phase_step(int(state[TS_PHASE]), inputs[IN_SLIP], params[TH_TARGET],
-                                 state[TS_AW], params[TH_AMP], params[TH_DECEL],
-                                 params[TH_ACCEL], params[TH_MARGIN], params[TH_SLOW])
+    u, ph = threshold_phase_step(
+        int(state[TS_PHASE]),
+        inputs[IN_SLIP],
+        params[TH_TARGET],
+        state[TS_AW],
+        params[TH_AMP],
+        params[TH_DECEL],
+        params[TH_ACCEL],
+        params[TH_MARGIN],
+        params[TH_SLOW],
+    )
     state[TS_PHASE] = ph
     return u
 
@@ -297,4 +340,3 @@ def run_vectors(kind, inputs, params, table, grid):
 def no_table() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """A placeholder (table, grid) for the laws without a lookup table."""
     return np.zeros((1, 2, 2)), np.array([0.0, 1.0, 0.0, 1.0])
-

@@ -34,7 +34,7 @@ VALVE_BUILD = 1
 
 _BISECTIONS = 60
 """Most iterations of the edge-time search (a halving each at worst: float resolution)."""
-_EPS = 2.0 ** -52
+_EPS = 2.0**-52
 
 _jit = numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 
@@ -51,16 +51,23 @@ def hermite_angle(s, theta0, theta1, w0, w1, dt):
     """Cubic Hermite interpolant of the angle at s in [0, 1] of a step of length dt."""
     s2 = s * s
     s3 = s2 * s
-    return ((2.0 * s3 - 3.0 * s2 + 1.0) * theta0 + (s3 - 2.0 * s2 + s) * dt * w0
-            + (-2.0 * s3 + 3.0 * s2) * theta1 + (s3 - s2) * dt * w1)
+    return (
+        (2.0 * s3 - 3.0 * s2 + 1.0) * theta0
+        + (s3 - 2.0 * s2 + s) * dt * w0
+        + (-2.0 * s3 + 3.0 * s2) * theta1
+        + (s3 - s2) * dt * w1
+    )
 
 
 @_jit
 def hermite_rate(s, theta0, theta1, w0, w1, dt):
     """d/ds of `hermite_angle`."""
     s2 = s * s
-    return ((6.0 * s2 - 6.0 * s) * (theta0 - theta1) + (3.0 * s2 - 4.0 * s + 1.0) * dt * w0
-            + (3.0 * s2 - 2.0 * s) * dt * w1)
+    return (
+        (6.0 * s2 - 6.0 * s) * (theta0 - theta1)
+        + (3.0 * s2 - 4.0 * s + 1.0) * dt * w0
+        + (3.0 * s2 - 2.0 * s) * dt * w1
+    )
 
 
 @_jit
@@ -106,8 +113,9 @@ def sensor_first_edge(theta0, teeth, spacing):
 
 
 @_jit
-def sensor_step(theta0, theta1, w0, w1, t0, dt, k_next, t_last, t_prev, w_est, teeth,
-                timer_s, spacing, jitter):
+def sensor_step(
+    theta0, theta1, w0, w1, t0, dt, k_next, t_last, t_prev, w_est, teeth, timer_s, spacing, jitter
+):
     """Advance the toothed-wheel sensor over one integration step [t0, t0 + dt].
 
     State: k_next (next edge index), t_last and t_prev (captured times of the last two edges,
@@ -167,8 +175,9 @@ def accelerometer(a_true, bias, noise):
 
 
 @_jit
-def vref_accel(vref_prev, v_wheel, a_wheel, a_meas, ts, agree, agree_accel, released, held,
-               hold_samples):
+def vref_accel(
+    vref_prev, v_wheel, a_wheel, a_meas, ts, agree, agree_accel, released, held, hold_samples
+):
     """Accelerometer reference: vref integrates a_meas over ts, never below the wheel speed.
 
     It re-anchors to the wheel once the wheel has been stable for `hold_samples` samples in a
@@ -216,8 +225,9 @@ def valve_mode_at(t, prev_mode, prev_start, prev_on, mode, start, on):
 
 
 @_jit
-def modulator_advance(p, t0, h, prev_mode, prev_start, prev_on, mode, start, on, kb, kd,
-                      p_supply, p_return):
+def modulator_advance(
+    p, t0, h, prev_mode, prev_start, prev_on, mode, start, on, kb, kd, p_supply, p_return
+):
     """Pressure at t0 + h from p at t0, exact through every valve switch inside the interval
     (the pulse boundaries prev_start + prev_on, start, start + on)."""
     t = t0

@@ -31,6 +31,8 @@ def fuzzy_pid_gains(table, e, de, ke, kec, ku_p, ku_i, ku_d, kp0, ki0, kd0):
     if x0 != x0 or x1 != x1:
         return np.nan, np.nan, np.nan
     b, i, j, o, row, f0, f1 = surface_cell(table, x0, x1)
-    return (kp0 + ku_p * cell_output(table, b, i, j, o, row, f0, f1, 0),
-            ki0 + ku_i * cell_output(table, b, i, j, o, row, f0, f1, 1),
-            kd0 + ku_d * cell_output(table, b, i, j, o, row, f0, f1, 2))
+    return (
+        kp0 + ku_p * cell_output(table, b, i, j, o, row, f0, f1, 0),
+        ki0 + ku_i * cell_output(table, b, i, j, o, row, f0, f1, 1),
+        kd0 + ku_d * cell_output(table, b, i, j, o, row, f0, f1, 2),
+    )

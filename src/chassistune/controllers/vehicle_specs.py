@@ -21,26 +21,46 @@ from chassistune.controllers.specs import ControllerSpec, GainSpec, ParamSpec
 
 PLANT = "abs-vehicle"
 
-AXLE_GAINS = ParamSpec("axle_gains", "-", "shared",
-                       "one gain set for the four wheels, or one per axle (_f, _r)",
-                       choices=("shared", "per-axle"))
-REAR = ParamSpec("rear", "-", "individual",
-                 "rear axle: individual wheel channels, or select-low (one channel on the "
-                 "larger-slip wheel, both rear brakes at the same pressure)",
-                 choices=("individual", "select-low"))
+AXLE_GAINS = ParamSpec(
+    "axle_gains",
+    "-",
+    "shared",
+    "one gain set for the four wheels, or one per axle (_f, _r)",
+    choices=("shared", "per-axle"),
+)
+REAR = ParamSpec(
+    "rear",
+    "-",
+    "individual",
+    "rear axle: individual wheel channels, or select-low (one channel on the "
+    "larger-slip wheel, both rear brakes at the same pressure)",
+    choices=("individual", "select-low"),
+)
 VEHICLE_PARAMS = (AXLE_GAINS, REAR)
 
 PID_GAINS = (
-    GainSpec("kp", "1/(slip)", 1200.0, 0.0, 5000.0, "proportional gain (an integral gain on "
-             "pressure: the actuator integrates)"),
+    GainSpec(
+        "kp",
+        "1/(slip)",
+        1200.0,
+        0.0,
+        5000.0,
+        "proportional gain (an integral gain on pressure: the actuator integrates)",
+    ),
     GainSpec("ki", "1/(slip s)", 0.0, 0.0, 5000.0, "integral gain"),
-    GainSpec("kd", "s/(slip)", 20.0, 0.0, 100.0, "derivative gain (a proportional gain on "
-             "pressure)"),
+    GainSpec(
+        "kd", "s/(slip)", 20.0, 0.0, 100.0, "derivative gain (a proportional gain on pressure)"
+    ),
 )
-FUZZY_DEFAULTS = {"ku_p": 1000.0, "ku_i": 0.0, "ku_d": 10.0, "kp0": 700.0, "ki0": 0.0,
-                  "kd0": 15.0}
-FUZZY_BOUNDS = {"ku_p": (0.0, 5000.0), "ku_i": (0.0, 5000.0), "ku_d": (0.0, 100.0),
-                "kp0": (0.0, 5000.0), "ki0": (0.0, 5000.0), "kd0": (0.0, 100.0)}
+FUZZY_DEFAULTS = {"ku_p": 1000.0, "ku_i": 0.0, "ku_d": 10.0, "kp0": 700.0, "ki0": 0.0, "kd0": 15.0}
+FUZZY_BOUNDS = {
+    "ku_p": (0.0, 5000.0),
+    "ku_i": (0.0, 5000.0),
+    "ku_d": (0.0, 100.0),
+    "kp0": (0.0, 5000.0),
+    "ki0": (0.0, 5000.0),
+    "kd0": (0.0, 100.0),
+}
 
 
 def _rescaled(spec: ControllerSpec) -> tuple[GainSpec, ...]:
@@ -61,17 +81,38 @@ def wheel_spec(name: str) -> ControllerSpec:
 
 def _register() -> None:
     none = wheel_spec("none")
-    register(ControllerSpec(PLANT, "none", none.description + " (all four wheels)",
-                            params=(AMPLITUDE,)))
+    register(
+        ControllerSpec(PLANT, "none", none.description + " (all four wheels)", params=(AMPLITUDE,))
+    )
     pid = wheel_spec("pid")
-    register(ControllerSpec(PLANT, "pid", pid.description + "; one law per wheel",
-                            gains=PID_GAINS, params=pid.params + VEHICLE_PARAMS))
+    register(
+        ControllerSpec(
+            PLANT,
+            "pid",
+            pid.description + "; one law per wheel",
+            gains=PID_GAINS,
+            params=pid.params + VEHICLE_PARAMS,
+        )
+    )
     fuzzy = wheel_spec("fuzzy-pid")
-    register(ControllerSpec(PLANT, "fuzzy-pid", fuzzy.description + "; one law per wheel",
-                            gains=_rescaled(fuzzy), params=fuzzy.params + VEHICLE_PARAMS))
+    register(
+        ControllerSpec(
+            PLANT,
+            "fuzzy-pid",
+            fuzzy.description + "; one law per wheel",
+            gains=_rescaled(fuzzy),
+            params=fuzzy.params + VEHICLE_PARAMS,
+        )
+    )
     threshold = wheel_spec("threshold")
-    register(ControllerSpec(PLANT, "threshold", threshold.description + "; one law per wheel",
-                            params=(*threshold.params, REAR)))
+    register(
+        ControllerSpec(
+            PLANT,
+            "threshold",
+            threshold.description + "; one law per wheel",
+            params=(*threshold.params, REAR),
+        )
+    )
 
 
 _register()
@@ -79,9 +120,13 @@ _register()
 
 def per_axle(spec: ControllerSpec) -> ControllerSpec:
     """`spec` with every gain doubled into a front (_f) and a rear (_r) copy."""
-    gains = tuple(dataclasses.replace(g, name=f"{g.name}{suffix}",
-                                      description=f"{g.description} ({axle} axle)")
-                  for suffix, axle in (("_f", "front"), ("_r", "rear")) for g in spec.gains)
+    gains = tuple(
+        dataclasses.replace(
+            g, name=f"{g.name}{suffix}", description=f"{g.description} ({axle} axle)"
+        )
+        for suffix, axle in (("_f", "front"), ("_r", "rear"))
+        for g in spec.gains
+    )
     return dataclasses.replace(spec, gains=gains)
 
 

@@ -47,7 +47,7 @@ def c_name(name: str) -> str:
 
 def _list(values: NDArray[np.float64], indent: str, per_line: int = 4) -> str:
     items = [c_double(v) for v in values]
-    lines = [", ".join(items[i:i + per_line]) for i in range(0, len(items), per_line)]
+    lines = [", ".join(items[i : i + per_line]) for i in range(0, len(items), per_line)]
     return "{ \\\n" + ",\\\n".join(indent + line for line in lines) + " }"
 
 
@@ -228,7 +228,7 @@ def _equations(controller: str) -> list[str]:
     for name in names:
         start = doc.index(f"- `{name}`")
         ends = [i for i in (doc.find("\n- `", start + 1), doc.find("\n\n", start)) if i > 0]
-        out += doc[start:min(ends)].strip().splitlines()
+        out += doc[start : min(ends)].strip().splitlines()
     return out
 
 
@@ -252,9 +252,12 @@ def header(ec: ExportedController) -> str:
         " * Numbers are printed with %.17g: each reads back to the exact double.",
         " * Bit-exact build: cc " + " ".join(BITWISE_FLAGS) + " (no FMA contraction)",
         " * reproduces test_vectors.csv bit for bit."
-        + (" Only that build is supported: with FMA contraction a"
-           " rounding difference may switch a phase." if law.controller in SWITCHING else
-           " With FMA contraction the commands stay within 1e-9 (relative)."),
+        + (
+            " Only that build is supported: with FMA contraction a"
+            " rounding difference may switch a phase."
+            if law.controller in SWITCHING
+            else " With FMA contraction the commands stay within 1e-9 (relative)."
+        ),
         " */",
         "#ifndef CT_CONTROLLER_H",
         "#define CT_CONTROLLER_H",
@@ -325,8 +328,11 @@ def source(ec: ExportedController) -> str:
     ]
     if law.table_outputs:
         parts.append("#include <math.h> /* NAN only */\n")
-        parts += [f"static const double ct_table_{o}[CT_TABLE_ROWS][CT_TABLE_COLS] = "
-                  f"CT_TABLE_{o.upper()};" for o in outs]
+        parts += [
+            f"static const double ct_table_{o}[CT_TABLE_ROWS][CT_TABLE_COLS] = "
+            f"CT_TABLE_{o.upper()};"
+            for o in outs
+        ]
         parts.append("\n" + _LOOKUP)
     else:
         parts.append("")

@@ -41,42 +41,87 @@ Controller = Callable[[NDArray[np.float64]], float]
 SIGNALS = ("slip", "wheel_speed_rad_s", "pressure_at_max", "pressure_at_min")
 """What the loop offers a controller at each sample; each law picks its inputs by name."""
 
-LOOP = Layout("export closed loop", (
-    Slot("dt_s", "s", "integration step"),
-    Slot("wheel_radius_m", "m", "R"),
-    Slot("v_stop_m_s", "m/s", "the run ends below this speed"),
-    Slot("q_max", "preset unit", "pressure limit"),
-    Slot("hopeless_distance_m", "m", "the run ends as hopeless beyond this distance"),
-    Slot("steps", "-", "step budget ceil(t_max / dt)"),
-    Slot("wheel_load_n", "N", "Fz = load_fraction M g"),
-    Slot("inv_mass", "1/kg", "1 / M"),
-    Slot("inv_inertia", "1/(kg m^2)", "1 / I"),
-    Slot("brake_gain", "N m/preset unit", "kq"),
-    Slot("actuator_gain", "preset unit/s", "K"),
-    Slot("inv_tau", "1/s", "1 / T of the actuator"),
-    Slot("tire_law", "-", "KIND_* of sim.abs_wheel_tires"),
-    Slot("c0", "-", "tire coefficient"),
-    Slot("c1", "-", "tire coefficient"),
-    Slot("c2", "-", "tire coefficient"),
-    Slot("c3", "-", "tire coefficient"),
-))
-(L_DT, L_RADIUS, L_VSTOP, L_QMAX, L_HOPELESS_M, L_STEPS, L_FZ, L_INV_M, L_INV_I, L_KQ, L_GAIN,
- L_INV_TAU, L_LAW, L_C0, L_C1, L_C2, L_C3) = (LOOP[n] for n in LOOP.names)
+LOOP = Layout(
+    "export closed loop",
+    (
+        Slot("dt_s", "s", "integration step"),
+        Slot("wheel_radius_m", "m", "R"),
+        Slot("v_stop_m_s", "m/s", "the run ends below this speed"),
+        Slot("q_max", "preset unit", "pressure limit"),
+        Slot("hopeless_distance_m", "m", "the run ends as hopeless beyond this distance"),
+        Slot("steps", "-", "step budget ceil(t_max / dt)"),
+        Slot("wheel_load_n", "N", "Fz = load_fraction M g"),
+        Slot("inv_mass", "1/kg", "1 / M"),
+        Slot("inv_inertia", "1/(kg m^2)", "1 / I"),
+        Slot("brake_gain", "N m/preset unit", "kq"),
+        Slot("actuator_gain", "preset unit/s", "K"),
+        Slot("inv_tau", "1/s", "1 / T of the actuator"),
+        Slot("tire_law", "-", "KIND_* of sim.abs_wheel_tires"),
+        Slot("c0", "-", "tire coefficient"),
+        Slot("c1", "-", "tire coefficient"),
+        Slot("c2", "-", "tire coefficient"),
+        Slot("c3", "-", "tire coefficient"),
+    ),
+)
+(
+    L_DT,
+    L_RADIUS,
+    L_VSTOP,
+    L_QMAX,
+    L_HOPELESS_M,
+    L_STEPS,
+    L_FZ,
+    L_INV_M,
+    L_INV_I,
+    L_KQ,
+    L_GAIN,
+    L_INV_TAU,
+    L_LAW,
+    L_C0,
+    L_C1,
+    L_C2,
+    L_C3,
+) = (LOOP[n] for n in LOOP.names)
 X_V, X_W, X_Q, X_R = range(4)
 A_STEP, A_DIST, A_STATUS, A_TIME = range(4)
 RUNNING = -1.0
-STOPPED, HOPELESS, TIMEOUT, DIVERGED = (float(STATUS_NAMES.index(n)) for n in (
-    "stopped", "hopeless", "timeout", "diverged"))
+STOPPED, HOPELESS, TIMEOUT, DIVERGED = (
+    float(STATUS_NAMES.index(n)) for n in ("stopped", "hopeless", "timeout", "diverged")
+)
 """Run status: the kernels' codes (STATUS_NAMES), RUNNING until the run ends."""
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def plant_rates(v, w, q, r, u, lc, xc, xs, ys):
     """(dv, dw, dq, dr) of the wheel under the held command u (DESIGN 3.1)."""
-    fx = tire_law_mu(int(lc[L_LAW]), wheel_slip(v, w, lc[L_RADIUS]), lc[L_C0], lc[L_C1],
-                     lc[L_C2], lc[L_C3], xc, xs, ys) * lc[L_FZ]
-    dv, dw, dq, dr, _, _ = wheel_rates(w, q, r, fx, u, lc[L_RADIUS], lc[L_INV_M], lc[L_INV_I],
-                                       lc[L_KQ], lc[L_GAIN], lc[L_INV_TAU], lc[L_QMAX])
+    fx = (
+        tire_law_mu(
+            int(lc[L_LAW]),
+            wheel_slip(v, w, lc[L_RADIUS]),
+            lc[L_C0],
+            lc[L_C1],
+            lc[L_C2],
+            lc[L_C3],
+            xc,
+            xs,
+            ys,
+        )
+        * lc[L_FZ]
+    )
+    dv, dw, dq, dr, _, _ = wheel_rates(
+        w,
+        q,
+        r,
+        fx,
+        u,
+        lc[L_RADIUS],
+        lc[L_INV_M],
+        lc[L_INV_I],
+        lc[L_KQ],
+        lc[L_GAIN],
+        lc[L_INV_TAU],
+        lc[L_QMAX],
+    )
     return dv, dw, dq, dr
 
 
@@ -98,15 +143,39 @@ def advance(x, acc, u, n, lc, xc, xs, ys):
         t = k * dt
         v, w, q, r = x[X_V], x[X_W], x[X_Q], x[X_R]
         k1v, k1w, k1q, k1r = plant_rates(v, w, q, r, u, lc, xc, xs, ys)
-        k2v, k2w, k2q, k2r = plant_rates(rk4_point(v, hs, k1v), rk4_point(w, hs, k1w),
-                                         rk4_point(q, hs, k1q), rk4_point(r, hs, k1r), u, lc,
-                                         xc, xs, ys)
-        k3v, k3w, k3q, k3r = plant_rates(rk4_point(v, hs, k2v), rk4_point(w, hs, k2w),
-                                         rk4_point(q, hs, k2q), rk4_point(r, hs, k2r), u, lc,
-                                         xc, xs, ys)
-        k4v, k4w, k4q, k4r = plant_rates(rk4_point(v, dt, k3v), rk4_point(w, dt, k3w),
-                                         rk4_point(q, dt, k3q), rk4_point(r, dt, k3r), u, lc,
-                                         xc, xs, ys)
+        k2v, k2w, k2q, k2r = plant_rates(
+            rk4_point(v, hs, k1v),
+            rk4_point(w, hs, k1w),
+            rk4_point(q, hs, k1q),
+            rk4_point(r, hs, k1r),
+            u,
+            lc,
+            xc,
+            xs,
+            ys,
+        )
+        k3v, k3w, k3q, k3r = plant_rates(
+            rk4_point(v, hs, k2v),
+            rk4_point(w, hs, k2w),
+            rk4_point(q, hs, k2q),
+            rk4_point(r, hs, k2r),
+            u,
+            lc,
+            xc,
+            xs,
+            ys,
+        )
+        k4v, k4w, k4q, k4r = plant_rates(
+            rk4_point(v, dt, k3v),
+            rk4_point(w, dt, k3w),
+            rk4_point(q, dt, k3q),
+            rk4_point(r, dt, k3r),
+            u,
+            lc,
+            xc,
+            xs,
+            ys,
+        )
         vn = rk4_update(v, h6, k1v, k2v, k3v, k4v)
         wn = fmax(rk4_update(w, h6, k1w, k2w, k3w, k4w), 0.0)
         qn = clip(rk4_update(q, h6, k1q, k2q, k3q, k4q), 0.0, lc[L_QMAX])
@@ -160,17 +229,27 @@ def loop_vector(scenario: AbsWheelScenario) -> NDArray[np.float64]:
     kind, coef, _, _ = scenario.tire.kernel_data()
     c = np.zeros(4)
     c[: len(coef)] = coef
-    return LOOP.pack({
-        "dt_s": pp.dt_s, "wheel_radius_m": pp.wheel_radius_m, "v_stop_m_s": pp.v_stop_m_s,
-        "q_max": pp.q_max,
-        "hopeless_distance_m": scenario.scoring.hopeless_factor * scenario.bound_distance_m,
-        "steps": math.ceil(pp.t_max_s / pp.dt_s - 1e-9),
-        "wheel_load_n": pp.load_fraction * pp.mass_kg * pp.g_m_s2,
-        "inv_mass": 1.0 / pp.mass_kg, "inv_inertia": 1.0 / pp.wheel_inertia_kg_m2,
-        "brake_gain": pp.brake_gain, "actuator_gain": pp.actuator_gain,
-        "inv_tau": 1.0 / pp.actuator_tau_s, "tire_law": kind,
-        "c0": c[0], "c1": c[1], "c2": c[2], "c3": c[3],
-    })
+    return LOOP.pack(
+        {
+            "dt_s": pp.dt_s,
+            "wheel_radius_m": pp.wheel_radius_m,
+            "v_stop_m_s": pp.v_stop_m_s,
+            "q_max": pp.q_max,
+            "hopeless_distance_m": scenario.scoring.hopeless_factor * scenario.bound_distance_m,
+            "steps": math.ceil(pp.t_max_s / pp.dt_s - 1e-9),
+            "wheel_load_n": pp.load_fraction * pp.mass_kg * pp.g_m_s2,
+            "inv_mass": 1.0 / pp.mass_kg,
+            "inv_inertia": 1.0 / pp.wheel_inertia_kg_m2,
+            "brake_gain": pp.brake_gain,
+            "actuator_gain": pp.actuator_gain,
+            "inv_tau": 1.0 / pp.actuator_tau_s,
+            "tire_law": kind,
+            "c0": c[0],
+            "c1": c[1],
+            "c2": c[2],
+            "c3": c[3],
+        }
+    )
 
 
 def _tire_nodes(scenario: AbsWheelScenario) -> tuple[tuple[float, ...], ...]:
@@ -181,8 +260,9 @@ def _tire_nodes(scenario: AbsWheelScenario) -> tuple[tuple[float, ...], ...]:
     return table_tuples(xs, ys)
 
 
-def run(scenario: AbsWheelScenario, ts_s: float, controller: Controller,
-        input_names: tuple[str, ...]) -> LoopResult:
+def run(
+    scenario: AbsWheelScenario, ts_s: float, controller: Controller, input_names: tuple[str, ...]
+) -> LoopResult:
     """Run the closed loop of `scenario` with `controller` called every ts_s (whole steps of dt).
 
     `input_names` (from SIGNALS) select and order the inputs handed to the controller."""
@@ -204,5 +284,10 @@ def run(scenario: AbsWheelScenario, ts_s: float, controller: Controller,
         if advance(x, acc, u, m, lc, xc, xs, ys):
             break
     data = np.array(rows)
-    return LoopResult({n: data[:, i].copy() for i, n in enumerate(SIGNALS)}, np.array(commands),
-                      float(acc[A_DIST]), float(acc[A_TIME]), int(acc[A_STATUS]))
+    return LoopResult(
+        {n: data[:, i].copy() for i, n in enumerate(SIGNALS)},
+        np.array(commands),
+        float(acc[A_DIST]),
+        float(acc[A_TIME]),
+        int(acc[A_STATUS]),
+    )

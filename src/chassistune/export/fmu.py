@@ -219,8 +219,14 @@ def fmu_c(ec: ExportedController, fmu_guid: str) -> str:
     """The text of sources/fmu.c."""
     n_in = len(ec.law.inputs)
     cases = "\n".join(f"    case {i}: return &p->{n};" for i, n in enumerate(ec.law.params))
-    return _FMU_C % {"version": __version__, "guid": f'"{fmu_guid}"', "n_in": n_in,
-                     "p0": n_in + 1, "n_params": len(ec.law.params), "cases": cases}
+    return _FMU_C % {
+        "version": __version__,
+        "guid": f'"{fmu_guid}"',
+        "n_in": n_in,
+        "p0": n_in + 1,
+        "n_params": len(ec.law.params),
+        "cases": cases,
+    }
 
 
 def model_description(ec: ExportedController, fmu_guid: str) -> str:
@@ -234,45 +240,52 @@ def model_description(ec: ExportedController, fmu_guid: str) -> str:
         variables.append(
             f'    <ScalarVariable name="{n}" valueReference="{i}" causality="input" '
             f'variability="discrete" description={quoteattr(discrete.INPUT_DESCRIPTIONS[n])}>'
-            f'<Real start="0.0"/></ScalarVariable>')
+            f'<Real start="0.0"/></ScalarVariable>'
+        )
     variables.append(
         f'    <ScalarVariable name="u" valueReference="{len(law.inputs)}" causality="output" '
         'variability="discrete" initial="exact" description="command of the brake-pressure '
-        'modulator, held over the step"><Real start="0.0"/></ScalarVariable>')
+        'modulator, held over the step"><Real start="0.0"/></ScalarVariable>'
+    )
     for i, (n, v) in enumerate(ec.param_dict().items()):
         variability = "fixed" if n == "ts_s" else "tunable"
         variables.append(
             f'    <ScalarVariable name="{n}" valueReference="{len(law.inputs) + 1 + i}" '
             f'causality="parameter" variability="{variability}" initial="exact">'
-            f'<Real start="{c99.c_double(v)}"/></ScalarVariable>')
+            f'<Real start="{c99.c_double(v)}"/></ScalarVariable>'
+        )
     u_index = len(law.inputs) + 1
-    return "\n".join([
-        '<?xml version="1.0" encoding="UTF-8"?>',
-        f'<fmiModelDescription fmiVersion="2.0" modelName="{name}" guid="{fmu_guid}"',
-        f'  description={quoteattr(f"{law.controller} ABS controller ({law.form})")}',
-        f'  generationTool="chassistune {__version__}" generationDateAndTime="{now}"',
-        '  variableNamingConvention="flat" numberOfEventIndicators="0">',
-        f'  <CoSimulation modelIdentifier="{name}" canHandleVariableCommunicationStepSize="false"'
-        ' canBeInstantiatedOnlyOncePerProcess="false" canNotUseMemoryManagementFunctions="false"'
-        ' canGetAndSetFMUstate="false" canSerializeFMUstate="false"'
-        ' providesDirectionalDerivative="false">',
-        "    <SourceFiles>",
-        f'      <File name="{c99.SOURCE}"/>',
-        '      <File name="fmu.c"/>',
-        "    </SourceFiles>",
-        "  </CoSimulation>",
-        f'  <DefaultExperiment startTime="0.0" stepSize="{ts}"/>',
-        "  <ModelVariables>",
-        *variables,
-        "  </ModelVariables>",
-        "  <ModelStructure>",
-        "    <Outputs>",
-        f'      <Unknown index="{u_index}" dependencies=""/>',
-        "    </Outputs>",
-        "  </ModelStructure>",
-        "</fmiModelDescription>",
-        "",
-    ])
+    return "\n".join(
+        [
+            '<?xml version="1.0" encoding="UTF-8"?>',
+            f'<fmiModelDescription fmiVersion="2.0" modelName="{name}" guid="{fmu_guid}"',
+            f"  description={quoteattr(f'{law.controller} ABS controller ({law.form})')}",
+            f'  generationTool="chassistune {__version__}" generationDateAndTime="{now}"',
+            '  variableNamingConvention="flat" numberOfEventIndicators="0">',
+            f'  <CoSimulation modelIdentifier="{name}" '
+            'canHandleVariableCommunicationStepSize="false"'
+            ' canBeInstantiatedOnlyOncePerProcess="false" '
+            'canNotUseMemoryManagementFunctions="false"'
+            ' canGetAndSetFMUstate="false" canSerializeFMUstate="false"'
+            ' providesDirectionalDerivative="false">',
+            "    <SourceFiles>",
+            f'      <File name="{c99.SOURCE}"/>',
+            '      <File name="fmu.c"/>',
+            "    </SourceFiles>",
+            "  </CoSimulation>",
+            f'  <DefaultExperiment startTime="0.0" stepSize="{ts}"/>',
+            "  <ModelVariables>",
+            *variables,
+            "  </ModelVariables>",
+            "  <ModelStructure>",
+            "    <Outputs>",
+            f'      <Unknown index="{u_index}" dependencies=""/>',
+            "    </Outputs>",
+            "  </ModelStructure>",
+            "</fmiModelDescription>",
+            "",
+        ]
+    )
 
 
 def fmu_bytes(ec: ExportedController) -> bytes:

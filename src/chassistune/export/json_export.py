@@ -39,11 +39,12 @@ def document(ec: ExportedController, inputs: np.ndarray, u: np.ndarray) -> dict[
             "inputs": list(ec.table_inputs),
             "outputs": list(ec.table_outputs),
             "orientation": f"values[output][i][j] at {rows} = breakpoints[{rows!r}][i], "
-                           f"{cols} = breakpoints[{cols!r}][j]",
+            f"{cols} = breakpoints[{cols!r}][j]",
             "grid": {"row_lo": lo0, "row_step": step0, "col_lo": lo1, "col_step": step1},
             "interpolation": "bilinear on the uniform grid, inputs clipped (controllers.discrete)",
-            "breakpoints": {n: bp.tolist() for n, bp in zip(ec.table_inputs, ec.breakpoints,
-                                                             strict=True)},
+            "breakpoints": {
+                n: bp.tolist() for n, bp in zip(ec.table_inputs, ec.breakpoints, strict=True)
+            },
             "values": {n: ec.table[k].tolist() for k, n in enumerate(ec.table_outputs)},
         }
     return {
@@ -53,18 +54,27 @@ def document(ec: ExportedController, inputs: np.ndarray, u: np.ndarray) -> dict[
         "controller": ec.controller,
         "form": ec.law.form,
         "source": ec.source,
-        "scenario": {"plant": sc.plant, "preset": sc.preset, "road": sc.road,
-                     "controller": ec.controller, "gains": dict(ec.gains), "params": params},
+        "scenario": {
+            "plant": sc.plant,
+            "preset": sc.preset,
+            "road": sc.road,
+            "controller": ec.controller,
+            "gains": dict(ec.gains),
+            "params": params,
+        },
         "sample_time_s": ec.ts_s,
-        "inputs": [{"name": n, "description": discrete.INPUT_DESCRIPTIONS[n]}
-                   for n in ec.law.inputs],
+        "inputs": [
+            {"name": n, "description": discrete.INPUT_DESCRIPTIONS[n]} for n in ec.law.inputs
+        ],
         "output": {"name": "u", "description": "command of the brake-pressure modulator"},
         "params": ec.param_dict(),
         "state": list(ec.law.state),
         "pid": ec.pid_form(),
         "table": table,
-        "test_vectors": {"columns": [*ec.law.inputs, "u"],
-                         "rows": np.column_stack([inputs, u]).tolist()},
+        "test_vectors": {
+            "columns": [*ec.law.inputs, "u"],
+            "rows": np.column_stack([inputs, u]).tolist(),
+        },
     }
 
 
@@ -79,19 +89,26 @@ def as_tune_result(doc: object, where: str, label: str) -> dict[str, Any]:
     if not isinstance(doc, dict) or doc.get("schema") != SCHEMA:
         raise InputError(where, f"{label!r} is not a chassistune export")
     if doc.get("schema_version") != SCHEMA_VERSION:
-        raise InputError(where, f"export schema version {doc.get('schema_version')!r} is not "
-                         f"{SCHEMA_VERSION}")
+        raise InputError(
+            where, f"export schema version {doc.get('schema_version')!r} is not {SCHEMA_VERSION}"
+        )
     sc = doc.get("scenario")
     need = ("plant", "preset", "road", "controller", "gains", "params")
     if not isinstance(sc, dict) or any(k not in sc for k in need):
         raise InputError(where, f"{label!r}: its scenario needs {', '.join(need)}")
     gains = sc["gains"]
     if not isinstance(gains, dict) or not all(
-            isinstance(v, float) and math.isfinite(v) for v in gains.values()):
+        isinstance(v, float) and math.isfinite(v) for v in gains.values()
+    ):
         raise InputError(where, f"{label!r}: gains must be finite numbers")
-    return {"plant": sc["plant"], "preset": sc["preset"], "roads": [sc["road"]],
-            "controller": sc["controller"], "best_gains": dict(gains),
-            "params": dict(sc["params"])}
+    return {
+        "plant": sc["plant"],
+        "preset": sc["preset"],
+        "roads": [sc["road"]],
+        "controller": sc["controller"],
+        "best_gains": dict(gains),
+        "params": dict(sc["params"]),
+    }
 
 
 def scenario_arguments(path: str | Path) -> dict[str, Any]:
@@ -101,6 +118,11 @@ def scenario_arguments(path: str | Path) -> dict[str, Any]:
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise InputError("from", f"cannot read {str(path)!r}: {exc}") from None
     result = as_tune_result(doc, "from", str(path))
-    return {"plant": result["plant"], "preset": result["preset"], "road": result["roads"][0],
-            "controller": result["controller"], "gains": result["best_gains"],
-            "params": result["params"]}
+    return {
+        "plant": result["plant"],
+        "preset": result["preset"],
+        "road": result["roads"][0],
+        "controller": result["controller"],
+        "gains": result["best_gains"],
+        "params": result["params"],
+    }

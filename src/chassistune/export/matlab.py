@@ -24,14 +24,19 @@ def struct(ec: ExportedController, inputs: np.ndarray, u: np.ndarray) -> dict[st
     """The fields of `ct` (numbers as float64, texts as char arrays, nested dicts as structs)."""
     sc = ec.scenario
     ct: dict[str, Any] = {
-        "controller": ec.controller, "form": ec.law.form, "source": ec.source,
-        "plant": sc.plant, "preset": sc.preset, "road": sc.road,
+        "controller": ec.controller,
+        "form": ec.law.form,
+        "source": ec.source,
+        "plant": sc.plant,
+        "preset": sc.preset,
+        "road": sc.road,
         "generator": f"chassistune {__version__}",
         "Ts": ec.ts_s,
         "inputs": np.array(ec.law.inputs, dtype=object),
         "params": ec.param_dict(),
         "gains": dict(ec.gains),
-        "test_inputs": inputs, "test_u": u.reshape(-1, 1),
+        "test_inputs": inputs,
+        "test_u": u.reshape(-1, 1),
     }
     pid = ec.pid_form()
     if pid is not None:
@@ -41,8 +46,8 @@ def struct(ec: ExportedController, inputs: np.ndarray, u: np.ndarray) -> dict[st
         table: dict[str, Any] = {
             "rulebase": ec.rulebase,
             "orientation": f"table(i, j) is the output at {rows} = bp_{_field(rows)}(i) and "
-                           f"{cols} = bp_{_field(cols)}(j); read at (ke*e, kec*de/dt), clipped, "
-                           "bilinear (2-D Lookup Table: Interpolation-Clip)",
+            f"{cols} = bp_{_field(cols)}(j); read at (ke*e, kec*de/dt), clipped, "
+            "bilinear (2-D Lookup Table: Interpolation-Clip)",
             f"bp_{_field(rows)}": ec.breakpoints[0],
             f"bp_{_field(cols)}": ec.breakpoints[1],
         }
@@ -55,8 +60,13 @@ def struct(ec: ExportedController, inputs: np.ndarray, u: np.ndarray) -> dict[st
 def mat_bytes(ec: ExportedController, inputs: np.ndarray, u: np.ndarray) -> bytes:
     """The .mat file (MATLAB 5 format, readable by MATLAB, Octave and scipy.io.loadmat)."""
     buf = io.BytesIO()
-    scipy.io.savemat(buf, {"ct": struct(ec, inputs, u)}, long_field_names=True,
-                     do_compression=False, oned_as="column")
+    scipy.io.savemat(
+        buf,
+        {"ct": struct(ec, inputs, u)},
+        long_field_names=True,
+        do_compression=False,
+        oned_as="column",
+    )
     return buf.getvalue()
 
 
@@ -71,8 +81,13 @@ def script(ec: ExportedController) -> str:
         "Ts = ct.Ts;",
     ]
     if ec.pid_form() is not None:
-        lines += ["% Discrete PID Controller block: P, I, D, N (form and methods in ct.pid)",
-                  "P = ct.pid.P;", "I = ct.pid.I;", "D = ct.pid.D;", "N = ct.pid.N;"]
+        lines += [
+            "% Discrete PID Controller block: P, I, D, N (form and methods in ct.pid)",
+            "P = ct.pid.P;",
+            "I = ct.pid.I;",
+            "D = ct.pid.D;",
+            "N = ct.pid.N;",
+        ]
     lines += [f"ct_{_field(n)} = ct.params.{_field(n)};" for n in ec.law.params]
     if ec.table_outputs:
         lines.append("% 2-D Lookup Table blocks: row breakpoints, column breakpoints, table")

@@ -48,15 +48,21 @@ EXPORT_PARAMS = ("ecu_ts_s", "fuzzy_table_points")
 PLANTS = ("abs-wheel",)
 REFUSED_PLANTS = {
     "abs-vehicle": "its kernel runs the wheel laws in continuous time with the target slip of "
-                   "the surface under each wheel (no discrete ECU form to test an export "
-                   "against); export the single wheel (abs-wheel), whose law the vehicle repeats "
-                   "per wheel",
+    "the surface under each wheel (no discrete ECU form to test an export "
+    "against); export the single wheel (abs-wheel), whose law the vehicle repeats "
+    "per wheel",
 }
 """Plants that name controllers with a discrete form but cannot be exported, and why."""
 IDEAL_ECU: dict[str, object] = {
-    "ecu": "realistic", "sensor": "ideal", "vref": "true", "valves": "continuous",
-    "ecu_delay_samples": 0, "abs_cutout_m_s": 0.0, "gain_schedule": "off",
-    "valve_dead_time_s": 0.0, "valve_min_on_s": 0.0,
+    "ecu": "realistic",
+    "sensor": "ideal",
+    "vref": "true",
+    "valves": "continuous",
+    "ecu_delay_samples": 0,
+    "abs_cutout_m_s": 0.0,
+    "gain_schedule": "off",
+    "valve_dead_time_s": 0.0,
+    "valve_min_on_s": 0.0,
 }
 """The ECU of the exported scenario (module docstring): the law alone between plant and brake."""
 
@@ -100,21 +106,39 @@ class ExportedController:
         which gain the table schedules."""
         p = self.param_dict()
         if self.controller == "pid":
-            return {"P": p["kp"], "I": p["ki"], "D": p["kd"], "N": p["n_filter"],
-                    "Form": "Parallel", "IntegratorMethod": "Forward Euler",
-                    "FilterMethod": "Backward Euler", "Scheduled": "none"}
+            return {
+                "P": p["kp"],
+                "I": p["ki"],
+                "D": p["kd"],
+                "N": p["n_filter"],
+                "Form": "Parallel",
+                "IntegratorMethod": "Forward Euler",
+                "FilterMethod": "Backward Euler",
+                "Scheduled": "none",
+            }
         if self.controller == "fuzzy-pid":
-            return {"P": p["kp0"], "I": p["ki0"], "D": p["kd0"], "N": p["n_filter"],
-                    "Form": "Parallel", "IntegratorMethod": "Forward Euler",
-                    "FilterMethod": "Backward Euler",
-                    "Scheduled": "P = kp0 + ku_p*kp(ke*e, kec*d), I = ki0 + ku_i*ki(...), "
-                                 "D = kd0 + ku_d*kd(...), d the filtered derivative"}
+            return {
+                "P": p["kp0"],
+                "I": p["ki0"],
+                "D": p["kd0"],
+                "N": p["n_filter"],
+                "Form": "Parallel",
+                "IntegratorMethod": "Forward Euler",
+                "FilterMethod": "Backward Euler",
+                "Scheduled": "P = kp0 + ku_p*kp(ke*e, kec*d), I = ki0 + ku_i*ki(...), "
+                "D = kd0 + ku_d*kd(...), d the filtered derivative",
+            }
         if self.controller == "fuzzy-immune-pid":
-            return {"P": p["k_immune"], "I": p["ki"], "D": p["kd"], "N": None,
-                    "Form": "Parallel, incremental (velocity) implementation",
-                    "IntegratorMethod": "Backward Euler",
-                    "FilterMethod": "none (backward difference, no filter)",
-                    "Scheduled": "P = k_immune*(1 - eta*f(ke*e, kec*(e - e_prev)/Ts))"}
+            return {
+                "P": p["k_immune"],
+                "I": p["ki"],
+                "D": p["kd"],
+                "N": None,
+                "Form": "Parallel, incremental (velocity) implementation",
+                "IntegratorMethod": "Backward Euler",
+                "FilterMethod": "none (backward difference, no filter)",
+                "Scheduled": "P = k_immune*(1 - eta*f(ke*e, kec*(e - e_prev)/Ts))",
+            }
         return None
 
 
@@ -136,13 +160,23 @@ def _from_tune_json(path: Path) -> _Origin:
         data = json.loads(path.read_text(encoding="utf-8"))
         params = dict(data["params"])
         params.pop("seed", None)
-        return _Origin(data["plant"], data["preset"], data["roads"][0], data["controller"],
-                       dict(data["best_gains"]), params, str(path))
+        return _Origin(
+            data["plant"],
+            data["preset"],
+            data["roads"][0],
+            data["controller"],
+            dict(data["best_gains"]),
+            params,
+            str(path),
+        )
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise InputError("source", f"cannot read {str(path)!r} as a tune result: {exc}") from None
     except (KeyError, IndexError, TypeError):
-        raise InputError("source", f"{str(path)!r} is not a tune.json (needs plant, preset, "
-                         "roads, controller, best_gains, params)") from None
+        raise InputError(
+            "source",
+            f"{str(path)!r} is not a tune.json (needs plant, preset, "
+            "roads, controller, best_gains, params)",
+        ) from None
 
 
 def _from_study_run(study_dir: str, key: str) -> _Origin:
@@ -152,11 +186,17 @@ def _from_study_run(study_dir: str, key: str) -> _Origin:
         for rec in store.records():
             if rec.spec.key == key:
                 if not rec.completed:
-                    raise InputError("source", f"run {key!r} of {study_dir!r} failed: "
-                                     f"{rec.error}")
+                    raise InputError("source", f"run {key!r} of {study_dir!r} failed: {rec.error}")
                 s = rec.spec
-                return _Origin(s.plant, s.preset, s.roads[0], s.controller, rec.best_gains,
-                               dict(s.params), f"{study_dir}#{key}")
+                return _Origin(
+                    s.plant,
+                    s.preset,
+                    s.roads[0],
+                    s.controller,
+                    rec.best_gains,
+                    dict(s.params),
+                    f"{study_dir}#{key}",
+                )
     raise InputError("source", f"no finished run {key!r} in {study_dir!r}")
 
 
@@ -164,11 +204,19 @@ def _origin(source: str | None, plant: str | None, controller: str | None) -> _O
     if source is None:
         if controller is None:
             raise InputError("controller", "give a SOURCE or a --controller")
-        return _Origin(plant or "abs-wheel", None, None, controller, {}, {},
-                       f"registry defaults of {controller}")
+        return _Origin(
+            plant or "abs-wheel",
+            None,
+            None,
+            controller,
+            {},
+            {},
+            f"registry defaults of {controller}",
+        )
     if plant is not None or controller is not None:
-        raise InputError("controller", "a SOURCE names its plant and controller; "
-                         "drop --plant/--controller")
+        raise InputError(
+            "controller", "a SOURCE names its plant and controller; drop --plant/--controller"
+        )
     study, sep, key = source.partition("#")
     if sep:
         return _from_study_run(study, key)
@@ -194,29 +242,41 @@ def resolve(
     origin = _origin(source, plant, controller)
     field = "plant" if source is None else "source"
     if origin.plant in REFUSED_PLANTS:
-        raise InputError(field, f"cannot export from plant {origin.plant!r}: "
-                         f"{REFUSED_PLANTS[origin.plant]}")
+        raise InputError(
+            field, f"cannot export from plant {origin.plant!r}: {REFUSED_PLANTS[origin.plant]}"
+        )
     if origin.plant not in PLANTS:
-        raise InputError(field, f"no discrete controllers for plant {origin.plant!r} "
-                         f"(exportable: {', '.join(PLANTS)})")
+        raise InputError(
+            field,
+            f"no discrete controllers for plant {origin.plant!r} (exportable: {', '.join(PLANTS)})",
+        )
     law = discrete.law(origin.controller)
     if law is None:
-        raise InputError("controller" if source is None else "source",
-                         f"{origin.controller!r} has no discrete form to export "
-                         f"(exportable: {', '.join(discrete.LAWS)})")
+        raise InputError(
+            "controller" if source is None else "source",
+            f"{origin.controller!r} has no discrete form to export "
+            f"(exportable: {', '.join(discrete.LAWS)})",
+        )
     fixed = sorted((ECU_PARAM_NAMES | {"ecu"}) & set(overrides))
     if fixed:
-        raise InputError(f"params.{fixed[0]}", "the export's ECU is ideal (true speeds, the "
-                         "continuous actuator, no delay); of the ECU parameters only ecu_ts_s "
-                         "and fuzzy_table_points apply")
+        raise InputError(
+            f"params.{fixed[0]}",
+            "the export's ECU is ideal (true speeds, the "
+            "continuous actuator, no delay); of the ECU parameters only ecu_ts_s "
+            "and fuzzy_table_points apply",
+        )
     values = {**origin.params, **overrides}
     if str(values.get("gain_schedule", "off")) != "off":
-        raise InputError("params.gain_schedule", "the exported controller has fixed gains; a "
-                         "speed schedule needs the ECU's reference speed (export with "
-                         "gain_schedule=off)")
+        raise InputError(
+            "params.gain_schedule",
+            "the exported controller has fixed gains; a "
+            "speed schedule needs the ECU's reference speed (export with "
+            "gain_schedule=off)",
+        )
     base = {k: v for k, v in values.items() if k not in ECU_PARAM_NAMES and k != "ecu"}
-    plain = get_plant(origin.plant).scenario(preset or origin.preset, road or origin.road,
-                                             origin.controller, base)
+    plain = get_plant(origin.plant).scenario(
+        preset or origin.preset, road or origin.road, origin.controller, base
+    )
     if not isinstance(plain, AbsWheelScenario):  # pragma: no cover - PLANTS holds abs-wheel
         raise InputError("plant", f"cannot export from plant {origin.plant!r}")
     dt = plain.plant_params.dt_s
@@ -224,15 +284,16 @@ def resolve(
     rulebase = str(plain.controller_params["rulebase"]) if law.table_outputs else None
     if rulebase is None and "fuzzy_table_points" in export_values:
         raise InputError("params.fuzzy_table_points", f"{law.controller} reads no lookup table")
-    points = table_points({k: v for k, v in {**values, **export_values}.items()
-                           if k == "fuzzy_table_points"})
+    points = table_points(
+        {k: v for k, v in {**values, **export_values}.items() if k == "fuzzy_table_points"}
+    )
     ecu = {**IDEAL_ECU, "ecu_ts_s": ts, **({"fuzzy_table_points": points} if rulebase else {})}
-    sc = get_plant(origin.plant).scenario(plain.preset, plain.road, origin.controller,
-                                          {**base, **ecu})
+    sc = get_plant(origin.plant).scenario(
+        plain.preset, plain.road, origin.controller, {**base, **ecu}
+    )
     if not isinstance(sc, AbsWheelScenario):  # pragma: no cover - PLANTS holds abs-wheel only
         raise InputError("plant", f"cannot export from plant {origin.plant!r}")
-    g = sc.gains_array({**origin.gains, **{k: to_float(v, f"gains.{k}") for k, v in
-                                           gains.items()}})
+    g = sc.gains_array({**origin.gains, **{k: to_float(v, f"gains.{k}") for k, v in gains.items()}})
     if not np.all(np.isfinite(g)):
         raise InputError("gains", "every gain must be finite")
     table, grid = discrete.no_table()
@@ -244,18 +305,37 @@ def resolve(
         table, grid, bp = discrete.ecu_table(rb, points)
         table_inputs = tuple(v.name for v in rb.inputs)
         table_outputs = rb.output_names
-    row = law_params(law.controller, sc.gain_names, g[None, :], sc.controller_params,
-                     sc.target_slip, ts, sc.plant_params.wheel_radius_m)[0]
+    row = law_params(
+        law.controller,
+        sc.gain_names,
+        g[None, :],
+        sc.controller_params,
+        sc.target_slip,
+        ts,
+        sc.plant_params.wheel_radius_m,
+    )[0]
     return ExportedController(
-        law=law, scenario=sc, gains=dict(zip(sc.gain_names, g.tolist(), strict=True)),
-        params=row, table=table, grid=grid, breakpoints=bp,
-        table_inputs=table_inputs, table_outputs=table_outputs, rulebase=rulebase,
+        law=law,
+        scenario=sc,
+        gains=dict(zip(sc.gain_names, g.tolist(), strict=True)),
+        params=row,
+        table=table,
+        grid=grid,
+        breakpoints=bp,
+        table_inputs=table_inputs,
+        table_outputs=table_outputs,
+        rulebase=rulebase,
         source=origin.label,
     )
 
 
-def _sample_time(export_values: Mapping[str, object], source_values: Mapping[str, object],
-                 ctrl: Mapping[str, Any], dt: float, has_source: bool) -> float:
+def _sample_time(
+    export_values: Mapping[str, object],
+    source_values: Mapping[str, object],
+    ctrl: Mapping[str, Any],
+    dt: float,
+    has_source: bool,
+) -> float:
     """The sample time (module docstring), in whole steps of dt."""
     if "ecu_ts_s" in export_values or "ecu_ts_s" in source_values:
         given = export_values.get("ecu_ts_s", source_values.get("ecu_ts_s"))

@@ -20,8 +20,9 @@ class LawController:
 
     def __call__(self, inputs: NDArray[np.float64]) -> float:
         ec = self._ec
-        return float(discrete.discrete_step(ec.law.kind, self.state, inputs, ec.params, ec.table,
-                                            ec.grid))
+        return float(
+            discrete.discrete_step(ec.law.kind, self.state, inputs, ec.params, ec.table, ec.grid)
+        )
 
 
 def stop(ec: ExportedController) -> closed_loop.LoopResult:
@@ -37,16 +38,19 @@ def record(ec: ExportedController) -> tuple[NDArray[np.float64], NDArray[np.floa
 
 def replay(ec: ExportedController, inputs: NDArray[np.float64]) -> NDArray[np.float64]:
     """The numba law's commands for recorded input rows, started from rest."""
-    return discrete.run_vectors(ec.law.kind, np.ascontiguousarray(inputs, dtype=np.float64),
-                                ec.params, ec.table, ec.grid)
+    return discrete.run_vectors(
+        ec.law.kind, np.ascontiguousarray(inputs, dtype=np.float64), ec.params, ec.table, ec.grid
+    )
 
 
 def csv_text(names: tuple[str, ...], inputs: NDArray[np.float64], u: NDArray[np.float64]) -> str:
     """test_vectors.csv: a header of the input names and `u`, every number as Python's repr
     (the shortest decimal that reads back to the same double)."""
     lines = [",".join((*names, "u"))]
-    lines += [",".join(repr(float(v)) for v in (*row, value))
-              for row, value in zip(inputs.tolist(), u.tolist(), strict=True)]
+    lines += [
+        ",".join(repr(float(v)) for v in (*row, value))
+        for row, value in zip(inputs.tolist(), u.tolist(), strict=True)
+    ]
     return "\n".join(lines) + "\n"
 
 

@@ -295,8 +295,17 @@ def compile_rulebase(
     )
 
 
-_ARRAYS = ("output_spans", "grid_lo", "grid_step", "n", "values", "block", "block_start",
-           "block_r", "fine")
+_ARRAYS = (
+    "output_spans",
+    "grid_lo",
+    "grid_step",
+    "n",
+    "values",
+    "block",
+    "block_start",
+    "block_r",
+    "fine",
+)
 
 
 def _cache_path(rb: RuleBase, cells: int, tol: float) -> Path:
@@ -313,8 +322,12 @@ def _load(path: Path, rb: RuleBase) -> CompiledSurface | None:
             arrays = {k: data[k] for k in _ARRAYS}
     except (OSError, KeyError, ValueError):
         return None
-    return CompiledSurface(name=rb.name, input_names=(rb.inputs[0].name, rb.inputs[1].name),
-                           output_names=rb.output_names, **arrays)
+    return CompiledSurface(
+        name=rb.name,
+        input_names=(rb.inputs[0].name, rb.inputs[1].name),
+        output_names=rb.output_names,
+        **arrays,
+    )
 
 
 def _store(path: Path, surface: CompiledSurface) -> None:

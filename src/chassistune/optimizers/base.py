@@ -99,8 +99,11 @@ def check_covers_population(pop_size: int, max_evals: int | None) -> None:
     """Refuse an evaluation budget smaller than one population (for tuning and the CLI, where
     it would run no iteration; the ask/tell contract itself honours any budget exactly)."""
     if max_evals is not None and max_evals < pop_size:
-        raise InputError("max_evals", f"{max_evals} evaluations do not cover one population "
-                         f"of {pop_size}: no iteration would run")
+        raise InputError(
+            "max_evals",
+            f"{max_evals} evaluations do not cover one population "
+            f"of {pop_size}: no iteration would run",
+        )
 
 
 class Optimizer:

@@ -56,8 +56,11 @@ def drive(opt: Optimizer, fun: Objective, callback: Callback | None = None) -> O
         x = opt.ask()
         before = opt.nit
         opt.tell(x, fun(x))
-        if (callback is not None and opt.nit > before
-                and callback(_result(opt, time.perf_counter() - t0, "running"))):
+        if (
+            callback is not None
+            and opt.nit > before
+            and callback(_result(opt, time.perf_counter() - t0, "running"))
+        ):
             stopped = True
             break
     wall = time.perf_counter() - t0

@@ -22,17 +22,38 @@ MEALPY = ("ao", "gwo", "mfo", "abc", "de", "pso", "ga", "poa")
 PEERS = (*(f"mealpy:{m}" for m in MEALPY), "scipy:de")
 
 
-def _result(name: str, x: np.ndarray, fun: float, nfev: int, history: Sequence[float],
-            history_nfev: Sequence[int], wall: float) -> OptimizeResult:
-    return OptimizeResult(x=np.asarray(x, dtype=float), fun=float(fun), nfev=int(nfev),
-                          nit=len(history), history=np.asarray(history, dtype=float),
-                          history_nfev=np.asarray(history_nfev, dtype=np.int64),
-                          wall_time_s=wall, method=name, success=bool(np.isfinite(fun)),
-                          message="budget reached")
+def _result(
+    name: str,
+    x: np.ndarray,
+    fun: float,
+    nfev: int,
+    history: Sequence[float],
+    history_nfev: Sequence[int],
+    wall: float,
+) -> OptimizeResult:
+    return OptimizeResult(
+        x=np.asarray(x, dtype=float),
+        fun=float(fun),
+        nfev=int(nfev),
+        nit=len(history),
+        history=np.asarray(history, dtype=float),
+        history_nfev=np.asarray(history_nfev, dtype=np.int64),
+        wall_time_s=wall,
+        method=name,
+        success=bool(np.isfinite(fun)),
+        message="budget reached",
+    )
 
 
-def _mealpy(method: str, fun: Objective, bounds: np.ndarray, pop: int, max_iter: int | None,
-            max_evals: int | None, seed: np.random.SeedSequence) -> OptimizeResult:
+def _mealpy(
+    method: str,
+    fun: Objective,
+    bounds: np.ndarray,
+    pop: int,
+    max_iter: int | None,
+    max_evals: int | None,
+    seed: np.random.SeedSequence,
+) -> OptimizeResult:
     from mealpy import FloatVar
     from mealpy.evolutionary_based import DE, GA
     from mealpy.swarm_based import ABC, AO, GWO, MFO, POA, PSO
@@ -46,8 +67,7 @@ def _mealpy(method: str, fun: Objective, bounds: np.ndarray, pop: int, max_iter:
         "mfo": lambda: MFO.OriginalMFO(epoch=epochs, pop_size=pop),
         "abc": lambda: ABC.OriginalABC(epoch=epochs, pop_size=pop, n_limits=pop * d),
         "de": lambda: DE.OriginalDE(epoch=epochs, pop_size=pop, wf=0.5, cr=0.9, strategy=0),
-        "pso": lambda: PSO.OriginalPSO(epoch=epochs, pop_size=pop, c1=1.49445, c2=1.49445,
-                                       w=0.729),
+        "pso": lambda: PSO.OriginalPSO(epoch=epochs, pop_size=pop, c1=1.49445, c2=1.49445, w=0.729),
         "ga": lambda: GA.BaseGA(epoch=epochs, pop_size=pop, pc=0.9, pm=1.0 / d),
         "poa": lambda: POA.OriginalPOA(epoch=epochs, pop_size=pop),
     }
@@ -57,22 +77,33 @@ def _mealpy(method: str, fun: Objective, bounds: np.ndarray, pop: int, max_iter:
         calls[0] += 1
         return float(np.asarray(fun(x[None, :]))[0])
 
-    problem = {"obj_func": one, "bounds": FloatVar(lb=bounds[:, 0].tolist(),
-                                                   ub=bounds[:, 1].tolist()),
-               "minmax": "min", "log_to": None}
+    problem = {
+        "obj_func": one,
+        "bounds": FloatVar(lb=bounds[:, 0].tolist(), ub=bounds[:, 1].tolist()),
+        "minmax": "min",
+        "log_to": None,
+    }
     model = classes[method]()
     t0 = time.perf_counter()
-    best = model.solve(problem, termination={"max_fe": max_evals} if max_evals else None,
-                       seed=int_seed(seed))
+    best = model.solve(
+        problem, termination={"max_fe": max_evals} if max_evals else None, seed=int_seed(seed)
+    )
     wall = time.perf_counter() - t0
     history = [float(v) for v in model.history.list_global_best_fit]
     spent = [min(pop + per_epoch * (i + 1), calls[0]) for i in range(len(history))]
-    return _result(f"mealpy:{method}", best.solution, best.target.fitness, calls[0], history,
-                   spent, wall)
+    return _result(
+        f"mealpy:{method}", best.solution, best.target.fitness, calls[0], history, spent, wall
+    )
 
 
-def _scipy_de(fun: Objective, bounds: np.ndarray, pop: int, max_iter: int | None,
-              max_evals: int | None, seed: np.random.SeedSequence) -> OptimizeResult:
+def _scipy_de(
+    fun: Objective,
+    bounds: np.ndarray,
+    pop: int,
+    max_iter: int | None,
+    max_evals: int | None,
+    seed: np.random.SeedSequence,
+) -> OptimizeResult:
     """rand1bin, F 0.5, CR 0.9, `pop` uniform initial points, no polishing, no early stop."""
     from scipy.optimize import differential_evolution
 
@@ -96,17 +127,34 @@ def _scipy_de(fun: Objective, bounds: np.ndarray, pop: int, max_iter: int | None
         spent.append(rows[0])
 
     t0 = time.perf_counter()
-    res = differential_evolution(batch, bounds, strategy="rand1bin", maxiter=maxiter,
-                                 mutation=0.5, recombination=0.9, rng=rng, polish=False,
-                                 init=init, tol=0.0, atol=0.0, vectorized=True,
-                                 updating="deferred", callback=record)
-    return _result("scipy:de", res.x, res.fun, rows[0], history, spent,
-                   time.perf_counter() - t0)
+    res = differential_evolution(
+        batch,
+        bounds,
+        strategy="rand1bin",
+        maxiter=maxiter,
+        mutation=0.5,
+        recombination=0.9,
+        rng=rng,
+        polish=False,
+        init=init,
+        tol=0.0,
+        atol=0.0,
+        vectorized=True,
+        updating="deferred",
+        callback=record,
+    )
+    return _result("scipy:de", res.x, res.fun, rows[0], history, spent, time.perf_counter() - t0)
 
 
-def run_peer(name: str, fun: Objective, bounds: Sequence[tuple[float, float]], pop_size: int,
-             max_iter: int | None, max_evals: int | None,
-             seed: np.random.SeedSequence) -> OptimizeResult:
+def run_peer(
+    name: str,
+    fun: Objective,
+    bounds: Sequence[tuple[float, float]],
+    pop_size: int,
+    max_iter: int | None,
+    max_evals: int | None,
+    seed: np.random.SeedSequence,
+) -> OptimizeResult:
     """Run peer `name` (one of PEERS) on the batch objective `fun` over `bounds`."""
     b = np.asarray(bounds, dtype=float)
     if name == "scipy:de":

@@ -115,14 +115,25 @@ def budget_table(ctx: Context, names: Sequence[str]) -> Table:
         for kind, cfg in (("full", full), ("quick", quick)):
             for sc in cfg.scenarios:
                 b = sc.budget or cfg.budget
-                rows.append({"study": name, "scenario": sc.name or "", "run": kind,
-                             "population": b.pop_size, "iterations": b.iterations,
-                             "evaluations cap": b.evaluations or "none",
-                             "seeds": len(cfg.study.seeds),
-                             "this report": "yes" if (kind == "quick") == ctx.quick else ""})
-    return Table("budgets", "Budgets of the studies (full run and --quick)", pd.DataFrame(rows),
-                 "Each run is one optimizer on one scenario with one seed; the report shows the "
-                 "run marked 'this report'. What each optimizer actually spent: the next table.")
+                rows.append(
+                    {
+                        "study": name,
+                        "scenario": sc.name or "",
+                        "run": kind,
+                        "population": b.pop_size,
+                        "iterations": b.iterations,
+                        "evaluations cap": b.evaluations or "none",
+                        "seeds": len(cfg.study.seeds),
+                        "this report": "yes" if (kind == "quick") == ctx.quick else "",
+                    }
+                )
+    return Table(
+        "budgets",
+        "Budgets of the studies (full run and --quick)",
+        pd.DataFrame(rows),
+        "Each run is one optimizer on one scenario with one seed; the report shows the "
+        "run marked 'this report'. What each optimizer actually spent: the next table.",
+    )
 
 
 def spent_table(ctx: Context, names: Sequence[str]) -> Table:
@@ -139,21 +150,32 @@ def spent_table(ctx: Context, names: Sequence[str]) -> Table:
         table = optimizer_table(data).drop(columns=["hyperparameters"])
         ratios = []
         for opt in table["optimizer"]:
-            done = [r for r in data.records if r.spec.optimizer == opt and r.completed
-                    and r.nfev is not None]
+            done = [
+                r
+                for r in data.records
+                if r.spec.optimizer == opt and r.completed and r.nfev is not None
+            ]
             spec = done[0].spec if done else None
-            nominal = (spec.pop_size * spec.max_iter if spec is not None
-                       and spec.max_iter is not None else None)
-            ratios.append(float(np.median([r.nfev for r in done])) / nominal
-                          if nominal else float("nan"))
+            nominal = (
+                spec.pop_size * spec.max_iter
+                if spec is not None and spec.max_iter is not None
+                else None
+            )
+            ratios.append(
+                float(np.median([r.nfev for r in done])) / nominal if nominal else float("nan")
+            )
         table.insert(0, "study", name)
         table["spent / (population x iterations)"] = ratios
         frames.append(table)
     frame = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
-    return Table("evaluations_spent", "Evaluations actually spent (this report's runs)", frame,
-                 "Objective evaluations and iterations over the completed runs (min / median / "
-                 "max); the last column: median evaluations spent over population x iterations "
-                 "asked, so optimizers given the same iterations can be compared at equal cost.")
+    return Table(
+        "evaluations_spent",
+        "Evaluations actually spent (this report's runs)",
+        frame,
+        "Objective evaluations and iterations over the completed runs (min / median / "
+        "max); the last column: median evaluations spent over population x iterations "
+        "asked, so optimizers given the same iterations can be compared at equal cost.",
+    )
 
 
 def final_costs(runs: Sequence[RunRecord]) -> np.ndarray:
@@ -172,11 +194,16 @@ def order_verdict(values: Mapping[str, np.ndarray], claimed_best: str) -> tuple[
     each other entry with several runs; ranking only: lowest median; else does not hold."""
     medians = {k: float(np.median(v)) for k, v in values.items()}
     best = min(medians, key=lambda k: medians[k])
-    tests = {k: stats.rank_sum(values[claimed_best], v) for k, v in values.items()
-             if k != claimed_best and len(v) > 1 and len(values[claimed_best]) > 1}
+    tests = {
+        k: stats.rank_sum(values[claimed_best], v)
+        for k, v in values.items()
+        if k != claimed_best and len(v) > 1 and len(values[claimed_best]) > 1
+    }
     text = ", ".join(f"{k} {m:.6g}" for k, m in medians.items())
-    text += "; rank-sum vs " + (", ".join(f"{k}: {t.sign} (p = {t.p_value:.2g})"
-                                          for k, t in tests.items()) or "none (single values)")
+    text += "; rank-sum vs " + (
+        ", ".join(f"{k}: {t.sign} (p = {t.p_value:.2g})" for k, t in tests.items())
+        or "none (single values)"
+    )
     if best != claimed_best and medians[best] < medians[claimed_best]:
         return FAILS, f"lowest is {best}. Medians: {text}"
     if tests and all(t.sign == "+" for t in tests.values()):
@@ -184,8 +211,9 @@ def order_verdict(values: Mapping[str, np.ndarray], claimed_best: str) -> tuple[
     return RANKING_ONLY, f"medians: {text}"
 
 
-def settle_time_s(time_s: np.ndarray, slip: np.ndarray, target: np.ndarray | float,
-                  speed_m_s: np.ndarray) -> float:
+def settle_time_s(
+    time_s: np.ndarray, slip: np.ndarray, target: np.ndarray | float, speed_m_s: np.ndarray
+) -> float:
     """First time after which |slip - target| <= SLIP_BAND at every sample with speed above
     SETTLE_MIN_SPEED_M_S (NaN if it never settles)."""
     live = speed_m_s > SETTLE_MIN_SPEED_M_S
@@ -231,13 +259,18 @@ class BoundCheck:
         return self.published_m >= self.bound_m
 
     def row(self) -> dict[str, object]:
-        return {"paper": self.paper, "road": self.road, "controller": self.controller,
-                "published (m)": self.published_m, "bound (m)": self.bound_m,
-                "published / bound": self.ratio, "possible": "yes" if self.possible else "no"}
+        return {
+            "paper": self.paper,
+            "road": self.road,
+            "controller": self.controller,
+            "published (m)": self.published_m,
+            "bound (m)": self.bound_m,
+            "published / bound": self.ratio,
+            "possible": "yes" if self.possible else "no",
+        }
 
 
-def bound_row(paper: str, road: str, label: str, published_m: float, bound_m: float
-              ) -> BoundCheck:
+def bound_row(paper: str, road: str, label: str, published_m: float, bound_m: float) -> BoundCheck:
     """`BoundCheck` of one published distance."""
     return BoundCheck(paper, road, label, published_m, bound_m)
 
@@ -246,8 +279,11 @@ def bound_verdict(paper: str, checks: Sequence[BoundCheck]) -> Verdict:
     """'The published distances are physically possible': every one at or above its bound."""
     worst = min(checks, key=lambda c: c.ratio)
     below = sum(not c.possible for c in checks)
-    return Verdict(paper, "the published distances are physically possible",
-                   HOLDS if below == 0 else FAILS,
-                   f"{below} of {len(checks)} published distances are below the adhesion bound; "
-                   f"lowest: {worst.controller} on {worst.road}, {worst.published_m:g} m against "
-                   f"at least {worst.bound_m:.4g} m ({worst.ratio:.2f} x the bound)")
+    return Verdict(
+        paper,
+        "the published distances are physically possible",
+        HOLDS if below == 0 else FAILS,
+        f"{below} of {len(checks)} published distances are below the adhesion bound; "
+        f"lowest: {worst.controller} on {worst.road}, {worst.published_m:g} m against "
+        f"at least {worst.bound_m:.4g} m ({worst.ratio:.2f} x the bound)",
+    )

@@ -36,11 +36,13 @@ KEY = "deffao-vehicle-abs"
 FUNCTIONS_STUDY = "deffao-vehicle-abs-functions"
 VEHICLE_STUDY = "deffao-vehicle-abs"
 VEHICLE = "abs-vehicle"
-TABLE4 = (("F2", "best_fitness_schwefel_2_22", "Schwefel 2.22"),
-          ("F3", "best_fitness_schwefel_1_2", "Schwefel 1.2"),
-          ("F5", "best_fitness_rosenbrock", "Rosenbrock"),
-          ("F8", "best_fitness_schwefel_2_26", "Schwefel 2.26"),
-          ("F21", "best_fitness_shekel_5", "Shekel 5"))
+TABLE4 = (
+    ("F2", "best_fitness_schwefel_2_22", "Schwefel 2.22"),
+    ("F3", "best_fitness_schwefel_1_2", "Schwefel 1.2"),
+    ("F5", "best_fitness_rosenbrock", "Rosenbrock"),
+    ("F8", "best_fitness_schwefel_2_26", "Schwefel 2.26"),
+    ("F21", "best_fitness_shekel_5", "Shekel 5"),
+)
 METHODS = ("MFO", "POA", "DBO", "AO", "DEFFAO")
 ROADS = (("dry-concrete", "Fig. 7"), ("mu-jump", "Fig. 8"), ("split-mu", "Fig. 9"))
 V0_M_S = 120.0 / 3.6
@@ -50,20 +52,32 @@ G_M_S2 = 9.8
 NOT_MERGED = "plant not yet merged: the abs-vehicle plant is not in this build"
 
 SETTING = [
-    ("Table 4", "The paper states no population, budget or dimension for Table 4; ours: "
-     "population 30, 500 iterations, the usual dimensions (30 for F2, F3, F5, F8; 4 for "
-     "F21), 30 runs. It prints one 'best fitness' per method; we give our best and median."),
-    ("plant", "7-DOF vehicle ABS (abs-vehicle, preset paper-deffao): the paper gives no "
-     "equations, only Table 2's parameters; our model and every assumption are in DESIGN 3.3 "
-     "(Iz printed 1.44 kg m^2, read as 1440; h, track widths and tire cornering stiffness are "
-     "ours). Split-mu with fixed steering spins every consistent model: the counter-steering "
-     "driver is used, so split-mu distances describe braking, not a spin."),
-    ("Table 5", "PID and fuzzy PID rows: the catalogue defaults, untuned; AO- and DEFFAO-fuzzy "
-     "PID: the fuzzy PID's eight parameters tuned on the three roads at once (objective: "
-     "stopping distance plus a wheel-lock penalty)."),
-    ("defects", "Table 5 breaks the adhesion bound on every road (50.70 m on dry concrete "
-     "against at least 62.99 m from 120 km/h at mu_peak 0.9: a mean deceleration of 1.12 g). "
-     "Iz is printed 1000 x too small."),
+    (
+        "Table 4",
+        "The paper states no population, budget or dimension for Table 4; ours: "
+        "population 30, 500 iterations, the usual dimensions (30 for F2, F3, F5, F8; 4 for "
+        "F21), 30 runs. It prints one 'best fitness' per method; we give our best and median.",
+    ),
+    (
+        "plant",
+        "7-DOF vehicle ABS (abs-vehicle, preset paper-deffao): the paper gives no "
+        "equations, only Table 2's parameters; our model and every assumption are in DESIGN 3.3 "
+        "(Iz printed 1.44 kg m^2, read as 1440; h, track widths and tire cornering stiffness are "
+        "ours). Split-mu with fixed steering spins every consistent model: the counter-steering "
+        "driver is used, so split-mu distances describe braking, not a spin.",
+    ),
+    (
+        "Table 5",
+        "PID and fuzzy PID rows: the catalogue defaults, untuned; AO- and DEFFAO-fuzzy "
+        "PID: the fuzzy PID's eight parameters tuned on the three roads at once (objective: "
+        "stopping distance plus a wheel-lock penalty).",
+    ),
+    (
+        "defects",
+        "Table 5 breaks the adhesion bound on every road (50.70 m on dry concrete "
+        "against at least 62.99 m from 120 km/h at mu_peak 0.9: a mean deceleration of 1.12 g). "
+        "Iz is printed 1000 x too small.",
+    ),
 ]
 
 
@@ -87,26 +101,54 @@ def build(ctx: Context) -> PaperSection:
         pub = published.lookup(KEY, name).as_dict()
         finals = {m: data.costs(f"table4/{f}", m) for m in METHODS}
         for m in METHODS:
-            rows.append({"function": f"{f} ({title})", "method": m, "paper best": pub[m],
-                         "ours best": finals[m].min(), "ours median": float(np.median(finals[m])),
-                         "runs": len(finals[m])})
+            rows.append(
+                {
+                    "function": f"{f} ({title})",
+                    "method": m,
+                    "paper best": pub[m],
+                    "ours best": finals[m].min(),
+                    "ours median": float(np.median(finals[m])),
+                    "runs": len(finals[m]),
+                }
+            )
         word, evidence = order_verdict(finals, "DEFFAO")
         parts.append((word, f"{f}: {evidence}"))
         path = ctx.figure(KEY, f"table4_convergence_{f}")
-        convergence_figure({m: data.runs(f"table4/{f}", m) for m in METHODS}, str(path),
-                           f"Table 4 functions: {f} ({title})")
+        convergence_figure(
+            {m: data.runs(f"table4/{f}", m) for m in METHODS},
+            str(path),
+            f"Table 4 functions: {f} ({title})",
+        )
         sec.figures.append(Figure(path.stem, f"Convergence on {f} ({title})", path))
-    sec.tables.append(Table("table4", "Table 4: best fitness, paper beside ours",
-                            pd.DataFrame(rows), "Paper: Table 4 as printed (unitless).",
-                            quoted=("paper best",)))
-    sec.verdicts.append(Verdict(KEY, "DEFFAO is best on Table 4's five functions",
-                                combine([w for w, _ in parts]), "; ".join(e for _, e in parts)))
+    sec.tables.append(
+        Table(
+            "table4",
+            "Table 4: best fitness, paper beside ours",
+            pd.DataFrame(rows),
+            "Paper: Table 4 as printed (unitless).",
+            quoted=("paper best",),
+        )
+    )
+    sec.verdicts.append(
+        Verdict(
+            KEY,
+            "DEFFAO is best on Table 4's five functions",
+            combine([w for w, _ in parts]),
+            "; ".join(e for _, e in parts),
+        )
+    )
     checks = _adhesion_checks()
     if vehicle_available() and VEHICLE_STUDY in ctx.studies:
         sec.verdicts.append(_table5(ctx, sec, checks))
     else:
-        sec.verdicts.append(Verdict(KEY, "DEFFAO-fuzzy PID stops shortest on each of its three "
-                                    "roads", UNCHECKED, NOT_MERGED))
+        sec.verdicts.append(
+            Verdict(
+                KEY,
+                "DEFFAO-fuzzy PID stops shortest on each of its three roads",
+                UNCHECKED,
+                NOT_MERGED,
+            )
+        )
     sec.verdicts.append(bound_verdict(KEY, checks))
     sec.bounds = checks
     return sec
@@ -116,8 +158,10 @@ def _adhesion_checks() -> list[BoundCheck]:
     """Table 5's distances against the adhesion bound from 120 km/h to standstill: uniform
     v0^2/(2 mu_peak g), split-mu v0^2/((mu_L + mu_R) g) (mu-jump needs the vehicle model)."""
     mu = {r: BILINEAR_ROADS[r][1] for r in ("dry-concrete", "ice")}
-    bounds = {"dry-concrete": V0_M_S**2 / (2.0 * mu["dry-concrete"] * G_M_S2),
-              "split-mu": V0_M_S**2 / ((mu["dry-concrete"] + mu["ice"]) * G_M_S2)}
+    bounds = {
+        "dry-concrete": V0_M_S**2 / (2.0 * mu["dry-concrete"] * G_M_S2),
+        "split-mu": V0_M_S**2 / ((mu["dry-concrete"] + mu["ice"]) * G_M_S2),
+    }
     checks = []
     for road, bound in bounds.items():
         for label, d in published.lookup(KEY, "stop_distance_m", road).as_dict().items():
@@ -125,8 +169,9 @@ def _adhesion_checks() -> list[BoundCheck]:
     return checks
 
 
-def _vehicle_trace(road: str, controller: str, gains: np.ndarray | None,
-                   params: dict[str, Any]) -> Any:
+def _vehicle_trace(
+    road: str, controller: str, gains: np.ndarray | None, params: dict[str, Any]
+) -> Any:
     sc = get_plant(VEHICLE).scenario("paper-deffao", road, controller, params, 0)
     return sc, sc.trace(sc.gains_array(None) if gains is None else gains)
 
@@ -150,32 +195,58 @@ def _table5(ctx: Context, sec: PaperSection, checks: list[BoundCheck]) -> Verdic
         for label, rs in runs.items():
             dist[label] = np.array([r.metrics[road]["stop_distance_m"] for r in rs])
             rec = median_run(rs)
-            sc, tr = _vehicle_trace(road, rec.spec.controller,
-                                    np.array([rec.best_gains[n] for n in rec.spec.bounds]),
-                                    params)
+            sc, tr = _vehicle_trace(
+                road,
+                rec.spec.controller,
+                np.array([rec.best_gains[n] for n in rec.spec.bounds]),
+                params,
+            )
             rows.append(_t5_row(road, label, tr.metrics, t_pub, d_pub, sc.bound_distance_m))
             if label.startswith("DEFFAO"):
                 path = ctx.figure(KEY, f"fig{fig.split()[1]}_{road}")
                 plot_trace(sc, tr, str(path))
-                sec.figures.append(Figure(path.stem, f"{fig} redrawn ({road}): DEFFAO-fuzzy PID",
-                                          path))
+                sec.figures.append(
+                    Figure(path.stem, f"{fig} redrawn ({road}): DEFFAO-fuzzy PID", path)
+                )
         if road == "mu-jump":
             for label, d in d_pub.items():
                 checks.append(bound_row(KEY, road, label, d, sc.bound_distance_m))
         word, evidence = order_verdict(dist, "DEFFAO-fuzzy PID")
         parts.append((word, f"{road}: {evidence}"))
-    sec.tables.append(Table("table5", "Table 5: braking time and distance, paper beside ours",
-                            pd.DataFrame(rows), "Ours: the defaults and each optimizer's median "
-                            "run; bound with our v_stop (DESIGN 3.3). Paper: Table 5 as printed.",
-                            quoted=("paper stop time (s)", "paper distance (m)")))
-    return Verdict(KEY, "DEFFAO-fuzzy PID stops shortest on each of its three roads",
-                   combine([w for w, _ in parts]), "; ".join(e for _, e in parts))
+    sec.tables.append(
+        Table(
+            "table5",
+            "Table 5: braking time and distance, paper beside ours",
+            pd.DataFrame(rows),
+            "Ours: the defaults and each optimizer's median "
+            "run; bound with our v_stop (DESIGN 3.3). Paper: Table 5 as printed.",
+            quoted=("paper stop time (s)", "paper distance (m)"),
+        )
+    )
+    return Verdict(
+        KEY,
+        "DEFFAO-fuzzy PID stops shortest on each of its three roads",
+        combine([w for w, _ in parts]),
+        "; ".join(e for _, e in parts),
+    )
 
 
-def _t5_row(road: str, label: str, m: dict[str, Any], t_pub: dict[str, float],
-            d_pub: dict[str, float], bound: float) -> dict[str, object]:
-    return {"road": road, "controller": label, "paper stop time (s)": t_pub.get(label),
-            "ours stop time (s)": m["stop_time_s"], "paper distance (m)": d_pub.get(label),
-            "ours distance (m)": m["stop_distance_m"], "bound (m)": bound,
-            "paper / bound": d_pub[label] / bound if label in d_pub else None,
-            "ours / bound": m["stop_distance_m"] / bound}
+def _t5_row(
+    road: str,
+    label: str,
+    m: dict[str, Any],
+    t_pub: dict[str, float],
+    d_pub: dict[str, float],
+    bound: float,
+) -> dict[str, object]:
+    return {
+        "road": road,
+        "controller": label,
+        "paper stop time (s)": t_pub.get(label),
+        "ours stop time (s)": m["stop_time_s"],
+        "paper distance (m)": d_pub.get(label),
+        "ours distance (m)": m["stop_distance_m"],
+        "bound (m)": bound,
+        "paper / bound": d_pub[label] / bound if label in d_pub else None,
+        "ours / bound": m["stop_distance_m"] / bound,
+    }

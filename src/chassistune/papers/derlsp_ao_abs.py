@@ -37,8 +37,11 @@ from chassistune.studies.store import RunRecord
 KEY = "derlsp-ao-abs"
 STUDIES = ("derlsp-ao-abs", "derlsp-ao-abs-functions")
 PRESET = "paper-derlsp-ao"
-ROADS = (("dry-concrete", "Table 2", "Fig. 10"), ("wet-asphalt", "Table 3", "Fig. 11"),
-         ("ice", "Table 4", "Fig. 12"))
+ROADS = (
+    ("dry-concrete", "Table 2", "Fig. 10"),
+    ("wet-asphalt", "Table 3", "Fig. 11"),
+    ("ice", "Table 4", "Fig. 12"),
+)
 DEFAULTS = (("PID", "pid"), ("fuzzy PID", "fuzzy-pid"))
 """The paper's untuned rows: the catalogue defaults."""
 TUNED = ("GA-PID", "AO-PID", "DERLSP-AO-PID")
@@ -48,28 +51,48 @@ FUNCTIONS = ("F4", "F5", "F6", "F14")
 SETTLE_S = 1.0
 
 SETTING = [
-    ("plant", "abs-wheel, preset paper-derlsp-ao: quarter mass 100 kg (section 2.2), wheel "
-     "inertia 12 kg m^2, radius 0.5 m, v0 30 m/s, bilinear tire of Table 1, hydraulic brake "
-     "100/(0.01 s + 1) integrated and capped at 1500; runs end at 0.5 m/s."),
-    ("mass", "Section 2.2 says 100 kg, section 5 says 200 kg: both are tuned and reported "
-     "(Tables: '200 kg' columns)."),
-    ("controllers", "PID and fuzzy PID rows: the catalogue defaults, untuned (the paper does "
-     "not say how they were set). GA-, AO- and DERLSP-AO-PID: the PID tuned by each optimizer "
-     "on each road, objective ITAE of the slip error (the paper does not print its objective)."),
-    ("Levy flight", "Our Levy step uses Mantegna's sigma with the 1/beta power, as the AO "
-     "authors' code does; eq. 17 as printed has none: our steps are about 20 % larger."),
-    ("defects", "The published distances are below the adhesion bound v0^2/(2 mu_peak g) of "
-     "their own roads (dry concrete at 30 m/s: at least 51 m; the paper reports 24.8 m), and the "
-     "ice stop times (about 7.5 s) are a quarter of the minimum (about 29.7 s). Eq. 7 prints a "
-     "wet-asphalt slope of 0.3125 where Table 1 gives 0.35 (Table 1 used). The wheel inertia "
-     "unit is printed as kg/m^-2."),
-    ("reading", "We judge rankings and relative improvements; distances and times are ours, "
-     "physically consistent, beside the paper's."),
+    (
+        "plant",
+        "abs-wheel, preset paper-derlsp-ao: quarter mass 100 kg (section 2.2), wheel "
+        "inertia 12 kg m^2, radius 0.5 m, v0 30 m/s, bilinear tire of Table 1, hydraulic brake "
+        "100/(0.01 s + 1) integrated and capped at 1500; runs end at 0.5 m/s.",
+    ),
+    (
+        "mass",
+        "Section 2.2 says 100 kg, section 5 says 200 kg: both are tuned and reported "
+        "(Tables: '200 kg' columns).",
+    ),
+    (
+        "controllers",
+        "PID and fuzzy PID rows: the catalogue defaults, untuned (the paper does "
+        "not say how they were set). GA-, AO- and DERLSP-AO-PID: the PID tuned by each optimizer "
+        "on each road, objective ITAE of the slip error (the paper does not print its objective).",
+    ),
+    (
+        "Levy flight",
+        "Our Levy step uses Mantegna's sigma with the 1/beta power, as the AO "
+        "authors' code does; eq. 17 as printed has none: our steps are about 20 % larger.",
+    ),
+    (
+        "defects",
+        "The published distances are below the adhesion bound v0^2/(2 mu_peak g) of "
+        "their own roads (dry concrete at 30 m/s: at least 51 m; the paper reports 24.8 m), and "
+        "the "
+        "ice stop times (about 7.5 s) are a quarter of the minimum (about 29.7 s). Eq. 7 prints a "
+        "wet-asphalt slope of 0.3125 where Table 1 gives 0.35 (Table 1 used). The wheel inertia "
+        "unit is printed as kg/m^-2.",
+    ),
+    (
+        "reading",
+        "We judge rankings and relative improvements; distances and times are ours, "
+        "physically consistent, beside the paper's.",
+    ),
 ]
 
 
-def abs_trace(preset: str, road: str, controller: str, gains: np.ndarray | None,
-              params: dict[str, object]) -> tuple[AbsWheelScenario, Trace]:
+def abs_trace(
+    preset: str, road: str, controller: str, gains: np.ndarray | None, params: dict[str, object]
+) -> tuple[AbsWheelScenario, Trace]:
     """The single-wheel scenario and the trace of `gains` (None: the catalogue defaults)."""
     sc = get_plant("abs-wheel").scenario(preset, road, controller, params, 0)
     if not isinstance(sc, AbsWheelScenario):
@@ -77,8 +100,9 @@ def abs_trace(preset: str, road: str, controller: str, gains: np.ndarray | None,
     return sc, sc.trace(sc.gains_array(None) if gains is None else gains)
 
 
-def _trace(road: str, controller: str, gains: np.ndarray | None, mass_kg: float
-           ) -> tuple[AbsWheelScenario, Trace]:
+def _trace(
+    road: str, controller: str, gains: np.ndarray | None, mass_kg: float
+) -> tuple[AbsWheelScenario, Trace]:
     return abs_trace(PRESET, road, controller, gains, {"mass_kg": mass_kg})
 
 
@@ -87,8 +111,9 @@ def run_gains(rec: RunRecord) -> np.ndarray:
     return np.array([rec.best_gains[n] for n in rec.spec.bounds])
 
 
-def _road_results(ctx: Context, road: str, mass: str, mass_kg: float
-                  ) -> tuple[dict[str, np.ndarray], dict[str, tuple[AbsWheelScenario, Trace]]]:
+def _road_results(
+    ctx: Context, road: str, mass: str, mass_kg: float
+) -> tuple[dict[str, np.ndarray], dict[str, tuple[AbsWheelScenario, Trace]]]:
     """Stop distances by controller (the tuned ones: every seed) and the representative traces
     (defaults; each optimizer's median run)."""
     data = ctx.studies["derlsp-ao-abs"]
@@ -119,48 +144,78 @@ def build(ctx: Context) -> PaperSection:
         rows = []
         for label in ORDER:
             m = traces[label][1].metrics
-            rows.append({
-                "controller": label, "paper stop time (s)": t_pub[label],
-                "ours stop time (s)": m["stop_time_s"], "paper distance (m)": d_pub[label],
-                "ours distance (m)": m["stop_distance_m"],
-                "ours distance, all seeds (m)":
-                    f"{dist[label].min():.4g} - {dist[label].max():.4g}",
-                "ours 200 kg distance (m)": traces200[label][1].metrics["stop_distance_m"],
-                "bound (m)": bound, "paper / bound": d_pub[label] / bound,
-                "ours / bound": m["stop_distance_m"] / bound,
-                "ours settle (s)": _settle(traces[label][1])})
+            rows.append(
+                {
+                    "controller": label,
+                    "paper stop time (s)": t_pub[label],
+                    "ours stop time (s)": m["stop_time_s"],
+                    "paper distance (m)": d_pub[label],
+                    "ours distance (m)": m["stop_distance_m"],
+                    "ours distance, all seeds (m)": f"{dist[label].min():.4g} - "
+                    f"{dist[label].max():.4g}",
+                    "ours 200 kg distance (m)": traces200[label][1].metrics["stop_distance_m"],
+                    "bound (m)": bound,
+                    "paper / bound": d_pub[label] / bound,
+                    "ours / bound": m["stop_distance_m"] / bound,
+                    "ours settle (s)": _settle(traces[label][1]),
+                }
+            )
             bounds_ok.append(bound_row(KEY, road, label, d_pub[label], bound))
-        sec.tables.append(Table(
-            f"table{table.split()[1]}_{road}", f"{table} ({road}): paper beside ours",
-            pd.DataFrame(rows), "Ours: the defaults and each optimizer's median run (100 kg); "
-            "'all seeds': the range over seeds; bound: (v0^2 - v_stop^2)/(2 mu_peak g). Paper: "
-            f"{table} as printed.", quoted=("paper stop time (s)", "paper distance (m)")))
+        sec.tables.append(
+            Table(
+                f"table{table.split()[1]}_{road}",
+                f"{table} ({road}): paper beside ours",
+                pd.DataFrame(rows),
+                "Ours: the defaults and each optimizer's median run (100 kg); "
+                "'all seeds': the range over seeds; bound: (v0^2 - v_stop^2)/(2 mu_peak g). Paper: "
+                f"{table} as printed.",
+                quoted=("paper stop time (s)", "paper distance (m)"),
+            )
+        )
         path = ctx.figure(KEY, f"fig{fig.split()[1]}_{road}")
         from chassistune.plots.abs_wheel import plot_comparison
 
-        plot_comparison(traces["PID"][0], [(k, traces[k][1]) for k in ORDER], str(path),
-                        title=f"{fig} redrawn: {road}, five controllers (100 kg)")
+        plot_comparison(
+            traces["PID"][0],
+            [(k, traces[k][1]) for k in ORDER],
+            str(path),
+            title=f"{fig} redrawn: {road}, five controllers (100 kg)",
+        )
         sec.figures.append(Figure(path.stem, f"{fig} redrawn ({road})", path))
         word, evidence = order_verdict(dist, "DERLSP-AO-PID")
         shortest.append((word, f"{road}: {evidence}"))
         medians = {k: float(np.median(v)) for k, v in dist.items()}
         ours = sorted(medians, key=lambda k: -medians[k])
-        ranking.append((HOLDS if tuple(ours) == ORDER else FAILS,
-                        f"{road}: longest to shortest {' > '.join(ours)}"))
+        ranking.append(
+            (
+                HOLDS if tuple(ours) == ORDER else FAILS,
+                f"{road}: longest to shortest {' > '.join(ours)}",
+            )
+        )
         s = _settle(traces["DERLSP-AO-PID"][1])
         settle.append((HOLDS if s <= SETTLE_S else FAILS, f"{road}: {s:.3g} s"))
     sec.figures.insert(0, _fig4(ctx))
     sec.figures += _function_figures(ctx)
     sec.verdicts += [
         _claim("DERLSP-AO-PID stops shortest on each of its three roads", shortest),
-        _claim("ranking PID > fuzzy PID > GA-PID > AO-PID > DERLSP-AO-PID in distance on each "
-               "road", ranking),
-        _claim(f"the slip settles near 0.2 within {SETTLE_S:g} s (DERLSP-AO-PID; settled: "
-               "within 0.05 of the target above 2 m/s)", settle),
-        _function_claim(ctx, "the two strategies improve AO (Fig. 6: AO+2 below AO)", "AO+2",
-                        ("AO",)),
-        _function_claim(ctx, "DERLSP-AO beats AO, MFO and GWO on the benchmark functions "
-                        "(Fig. 7)", "DERLSP-AO", ("AO", "MFO", "GWO")),
+        _claim(
+            "ranking PID > fuzzy PID > GA-PID > AO-PID > DERLSP-AO-PID in distance on each road",
+            ranking,
+        ),
+        _claim(
+            f"the slip settles near 0.2 within {SETTLE_S:g} s (DERLSP-AO-PID; settled: "
+            "within 0.05 of the target above 2 m/s)",
+            settle,
+        ),
+        _function_claim(
+            ctx, "the two strategies improve AO (Fig. 6: AO+2 below AO)", "AO+2", ("AO",)
+        ),
+        _function_claim(
+            ctx,
+            "DERLSP-AO beats AO, MFO and GWO on the benchmark functions (Fig. 7)",
+            "DERLSP-AO",
+            ("AO", "MFO", "GWO"),
+        ),
     ]
     sec.verdicts.append(bound_verdict(KEY, bounds_ok))
     sec.tables.append(_function_table(ctx))
@@ -183,8 +238,12 @@ def _fig4(ctx: Context) -> Figure:
     sc, none = _trace("dry-concrete", "none", None, 100.0)
     _, pid = _trace("dry-concrete", "pid", None, 100.0)
     path = ctx.figure(KEY, "fig4_no_abs_vs_pid")
-    plot_comparison(sc, [("no ABS", none), ("PID", pid)], str(path),
-                    title="Fig. 4 redrawn: no ABS against the PID, dry concrete")
+    plot_comparison(
+        sc,
+        [("no ABS", none), ("PID", pid)],
+        str(path),
+        title="Fig. 4 redrawn: no ABS against the PID, dry concrete",
+    )
     return Figure(path.stem, "Fig. 4 redrawn: no ABS against PID (dry concrete)", path)
 
 
@@ -206,23 +265,41 @@ def _function_table(ctx: Context) -> Table:
     rows = []
     for f in FUNCTIONS:
         for opt, v in _finals(ctx, f).items():
-            rows.append({"function": f, "optimizer": opt, "runs": len(v), "best": v.min(),
-                         "median": float(np.median(v)), "mean": v.mean(), "worst": v.max()})
-    return Table("figs6_7_functions", "Figs. 6-7: final best value per optimizer (ours only; "
-                 "the paper prints curves, no numbers)", pd.DataFrame(rows),
-                 "mealpy:* are mealpy 3.0.3's implementations of the same algorithms, run with "
-                 "the same population and budget.")
+            rows.append(
+                {
+                    "function": f,
+                    "optimizer": opt,
+                    "runs": len(v),
+                    "best": v.min(),
+                    "median": float(np.median(v)),
+                    "mean": v.mean(),
+                    "worst": v.max(),
+                }
+            )
+    return Table(
+        "figs6_7_functions",
+        "Figs. 6-7: final best value per optimizer (ours only; "
+        "the paper prints curves, no numbers)",
+        pd.DataFrame(rows),
+        "mealpy:* are mealpy 3.0.3's implementations of the same algorithms, run with "
+        "the same population and budget.",
+    )
 
 
 def _function_figures(ctx: Context) -> list[Figure]:
     data = ctx.studies["derlsp-ao-abs-functions"]
     out = []
-    for fig, labels in (("6", ("AO", "AO+2", "DERLSP-AO")),
-                        ("7", ("DERLSP-AO", "AO", "MFO", "GWO"))):
+    for fig, labels in (
+        ("6", ("AO", "AO+2", "DERLSP-AO")),
+        ("7", ("DERLSP-AO", "AO", "MFO", "GWO")),
+    ):
         for f in FUNCTIONS:
             path = ctx.figure(KEY, f"fig{fig}_{f}")
-            convergence_figure({o: data.runs(f"fig67/{f}", o) for o in labels}, str(path),
-                               f"Fig. {fig} redrawn: {f}")
+            convergence_figure(
+                {o: data.runs(f"fig67/{f}", o) for o in labels},
+                str(path),
+                f"Fig. {fig} redrawn: {f}",
+            )
             out.append(Figure(path.stem, f"Fig. {fig} redrawn: convergence on {f}", path))
     return out
 

@@ -41,8 +41,11 @@ from chassistune.studies.store import RunRecord
 KEY = "iabc-suspension"
 STUDY = "iabc-suspension"
 PAPER_CELL = "paper-iabc-paper-box/iso-b"
-EXACT_CELLS = (("paper-iabc", PAPER_CELL), ("paper-iabc", "paper-iabc-si-box/iso-b"),
-               ("typical", "typical-paper-box/iso-b"))
+EXACT_CELLS = (
+    ("paper-iabc", PAPER_CELL),
+    ("paper-iabc", "paper-iabc-si-box/iso-b"),
+    ("typical", "typical-paper-box/iso-b"),
+)
 TEN_S_CELL = "paper-iabc-10s/iso-b"
 ALGORITHMS = ("ABC", "IABC")
 GAINS = ("kp", "ki", "kd")
@@ -52,22 +55,39 @@ TOLERANCE = 1e-3
 CONVERGE_ITERATIONS = 40
 
 SETTING = [
-    ("plant", "quarter-car, preset paper-iabc: Table 1 as printed (ms 320 kg, mu 45 kg, ks "
-     "17000 N/m, cs 12000 N s/m, kt 200000 N/m), ISO 8608 class B road at 20 m/s, PID on the "
-     "body velocity with e = 0 - zs' (stabilizing sign); preset typical: cs = 1200 N s/m."),
-    ("objective", "Eq. 10, Q = sum of the RMS ratios active/passive of body acceleration, "
-     "suspension travel and tire deflection (passive Q = 3): exact (Lyapunov) for tuning; the "
-     "paper's own protocol (one 10 s simulated road, realization = seed) in cell paper-iabc-10s."),
-    ("optimizers", "ABC and IABC (eq. 8 nudge, eq. 9 selection) with f = 1/Q (eq. 11), phi in "
-     "[-1, 1], limit SN x D; same seeds for both (paired)."),
-    ("traditional PID", "The paper gives no values; ours is the centre of its box, kp = ki = kd "
-     "= 250 (Ziegler-Nichols and Cohen-Coon, which it names, do not apply to a loop without a "
-     "setpoint step)."),
-    ("defects", "Eq. 2 has the wrong sign on the wheel's spring term; eq. 3 drops n0 and puts v "
-     "outside the square root (taken literally: about 109 m/s^2 of body acceleration); the PID "
-     "error e = y - r with non-negative gains removes damping; the road coefficient is 256e-6 in "
-     "the text and 64e-6 in Table 1 (Table 1 used); cs = 12000 N s/m is about ten times a car's. "
-     "Its Table 2 ratios imply Q(ABC-PID) >= 1.178 x 2.7321 = 3.22, worse than passive."),
+    (
+        "plant",
+        "quarter-car, preset paper-iabc: Table 1 as printed (ms 320 kg, mu 45 kg, ks "
+        "17000 N/m, cs 12000 N s/m, kt 200000 N/m), ISO 8608 class B road at 20 m/s, PID on the "
+        "body velocity with e = 0 - zs' (stabilizing sign); preset typical: cs = 1200 N s/m.",
+    ),
+    (
+        "objective",
+        "Eq. 10, Q = sum of the RMS ratios active/passive of body acceleration, "
+        "suspension travel and tire deflection (passive Q = 3): exact (Lyapunov) for tuning; the "
+        "paper's own protocol (one 10 s simulated road, realization = seed) in cell "
+        "paper-iabc-10s.",
+    ),
+    (
+        "optimizers",
+        "ABC and IABC (eq. 8 nudge, eq. 9 selection) with f = 1/Q (eq. 11), phi in "
+        "[-1, 1], limit SN x D; same seeds for both (paired).",
+    ),
+    (
+        "traditional PID",
+        "The paper gives no values; ours is the centre of its box, kp = ki = kd "
+        "= 250 (Ziegler-Nichols and Cohen-Coon, which it names, do not apply to a loop without a "
+        "setpoint step).",
+    ),
+    (
+        "defects",
+        "Eq. 2 has the wrong sign on the wheel's spring term; eq. 3 drops n0 and puts v "
+        "outside the square root (taken literally: about 109 m/s^2 of body acceleration); the PID "
+        "error e = y - r with non-negative gains removes damping; the road coefficient is 256e-6 "
+        "in the text and 64e-6 in Table 1 (Table 1 used); cs = 12000 N s/m is about ten times a "
+        "car's. "
+        "Its Table 2 ratios imply Q(ABC-PID) >= 1.178 x 2.7321 = 3.22, worse than passive.",
+    ),
 ]
 
 
@@ -116,11 +136,17 @@ def _iterations_to(runs: Sequence[RunRecord], target: float) -> np.ndarray:
 
 def _polished_optimum(preset: str, start: np.ndarray, box: list[tuple[float, float]]) -> float:
     """Bounded Nelder-Mead from the best run: the box's exact optimum Q*."""
+
     def q(g: np.ndarray) -> float:
         return float(exact_table(preset, g.reshape(1, -1))[0, 3])
 
-    res = minimize(q, start, method="Nelder-Mead", bounds=box,
-                   options={"xatol": 1e-6, "fatol": 1e-12, "maxiter": 2000})
+    res = minimize(
+        q,
+        start,
+        method="Nelder-Mead",
+        bounds=box,
+        options={"xatol": 1e-6, "fatol": 1e-12, "maxiter": 2000},
+    )
     return min(float(res.fun), q(start))
 
 
@@ -135,41 +161,58 @@ def build(ctx: Context) -> PaperSection:
     q_paper = published.lookup(KEY, "iabc_objective").values[0]
     claimed = published.lookup(KEY, "improvement_iabc_vs_abc_percent").values
     runs = {a: data.runs(PAPER_CELL, a) for a in ALGORITHMS}
-    rows_gains = {"passive": np.zeros(3), "traditional PID": np.array(TRADITIONAL),
-                  "paper's IABC gains": paper_gains,
-                  "ABC-PID": _gains(median_run(runs["ABC"])),
-                  "IABC-PID": _gains(median_run(runs["IABC"]))}
+    rows_gains = {
+        "passive": np.zeros(3),
+        "traditional PID": np.array(TRADITIONAL),
+        "paper's IABC gains": paper_gains,
+        "ABC-PID": _gains(median_run(runs["ABC"])),
+        "IABC-PID": _gains(median_run(runs["IABC"])),
+    }
     g = np.vstack(list(rows_gains.values()))
     ex = exact_table("paper-iabc", g)
     sim = simulated_table("paper-iabc", g, roads)
     rows = []
     for i, name in enumerate(rows_gains):
-        row: dict[str, object] = {"controller": name,
-                                  "kp, ki, kd": ", ".join(f"{v:.4g}" for v in g[i])}
+        row: dict[str, object] = {
+            "controller": name,
+            "kp, ki, kd": ", ".join(f"{v:.4g}" for v in g[i]),
+        }
         for j, m in enumerate(METRICS):
             row[f"paper {m}"] = pub[m].get(name)
             row[f"ours {m} exact"] = ex[i, j]
             row[f"ours {m} 10 s"] = sim[:, i, j].mean()
         row["ours Q exact"], row["ours Q 10 s"] = ex[i, 3], sim[:, i, 3].mean()
         rows.append(row)
-    sec.tables.append(Table("table2", "Table 2 (paper-iabc, paper's box [0, 500]^3): paper "
-                            "beside ours", pd.DataFrame(rows),
-                            f"Units: m/s^2 (body acceleration) and m. Paper: Table 2 as "
-                            f"printed. '10 s': mean over {roads} simulated roads.",
-                            quoted=tuple(f"paper {m}" for m in METRICS)))
+    sec.tables.append(
+        Table(
+            "table2",
+            "Table 2 (paper-iabc, paper's box [0, 500]^3): paper beside ours",
+            pd.DataFrame(rows),
+            f"Units: m/s^2 (body acceleration) and m. Paper: Table 2 as "
+            f"printed. '10 s': mean over {roads} simulated roads.",
+            quoted=tuple(f"paper {m}" for m in METRICS),
+        )
+    )
     # improvements, summaries, convergence
-    imp_rows = [{"source": "paper (claimed, section 4.3)",
-                 **dict(zip(METRICS, claimed, strict=True))},
-                {"source": "paper (from its Table 2)",
-                 **{m: percent(pub[m]["ABC-PID"], pub[m]["IABC-PID"]) for m in METRICS}}]
+    imp_rows = [
+        {"source": "paper (claimed, section 4.3)", **dict(zip(METRICS, claimed, strict=True))},
+        {
+            "source": "paper (from its Table 2)",
+            **{m: percent(pub[m]["ABC-PID"], pub[m]["IABC-PID"]) for m in METRICS},
+        },
+    ]
     summary, conv = [], []
     q_star: dict[str, float] = {}
     for preset, cell in EXACT_CELLS:
         cell_runs = {a: data.runs(cell, a) for a in ALGORITHMS}
         pair = np.vstack([_gains(median_run(cell_runs[a])) for a in ALGORITHMS])
         e = exact_table(preset, pair)
-        imp_rows.append({"source": f"ours exact, {cell}",
-                         **{m: percent(e[0, j], e[1, j]) for j, m in enumerate(METRICS)}})
+        imp_rows.append(
+            {
+                "source": f"ours exact, {cell}",
+                **{m: percent(e[0, j], e[1, j]) for j, m in enumerate(METRICS)},
+            }
+        )
         pool = [r for a in ALGORITHMS for r in cell_runs[a]]
         best = pool[int(np.argmin(final_costs(pool)))]
         box = list(best.spec.bounds.values())
@@ -177,28 +220,54 @@ def build(ctx: Context) -> PaperSection:
         for a in ALGORITHMS:
             finals = final_costs(cell_runs[a])
             scouts = [int(r.diagnostics.get("scouts", 0)) for r in cell_runs[a]]
-            summary.append({"cell": cell, "optimizer": a, **stats.summary(finals),
-                            "scouts (all runs)": sum(scouts), "nfev": cell_runs[a][0].nfev})
+            summary.append(
+                {
+                    "cell": cell,
+                    "optimizer": a,
+                    **stats.summary(finals),
+                    "scouts (all runs)": sum(scouts),
+                    "nfev": cell_runs[a][0].nfev,
+                }
+            )
             its = _iterations_to(cell_runs[a], q_star[cell] + TOLERANCE)
-            conv.append({"cell": cell, "optimizer": a, "Q*": q_star[cell],
-                         "runs within 1e-3": int(np.sum(~np.isnan(its))),
-                         "median iterations to Q* + 1e-3": float(np.nanmedian(its))
-                         if np.any(~np.isnan(its)) else np.nan})
+            conv.append(
+                {
+                    "cell": cell,
+                    "optimizer": a,
+                    "Q*": q_star[cell],
+                    "runs within 1e-3": int(np.sum(~np.isnan(its))),
+                    "median iterations to Q* + 1e-3": float(np.nanmedian(its))
+                    if np.any(~np.isnan(its))
+                    else np.nan,
+                }
+            )
     ten = {a: data.runs(TEN_S_CELL, a) for a in ALGORITHMS}
     ten_imp = []
     for ra, rb in zip(ten["ABC"], ten["IABC"], strict=True):
         sc = _scenario("paper-iabc", ra.spec.scenario_seed)
         s = sc.simulate(np.vstack([_gains(ra), _gains(rb)]))[:, : kernel.R_FORCE]
         ten_imp.append([percent(s[0, j], s[1, j]) for j in range(3)])
-    imp_rows.append({"source": f"ours, paper's protocol (10 s road), median of {len(ten_imp)}",
-                     **dict(zip(METRICS, np.median(np.array(ten_imp), axis=0), strict=True))})
+    imp_rows.append(
+        {
+            "source": f"ours, paper's protocol (10 s road), median of {len(ten_imp)}",
+            **dict(zip(METRICS, np.median(np.array(ten_imp), axis=0), strict=True)),
+        }
+    )
     sec.tables += [
-        Table("improvement", "IABC-PID against ABC-PID: reduction in percent", pd.DataFrame(
-            imp_rows)),
-        Table("final_q", "Final Q per cell and optimizer (with IABC's and ABC's scout counts)",
-              pd.DataFrame(summary)),
-        Table("convergence", "Iterations to come within 1e-3 of the box optimum Q*",
-              pd.DataFrame(conv), "Q*: the best run polished by bounded Nelder-Mead."),
+        Table(
+            "improvement", "IABC-PID against ABC-PID: reduction in percent", pd.DataFrame(imp_rows)
+        ),
+        Table(
+            "final_q",
+            "Final Q per cell and optimizer (with IABC's and ABC's scout counts)",
+            pd.DataFrame(summary),
+        ),
+        Table(
+            "convergence",
+            "Iterations to come within 1e-3 of the box optimum Q*",
+            pd.DataFrame(conv),
+            "Q*: the best run polished by bounded Nelder-Mead.",
+        ),
     ]
     sec.figures += _figures(ctx, data.runs(PAPER_CELL), rows_gains)
     # verdicts
@@ -211,61 +280,100 @@ def build(ctx: Context) -> PaperSection:
         word = RANKING_ONLY
     else:
         word = FAILS
-    sec.verdicts.append(Verdict(
-        KEY, "IABC-PID beats ABC-PID by 15.1 / 26.3 / 15.4 % (body acc., travel, tire)", word,
-        "ours (exact, median runs, paper's box): " + " / ".join(f"{v:.3g} %" for v in ours_imp)
-        + f"; final Q IABC vs ABC rank-sum {rs.sign} (p = {rs.p_value:.2g}, "
-        f"{len(runs['IABC'])} runs each)"))
+    sec.verdicts.append(
+        Verdict(
+            KEY,
+            "IABC-PID beats ABC-PID by 15.1 / 26.3 / 15.4 % (body acc., travel, tire)",
+            word,
+            "ours (exact, median runs, paper's box): "
+            + " / ".join(f"{v:.3g} %" for v in ours_imp)
+            + f"; final Q IABC vs ABC rank-sum {rs.sign} (p = {rs.p_value:.2g}, "
+            f"{len(runs['IABC'])} runs each)",
+        )
+    )
     q_ten = final_costs(ten["IABC"])
     q_opt = q_star[PAPER_CELL]
-    sec.verdicts.append(Verdict(
-        KEY, f"Q = {q_paper} (IABC-PID)", FAILS if q_paper < q_opt - 1e-6 else HOLDS,
-        f"exact optimum of the paper's box Q* = {q_opt:.7g}: no gains in the box reach "
-        f"{q_paper} on average; the paper's gains give exact Q = {ex[2, 3]:.5g}; tuned on one "
-        f"10 s road (the paper's protocol) {int(np.sum(q_ten <= q_paper))} of {q_ten.size} "
-        f"runs score <= {q_paper} on their own road (range {q_ten.min():.4g}-{q_ten.max():.4g})"))
+    sec.verdicts.append(
+        Verdict(
+            KEY,
+            f"Q = {q_paper} (IABC-PID)",
+            FAILS if q_paper < q_opt - 1e-6 else HOLDS,
+            f"exact optimum of the paper's box Q* = {q_opt:.7g}: no gains in the box reach "
+            f"{q_paper} on average; the paper's gains give exact Q = {ex[2, 3]:.5g}; tuned on one "
+            f"10 s road (the paper's protocol) {int(np.sum(q_ten <= q_paper))} of {q_ten.size} "
+            f"runs score <= {q_paper} on their own road (range "
+            f"{q_ten.min():.4g}-{q_ten.max():.4g})",
+        )
+    )
     iabc_conv = next(c for c in conv if c["cell"] == PAPER_CELL and c["optimizer"] == "IABC")
     abc_conv = next(c for c in conv if c["cell"] == PAPER_CELL and c["optimizer"] == "ABC")
     med = float(iabc_conv["median iterations to Q* + 1e-3"])  # type: ignore[arg-type]
-    sec.verdicts.append(Verdict(
-        KEY, f"IABC converges within {CONVERGE_ITERATIONS} iterations",
-        HOLDS if med <= CONVERGE_ITERATIONS else FAILS,
-        f"median iterations to within 1e-3 of Q*: IABC {med:g}, ABC "
-        f"{abc_conv['median iterations to Q* + 1e-3']:g} (ABC is no slower)"))
+    sec.verdicts.append(
+        Verdict(
+            KEY,
+            f"IABC converges within {CONVERGE_ITERATIONS} iterations",
+            HOLDS if med <= CONVERGE_ITERATIONS else FAILS,
+            f"median iterations to within 1e-3 of Q*: IABC {med:g}, ABC "
+            f"{abc_conv['median iterations to Q* + 1e-3']:g} (ABC is no slower)",
+        )
+    )
     tr, ia = ex[1], ex[4]
     lower = [ia[j] < tr[j] for j in range(3)]
-    sec.verdicts.append(Verdict(
-        KEY, "IABC-PID beats the traditional PID",
-        HOLDS if all(lower) and ia[3] < tr[3] else RANKING_ONLY if ia[3] < tr[3] else FAILS,
-        f"exact Q {ia[3]:.5g} against {tr[3]:.5g} (our hand-set PID 250/250/250); per metric "
-        + " / ".join(f"{percent(tr[j], ia[j]):.3g} %" for j in range(3))
-        + " reduction (paper: " + " / ".join(
-            f"{percent(pub[m]['traditional PID'], pub[m]['IABC-PID']):.3g} %" for m in METRICS)
-        + ")"))
+    sec.verdicts.append(
+        Verdict(
+            KEY,
+            "IABC-PID beats the traditional PID",
+            HOLDS if all(lower) and ia[3] < tr[3] else RANKING_ONLY if ia[3] < tr[3] else FAILS,
+            f"exact Q {ia[3]:.5g} against {tr[3]:.5g} (our hand-set PID 250/250/250); per metric "
+            + " / ".join(f"{percent(tr[j], ia[j]):.3g} %" for j in range(3))
+            + " reduction (paper: "
+            + " / ".join(
+                f"{percent(pub[m]['traditional PID'], pub[m]['IABC-PID']):.3g} %" for m in METRICS
+            )
+            + ")",
+        )
+    )
     return sec
 
 
-def _figures(ctx: Context, paper_runs: list[RunRecord],
-             rows_gains: dict[str, np.ndarray]) -> list[Figure]:
+def _figures(
+    ctx: Context, paper_runs: list[RunRecord], rows_gains: dict[str, np.ndarray]
+) -> list[Figure]:
     from chassistune.plots.overlay import Line, plot_overlay
 
     path = ctx.figure(KEY, "fig6_convergence")
-    convergence_figure({a: [r for r in paper_runs if r.spec.optimizer == a]
-                        for a in ALGORITHMS}, str(path),
-                       "Fig. 6 redrawn: Q (eq. 10), paper-iabc, paper's box")
+    convergence_figure(
+        {a: [r for r in paper_runs if r.spec.optimizer == a] for a in ALGORITHMS},
+        str(path),
+        "Fig. 6 redrawn: Q (eq. 10), paper-iabc, paper's box",
+    )
     figs = [Figure(path.stem, "Fig. 6 redrawn: ABC and IABC convergence", path)]
     sc = _scenario("paper-iabc", 0)
     lines = []
     for name in ("passive", "traditional PID", "IABC-PID"):
         tr = sc.trace(rows_gains[name])
-        lines.append(Line(name, tr.signals["time_s"],
-                          {k: tr.signals[k] for k in ("body_acc_m_s2", "susp_travel_m",
-                                                      "tire_defl_m")},
-                          baseline=name == "passive"))
+        lines.append(
+            Line(
+                name,
+                tr.signals["time_s"],
+                {k: tr.signals[k] for k in ("body_acc_m_s2", "susp_travel_m", "tire_defl_m")},
+                baseline=name == "passive",
+            )
+        )
     path = ctx.figure(KEY, "fig7_responses")
-    plot_overlay([("body_acc_m_s2", "body acc. [m/s^2]"), ("susp_travel_m", "travel [m]"),
-                  ("tire_defl_m", "tire defl. [m]")], lines, str(path),
-                 "Fig. 7 redrawn: class B road (realization 0), 20 m/s")
-    figs.append(Figure(path.stem, "Fig. 7 redrawn: time responses, passive / traditional PID / "
-                       "IABC-PID", path))
+    plot_overlay(
+        [
+            ("body_acc_m_s2", "body acc. [m/s^2]"),
+            ("susp_travel_m", "travel [m]"),
+            ("tire_defl_m", "tire defl. [m]"),
+        ],
+        lines,
+        str(path),
+        "Fig. 7 redrawn: class B road (realization 0), 20 m/s",
+    )
+    figs.append(
+        Figure(
+            path.stem, "Fig. 7 redrawn: time responses, passive / traditional PID / IABC-PID", path
+        )
+    )
     return figs

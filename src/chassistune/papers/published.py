@@ -54,11 +54,18 @@ def _load() -> tuple[dict[str, Paper], tuple[Quantity, ...]]:
     for q in raw["quantity"]:
         if q["paper"] not in papers or len(q["labels"]) != len(q["values"]):
             raise ValueError(f"paper_results.toml: malformed quantity {q.get('name')!r}")
-        quantities.append(Quantity(
-            paper=q["paper"], source=q["source"], name=q["name"], unit=q["unit"],
-            labels=tuple(q["labels"]), values=tuple(float(v) for v in q["values"]),
-            road=q.get("road"), note=q.get("note", ""),
-        ))
+        quantities.append(
+            Quantity(
+                paper=q["paper"],
+                source=q["source"],
+                name=q["name"],
+                unit=q["unit"],
+                labels=tuple(q["labels"]),
+                values=tuple(float(v) for v in q["values"]),
+                road=q.get("road"),
+                note=q.get("note", ""),
+            )
+        )
     return papers, tuple(quantities)
 
 

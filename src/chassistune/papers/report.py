@@ -52,23 +52,35 @@ class ReportFiles:
 
 def verdict_frame(verdicts: Sequence[Verdict]) -> pd.DataFrame:
     """One row per claim: paper, claim, verdict, evidence."""
-    return pd.DataFrame([{"paper": v.paper, "claim": v.claim, "verdict": v.verdict,
-                          "evidence": v.evidence} for v in verdicts],
-                        columns=["paper", "claim", "verdict", "evidence"])
+    return pd.DataFrame(
+        [
+            {"paper": v.paper, "claim": v.claim, "verdict": v.verdict, "evidence": v.evidence}
+            for v in verdicts
+        ],
+        columns=["paper", "claim", "verdict", "evidence"],
+    )
 
 
 def verdict_counts(sections: Sequence[PaperSection]) -> pd.DataFrame:
     """Per paper: its claims and how many get each verdict."""
-    return pd.DataFrame([{"paper": s.key, "claims": len(s.verdicts),
-                          **{w: sum(v.verdict == w for v in s.verdicts) for w in VERDICTS}}
-                         for s in sections])
+    return pd.DataFrame(
+        [
+            {
+                "paper": s.key,
+                "claims": len(s.verdicts),
+                **{w: sum(v.verdict == w for v in s.verdicts) for w in VERDICTS},
+            }
+            for s in sections
+        ]
+    )
 
 
 def counts_text(verdicts: Sequence[Verdict]) -> str:
     """'16 claims: 2 holds, 1 holds in ranking only, 13 does not hold' (verdicts present)."""
     words = [v.verdict for v in verdicts]
-    return f"{len(words)} claims: " + ", ".join(f"{words.count(w)} {w}" for w in VERDICTS
-                                               if w in words)
+    return f"{len(words)} claims: " + ", ".join(
+        f"{words.count(w)} {w}" for w in VERDICTS if w in words
+    )
 
 
 def quote(value: object) -> str:
@@ -82,12 +94,27 @@ def quote(value: object) -> str:
 def published_table(key: str) -> Table:
     """Every number of paper `key` that the report quotes, with where it is printed and its
     unit."""
-    rows = [{"printed at": q.source, "quantity": q.name, "road": q.road or "", "unit": q.unit,
-             "label": label, "value": value, "note": q.note}
-            for q in published.quantities(key) for label, value in q.as_dict().items()]
-    return Table("published", "The paper's numbers quoted in this report", pd.DataFrame(rows),
-                 "Exactly as published (package data chassistune/data/paper_results.toml); the "
-                 "tables below quote them in their 'paper' columns.", quoted=("value",))
+    rows = [
+        {
+            "printed at": q.source,
+            "quantity": q.name,
+            "road": q.road or "",
+            "unit": q.unit,
+            "label": label,
+            "value": value,
+            "note": q.note,
+        }
+        for q in published.quantities(key)
+        for label, value in q.as_dict().items()
+    ]
+    return Table(
+        "published",
+        "The paper's numbers quoted in this report",
+        pd.DataFrame(rows),
+        "Exactly as published (package data chassistune/data/paper_results.toml); the "
+        "tables below quote them in their 'paper' columns.",
+        quoted=("value",),
+    )
 
 
 class _Writer:
@@ -110,8 +137,9 @@ class _Writer:
         if path not in self.written:
             self.written.append(path)
         self.count += 1
-        view = TableView.from_frame(t.frame, f"t{self.count}", t.title, t.caption,
-                                    (Download.from_csv(path),))
+        view = TableView.from_frame(
+            t.frame, f"t{self.count}", t.title, t.caption, (Download.from_csv(path),)
+        )
         return replace(view, rows=_shown(t, view.rows))
 
 
@@ -135,40 +163,73 @@ def _first_section(w: _Writer, sections: Sequence[PaperSection]) -> Section:
     verdicts = [v for s in sections for v in s.verdicts]
     bounds = [b for s in sections for b in s.bounds]
     items: list[Item] = [
-        w.table(Table("verdict_counts", "Verdicts per paper", verdict_counts(sections),
-                      "Claims per paper and how many get each verdict."), ""),
-        w.table(Table(
-            "verdicts", "Verdict per claim, all papers", verdict_frame(verdicts),
-            "✔ holds / ≈ holds in ranking only / ✘ does not hold / ? cannot be checked; the "
-            "evidence gives the numbers and tests (rank-sum p-values at alpha 0.05)."), "")]
+        w.table(
+            Table(
+                "verdict_counts",
+                "Verdicts per paper",
+                verdict_counts(sections),
+                "Claims per paper and how many get each verdict.",
+            ),
+            "",
+        ),
+        w.table(
+            Table(
+                "verdicts",
+                "Verdict per claim, all papers",
+                verdict_frame(verdicts),
+                "✔ holds / ≈ holds in ranking only / ✘ does not hold / ? cannot be checked; the "
+                "evidence gives the numbers and tests (rank-sum p-values at alpha 0.05).",
+            ),
+            "",
+        ),
+    ]
     below = [b for b in bounds if not b.possible]
-    intro = (f"{counts_text(verdicts)}. Physical bounds: {len(below)} of {len(bounds)} "
-             "published stopping distances are shorter than the adhesion bound "
-             "v0^2/(2 mu_peak g) of their own speed and road"
-             + (f" (papers {', '.join(sorted({b.paper for b in below}))})" if below else "")
-             + f" ({FLAG} below the bound); no run of ours beats its bound (each table lists "
-             "ours / bound).")
+    intro = (
+        f"{counts_text(verdicts)}. Physical bounds: {len(below)} of {len(bounds)} "
+        "published stopping distances are shorter than the adhesion bound "
+        "v0^2/(2 mu_peak g) of their own speed and road"
+        + (f" (papers {', '.join(sorted({b.paper for b in below}))})" if below else "")
+        + f" ({FLAG} below the bound); no run of ours beats its bound (each table lists "
+        "ours / bound)."
+    )
     if bounds:
-        items.append(w.table(Table(
-            "bounds", "Published distances against the physical bound",
-            pd.DataFrame([b.row() for b in bounds]),
-            "published: the paper's stopping distance, as printed; bound: the shortest "
-            "distance tire adhesion allows from the paper's speed on that road.",
-            quoted=("published (m)",)), ""))
+        items.append(
+            w.table(
+                Table(
+                    "bounds",
+                    "Published distances against the physical bound",
+                    pd.DataFrame([b.row() for b in bounds]),
+                    "published: the paper's stopping distance, as printed; bound: the shortest "
+                    "distance tire adhesion allows from the paper's speed on that road.",
+                    quoted=("published (m)",),
+                ),
+                "",
+            )
+        )
     return Section("Verdicts and physical bounds", intro, items, id="verdicts")
 
 
 def _paper_section(w: _Writer, s: PaperSection, plots: PaperPlots | None) -> Section:
     prefix = f"{s.key}_"
-    items: list[Item] = [w.table(Table(
-        "setting", "Setting: our reading, assumptions, the paper's defects",
-        pd.DataFrame(s.setting, columns=["topic", "text"])), prefix),
-        w.table(published_table(s.key), prefix)]
+    items: list[Item] = [
+        w.table(
+            Table(
+                "setting",
+                "Setting: our reading, assumptions, the paper's defects",
+                pd.DataFrame(s.setting, columns=["topic", "text"]),
+            ),
+            prefix,
+        ),
+        w.table(published_table(s.key), prefix),
+    ]
     items += [w.table(t, prefix) for t in s.tables]
     for f in s.figures:
         w.count += 1
-        items.append(FigureView.from_png(f.path, f"f{w.count}", f.title, f.caption,
-                                         file=f"figures/{f.path.name}"))
+        items.append(
+            FigureView.from_png(
+                f.path, f"f{w.count}", f.title, f.caption, file=f"figures/{f.path.name}"
+            )
+        )
     if plots is not None:
         items += plots(s)
     items.append(w.table(Table("verdicts", "Verdicts", verdict_frame(s.verdicts)), prefix))
@@ -182,8 +243,9 @@ def _version() -> str:
         return "unknown"
 
 
-def _page(w: _Writer, sections: Sequence[PaperSection], plots: PaperPlots | None = None
-          ) -> list[Section]:
+def _page(
+    w: _Writer, sections: Sequence[PaperSection], plots: PaperPlots | None = None
+) -> list[Section]:
     """Every section of the page, in order."""
     return [_first_section(w, sections)] + [_paper_section(w, s, plots) for s in sections]
 
@@ -193,37 +255,46 @@ def timing_text(wall_time_s: float, studies: Mapping[str, StudyData]) -> str:
     only what it ran, the summed run times every run stored."""
     runs = [r for d in studies.values() for r in d.records]
     summed = sum(r.wall_time_s or 0.0 for r in runs)
-    return (f"wall time of this command {wall_time_s:.1f} s; the {len(runs)} stored runs took "
-            f"{summed:.0f} s summed over runs (their own wall times, on whatever workers ran "
-            "them)")
+    return (
+        f"wall time of this command {wall_time_s:.1f} s; the {len(runs)} stored runs took "
+        f"{summed:.0f} s summed over runs (their own wall times, on whatever workers ran "
+        "them)"
+    )
 
 
-def _heading(sections: Sequence[PaperSection], quick: bool, timing: str
-             ) -> tuple[str, str, str]:
+def _heading(sections: Sequence[PaperSection], quick: bool, timing: str) -> tuple[str, str, str]:
     kind = "quick run (reduced budgets and seeds)" if quick else "full run"
-    return (f"of {len(sections)} paper(s)",
-            f"chassistune reproduce, {kind}; {timing}.",
-            "Each paper's tables put its published numbers beside ours; figures are redrawn "
-            "from our runs; the stores under studies/ hold every run.")
+    return (
+        f"of {len(sections)} paper(s)",
+        f"chassistune reproduce, {kind}; {timing}.",
+        "Each paper's tables put its published numbers beside ours; figures are redrawn "
+        "from our runs; the stores under studies/ hold every run.",
+    )
 
 
-def write_report(out: Path, sections: Sequence[PaperSection], quick: bool,
-                 timing: str) -> ReportFiles:
+def write_report(
+    out: Path, sections: Sequence[PaperSection], quick: bool, timing: str
+) -> ReportFiles:
     """Write report.html, tables/*.csv and verdicts.csv into `out` (figures are there already)."""
     w = _Writer(out)
     page = _page(w, sections)
     verdicts = out / "verdicts.csv"
     write_table(verdict_frame([v for s in sections for v in s.verdicts]), str(verdicts))
     html = out / "report.html"
-    write_text(html, render(*_heading(sections, quick, timing), page, _version(),
-                            kind="Reproduction"))
+    write_text(
+        html, render(*_heading(sections, quick, timing), page, _version(), kind="Reproduction")
+    )
     figures = tuple(f.path for s in sections for f in s.figures)
     return ReportFiles(html, verdicts, tuple(w.written), figures)
 
 
-def write_interactive(out: Path, sections: Sequence[PaperSection],
-                      studies: Mapping[str, Sequence[tuple[str, StudyData]]], quick: bool,
-                      timing: str) -> Path:
+def write_interactive(
+    out: Path,
+    sections: Sequence[PaperSection],
+    studies: Mapping[str, Sequence[tuple[str, StudyData]]],
+    quick: bool,
+    timing: str,
+) -> Path:
     """Write OUT/report_interactive.html: the static page's sections (tables sortable) with each
     paper's studies drawn by plotly (`studies`: (study name, data) by paper key)."""
     from chassistune.reports import sections as study_sections
@@ -243,6 +314,10 @@ def write_interactive(out: Path, sections: Sequence[PaperSection],
         return items
 
     html = out / INTERACTIVE_NAME
-    write_text(html, interactive_page(*_heading(sections, quick, timing),
-                                      _page(w, sections, plots), kind="Reproduction"))
+    write_text(
+        html,
+        interactive_page(
+            *_heading(sections, quick, timing), _page(w, sections, plots), kind="Reproduction"
+        ),
+    )
     return html

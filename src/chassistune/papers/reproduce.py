@@ -54,8 +54,7 @@ Progress = Callable[[str], None]
 
 def shipped_config(name: str) -> StudyConfig:
     """The study config `name` shipped as package data."""
-    text = resources.files("chassistune").joinpath(f"data/studies/{name}.toml").read_text(
-        "utf-8")
+    text = resources.files("chassistune").joinpath(f"data/studies/{name}.toml").read_text("utf-8")
     return parse_config(tomllib.loads(text))
 
 
@@ -114,24 +113,33 @@ def check_reproduction(which: str, quick: bool, out: str | Path) -> list[StudyRu
     return runs
 
 
-def run_studies(runs: Sequence[StudyRun], out: Path, executor: Executor,
-                progress: Progress | None = None) -> dict[str, StudyData]:
+def run_studies(
+    runs: Sequence[StudyRun], out: Path, executor: Executor, progress: Progress | None = None
+) -> dict[str, StudyData]:
     """Run (or resume) each study into OUT/studies/; the stores' data by study name."""
     data: dict[str, StudyData] = {}
     (out / "studies").mkdir(parents=True, exist_ok=True)
     for r in runs:
         outcome = run_study(r.plan, r.folder(out), executor)
         if progress is not None:
-            progress(f"{r.plan.config.study.name}: {outcome.completed} run(s) now, "
-                     f"{outcome.skipped} done before, {outcome.failed} failed "
-                     f"({outcome.wall_time_s:.1f} s)")
+            progress(
+                f"{r.plan.config.study.name}: {outcome.completed} run(s) now, "
+                f"{outcome.skipped} done before, {outcome.failed} failed "
+                f"({outcome.wall_time_s:.1f} s)"
+            )
         with open_study(r.folder(out)) as store:
             data[r.name] = load_study(store)
     return data
 
 
-def reproduce(which: str, quick: bool, out: str | Path, executor: Executor,
-              progress: Progress | None = None, interactive: bool = False) -> Outcome:
+def reproduce(
+    which: str,
+    quick: bool,
+    out: str | Path,
+    executor: Executor,
+    progress: Progress | None = None,
+    interactive: bool = False,
+) -> Outcome:
     """Run the studies of paper `which` (or `all`) and write the report into `out` (and, with
     `interactive`, report_interactive.html beside it)."""
     t0 = time.perf_counter()
@@ -146,6 +154,7 @@ def reproduce(which: str, quick: bool, out: str | Path, executor: Executor,
     files = write_report(out, sections, quick, timing)
     if interactive:
         by_paper = {k: [(n, data[n]) for n in PAPERS[k].studies() if n in data] for k in keys}
-        files = replace(files, interactive=write_interactive(out, sections, by_paper, quick,
-                                                             timing))
+        files = replace(
+            files, interactive=write_interactive(out, sections, by_paper, quick, timing)
+        )
     return Outcome(files, sections, wall)

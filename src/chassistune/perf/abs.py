@@ -68,15 +68,20 @@ def _rel_change(a: np.ndarray, ref: np.ndarray) -> np.ndarray:
     return out
 
 
-def rel_errors(scenario: AbsWheelScenario, gains: np.ndarray, refine: int = 100,
-               conditioning: bool = False) -> tuple[np.ndarray, np.ndarray]:
+def rel_errors(
+    scenario: AbsWheelScenario, gains: np.ndarray, refine: int = 100, conditioning: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
     """Per candidate, the larger relative error of ERROR_COLUMNS against dt / refine (NaN where
     a run does not stop at both steps) and whether it is ill-conditioned (`conditioning`: the
     reference moves by more than COND_TOL when the gains are scaled by 1 + PERTURBATION)."""
     with warnings.catch_warnings():  # dt / 100 may lie below the plausible range
         warnings.simplefilter("ignore", ImplausibleValue)
-        fine = PLANT.scenario(scenario.preset, scenario.road, scenario.controller.name,
-                              {"dt_s": scenario.plant_params.dt_s / refine})
+        fine = PLANT.scenario(
+            scenario.preset,
+            scenario.road,
+            scenario.controller.name,
+            {"dt_s": scenario.plant_params.dt_s / refine},
+        )
     ours, ref = scenario.raw(gains), fine.raw(gains)
     stopped = KL.STATUS_NAMES.index("stopped")
     both = (ours[:, KL.METRICS["status"]] == stopped) & (ref[:, KL.METRICS["status"]] == stopped)
@@ -100,8 +105,11 @@ def preset_errors(box: bool = False) -> dict[str, tuple[float, float, int]]:
                 default = [[g.default for g in sc.controller.gains]]
                 gains = np.vstack([default, bench_population()])
             err, ill = rel_errors(sc, gains, conditioning=True)
-            out[f"{name}/{road}"] = (float(np.nanmax(err)),
-                                     float(np.nanmax(np.where(ill, np.nan, err))), int(ill.sum()))
+            out[f"{name}/{road}"] = (
+                float(np.nanmax(err)),
+                float(np.nanmax(np.where(ill, np.nan, err))),
+                int(ill.sum()),
+            )
     return out
 
 
@@ -109,9 +117,11 @@ def accuracy_figures(box: bool) -> dict[str, float]:
     """abs_max_rel_err_{presets,box}, its `_conditioned` twin and the ill-conditioned count."""
     per = preset_errors(box).values()
     key = "box" if box else "presets"
-    return {f"abs_max_rel_err_{key}": max(e for e, _, _ in per),
-            f"abs_max_rel_err_{key}_conditioned": max(c for _, c, _ in per),
-            f"abs_ill_conditioned_{key}": float(sum(n for _, _, n in per))}
+    return {
+        f"abs_max_rel_err_{key}": max(e for e, _, _ in per),
+        f"abs_max_rel_err_{key}_conditioned": max(c for _, c, _ in per),
+        f"abs_ill_conditioned_{key}": float(sum(n for _, _, n in per)),
+    }
 
 
 def population_costs(sizes: tuple[int, ...] = (1, 10, 50, 200, 1000)) -> dict[int, float]:
@@ -123,7 +133,8 @@ def population_costs(sizes: tuple[int, ...] = (1, 10, 50, 200, 1000)) -> dict[in
     for n in sizes:
         gains = np.resize(base, (n, 3))
         steps = float(np.sum(sc.raw(gains, workers=1)[:, KL.METRICS["stop_time_s"]])) / (
-            sc.plant_params.dt_s)
+            sc.plant_params.dt_s
+        )
 
         def run(g: np.ndarray = gains) -> None:
             sc.raw(g, workers=1)
@@ -163,8 +174,16 @@ def solve_ivp_run(scenario: AbsWheelScenario, gains: np.ndarray) -> tuple[float,
         u = kp * e + ki * z + kd * nf * (e - xf)
         dq = 0.0 if (q >= pp.q_max and r > 0) or (q <= 0 and r < 0) else r
         dz = 0.0 if (q >= pp.q_max and e > 0) or (q <= 0 and e < 0) else e
-        return [-fx / pp.mass_kg, dw, dq, (pp.actuator_gain * u - r) / pp.actuator_tau_s, dz,
-                nf * (e - xf), v, t * abs(e)]
+        return [
+            -fx / pp.mass_kg,
+            dw,
+            dq,
+            (pp.actuator_gain * u - r) / pp.actuator_tau_s,
+            dz,
+            nf * (e - xf),
+            v,
+            t * abs(e),
+        ]
 
     def stopped(t: float, y: np.ndarray) -> float:
         return float(y[0] - pp.v_stop_m_s)

@@ -26,7 +26,9 @@ def figures(quick: bool = False) -> dict[str, float]:
         run = partial(sc.raw, gains, workers=1)
         wall[mode] = len(gains) / best_time(run, repeats)
         cpu[mode] = len(gains) / best_cpu_time(run, repeats)
-    return {"abs_ecu_sims_per_s": wall["realistic"],
-            "abs_ecu_ratio_to_ideal": wall["realistic"] / wall["ideal"],
-            "abs_ecu_sims_per_s_cpu": cpu["realistic"],
-            "abs_ecu_ratio_to_ideal_cpu": cpu["realistic"] / cpu["ideal"]}
+    return {
+        "abs_ecu_sims_per_s": wall["realistic"],
+        "abs_ecu_ratio_to_ideal": wall["realistic"] / wall["ideal"],
+        "abs_ecu_sims_per_s_cpu": cpu["realistic"],
+        "abs_ecu_ratio_to_ideal_cpu": cpu["realistic"] / cpu["ideal"],
+    }

@@ -87,8 +87,9 @@ def _gain_loop(
 ) -> float:  # pragma: no cover
     total = 0.0
     for p in range(e.size):
-        kp, ki, kd = fuzzy_pid_gains(table, e[p], de[p], KE, KEC, KU[0], KU[1], KU[2], K0[0],
-                                     K0[1], K0[2])
+        kp, ki, kd = fuzzy_pid_gains(
+            table, e[p], de[p], KE, KEC, KU[0], KU[1], KU[2], K0[0], K0[1], K0[2]
+        )
         total += kp + ki + kd
     return total
 

@@ -33,8 +33,13 @@ def figures(quick: bool = False) -> dict[str, float]:
     """Measure the robust-tuning figures in this run."""
     repeats = 2 if quick else 5
     nominal = build_problem("abs-wheel", "pid", roads=["dry-concrete"])
-    spec = UncertaintySpec(parse_vary(list(VARY), known_for(nominal)), K_SCENARIOS, "sobol",
-                           Aggregate("max"), validate=300)
+    spec = UncertaintySpec(
+        parse_vary(list(VARY), known_for(nominal)),
+        K_SCENARIOS,
+        "sobol",
+        Aggregate("max"),
+        validate=300,
+    )
     rp = robust_problem(nominal, spec, seed=0)
     gains = bench_population()[:N_CANDIDATES]
     rp(gains[:2])  # compile / load the cache outside the timing
@@ -43,6 +48,7 @@ def figures(quick: bool = False) -> dict[str, float]:
     sc = PLANT.scenario("paper-derlsp-ao", "dry-concrete", "pid")
     tiled = np.tile(gains, (K_SCENARIOS, 1))
     for workers, tag in ((1, "1t"), (default_workers(), "all")):
+
         def k_calls(w: int = workers) -> None:
             for _ in range(K_SCENARIOS):
                 sc.raw(gains, w)
@@ -58,5 +64,6 @@ def figures(quick: bool = False) -> dict[str, float]:
     draws = validation_set(spec, 0)
     best = gains[int(np.argmin(rp(gains)))]
     out["robust_validation_sims_per_s"] = len(draws) / best_time(
-        lambda: rp.validate(best, draws), 1)
+        lambda: rp.validate(best, draws), 1
+    )
     return out

@@ -6,8 +6,9 @@ import time
 from collections.abc import Callable
 
 
-def best_time(fn: Callable[[], object], repeats: int,
-              clock: Callable[[], float] = time.perf_counter) -> float:
+def best_time(
+    fn: Callable[[], object], repeats: int, clock: Callable[[], float] = time.perf_counter
+) -> float:
     """Shortest time of `repeats` calls on `clock` (wall by default; the machine is shared: the
     minimum is the signal)."""
     best = float("inf")

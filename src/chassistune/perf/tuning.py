@@ -10,8 +10,9 @@ def figures(quick: bool = False) -> dict[str, float]:
     """Wall time of the tuning run (the quick variant runs 100 iterations and scales nothing)."""
     iters = 100 if quick else 500
     tune("abs-wheel", "pid", "derlsp-ao", roads="dry-concrete", pop_size=50, max_iter=2, seed=0)
-    res = tune("abs-wheel", "pid", "derlsp-ao", roads="dry-concrete", pop_size=50,
-               max_iter=iters, seed=0)
+    res = tune(
+        "abs-wheel", "pid", "derlsp-ao", roads="dry-concrete", pop_size=50, max_iter=iters, seed=0
+    )
     key = "tune_abs_wall_s" if not quick else "tune_abs_wall_s_100_iters"
     return {
         key: res.wall_time_s,

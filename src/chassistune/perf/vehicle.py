@@ -26,8 +26,9 @@ def bench_population(scenario: AbsVehicleScenario) -> np.ndarray:
     return np.random.default_rng(12345).uniform(box[:, 0], box[:, 1], (50, len(box)))
 
 
-def reference_rhs(scenario: AbsVehicleScenario, gains: np.ndarray
-                  ) -> Callable[[float, np.ndarray], np.ndarray]:
+def reference_rhs(
+    scenario: AbsVehicleScenario, gains: np.ndarray
+) -> Callable[[float, np.ndarray], np.ndarray]:
     """The closed loop's right-hand side in plain Python (straight steering, no driver).
 
     State: vx, vy, r, X, Y, psi, then per wheel w, q, qrate, z, xf (wheel-major), then the CG
@@ -102,20 +103,20 @@ def reference_rhs(scenario: AbsVehicleScenario, gains: np.ndarray
             dw = (-pp.wheel_radius_m * forces[j][0] - pp.brake_gain * q) / pp.wheel_inertia_kg_m2
             u_cmd = kp * e + ki * z + kd * nf * (e - xf)
             hi, lo = q >= pp.q_max, q <= 0.0
-            dy[6 + 5 * j:11 + 5 * j] = (
+            dy[6 + 5 * j : 11 + 5 * j] = (
                 0.0 if (w <= 0.0 and dw < 0.0) else dw,
                 0.0 if (hi and qr > 0.0) or (lo and qr < 0.0) else qr,
                 (pp.actuator_gain * u_cmd - qr) / pp.actuator_tau_s,
                 0.0 if (hi and e > 0.0) or (lo and e < 0.0) else e,
-                nf * (e - xf))
+                nf * (e - xf),
+            )
         dy[26] = math.hypot(vx, vy)
         return dy
 
     return rhs
 
 
-def reference_solution(scenario: AbsVehicleScenario, gains: np.ndarray, **options: float
-                       ) -> object:
+def reference_solution(scenario: AbsVehicleScenario, gains: np.ndarray, **options: float) -> object:
     """scipy `solve_ivp` (RK45, max_step 1e-3 unless `options` say otherwise) of the reference
     right-hand side from the kernel's initial state, to v_stop or t_max."""
     from scipy.integrate import solve_ivp
@@ -132,8 +133,14 @@ def reference_solution(scenario: AbsVehicleScenario, gains: np.ndarray, **option
         return math.hypot(y[0], y[1]) - pp.v_stop_m_s
 
     stopped.terminal = True  # type: ignore[attr-defined]
-    return solve_ivp(reference_rhs(scenario, gains), (0.0, pp.t_max_s), y0, method="RK45",
-                     events=stopped, **{"max_step": 1e-3, **options})
+    return solve_ivp(
+        reference_rhs(scenario, gains),
+        (0.0, pp.t_max_s),
+        y0,
+        method="RK45",
+        events=stopped,
+        **{"max_step": 1e-3, **options},
+    )
 
 
 def solve_ivp_run(scenario: AbsVehicleScenario, gains: np.ndarray) -> tuple[float, float]:
@@ -149,7 +156,7 @@ def figures(quick: bool = False) -> dict[str, float]:
     sc.raw(gains[:2], workers=1)  # compile / load the cache outside the timing
     t_kernel = best_time(lambda: sc.raw(gains, workers=1), 3 if quick else 5)
     sims_per_s = len(gains) / t_kernel
-    subset = gains[:1 if quick else 3]
+    subset = gains[: 1 if quick else 3]
     t_ivp = best_time(lambda: [solve_ivp_run(sc, g) for g in subset], 1) / len(subset)
     return {
         "vehicle_sims_per_s": sims_per_s,

@@ -61,13 +61,20 @@ def load_coefficients(pp: VehicleParams) -> tuple[np.ndarray, np.ndarray, np.nda
     tf, tr = pp.track_front_m, pp.track_rear_m
     fz0 = np.array([m * g * lr, m * g * lr, m * g * lf, m * g * lf]) / (2 * big_l)
     a = np.array([-1.0, -1.0, 1.0, 1.0]) * m * h / (2 * big_l)
-    b = np.array([-m * h * lr / (tf * big_l), m * h * lr / (tf * big_l),
-                  -m * h * lf / (tr * big_l), m * h * lf / (tr * big_l)])
+    b = np.array(
+        [
+            -m * h * lr / (tf * big_l),
+            m * h * lr / (tf * big_l),
+            -m * h * lf / (tr * big_l),
+            m * h * lf / (tr * big_l),
+        ]
+    )
     return fz0, a, b
 
 
-def surface_row(slip_opt: float, mu_peak: float, mu_lock: float, stiffness_n_rad: float
-                ) -> np.ndarray:
+def surface_row(
+    slip_opt: float, mu_peak: float, mu_lock: float, stiffness_n_rad: float
+) -> np.ndarray:
     """One surface row (SF_* columns) of a bilinear curve (derlsp-ao-abs eq. 5)."""
     st, h, g = slip_opt, mu_peak, mu_lock
     row = np.zeros(N_SURFACE)
@@ -114,8 +121,11 @@ def tire_force(sx, vr, fz, surfs, k):
 @numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
 def bilinear_mu(s, surfs, k):
     """mu(s) of surface row k for s in [0, 1] (the longitudinal curve, as `tires.tire_mu`)."""
-    return (surfs[k, SF_RISE] * s if s <= surfs[k, SF_ST]
-            else surfs[k, SF_FALL0] - surfs[k, SF_FALL1] * s)
+    return (
+        surfs[k, SF_RISE] * s
+        if s <= surfs[k, SF_ST]
+        else surfs[k, SF_FALL0] - surfs[k, SF_FALL1] * s
+    )
 
 
 @numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
@@ -250,12 +260,14 @@ def split_mu_bound(pp: VehicleParams, mu_left: float, mu_right: float) -> Bound:
 def axle_limited_deceleration(pp: VehicleParams, mu_front: float, mu_rear: float) -> float:
     """Largest deceleration with the axles at their peaks on different surfaces:
     a = g (mu_f lr + mu_r lf) / (L - h (mu_f - mu_r)) (the load transfer feeds back)."""
-    return pp.g_m_s2 * (mu_front * pp.cg_to_rear_m + mu_rear * pp.cg_to_front_m) / (
-        pp.wheelbase_m - pp.cg_height_m * (mu_front - mu_rear))
+    return (
+        pp.g_m_s2
+        * (mu_front * pp.cg_to_rear_m + mu_rear * pp.cg_to_front_m)
+        / (pp.wheelbase_m - pp.cg_height_m * (mu_front - mu_rear))
+    )
 
 
-def mu_jump_bound(pp: VehicleParams, mu_first: float, mu_second: float, x_jump_m: float
-                  ) -> Bound:
+def mu_jump_bound(pp: VehicleParams, mu_first: float, mu_second: float, x_jump_m: float) -> Bound:
     """Integrate v dv/dx = -a_max(x): mu_first g until the front axle reaches the jump (CG at
     x_jump_m, measured from the front axle's start), the axle-wise limit for the next L metres,
     then mu_second g."""

@@ -44,21 +44,22 @@ class VehicleParams:
     cg_height_m: float = field(default=0.5, metadata=_nonneg(0.0, 2.0))
     track_front_m: float = field(default=1.5, metadata=_pos(0.8, 2.6))
     track_rear_m: float = field(default=1.5, metadata=_pos(0.8, 2.6))
-    cornering_stiffness_n_rad: float = field(default=60_000.0,
-                                             metadata=_pos(5e3, 5e5, unit="N/rad"))
+    cornering_stiffness_n_rad: float = field(
+        default=60_000.0, metadata=_pos(5e3, 5e5, unit="N/rad")
+    )
     v0_m_s: float = field(default=120.0 / 3.6, metadata=_pos(1.0, 70.0))
     g_m_s2: float = field(default=9.8, metadata=_pos(9.7, 9.9))
     actuator_gain: float = field(default=100.0, metadata=_pos(1.0, 1e4, unit="1/s"))
     actuator_tau_s: float = field(default=0.01, metadata=_pos(1e-3, 0.5))
-    brake_gain: float = field(default=1.0, metadata=_pos(0.1, 1000.0,
-                                                          unit="N m per pressure unit"))
+    brake_gain: float = field(default=1.0, metadata=_pos(0.1, 1000.0, unit="N m per pressure unit"))
     """kq in N m per pressure unit, the same on all four wheels (no brake balance)."""
     q_max: float = field(default=2500.0, metadata=_pos(10.0, 1e5, unit="pressure unit"))
     v_stop_m_s: float = field(default=2.0, metadata=_pos(0.01, 10.0))
     t_max_s: float = field(default=60.0, metadata=_pos(0.1, 600.0))
     dt_s: float = field(default=1e-3, metadata=_pos(1e-5, 0.01))
-    lock_ratio: float = field(default=0.01, metadata={"unit_interval": True,
-                                                      "plausible": (0.001, 0.2)})
+    lock_ratio: float = field(
+        default=0.01, metadata={"unit_interval": True, "plausible": (0.001, 0.2)}
+    )
     """A wheel counts as locked while w R < lock_ratio |V|."""
     min_speed_m_s: float = field(default=0.1, metadata=_pos(0.01, 1.0))
     """Floor of |V| in the slip definitions."""

@@ -42,8 +42,7 @@ class AbsWheelParams:
     g_m_s2: float = field(default=9.81, metadata=_pos(9.7, 9.9))
     actuator_gain: float = field(default=100.0, metadata=_pos(1.0, 1e4, unit="1/s"))
     actuator_tau_s: float = field(default=0.01, metadata=_pos(1e-3, 0.5))
-    brake_gain: float = field(default=1.0, metadata=_pos(0.1, 1000.0,
-                                                          unit="N m per pressure unit"))
+    brake_gain: float = field(default=1.0, metadata=_pos(0.1, 1000.0, unit="N m per pressure unit"))
     q_max: float = field(default=1500.0, metadata=_pos(10.0, 1e5, unit="pressure unit"))
     v_stop_m_s: float = field(default=0.5, metadata=_pos(0.01, 10.0))
     t_max_s: float = field(default=60.0, metadata=_pos(1.0, 600.0))
@@ -51,8 +50,9 @@ class AbsWheelParams:
     dt_s: float = field(default=1e-3, metadata=_pos(1e-5, 0.01))
     load_fraction: float = field(default=1.0, metadata=_pos(0.2, 1.0))
     """Wheel load as a fraction of M g: 1 here; 0.25 only in `sldemo` (MathWorks' quirk)."""
-    lock_ratio: float = field(default=0.01, metadata={"unit_interval": True,
-                                                      "plausible": (0.001, 0.2)})
+    lock_ratio: float = field(
+        default=0.01, metadata={"unit_interval": True, "plausible": (0.001, 0.2)}
+    )
     """The wheel counts as locked while w R < lock_ratio v."""
 
 
@@ -116,8 +116,12 @@ PRESETS: dict[str, Preset] = {
             ("asphalt-0.8", "dirt-0.2"),
         ),
         AbsWheelParams(
-            mass_kg=300.0, wheel_inertia_kg_m2=25.0, wheel_radius_m=0.28, brake_gain=25.0,
-            q_max=800.0, dt_s=FINE_DT_S,
+            mass_kg=300.0,
+            wheel_inertia_kg_m2=25.0,
+            wheel_radius_m=0.28,
+            brake_gain=25.0,
+            q_max=800.0,
+            dt_s=FINE_DT_S,
         ),
     ),
     "sldemo": Preset(
@@ -137,16 +141,21 @@ def check_consistency(pp: AbsWheelParams, given: Collection[str] = ()) -> None:
     field blamed is the one the user set (`given`) when only one of a pair was."""
     if pp.v0_m_s <= pp.v_stop_m_s:
         if "v_stop_m_s" in given and "v0_m_s" not in given:
-            raise InputError("params.v_stop_m_s", f"must be below v0_m_s = {pp.v0_m_s:g}, "
-                             f"got {pp.v_stop_m_s:g}")
-        raise InputError("params.v0_m_s", f"must exceed v_stop_m_s = {pp.v_stop_m_s:g}, "
-                         f"got {pp.v0_m_s:g}")
+            raise InputError(
+                "params.v_stop_m_s", f"must be below v0_m_s = {pp.v0_m_s:g}, got {pp.v_stop_m_s:g}"
+            )
+        raise InputError(
+            "params.v0_m_s", f"must exceed v_stop_m_s = {pp.v_stop_m_s:g}, got {pp.v0_m_s:g}"
+        )
     if pp.dt_s > 0.01:
-        raise InputError("params.dt_s", f"must be at most 0.01 s for a stable RK4 step, got "
-                         f"{pp.dt_s:g}")
+        raise InputError(
+            "params.dt_s", f"must be at most 0.01 s for a stable RK4 step, got {pp.dt_s:g}"
+        )
     if pp.t_max_s < 10 * pp.dt_s:
         raise InputError("params.t_max_s", f"must be at least 10 steps, got {pp.t_max_s:g}")
     if pp.t_max_s / pp.dt_s > 5e7:
         blame = "dt_s" if "dt_s" in given and "t_max_s" not in given else "t_max_s"
-        raise InputError(f"params.{blame}", f"too many steps: t_max_s / dt_s = "
-                         f"{pp.t_max_s / pp.dt_s:.3g} is above 5e7")
+        raise InputError(
+            f"params.{blame}",
+            f"too many steps: t_max_s / dt_s = {pp.t_max_s / pp.dt_s:.3g} is above 5e7",
+        )

@@ -88,5 +88,6 @@ def road_profile(road: RoadParams, noise: np.ndarray, dt_s: float) -> np.ndarray
 def validate_road(road: RoadParams) -> None:
     """Checks beyond the field metadata: a class coefficient Gq of at most 1 m^3."""
     if road.gq_m3 > 1.0:
-        raise InputError("params.gq_m3", f"must be at most 1 m^3 (ISO class H is 2.6e-4), "
-                         f"got {road.gq_m3:g}")
+        raise InputError(
+            "params.gq_m3", f"must be at most 1 m^3 (ISO class H is 2.6e-4), got {road.gq_m3:g}"
+        )

@@ -41,8 +41,9 @@ PLANT_SLOTS: tuple[tuple[str, str, str], ...] = (
 )
 """The plant vector read by `closed_loop`: (name, unit, meaning), in order (the kernels' Layout)."""
 _P = {name: i for i, (name, _, _) in enumerate(PLANT_SLOTS)}
-P_MS, P_MU, P_KS, P_CS = (_P[n] for n in ("sprung_mass_kg", "unsprung_mass_kg", "spring_n_m",
-                                           "damper_n_s_m"))
+P_MS, P_MU, P_KS, P_CS = (
+    _P[n] for n in ("sprung_mass_kg", "unsprung_mass_kg", "spring_n_m", "damper_n_s_m")
+)
 P_KT, P_LAM, P_B = (_P[n] for n in ("tire_stiffness_n_m", "road_pole_rad_s", "road_gain"))
 N_PLANT = len(PLANT_SLOTS)
 

@@ -28,13 +28,20 @@ from chassistune.plants.tires import (
 
 BILINEAR_ROADS: dict[str, tuple[float, float, float, str]] = {
     "dry-concrete": (0.2, 0.9, 0.75, "derlsp-ao-abs Table 1"),
-    "wet-asphalt": (0.2, 0.78, 0.50, "derlsp-ao-abs Table 1 (its eq. 7 slope 0.3125 is a "
-                    "misprint)"),
+    "wet-asphalt": (
+        0.2,
+        0.78,
+        0.50,
+        "derlsp-ao-abs Table 1 (its eq. 7 slope 0.3125 is a misprint)",
+    ),
     "ice": (0.1, 0.1028, 0.07, "derlsp-ao-abs Table 1"),
-    "asphalt-0.8": (0.2, 0.8, 0.6, "fuzzy-immune-abs peak 0.8; slip and lock values our "
-                    "assumption"),
-    "dirt-0.2": (0.15, 0.2, 0.15, "fuzzy-immune-abs peak 0.2; slip and lock values our "
-                 "assumption"),
+    "asphalt-0.8": (
+        0.2,
+        0.8,
+        0.6,
+        "fuzzy-immune-abs peak 0.8; slip and lock values our assumption",
+    ),
+    "dirt-0.2": (0.15, 0.2, 0.15, "fuzzy-immune-abs peak 0.2; slip and lock values our assumption"),
 }
 """Road name -> (S_T, mu_h, mu_g, source) of the bilinear curve."""
 
@@ -51,8 +58,10 @@ ISO_CLASSES: dict[str, float] = {
 
 def friction_roads() -> dict[str, str]:
     """Friction road name -> one-line description."""
-    out = {n: f"bilinear slip_opt={s}, mu_peak={h}, mu_lock={g}: {d}" for n, (s, h, g, d) in
-           BILINEAR_ROADS.items()}
+    out = {
+        n: f"bilinear slip_opt={s}, mu_peak={h}, mu_lock={g}: {d}"
+        for n, (s, h, g, d) in BILINEAR_ROADS.items()
+    }
     out["sldemo-table"] = "MathWorks sldemo_absbrake mu-slip table (peak 1.0 at S = 0.2)"
     for name, (c1, c2, c3) in BURCKHARDT_SURFACES.items():
         out[f"{BURCKHARDT_PREFIX}{name}"] = f"Burckhardt c1={c1}, c2={c2}, c3={c3}"
@@ -63,21 +72,23 @@ def tire_for_road(road: str, values: Mapping[str, object]) -> tuple[TireCurve, s
     """The road's tire curve with overrides (slip_opt/mu_peak/mu_lock or c1/c2/c3, and mu_scale
     on every road) applied, and the names of `values` used."""
     base: TireCurve
-    surface = road[len(BURCKHARDT_PREFIX):]
+    surface = road[len(BURCKHARDT_PREFIX) :]
     if road in BILINEAR_ROADS:
         s, h, g, _ = BILINEAR_ROADS[road]
         base = BilinearTire(s, h, g)
     elif road == "sldemo-table":  # its table is fixed; only the scale of the curve varies
         return override(SLDEMO_TABLE, {k: v for k, v in values.items() if k == "mu_scale"})
     elif road.lower().endswith(CSV_SUFFIX):  # a measured table: likewise
-        return override(read_mu_slip_csv(road), {k: v for k, v in values.items()
-                                                  if k == "mu_scale"})
+        return override(
+            read_mu_slip_csv(road), {k: v for k, v in values.items() if k == "mu_scale"}
+        )
     elif road.startswith(BURCKHARDT_PREFIX) and surface in BURCKHARDT_SURFACES:
         base = BurckhardtTire(*BURCKHARDT_SURFACES[surface])
     else:
         raise InputError(
-            "road", f"unknown road {road!r} for abs-wheel (known: {', '.join(friction_roads())}; "
-            f"or a measured mu-slip table, FILE{CSV_SUFFIX})"
+            "road",
+            f"unknown road {road!r} for abs-wheel (known: {', '.join(friction_roads())}; "
+            f"or a measured mu-slip table, FILE{CSV_SUFFIX})",
         )
     tire, used = override(base, values)
     return tire, used
@@ -97,8 +108,11 @@ def read_mu_slip_csv(path: str) -> TableTire:
     header = [h.strip().lower() for h in rows[0]] if rows else []
     missing = [c for c in ("slip", "mu") if c not in header]
     if missing:
-        raise InputError("road", f"{path} row 1: the header needs the columns slip and mu "
-                         f"(missing: {', '.join(missing)})")
+        raise InputError(
+            "road",
+            f"{path} row 1: the header needs the columns slip and mu "
+            f"(missing: {', '.join(missing)})",
+        )
     columns = {c: header.index(c) for c in ("slip", "mu")}
     data: dict[str, list[float]] = {"slip": [], "mu": []}
     body = [(k, r) for k, r in enumerate(rows[1:], start=2) if any(x.strip() for x in r)]
@@ -110,8 +124,9 @@ def read_mu_slip_csv(path: str) -> TableTire:
             except ValueError:
                 value = math.nan
             if not math.isfinite(value):
-                raise InputError("road", f"{path} row {k}, column {name}: expected a finite "
-                                 f"number, got {text!r}")
+                raise InputError(
+                    "road", f"{path} row {k}, column {name}: expected a finite number, got {text!r}"
+                )
             data[name].append(value)
     slips, mus = tuple(data["slip"]), tuple(data["mu"])
     problem = table_problem(slips, mus)

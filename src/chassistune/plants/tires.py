@@ -97,8 +97,11 @@ class BilinearTire(TireCurve):
         if not 0.0 < self.slip_opt < 1.0:
             raise InputError("params.slip_opt", f"must be in (0, 1), got {self.slip_opt:g}")
         if self.mu_lock > self.mu_peak:
-            raise InputError("params.mu_lock", f"must not exceed mu_peak = {self.mu_peak:g} "
-                             f"(the peak is the curve's maximum), got {self.mu_lock:g}")
+            raise InputError(
+                "params.mu_lock",
+                f"must not exceed mu_peak = {self.mu_peak:g} "
+                f"(the peak is the curve's maximum), got {self.mu_lock:g}",
+            )
 
     def kernel_data(self) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
         st, h, g = self.slip_opt, self.mu_peak * self.mu_scale, self.mu_lock * self.mu_scale
@@ -142,8 +145,9 @@ class TableTire(TireCurve):
         return KIND_TABLE, np.zeros(3), np.array(self.slips), np.array(self.mus) * self.mu_scale
 
 
-def table_problem(slips: tuple[float, ...],
-                  mus: tuple[float, ...]) -> tuple[int | None, str, str] | None:
+def table_problem(
+    slips: tuple[float, ...], mus: tuple[float, ...]
+) -> tuple[int | None, str, str] | None:
     """What is wrong with a mu-slip table, or None: (the index of the offending node or None
     for the whole table, its column `slip` or `mu`, the problem). The table needs 2 to
     MAX_TABLE_NODES nodes with slips strictly increasing from 0 to 1, finite mus >= 0 and
@@ -158,8 +162,7 @@ def table_problem(slips: tuple[float, ...],
         if i == 0 and s != 0.0:
             return i, "slip", f"the first slip must be 0, got {s:g}"
         if i > 0 and not s > slips[i - 1]:
-            return i, "slip", (f"slips must increase strictly, got {s:g} after "
-                               f"{slips[i - 1]:g}")
+            return i, "slip", (f"slips must increase strictly, got {s:g} after {slips[i - 1]:g}")
         if not (math.isfinite(mu) and mu >= 0.0):
             return i, "mu", f"must be a finite number >= 0, got {mu!r}"
         if i == 0 and mu != 0.0:
@@ -171,8 +174,29 @@ def table_problem(slips: tuple[float, ...],
 
 SLDEMO_TABLE = TableTire(
     slips=tuple(np.round(np.arange(21) * 0.05, 10)),
-    mus=(0.0, 0.4, 0.8, 0.97, 1.0, 0.98, 0.96, 0.94, 0.92, 0.9, 0.88, 0.855, 0.83, 0.81, 0.79,
-         0.77, 0.75, 0.73, 0.72, 0.71, 0.7),
+    mus=(
+        0.0,
+        0.4,
+        0.8,
+        0.97,
+        1.0,
+        0.98,
+        0.96,
+        0.94,
+        0.92,
+        0.9,
+        0.88,
+        0.855,
+        0.83,
+        0.81,
+        0.79,
+        0.77,
+        0.75,
+        0.73,
+        0.72,
+        0.71,
+        0.7,
+    ),
 )
 """MathWorks sldemo_absbrake's mu-slip table (slip 0:0.05:1)."""
 

@@ -77,12 +77,17 @@ class VehicleRoad:
 
 def road_names() -> dict[str, str]:
     """Road name -> description."""
-    out = {n: f"uniform bilinear slip_opt={s}, mu_peak={h}, mu_lock={g}: {d}"
-           for n, (s, h, g, d) in BILINEAR_ROADS.items()}
-    out["mu-jump"] = ("docking road: ice for 25 m from the front axle's start, then dry concrete "
-                      "(first_surface, second_surface, x_jump_m)")
-    out["split-mu"] = ("split road: dry concrete left, ice right (left_surface, right_surface, "
-                       "split_y_m)")
+    out = {
+        n: f"uniform bilinear slip_opt={s}, mu_peak={h}, mu_lock={g}: {d}"
+        for n, (s, h, g, d) in BILINEAR_ROADS.items()
+    }
+    out["mu-jump"] = (
+        "docking road: ice for 25 m from the front axle's start, then dry concrete "
+        "(first_surface, second_surface, x_jump_m)"
+    )
+    out["split-mu"] = (
+        "split road: dry concrete left, ice right (left_surface, right_surface, split_y_m)"
+    )
     return out
 
 
@@ -90,8 +95,9 @@ def surface(name: str, field_name: str, mu_scale: float = 1.0) -> BilinearTire:
     """A bilinear surface by name with its curve scaled by mu_scale, or InputError naming the
     field."""
     if name not in BILINEAR_ROADS:
-        raise InputError(field_name, f"unknown surface {name!r} (known: "
-                         f"{', '.join(BILINEAR_ROADS)})")
+        raise InputError(
+            field_name, f"unknown surface {name!r} (known: {', '.join(BILINEAR_ROADS)})"
+        )
     s, h, g, _ = BILINEAR_ROADS[name]
     return scaled(BilinearTire(s, h, g), mu_scale)
 
@@ -102,34 +108,74 @@ def scaled(tire: BilinearTire, mu_scale: float) -> BilinearTire:
     return BilinearTire(tire.slip_opt, tire.mu_peak * scale, tire.mu_lock * scale)
 
 
-def make_road(name: str, values: Mapping[str, object]) -> tuple[VehicleRoad, set[str], dict[
-        str, object]]:
+def make_road(
+    name: str, values: Mapping[str, object]
+) -> tuple[VehicleRoad, set[str], dict[str, object]]:
     """The road `name` with its parameter overrides; returns (road, names used, params echo)."""
     if name == "mu-jump":
         jump, used = override(MuJumpParams(), values)
-        pair = (surface(jump.first_surface, "params.first_surface", jump.mu_scale),
-                surface(jump.second_surface, "params.second_surface", jump.mu_scale))
-        road = VehicleRoad(name, ROAD_MU_JUMP, (jump.first_surface, jump.second_surface), pair,
-                           x_jump_m=jump.x_jump_m)
-        return road, used, {"first_surface": jump.first_surface,
-                            "second_surface": jump.second_surface, "x_jump_m": jump.x_jump_m,
-                            "mu_scale": jump.mu_scale}
+        pair = (
+            surface(jump.first_surface, "params.first_surface", jump.mu_scale),
+            surface(jump.second_surface, "params.second_surface", jump.mu_scale),
+        )
+        road = VehicleRoad(
+            name,
+            ROAD_MU_JUMP,
+            (jump.first_surface, jump.second_surface),
+            pair,
+            x_jump_m=jump.x_jump_m,
+        )
+        return (
+            road,
+            used,
+            {
+                "first_surface": jump.first_surface,
+                "second_surface": jump.second_surface,
+                "x_jump_m": jump.x_jump_m,
+                "mu_scale": jump.mu_scale,
+            },
+        )
     if name == "split-mu":
         split, used = override(SplitMuParams(), values)
         if split.split_by not in SPLIT_BY:
             raise InputError("params.split_by", f"must be body or road, got {split.split_by!r}")
-        pair = (surface(split.left_surface, "params.left_surface", split.mu_scale),
-                surface(split.right_surface, "params.right_surface", split.mu_scale))
-        road = VehicleRoad(name, ROAD_SPLIT, (split.left_surface, split.right_surface), pair,
-                           split_by=split.split_by, split_y_m=split.split_y_m)
-        return road, used, {"left_surface": split.left_surface,
-                            "right_surface": split.right_surface, "split_by": split.split_by,
-                            "split_y_m": split.split_y_m, "mu_scale": split.mu_scale}
+        pair = (
+            surface(split.left_surface, "params.left_surface", split.mu_scale),
+            surface(split.right_surface, "params.right_surface", split.mu_scale),
+        )
+        road = VehicleRoad(
+            name,
+            ROAD_SPLIT,
+            (split.left_surface, split.right_surface),
+            pair,
+            split_by=split.split_by,
+            split_y_m=split.split_y_m,
+        )
+        return (
+            road,
+            used,
+            {
+                "left_surface": split.left_surface,
+                "right_surface": split.right_surface,
+                "split_by": split.split_by,
+                "split_y_m": split.split_y_m,
+                "mu_scale": split.mu_scale,
+            },
+        )
     if name not in BILINEAR_ROADS:
-        raise InputError("road", f"unknown road {name!r} for abs-vehicle (known: "
-                         f"{', '.join(road_names())})")
+        raise InputError(
+            "road", f"unknown road {name!r} for abs-vehicle (known: {', '.join(road_names())})"
+        )
     tire, used = override(surface(name, "road"), values)
     curve = scaled(tire, 1.0)
     road = VehicleRoad(name, ROAD_UNIFORM, (name, name), (curve, curve))
-    return road, used, {"slip_opt": tire.slip_opt, "mu_peak": tire.mu_peak,
-                        "mu_lock": tire.mu_lock, "mu_scale": tire.mu_scale}
+    return (
+        road,
+        used,
+        {
+            "slip_opt": tire.slip_opt,
+            "mu_peak": tire.mu_peak,
+            "mu_lock": tire.mu_lock,
+            "mu_scale": tire.mu_scale,
+        },
+    )

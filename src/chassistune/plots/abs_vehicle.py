@@ -16,14 +16,23 @@ OUTLINES = 6
 """Car outlines drawn along the path."""
 
 
-def car_outline(x: float, y: float, psi: float, front_m: float, rear_m: float, half_width_m: float
-                ) -> np.ndarray:
+def car_outline(
+    x: float, y: float, psi: float, front_m: float, rear_m: float, half_width_m: float
+) -> np.ndarray:
     """Corners (5, 2) of the body rectangle at CG (x, y) with heading psi, closed."""
-    body = np.array([[front_m, half_width_m], [-rear_m, half_width_m], [-rear_m, -half_width_m],
-                     [front_m, -half_width_m], [front_m, half_width_m]])
+    body = np.array(
+        [
+            [front_m, half_width_m],
+            [-rear_m, half_width_m],
+            [-rear_m, -half_width_m],
+            [front_m, -half_width_m],
+            [front_m, half_width_m],
+        ]
+    )
     c, s = np.cos(psi), np.sin(psi)
-    return np.column_stack((x + c * body[:, 0] - s * body[:, 1],
-                            y + s * body[:, 0] + c * body[:, 1]))
+    return np.column_stack(
+        (x + c * body[:, 0] - s * body[:, 1], y + s * body[:, 0] + c * body[:, 1])
+    )
 
 
 def plot_trace(scenario: Any, trace: Trace, path: str) -> None:
@@ -66,20 +75,28 @@ def plot_trace(scenario: Any, trace: Trace, path: str) -> None:
 
     pp = scenario.plant_params
     x, y = sig["x_m"], sig["y_m"]
-    ax_top.plot(x, y, color="k", lw=0.8, label=f"CG path: {m['stop_distance_m']:.1f} m "
-                f"(bound {m['bound_distance_m']:.1f} m)")
+    ax_top.plot(
+        x,
+        y,
+        color="k",
+        lw=0.8,
+        label=f"CG path: {m['stop_distance_m']:.1f} m (bound {m['bound_distance_m']:.1f} m)",
+    )
     half = 0.5 * max(pp.track_front_m, pp.track_rear_m) + 0.1
     for k in np.linspace(0, len(t) - 1, OUTLINES).astype(int):
-        body = car_outline(x[k], y[k], sig["heading_rad"][k], pp.cg_to_front_m + 0.8,
-                           pp.cg_to_rear_m + 0.8, half)
+        body = car_outline(
+            x[k], y[k], sig["heading_rad"][k], pp.cg_to_front_m + 0.8, pp.cg_to_rear_m + 0.8, half
+        )
         ax_top.plot(body[:, 0], body[:, 1], color="C0", lw=0.9)
         ax_top.annotate(f"{t[k]:.1f} s", (x[k], y[k]), fontsize=7, ha="center")
     ax_top.set_aspect("equal", adjustable="datalim")
     ax_top.set_xlabel("X [m]")
     ax_top.set_ylabel("Y [m] (left +)")
     ax_top.legend(loc="best")
-    title = (f"abs-vehicle, preset {scenario.preset}, road {scenario.road}, "
-             f"{scenario.controller.name}, steering {scenario.steering.steering}")
+    title = (
+        f"abs-vehicle, preset {scenario.preset}, road {scenario.road}, "
+        f"{scenario.controller.name}, steering {scenario.steering.steering}"
+    )
     if m.get("spun"):
         title += f": spun at {m['spin_time_s']:.2f} s"
     fig.suptitle(title)

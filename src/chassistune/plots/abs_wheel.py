@@ -14,8 +14,9 @@ def plot_trace(scenario: Scenario, trace: Trace, path: str) -> None:
     plot_comparison(scenario, [(scenario.controller.name, trace)], path)
 
 
-def plot_comparison(scenario: Any, runs: Sequence[tuple[str, Trace]], path: str,
-                    title: str | None = None) -> None:
+def plot_comparison(
+    scenario: Any, runs: Sequence[tuple[str, Trace]], path: str, title: str | None = None
+) -> None:
     """Several runs on one road (e.g. no ABS against PID), four panels sharing the time axis."""
     plt = pyplot()
     fig, axes = plt.subplots(2, 2, figsize=(10, 6.5), sharex=True)
@@ -26,19 +27,33 @@ def plot_comparison(scenario: Any, runs: Sequence[tuple[str, Trace]], path: str,
         col = colors[k % len(colors)]
         t = sig["time_s"]
         ax_v.plot(t, sig["vehicle_speed_m_s"], color=col, label=f"{label}: vehicle")
-        ax_v.plot(t, sig["wheel_speed_m_s"], color=col, ls="--", lw=0.9,
-                  label=f"{label}: wheel (w R)")
+        ax_v.plot(
+            t, sig["wheel_speed_m_s"], color=col, ls="--", lw=0.9, label=f"{label}: wheel (w R)"
+        )
         ax_s.plot(t, sig["slip"], color=col, lw=0.9, label=label)
         ax_t.plot(t, sig["brake_torque_n_m"], color=col, lw=0.9, label=label)
         m = tr.metrics
-        stop = (f"{m['stop_distance_m']:.1f} m in {m['stop_time_s']:.2f} s" if m.get("stopped")
-                else f"did not stop ({m.get('status')})")
+        stop = (
+            f"{m['stop_distance_m']:.1f} m in {m['stop_time_s']:.2f} s"
+            if m.get("stopped")
+            else f"did not stop ({m.get('status')})"
+        )
         ax_x.plot(t, sig["distance_m"], color=col, label=f"{label}: {stop}")
     ax_s.axhline(scenario.target_slip, color="k", ls=":", lw=1, label="target slip")
-    ax_x.axhline(scenario.bound_distance_m, color="k", ls=":", lw=1,
-                 label=f"physical bound {scenario.bound_distance_m:.1f} m")
-    ax_v.axvline(scenario.bound_time_s, color="k", ls=":", lw=1,
-                 label=f"bound time {scenario.bound_time_s:.2f} s")
+    ax_x.axhline(
+        scenario.bound_distance_m,
+        color="k",
+        ls=":",
+        lw=1,
+        label=f"physical bound {scenario.bound_distance_m:.1f} m",
+    )
+    ax_v.axvline(
+        scenario.bound_time_s,
+        color="k",
+        ls=":",
+        lw=1,
+        label=f"bound time {scenario.bound_time_s:.2f} s",
+    )
     ax_v.set_ylabel("speed [m/s]")
     ax_s.set_ylabel("slip S = (v - w R)/v [-]")
     _zoom_slip(ax_s, scenario.target_slip, [tr.signals["slip"] for _, tr in runs])
@@ -48,8 +63,11 @@ def plot_comparison(scenario: Any, runs: Sequence[tuple[str, Trace]], path: str,
         ax.set_xlabel("time [s]")
     for ax in axes.ravel():
         ax.legend(loc="best")
-    fig.suptitle(title or f"abs-wheel, preset {scenario.preset}, road {scenario.road} "
-                 f"(mu_peak {scenario.mu_peak:.3f})")
+    fig.suptitle(
+        title
+        or f"abs-wheel, preset {scenario.preset}, road {scenario.road} "
+        f"(mu_peak {scenario.mu_peak:.3f})"
+    )
     fig.tight_layout()
     save(fig, path)
 

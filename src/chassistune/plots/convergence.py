@@ -9,8 +9,9 @@ import numpy as np
 from chassistune.plots.style import pyplot, save
 
 
-def plot_convergence(runs: Mapping[str, Sequence[tuple[np.ndarray, np.ndarray]]], path: str,
-                     title: str = "") -> None:
+def plot_convergence(
+    runs: Mapping[str, Sequence[tuple[np.ndarray, np.ndarray]]], path: str, title: str = ""
+) -> None:
     """`runs[label]` is a list of (history_nfev, history) pairs (one per seed)."""
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.2))
@@ -18,8 +19,9 @@ def plot_convergence(runs: Mapping[str, Sequence[tuple[np.ndarray, np.ndarray]]]
         grid = np.unique(np.concatenate([np.asarray(n, dtype=float) for n, _ in curves]))
         values = np.array([np.interp(grid, n, h, left=np.nan) for n, h in curves])
         med = np.nanmedian(values, axis=0)
-        line = ax.plot(grid, med, label=f"{label} (median of {len(curves)})" if len(curves) > 1
-                       else label)[0]
+        line = ax.plot(
+            grid, med, label=f"{label} (median of {len(curves)})" if len(curves) > 1 else label
+        )[0]
         if len(curves) > 1:
             lo, hi = np.nanpercentile(values, [25, 75], axis=0)
             ax.fill_between(grid, lo, hi, color=line.get_color(), alpha=0.2)

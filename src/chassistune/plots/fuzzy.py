@@ -72,7 +72,7 @@ def _drop_clipped(fig: Any) -> None:
         box = ax.bbox
         for t in [a for a in ax.texts if isinstance(a, Text) and a.get_clip_on()]:
             ext = t.get_window_extent(renderer)
-            if (ext.x0 < box.x0 or ext.x1 > box.x1 or ext.y0 < box.y0 or ext.y1 > box.y1):
+            if ext.x0 < box.x0 or ext.x1 > box.x1 or ext.y0 < box.y0 or ext.y1 > box.y1:
                 t.remove()
 
 

@@ -22,17 +22,19 @@ class Line:
     baseline: bool = False
 
 
-def plot_overlay(panels: Sequence[tuple[str, str]], lines: Sequence[Line], path: str,
-                 title: str) -> None:
+def plot_overlay(
+    panels: Sequence[tuple[str, str]], lines: Sequence[Line], path: str, title: str
+) -> None:
     """`panels` are (signal, y label) pairs, one axis each (two columns from four panels on),
     time shared."""
     plt = pyplot()
     cols = 2 if len(panels) >= 4 else 1
     rows = -(-len(panels) // cols)
-    fig, grid = plt.subplots(rows, cols, figsize=(10 if cols == 2 else 8, 2.3 * rows + 0.6),
-                             sharex=True, squeeze=False)
-    axes = grid.ravel()[:len(panels)]
-    for ax in grid.ravel()[len(panels):]:
+    fig, grid = plt.subplots(
+        rows, cols, figsize=(10 if cols == 2 else 8, 2.3 * rows + 0.6), sharex=True, squeeze=False
+    )
+    axes = grid.ravel()[: len(panels)]
+    for ax in grid.ravel()[len(panels) :]:
         ax.set_visible(False)
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     k = 0
@@ -49,8 +51,9 @@ def plot_overlay(panels: Sequence[tuple[str, str]], lines: Sequence[Line], path:
     for ax in grid[-1]:
         ax.set_xlabel("time [s]")
     handles, labels = axes[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="upper center", ncol=min(len(labels), 4),
-               bbox_to_anchor=(0.5, 1.0))
+    fig.legend(
+        handles, labels, loc="upper center", ncol=min(len(labels), 4), bbox_to_anchor=(0.5, 1.0)
+    )
     fig.suptitle(title, fontsize=9, y=1.04)
     fig.tight_layout()
     save(fig, path)
@@ -66,7 +69,13 @@ def plot_results(results: Mapping[str, Any], path: str, max_panels: int = 6) -> 
     lines = []
     for label, r in results.items():
         gains = ", ".join(f"{k}={v:.4g}" for k, v in r.gains.items())
-        lines.append(Line(f"{label} ({gains})" if gains else label,
-                          r.trace.signals["time_s"], r.trace.signals, baseline=label == "none"))
+        lines.append(
+            Line(
+                f"{label} ({gains})" if gains else label,
+                r.trace.signals["time_s"],
+                r.trace.signals,
+                baseline=label == "none",
+            )
+        )
     sc = first.scenario
     plot_overlay(panels, lines, path, f"{sc.plant}, preset {sc.preset}, road {sc.road}")

@@ -22,8 +22,9 @@ def plot_friction_curves(curves: Mapping[str, TireCurve], path: str) -> None:
     for name, curve in curves.items():
         ax = panels[curve.kernel_data()[0] == KIND_BURCKHARDT]
         mu_peak, s_peak, _ = curve.peak()
-        (line,) = ax.plot(slip, curve.mu(slip), lw=1.3,
-                          label=f"{name} (peak {mu_peak:.3g} at S = {s_peak:.3g})")
+        (line,) = ax.plot(
+            slip, curve.mu(slip), lw=1.3, label=f"{name} (peak {mu_peak:.3g} at S = {s_peak:.3g})"
+        )
         ax.plot([s_peak], [mu_peak], "o", ms=4, color=line.get_color())
     axes[0].set_title("bilinear and table roads")
     axes[1].set_title("Burckhardt roads: mu = c1 (1 - exp(-c2 S)) - c3 S")

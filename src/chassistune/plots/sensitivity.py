@@ -9,8 +9,13 @@ import numpy as np
 from chassistune.plots.style import pyplot, save
 
 
-def plot_sobol_indices(names: Sequence[str], first_order: Sequence[float],
-                       total: Sequence[float], path: str, title: str = "") -> None:
+def plot_sobol_indices(
+    names: Sequence[str],
+    first_order: Sequence[float],
+    total: Sequence[float],
+    path: str,
+    title: str = "",
+) -> None:
     """Grouped bars per parameter: S_i (first order) beside S_Ti (total), on [0, 1]."""
     plt = pyplot()
     x = np.arange(len(names))

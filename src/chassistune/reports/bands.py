@@ -10,18 +10,24 @@ from chassistune import stats
 from chassistune.studies.store import RunRecord
 
 
-def convergence_bands(runs: Mapping[str, Sequence[RunRecord]]
-                      ) -> dict[str, tuple[int, dict[str, np.ndarray]]]:
+def convergence_bands(
+    runs: Mapping[str, Sequence[RunRecord]],
+) -> dict[str, tuple[int, dict[str, np.ndarray]]]:
     """Per label with recorded histories: (number of runs, `stats.convergence_band` on the union
     of their evaluation counts)."""
     out = {}
     for label, recs in runs.items():
         recs = [r for r in recs if r.history]
         if recs:
-            grid = np.unique(np.concatenate([np.asarray(r.history_nfev, dtype=float)
-                                             for r in recs]))
-            out[label] = (len(recs), stats.convergence_band(
-                [r.history for r in recs], [r.history_nfev for r in recs], grid))
+            grid = np.unique(
+                np.concatenate([np.asarray(r.history_nfev, dtype=float) for r in recs])
+            )
+            out[label] = (
+                len(recs),
+                stats.convergence_band(
+                    [r.history for r in recs], [r.history_nfev for r in recs], grid
+                ),
+            )
     return out
 
 

@@ -41,8 +41,9 @@ class StudyReport:
     reference: str
 
     def sections(self, assets: sections.Assets, figures: sections.Figures) -> list[Section]:
-        return sections.study_sections(self.data, self.config, self.reference,
-                                       store_path(self.root), assets, figures)
+        return sections.study_sections(
+            self.data, self.config, self.reference, store_path(self.root), assets, figures
+        )
 
     @property
     def summary(self) -> str:
@@ -74,8 +75,13 @@ def build_report(study_dir: str | Path, reference: str | None = None) -> ReportF
     study = read_study(study_dir, reference)
     assets = sections.Assets(study.root)
     figures = PngFigures(assets)
-    page = render(study.data.name, study.summary, study.description,
-                  study.sections(assets, figures), version("chassistune"))
+    page = render(
+        study.data.name,
+        study.summary,
+        study.description,
+        study.sections(assets, figures),
+        version("chassistune"),
+    )
     html = study.root / REPORT_NAME
     write_text(html, page)
     return ReportFiles(html, study.root / sections.ASSETS, assets.tables, figures.written)

@@ -24,10 +24,18 @@ def convergence_figure(runs: Mapping[str, Sequence[RunRecord]], path: str, title
     fig, ax = plt.subplots(figsize=(7, 4.2))
     drawn = []
     for label, (n, band) in convergence_bands(runs).items():
-        line = ax.plot(band["nfev"], band["median"], drawstyle="steps-post",
-                       label=f"{label} (median of {n})")[0]
-        ax.fill_between(band["nfev"], band["q25"], band["q75"], step="post",
-                        color=line.get_color(), alpha=0.2, lw=0)
+        line = ax.plot(
+            band["nfev"], band["median"], drawstyle="steps-post", label=f"{label} (median of {n})"
+        )[0]
+        ax.fill_between(
+            band["nfev"],
+            band["q25"],
+            band["q75"],
+            step="post",
+            color=line.get_color(),
+            alpha=0.2,
+            lw=0,
+        )
         drawn.extend([band["q25"], band["q75"]])
     if log_scale_suits(drawn):
         ax.set_yscale("log")
@@ -72,30 +80,48 @@ class PngFigures:
 
     def _view(self, path: Path, title: str, caption: str) -> FigureView:
         self.written.append(path)
-        return FigureView.from_png(path, self.assets.next_id("figure"), title, caption,
-                                   path.relative_to(self.assets.root).as_posix())
+        return FigureView.from_png(
+            path,
+            self.assets.next_id("figure"),
+            title,
+            caption,
+            path.relative_to(self.assets.root).as_posix(),
+        )
 
-    def convergence(self, scenario: str, runs: Mapping[str, Sequence[RunRecord]],
-                    name: str) -> FigureView:
+    def convergence(
+        self, scenario: str, runs: Mapping[str, Sequence[RunRecord]], name: str
+    ) -> FigureView:
         path = self.folder / f"{name}.png"
         convergence_figure(runs, str(path), scenario)
-        return self._view(path, f"Convergence, {scenario}",
-                          "Best cost so far against evaluations: median over seeds (line) and "
-                          "interquartile band.")
+        return self._view(
+            path,
+            f"Convergence, {scenario}",
+            "Best cost so far against evaluations: median over seeds (line) and "
+            "interquartile band.",
+        )
 
-    def final_costs(self, scenario: str, costs: Mapping[str, np.ndarray],
-                    name: str) -> FigureView:
+    def final_costs(self, scenario: str, costs: Mapping[str, np.ndarray], name: str) -> FigureView:
         path = self.folder / f"{name}.png"
         boxplot_figure(costs, str(path), f"{scenario}: final best cost")
-        return self._view(path, f"Final cost distribution, {scenario}",
-                          "Box plot of the final best cost per optimizer; points are runs.")
+        return self._view(
+            path,
+            f"Final cost distribution, {scenario}",
+            "Box plot of the final best cost per optimizer; points are runs.",
+        )
 
     def responses(self, rs: ResponseSet, name: str) -> FigureView:
         path = self.folder / f"{name}.png"
-        plot_overlay([(p.signal, p.label) for p in rs.panels], rs.curves, str(path),
-                     f"{rs.scenario} on {rs.road}: each optimizer's best run")
+        plot_overlay(
+            [(p.signal, p.label) for p in rs.panels],
+            rs.curves,
+            str(path),
+            f"{rs.scenario} on {rs.road}: each optimizer's best run",
+        )
         base = next((c.label for c in rs.curves if c.baseline), "")
-        return self._view(path, f"Best controllers against {base}, {rs.scenario}, on {rs.road}",
-                          f"Each optimizer's lowest-cost gains (label: the seed that found them) "
-                          f"re-simulated on {rs.road}, all on the road realization of seed "
-                          f"{rs.seed}, over the {base} baseline (grey, dashed).")
+        return self._view(
+            path,
+            f"Best controllers against {base}, {rs.scenario}, on {rs.road}",
+            f"Each optimizer's lowest-cost gains (label: the seed that found them) "
+            f"re-simulated on {rs.road}, all on the road realization of seed "
+            f"{rs.seed}, over the {base} baseline (grey, dashed).",
+        )

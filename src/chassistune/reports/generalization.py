@@ -47,8 +47,9 @@ def generalization_table(data: StudyData) -> pd.DataFrame:
     metric_names: list[str] = []
     for group in groups:
         runs = [r for r in records if r.spec.group == group and r.completed]
-        names = [m for m, _ in plant_view(runs[0].spec.plant).generalization_metrics] \
-            if runs else []
+        names = (
+            [m for m, _ in plant_view(runs[0].spec.plant).generalization_metrics] if runs else []
+        )
         metric_names += [m for m in names if m not in metric_names]
         for opt in data.optimizers:
             mine = [r for r in runs if r.spec.optimizer == opt]
@@ -58,12 +59,18 @@ def generalization_table(data: StudyData) -> pd.DataFrame:
                     v = np.array([r.test_costs.get(road, math.nan) for r in cell], dtype=float)
                     v = v[np.isfinite(v)]
                     tested = [_test_metrics(r, road, names) for r in cell]
-                    rows.append({"group": group, "optimizer": opt, "tuned_on": tuned,
-                                 "tested_on": road, "n": v.size,
-                                 "median_cost": float(np.median(v)) if v.size else math.nan,
-                                 "mean_cost": float(np.mean(v)) if v.size else math.nan,
-                                 **{f"median_{k}": _median([t[k] for t in tested])
-                                    for k in names}})
+                    rows.append(
+                        {
+                            "group": group,
+                            "optimizer": opt,
+                            "tuned_on": tuned,
+                            "tested_on": road,
+                            "n": v.size,
+                            "median_cost": float(np.median(v)) if v.size else math.nan,
+                            "mean_cost": float(np.mean(v)) if v.size else math.nan,
+                            **{f"median_{k}": _median([t[k] for t in tested]) for k in names},
+                        }
+                    )
     return pd.DataFrame(rows, columns=[*COLUMNS, *(f"median_{k}" for k in metric_names)])
 
 
@@ -81,9 +88,20 @@ def matrix(cell: pd.DataFrame, labels: list[tuple[str, str]]) -> pd.DataFrame:
     return out
 
 
-ROBUST_COLUMNS = ["group", "optimizer", "tuned_on", "tuning", "n", "training_worst_cost",
-                  "validation_draws", "validation_failures", "pass_rate",
-                  "validation_worst", "validation_mean", "certificate"]
+ROBUST_COLUMNS = [
+    "group",
+    "optimizer",
+    "tuned_on",
+    "tuning",
+    "n",
+    "training_worst_cost",
+    "validation_draws",
+    "validation_failures",
+    "pass_rate",
+    "validation_worst",
+    "validation_mean",
+    "certificate",
+]
 
 
 def _arm(robust: dict[str, Any]) -> str:
@@ -101,25 +119,43 @@ def robustness_table(data: StudyData) -> pd.DataFrame:
     (failure probability <= eps at confidence 1 - beta) when no draw of any seed failed."""
     rows = []
     runs = [r for r in data.records if r.completed and r.robust is not None]
-    keys = dict.fromkeys((r.spec.group, r.spec.optimizer, r.spec.road, _arm(r.robust))
-                         for r in runs if r.robust is not None)
+    keys = dict.fromkeys(
+        (r.spec.group, r.spec.optimizer, r.spec.road, _arm(r.robust))
+        for r in runs
+        if r.robust is not None
+    )
     for group, opt, road, arm in keys:
-        cell = [r.robust for r in runs if r.robust is not None and _arm(r.robust) == arm
-                and (r.spec.group, r.spec.optimizer, r.spec.road) == (group, opt, road)]
+        cell = [
+            r.robust
+            for r in runs
+            if r.robust is not None
+            and _arm(r.robust) == arm
+            and (r.spec.group, r.spec.optimizer, r.spec.road) == (group, opt, road)
+        ]
         vals = [c["validation"] for c in cell if c["validation"] is not None]
         kind = "distance_ratio" if vals and "worst_distance_ratio" in vals[0] else "cost"
         n_draws = sum(v["n"] for v in vals)
         fails = sum(v["failures"] for v in vals)
         certs = [v["certificate"] for v in vals]
-        cert = (f"p_fail <= {max(c['eps'] for c in certs):.3%} at {1 - certs[0]['beta']:.0%}"
-                if certs and all(certs) else "")
-        rows.append({
-            "group": group, "optimizer": opt, "tuned_on": road, "tuning": arm, "n": len(cell),
-            "training_worst_cost": _median([max(c["training"]["costs"]) for c in cell]),
-            "validation_draws": n_draws, "validation_failures": fails,
-            "pass_rate": 1.0 - fails / n_draws if n_draws else math.nan,
-            "validation_worst": _median([v[f"worst_{kind}"] for v in vals]),
-            "validation_mean": _median([v[f"mean_{kind}"] for v in vals]),
-            "certificate": cert,
-        })
+        cert = (
+            f"p_fail <= {max(c['eps'] for c in certs):.3%} at {1 - certs[0]['beta']:.0%}"
+            if certs and all(certs)
+            else ""
+        )
+        rows.append(
+            {
+                "group": group,
+                "optimizer": opt,
+                "tuned_on": road,
+                "tuning": arm,
+                "n": len(cell),
+                "training_worst_cost": _median([max(c["training"]["costs"]) for c in cell]),
+                "validation_draws": n_draws,
+                "validation_failures": fails,
+                "pass_rate": 1.0 - fails / n_draws if n_draws else math.nan,
+                "validation_worst": _median([v[f"worst_{kind}"] for v in vals]),
+                "validation_mean": _median([v[f"mean_{kind}"] for v in vals]),
+                "certificate": cert,
+            }
+        )
     return pd.DataFrame(rows, columns=ROBUST_COLUMNS)

@@ -22,8 +22,13 @@ from chassistune.reports.versus import BETTER, REFERENCE, SAME, WORSE
 FLAG = "⚑"
 """Marks a tuned gain within 1 % of its bound (see reports.gains)."""
 
-_CELL_CLASSES = ((BETTER[0], "better"), (WORSE[0], "worse"), (SAME[0], "same"),
-                 (REFERENCE, "ref"), (FLAG, "flag"))
+_CELL_CLASSES = (
+    (BETTER[0], "better"),
+    (WORSE[0], "worse"),
+    (SAME[0], "same"),
+    (REFERENCE, "ref"),
+    (FLAG, "flag"),
+)
 """A cell holding one of these marks (a verdict symbol, 'reference', the bound flag) is styled
 by the class."""
 
@@ -78,13 +83,21 @@ class TableView:
     kind: str = "table"
 
     @classmethod
-    def from_frame(cls, df: pd.DataFrame, id: str, title: str, caption: str = "",
-                   sources: tuple[Download, ...] = ()) -> TableView:
+    def from_frame(
+        cls,
+        df: pd.DataFrame,
+        id: str,
+        title: str,
+        caption: str = "",
+        sources: tuple[Download, ...] = (),
+    ) -> TableView:
         """Two-level columns (a MultiIndex) give the header groups."""
         rows = [[format_cell(v) for v in rec] for rec in df.astype(object).itertuples(index=False)]
-        numeric = [pd.api.types.is_numeric_dtype(df.iloc[:, i])
-                   and not pd.api.types.is_bool_dtype(df.iloc[:, i])
-                   for i in range(df.shape[1])]
+        numeric = [
+            pd.api.types.is_numeric_dtype(df.iloc[:, i])
+            and not pd.api.types.is_bool_dtype(df.iloc[:, i])
+            for i in range(df.shape[1])
+        ]
         groups: list[tuple[str, int]] = []
         columns = [str(c) for c in df.columns]
         if isinstance(df.columns, pd.MultiIndex):
@@ -109,8 +122,9 @@ class FigureView:
     kind: str = "figure"
 
     @classmethod
-    def from_png(cls, path: Path, id: str, title: str, caption: str = "",
-                 file: str = "") -> FigureView:
+    def from_png(
+        cls, path: Path, id: str, title: str, caption: str = "", file: str = ""
+    ) -> FigureView:
         data = base64.b64encode(path.read_bytes()).decode("ascii")
         return cls(id, title, data, caption, file)
 
@@ -226,7 +240,9 @@ title="{{ item.title }}">{{ labels[item.id] }}</a>{{ ", " if not loop.last }}{% 
 {% endmacro %}
 """
 
-TEMPLATE = TABLE_MACRO + """<!DOCTYPE html>
+TEMPLATE = (
+    TABLE_MACRO
+    + """<!DOCTYPE html>
 <html lang="en">
 <head>
 <meta charset="utf-8">
@@ -273,6 +289,7 @@ its header; zoom, hover and hide curves in the figures.{% endif %}</p>
 </body>
 </html>
 """
+)
 
 
 @dataclass(frozen=True)
@@ -301,17 +318,36 @@ def number(sections: list[Section]) -> dict[str, str]:
 
 
 def environment() -> jinja2.Environment:
-    env = jinja2.Environment(autoescape=True, undefined=jinja2.StrictUndefined,
-                             trim_blocks=True, lstrip_blocks=True)
+    env = jinja2.Environment(
+        autoescape=True, undefined=jinja2.StrictUndefined, trim_blocks=True, lstrip_blocks=True
+    )
     env.globals.update(td_class=td_class, style=STYLE)
     return env
 
 
-def render(name: str, summary: str, description: str, sections: list[Section],
-           version: str, interactive: Interactive | None = None, kind: str = "Study") -> str:
+def render(
+    name: str,
+    summary: str,
+    description: str,
+    sections: list[Section],
+    version: str,
+    interactive: Interactive | None = None,
+    kind: str = "Study",
+) -> str:
     """The page's HTML text (autoescaped); tables and figures numbered in page order. The
     heading and title read '{kind} {name}'."""
-    return environment().from_string(TEMPLATE).render(
-        kind=kind, name=name, summary=summary, description=description, sections=sections,
-        version=version, labels=number(sections), interactive=interactive,
-        extra_style=interactive.style if interactive else "")
+    return (
+        environment()
+        .from_string(TEMPLATE)
+        .render(
+            kind=kind,
+            name=name,
+            summary=summary,
+            description=description,
+            sections=sections,
+            version=version,
+            labels=number(sections),
+            interactive=interactive,
+            extra_style=interactive.style if interactive else "",
+        )
+    )

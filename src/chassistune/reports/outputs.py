@@ -18,8 +18,13 @@ from chassistune.tuning.problem import TuningProblem
 from chassistune.tuning.tune import TuneResult
 
 DEMO_PRESET = "paper-derlsp-ao"
-DEMO_METRICS = ("stop_time_s", "stop_distance_m", "bound_distance_m", "distance_ratio",
-                "wheel_lock_time_s")
+DEMO_METRICS = (
+    "stop_time_s",
+    "stop_distance_m",
+    "bound_distance_m",
+    "distance_ratio",
+    "wheel_lock_time_s",
+)
 
 
 def write_tune_outputs(result: TuneResult, out_dir: str) -> list[str]:
@@ -37,16 +42,21 @@ def write_tune_outputs(result: TuneResult, out_dir: str) -> list[str]:
     write_json(path, result.as_dict())
     written.append(path)
     path = os.path.join(out_dir, "history.csv")
-    rows = "\n".join(f"{i + 1},{int(n)},{float(c)!r}" for i, (n, c) in
-                     enumerate(zip(result.history_nfev, result.history, strict=True)))
+    rows = "\n".join(
+        f"{i + 1},{int(n)},{float(c)!r}"
+        for i, (n, c) in enumerate(zip(result.history_nfev, result.history, strict=True))
+    )
     write_text(path, "iteration,nfev,best_cost\n" + rows + "\n")
     written.append(path)
     path = os.path.join(out_dir, "convergence.png")
     first = result.problem.scenarios[0]
-    plot_convergence({result.optimizer: [(result.history_nfev, result.history)]}, path,
-                     title=f"{first.plant} {first.controller.name} on "
-                     f"{', '.join(result.problem.roads)}: {result.problem.objective}, seed "
-                     f"{first.seed}")
+    plot_convergence(
+        {result.optimizer: [(result.history_nfev, result.history)]},
+        path,
+        title=f"{first.plant} {first.controller.name} on "
+        f"{', '.join(result.problem.roads)}: {result.problem.objective}, seed "
+        f"{first.seed}",
+    )
     written.append(path)
     gains = np.array([result.best_gains[n] for n in result.problem.gain_names])
     for sc in result.problem.scenarios:
@@ -67,18 +77,34 @@ def _remove_stale_responses(out_dir: str, written: list[str]) -> None:
             os.unlink(os.path.join(out_dir, name))
 
 
-def write_interrupted_tune(problem: TuningProblem, best: tuple[np.ndarray, float, int],
-                           optimizer: str, seed: int, out_dir: str) -> list[str]:
+def write_interrupted_tune(
+    problem: TuningProblem,
+    best: tuple[np.ndarray, float, int],
+    optimizer: str,
+    seed: int,
+    out_dir: str,
+) -> list[str]:
     """The best so far of an interrupted tune: best_gains.json and tune.json marked
     `"interrupted": true` (no plots: the process is about to end)."""
     os.makedirs(out_dir, exist_ok=True)
     gains, cost, nfev = best
     best_gains = dict(zip(problem.gain_names, gains.tolist(), strict=True))
     sc = problem.scenarios[0]
-    doc = {"interrupted": True, "plant": sc.plant, "preset": sc.preset, "roads": problem.roads,
-           "controller": sc.controller.name, "optimizer": optimizer,
-           "objective": problem.objective, "aggregate": problem.aggregate, "seed": seed,
-           "best_gains": best_gains, "best_cost": cost, "nfev": nfev, "params": sc.params()}
+    doc = {
+        "interrupted": True,
+        "plant": sc.plant,
+        "preset": sc.preset,
+        "roads": problem.roads,
+        "controller": sc.controller.name,
+        "optimizer": optimizer,
+        "objective": problem.objective,
+        "aggregate": problem.aggregate,
+        "seed": seed,
+        "best_gains": best_gains,
+        "best_cost": cost,
+        "nfev": nfev,
+        "params": sc.params(),
+    }
     paths = [os.path.join(out_dir, "best_gains.json"), os.path.join(out_dir, "tune.json")]
     write_json(paths[0], best_gains)
     write_json(paths[1], doc)
@@ -110,10 +136,16 @@ def write_demo(out_dir: str) -> DemoResult:
             sc = PLANT.scenario(DEMO_PRESET, road, controller)
             tr = sc.trace(sc.gains_array(gains))
             runs.append((controller, tr))
-            rows.append({"road": road, "controller": controller,
-                         **{k: tr.metrics[k] for k in DEMO_METRICS}})
+            rows.append(
+                {"road": road, "controller": controller, **{k: tr.metrics[k] for k in DEMO_METRICS}}
+            )
         path = os.path.join(out_dir, f"abs-wheel-{road}.png")
-        plot_comparison(sc, runs, path, title=f"abs-wheel, paper-derlsp-ao preset, {road}: "
-                        "no ABS vs PID (" + ", ".join(f"{k}={v:g}" for k, v in pid.items()) + ")")
+        plot_comparison(
+            sc,
+            runs,
+            path,
+            title=f"abs-wheel, paper-derlsp-ao preset, {road}: "
+            "no ABS vs PID (" + ", ".join(f"{k}={v:g}" for k, v in pid.items()) + ")",
+        )
         plots.append(path)
     return DemoResult(rows, pid, plots)

@@ -31,21 +31,31 @@ class PlantView:
 
 _VIEWS: dict[str, PlantView] = {
     "abs-wheel": PlantView(
-        baseline="none", baseline_label="no ABS",
-        panels=(Panel("slip", "slip S [-]"),
-                Panel("vehicle_speed_m_s", "vehicle speed v [m/s]"),
-                Panel("brake_torque_n_m", "brake torque [N m]"),
-                Panel("distance_m", "distance [m]")),
-        generalization_metrics=(("distance_ratio", "stop distance / bound"),
-                                ("locked_time_s", "locked time [s]")),
+        baseline="none",
+        baseline_label="no ABS",
+        panels=(
+            Panel("slip", "slip S [-]"),
+            Panel("vehicle_speed_m_s", "vehicle speed v [m/s]"),
+            Panel("brake_torque_n_m", "brake torque [N m]"),
+            Panel("distance_m", "distance [m]"),
+        ),
+        generalization_metrics=(
+            ("distance_ratio", "stop distance / bound"),
+            ("locked_time_s", "locked time [s]"),
+        ),
     ),
     "quarter-car": PlantView(
-        baseline="passive", baseline_label="passive",
-        panels=(Panel("body_acc_m_s2", "body acceleration [m/s^2]", "passive_body_acc_m_s2"),
-                Panel("susp_travel_m", "suspension travel [m]", "passive_susp_travel_m"),
-                Panel("tire_defl_m", "tire deflection [m]", "passive_tire_defl_m")),
-        generalization_metrics=(("body_acc_rms", "body acc. RMS [m/s^2]"),
-                                ("susp_travel_rms", "travel RMS [m]")),
+        baseline="passive",
+        baseline_label="passive",
+        panels=(
+            Panel("body_acc_m_s2", "body acceleration [m/s^2]", "passive_body_acc_m_s2"),
+            Panel("susp_travel_m", "suspension travel [m]", "passive_susp_travel_m"),
+            Panel("tire_defl_m", "tire deflection [m]", "passive_tire_defl_m"),
+        ),
+        generalization_metrics=(
+            ("body_acc_rms", "body acc. RMS [m/s^2]"),
+            ("susp_travel_rms", "travel RMS [m]"),
+        ),
         window_s=5.0,
     ),
 }

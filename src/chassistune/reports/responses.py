@@ -56,8 +56,7 @@ small enough for a page that embeds every curve."""
 
 def _window(time_s: np.ndarray, window_s: float | None) -> np.ndarray:
     """Indices of the samples shown: those within the window, thinned to MAX_POINTS."""
-    shown = np.flatnonzero(time_s <= window_s) if window_s is not None else \
-        np.arange(time_s.size)
+    shown = np.flatnonzero(time_s <= window_s) if window_s is not None else np.arange(time_s.size)
     step = max(1, -(-shown.size // MAX_POINTS))
     return shown[::step]
 
@@ -91,25 +90,44 @@ def response_sets(data: StudyData, scenario: str) -> list[ResponseSet]:
             keep = _window(t, view.window_s)
             if not curves:
                 curves.append(_baseline(plant, rec, road, common, trace.signals, view))
-            curves.append(Line(f"{opt} (seed {s.seed})", t[keep],
-                               {p.signal: trace.signals[p.signal][keep] for p in view.panels}))
+            curves.append(
+                Line(
+                    f"{opt} (seed {s.seed})",
+                    t[keep],
+                    {p.signal: trace.signals[p.signal][keep] for p in view.panels},
+                )
+            )
         out.append(ResponseSet(scenario, road, view.panels, tuple(curves), overall.spec.seed))
     return out
 
 
-def _baseline(plant: Plant, rec: RunRecord, road: str, seed: int,
-              signals: Mapping[str, np.ndarray], view: PlantView) -> Line:
+def _baseline(
+    plant: Plant,
+    rec: RunRecord,
+    road: str,
+    seed: int,
+    signals: Mapping[str, np.ndarray],
+    view: PlantView,
+) -> Line:
     """The baseline: the trace's own passive_* signals, or a run with the baseline controller
     (the run's parameters less its controller's) on the same road and scenario seed."""
     if all(p.baseline_signal for p in view.panels):
         t = signals["time_s"]
         keep = _window(t, view.window_s)
-        return Line(view.baseline_label, t[keep], {p.signal: signals[p.baseline_signal][keep]
-                                                   for p in view.panels}, baseline=True)
+        return Line(
+            view.baseline_label,
+            t[keep],
+            {p.signal: signals[p.baseline_signal][keep] for p in view.panels},
+            baseline=True,
+        )
     s = rec.spec
     sc = plant.scenario(s.preset, road, view.baseline, _baseline_params(rec), seed)
     tr = sc.trace(np.zeros(len(sc.gain_names)))
     t = tr.signals["time_s"]
     keep = _window(t, view.window_s)
-    return Line(view.baseline_label, t[keep], {p.signal: tr.signals[p.signal][keep]
-                                               for p in view.panels}, baseline=True)
+    return Line(
+        view.baseline_label,
+        t[keep],
+        {p.signal: tr.signals[p.signal][keep] for p in view.panels},
+        baseline=True,
+    )

@@ -29,11 +29,15 @@ def _first(d: Mapping[str, Any]) -> dict[str, Any]:
 def config_toml(config: Mapping[str, Any]) -> str:
     """The validated config as TOML, sections in reading order ([study] first)."""
     ordered: dict[str, Any] = {}
-    for k in [*[k for k in _TOP_ORDER if k in config], *[k for k in config
-                                                          if k not in _TOP_ORDER]]:
+    for k in [*[k for k in _TOP_ORDER if k in config], *[k for k in config if k not in _TOP_ORDER]]:
         v = config[k]
-        ordered[k] = (_first(v) if isinstance(v, Mapping) else
-                      [_first(x) for x in v] if isinstance(v, list) else v)
+        ordered[k] = (
+            _first(v)
+            if isinstance(v, Mapping)
+            else [_first(x) for x in v]
+            if isinstance(v, list)
+            else v
+        )
     return to_toml(ordered)
 
 
@@ -76,12 +80,17 @@ def study_table(data: StudyData, config: Mapping[str, Any], store_file: Path) ->
     rows = [
         ("study", data.name),
         ("runs", f"{len(data.records)} finished: {n_ok} completed, {len(data.failed)} failed"),
-        ("seeds", f"indices {_span(list(study.get('seeds', [])))} (root seed "
-                  f"{study.get('seed', 0)}; run i draws from SeedSequence(root, spawn_key=(i,)))"),
+        (
+            "seeds",
+            f"indices {_span(list(study.get('seeds', [])))} (root seed "
+            f"{study.get('seed', 0)}; run i draws from SeedSequence(root, spawn_key=(i,)))",
+        ),
         ("study store last written", _utc(max(written)) if written else "unknown"),
         ("report written", _utc(dt.datetime.now(dt.UTC).timestamp())),
-        ("versions of the runs", ", ".join(f"{k} {' / '.join(sorted(v))}"
-                                           for k, v in sorted(versions.items()))),
+        (
+            "versions of the runs",
+            ", ".join(f"{k} {' / '.join(sorted(v))}" for k, v in sorted(versions.items())),
+        ),
         ("report made with", report_versions()),
     ]
     return pd.DataFrame(rows, columns=["item", "value"])
@@ -103,15 +112,18 @@ def optimizer_table(data: StudyData) -> pd.DataFrame:
             hyper = hyperparameters(spec.optimizer_name, **spec.hyperparameters).as_dict()
             hyper_text = ", ".join(f"{k} = {v}" for k, v in hyper.items()) or "none"
         done = [r for r in runs if r.completed]
-        rows.append({
-            "optimizer": opt, "algorithm": spec.optimizer_name,
-            "hyperparameters": hyper_text,
-            "population": spec.pop_size,
-            "iterations asked": spec.max_iter if spec.max_iter is not None else "",
-            "evaluations asked": spec.max_evals if spec.max_evals is not None else "",
-            "evaluations spent": _range([r.nfev for r in done]),
-            "iterations done": _range([r.nit for r in done]),
-        })
+        rows.append(
+            {
+                "optimizer": opt,
+                "algorithm": spec.optimizer_name,
+                "hyperparameters": hyper_text,
+                "population": spec.pop_size,
+                "iterations asked": spec.max_iter if spec.max_iter is not None else "",
+                "evaluations asked": spec.max_evals if spec.max_evals is not None else "",
+                "evaluations spent": _range([r.nfev for r in done]),
+                "iterations done": _range([r.nit for r in done]),
+            }
+        )
     return pd.DataFrame(rows)
 
 
@@ -135,18 +147,26 @@ def scenario_specs(data: StudyData) -> dict[str, RunSpec]:
 
 def scenario_table(data: StudyData, group: str) -> pd.DataFrame:
     """What a config scenario tunes: plant, preset, controller, objective, roads, bounds."""
-    cells = [sc for sc in data.scenarios
-             if (runs := data.runs(sc, completed=False)) and runs[0].spec.group == group]
+    cells = [
+        sc
+        for sc in data.scenarios
+        if (runs := data.runs(sc, completed=False)) and runs[0].spec.group == group
+    ]
     spec = data.runs(cells[0], completed=False)[0].spec
     bounds = ", ".join(f"{g} in [{lo:g}, {hi:g}]" for g, (lo, hi) in spec.bounds.items())
     rows = [
-        ("plant", spec.plant), ("preset", spec.preset), ("controller", spec.controller),
-        ("objective", spec.objective), ("tuned on", "; ".join(
-            ", ".join(data.runs(c, completed=False)[0].spec.roads) for c in cells)),
-        ("several roads scored by", spec.aggregate), ("tested on", ", ".join(spec.test_roads)),
+        ("plant", spec.plant),
+        ("preset", spec.preset),
+        ("controller", spec.controller),
+        ("objective", spec.objective),
+        (
+            "tuned on",
+            "; ".join(", ".join(data.runs(c, completed=False)[0].spec.roads) for c in cells),
+        ),
+        ("several roads scored by", spec.aggregate),
+        ("tested on", ", ".join(spec.test_roads)),
         ("gain bounds", bounds or "none (no gains)"),
-        ("parameter overrides", ", ".join(f"{k} = {v}" for k, v in spec.params.items())
-         or "none"),
+        ("parameter overrides", ", ".join(f"{k} = {v}" for k, v in spec.params.items()) or "none"),
     ]
     return pd.DataFrame(rows, columns=["item", "value"])
 
@@ -157,11 +177,16 @@ def parameter_table(spec: RunSpec) -> pd.DataFrame:
 
     plant = get_plant(spec.plant)
     roads = list(dict.fromkeys([*spec.roads, *spec.test_roads]))
-    by_road = {road: plant.scenario(spec.preset, road, spec.controller, spec.params,
-                                    spec.scenario_seed).params() for road in roads}
+    by_road = {
+        road: plant.scenario(
+            spec.preset, road, spec.controller, spec.params, spec.scenario_seed
+        ).params()
+        for road in roads
+    }
     names = list(dict.fromkeys(k for p in by_road.values() for k in p if k != "seed"))
-    rows = [{"parameter": k, **{road: _show(by_road[road].get(k, "")) for road in roads}}
-            for k in names]
+    rows = [
+        {"parameter": k, **{road: _show(by_road[road].get(k, "")) for road in roads}} for k in names
+    ]
     return pd.DataFrame(rows)
 
 

@@ -41,13 +41,17 @@ class StudyData:
     scenarios: tuple[str, ...]
     optimizers: tuple[str, ...]
 
-    def runs(self, scenario: str, optimizer: str | None = None,
-             completed: bool = True) -> list[RunRecord]:
+    def runs(
+        self, scenario: str, optimizer: str | None = None, completed: bool = True
+    ) -> list[RunRecord]:
         """Runs of `scenario` (and `optimizer`), completed ones only by default, by seed."""
-        return [r for r in self.records
-                if r.spec.scenario == scenario
-                and (optimizer is None or r.spec.optimizer == optimizer)
-                and (r.completed or not completed)]
+        return [
+            r
+            for r in self.records
+            if r.spec.scenario == scenario
+            and (optimizer is None or r.spec.optimizer == optimizer)
+            and (r.completed or not completed)
+        ]
 
     def costs(self, scenario: str, optimizer: str) -> np.ndarray:
         return np.array([r.best_cost for r in self.runs(scenario, optimizer)], dtype=float)
@@ -70,10 +74,12 @@ def load_study(store: Store) -> StudyData:
     return StudyData(
         name=meta.get("study", ""),
         records=records,
-        scenarios=_ordered(meta.get("scenarios", "").splitlines(),
-                           (r.spec.scenario for r in records)),
-        optimizers=_ordered(meta.get("optimizers", "").splitlines(),
-                            (r.spec.optimizer for r in records)),
+        scenarios=_ordered(
+            meta.get("scenarios", "").splitlines(), (r.spec.scenario for r in records)
+        ),
+        optimizers=_ordered(
+            meta.get("optimizers", "").splitlines(), (r.spec.optimizer for r in records)
+        ),
     )
 
 
@@ -97,11 +103,23 @@ def runs_table(records: Sequence[RunRecord]) -> pd.DataFrame:
     for r in records:
         s = r.spec
         row: dict[str, Any] = {
-            "scenario": s.scenario, "plant": s.plant, "preset": s.preset, "road": s.road,
-            "controller": s.controller, "objective": s.objective, "aggregate": s.aggregate,
-            "optimizer": s.optimizer, "optimizer_name": s.optimizer_name, "seed": s.seed,
-            "root_seed": s.root_seed, "status": r.status, "best_cost": r.best_cost,
-            "nfev": r.nfev, "nit": r.nit, "wall_time_s": r.wall_time_s, "error": r.error,
+            "scenario": s.scenario,
+            "plant": s.plant,
+            "preset": s.preset,
+            "road": s.road,
+            "controller": s.controller,
+            "objective": s.objective,
+            "aggregate": s.aggregate,
+            "optimizer": s.optimizer,
+            "optimizer_name": s.optimizer_name,
+            "seed": s.seed,
+            "root_seed": s.root_seed,
+            "status": r.status,
+            "best_cost": r.best_cost,
+            "nfev": r.nfev,
+            "nit": r.nit,
+            "wall_time_s": r.wall_time_s,
+            "error": r.error,
         }
         for name in s.bounds:
             row[f"gain_{name}"] = r.best_gains.get(name, math.nan)
@@ -171,10 +189,19 @@ def summary_table(data: StudyData) -> pd.DataFrame:
                 if not v.size:
                     summ["n"] = 0
                 unit = si_unit(q.partition("@")[0]) if q not in ("best_cost", "nfev") else ""
-                rows.append({"scenario": sc, "optimizer": opt, "quantity": q, "unit": unit,
-                             "failed": failed, **{c: summ[c] for c in SUMMARY_COLUMNS}})
-    return pd.DataFrame(rows, columns=["scenario", "optimizer", "quantity", "unit", "failed",
-                                       *SUMMARY_COLUMNS])
+                rows.append(
+                    {
+                        "scenario": sc,
+                        "optimizer": opt,
+                        "quantity": q,
+                        "unit": unit,
+                        "failed": failed,
+                        **{c: summ[c] for c in SUMMARY_COLUMNS},
+                    }
+                )
+    return pd.DataFrame(
+        rows, columns=["scenario", "optimizer", "quantity", "unit", "failed", *SUMMARY_COLUMNS]
+    )
 
 
 NFEV_TOLERANCE = 0.05
@@ -197,9 +224,11 @@ def budget_warnings(data: StudyData) -> list[str]:
         seen = [v for v in n.values() if v == v]
         if len(seen) >= 2 and max(seen) > (1.0 + NFEV_TOLERANCE) * min(seen):
             counts = ", ".join(f"{o} {v:g}" for o, v in n.items() if v == v)
-            out.append(f"{sc}: the optimizers spent unequal evaluations (median nfev {counts}); "
-                       "their costs are not a like-for-like comparison: give the study an "
-                       "`evaluations` budget")
+            out.append(
+                f"{sc}: the optimizers spent unequal evaluations (median nfev {counts}); "
+                "their costs are not a like-for-like comparison: give the study an "
+                "`evaluations` budget"
+            )
     return out
 
 
@@ -208,8 +237,10 @@ def check_reference(data: StudyData, reference: str | None) -> str:
     if reference is None:
         return data.optimizers[0]
     if reference not in data.optimizers:
-        raise InputError("--reference", f"unknown optimizer {reference!r} in this study "
-                         f"(known: {', '.join(data.optimizers)})")
+        raise InputError(
+            "--reference",
+            f"unknown optimizer {reference!r} in this study (known: {', '.join(data.optimizers)})",
+        )
     return reference
 
 
@@ -230,16 +261,38 @@ def rank_sum_table(data: StudyData, reference: str) -> pd.DataFrame:
                 sign, p = res.sign, res.p_value
             else:
                 sign, p = "n/a", math.nan
-            rows.append({"scenario": sc, "reference": reference, "optimizer": opt,
-                         "n_reference": ref.size, "n": other.size,
-                         "nfev_reference": median_nfev(data, sc, reference),
-                         "nfev": median_nfev(data, sc, opt), "p_value": p, "sign": sign})
-    return pd.DataFrame(rows, columns=["scenario", "reference", "optimizer", "n_reference", "n",
-                                       "nfev_reference", "nfev", "p_value", "sign"])
+            rows.append(
+                {
+                    "scenario": sc,
+                    "reference": reference,
+                    "optimizer": opt,
+                    "n_reference": ref.size,
+                    "n": other.size,
+                    "nfev_reference": median_nfev(data, sc, reference),
+                    "nfev": median_nfev(data, sc, opt),
+                    "p_value": p,
+                    "sign": sign,
+                }
+            )
+    return pd.DataFrame(
+        rows,
+        columns=[
+            "scenario",
+            "reference",
+            "optimizer",
+            "n_reference",
+            "n",
+            "nfev_reference",
+            "nfev",
+            "p_value",
+            "sign",
+        ],
+    )
 
 
 def rank_sum_counts_table(data: StudyData, reference: str) -> pd.DataFrame:
     """+/=/- counts over the scenarios, per optimizer (stats.rank_sum_counts)."""
+
     def by_scenario(opt: str) -> dict[str, np.ndarray]:
         return {sc: c for sc in data.scenarios if (c := data.costs(sc, opt)).size}
 
@@ -248,8 +301,14 @@ def rank_sum_counts_table(data: StudyData, reference: str) -> pd.DataFrame:
     for opt in data.optimizers:
         if opt != reference:
             counts = stats.rank_sum_counts(ref, by_scenario(opt))
-            rows.append({"reference": reference, "optimizer": opt, **counts,
-                         "nfev": _overall_nfev(data, opt)})
+            rows.append(
+                {
+                    "reference": reference,
+                    "optimizer": opt,
+                    **counts,
+                    "nfev": _overall_nfev(data, opt),
+                }
+            )
     return pd.DataFrame(rows, columns=["reference", "optimizer", "+", "=", "-", "nfev"])
 
 
@@ -278,9 +337,14 @@ def friedman_table(data: StudyData) -> tuple[pd.DataFrame, stats.Friedman | None
     if not kept:
         return pd.DataFrame(columns=["optimizer", "mean_rank", "scenarios"]), None
     res = stats.friedman(scores, data.optimizers)
-    df = pd.DataFrame({"optimizer": res.methods, "mean_rank": res.mean_ranks,
-                       "scenarios": res.n_problems,
-                       "nfev": [_overall_nfev(data, o) for o in res.methods]})
+    df = pd.DataFrame(
+        {
+            "optimizer": res.methods,
+            "mean_rank": res.mean_ranks,
+            "scenarios": res.n_problems,
+            "nfev": [_overall_nfev(data, o) for o in res.methods],
+        }
+    )
     return df, res
 
 
@@ -291,16 +355,37 @@ def posthoc_table(data: StudyData, reference: str) -> pd.DataFrame:
     if len(kept) < 2 or len(data.optimizers) < 2:
         return pd.DataFrame(columns=cols)
     comps = stats.posthoc(scores, data.optimizers, control=reference)
-    return pd.DataFrame([{"reference": c.a, "optimizer": c.b, "rank_difference": c.rank_difference,
-                          "z": c.z, "p_value": c.p_value, "p_holm": c.p_holm,
-                          "reject": c.reject} for c in comps], columns=cols)
+    return pd.DataFrame(
+        [
+            {
+                "reference": c.a,
+                "optimizer": c.b,
+                "rank_difference": c.rank_difference,
+                "z": c.z,
+                "p_value": c.p_value,
+                "p_holm": c.p_holm,
+                "reject": c.reject,
+            }
+            for c in comps
+        ],
+        columns=cols,
+    )
 
 
 def failures_table(data: StudyData) -> pd.DataFrame:
     """Failed runs and their errors."""
-    return pd.DataFrame([{"scenario": r.spec.scenario, "optimizer": r.spec.optimizer,
-                          "seed": r.spec.seed, "error": r.error} for r in data.failed],
-                        columns=["scenario", "optimizer", "seed", "error"])
+    return pd.DataFrame(
+        [
+            {
+                "scenario": r.spec.scenario,
+                "optimizer": r.spec.optimizer,
+                "seed": r.spec.seed,
+                "error": r.error,
+            }
+            for r in data.failed
+        ],
+        columns=["scenario", "optimizer", "seed", "error"],
+    )
 
 
 def best_run(data: StudyData, scenario: str) -> RunRecord | None:

@@ -31,8 +31,13 @@ def _value(v: Any) -> str:
     if isinstance(v, list | tuple):
         return "[" + ", ".join(_value(x) for x in v if x is not None) + "]"
     if isinstance(v, Mapping):
-        return "{ " + ", ".join(f"{_key(k)} = {_value(x)}" for k, x in v.items()
-                                if x is not None) + " }" if v else "{}"
+        return (
+            "{ "
+            + ", ".join(f"{_key(k)} = {_value(x)}" for k, x in v.items() if x is not None)
+            + " }"
+            if v
+            else "{}"
+        )
     raise TypeError(f"cannot write {type(v).__name__} as TOML")
 
 
@@ -42,8 +47,9 @@ def _body(table: Mapping[str, Any]) -> list[str]:
 
 def to_toml(config: Mapping[str, Any]) -> str:
     """TOML text of `config`: top-level dicts become [tables], lists of dicts [[arrays]]."""
-    lines = _body({k: v for k, v in config.items()
-                   if not isinstance(v, Mapping) and not _is_table_array(v)})
+    lines = _body(
+        {k: v for k, v in config.items() if not isinstance(v, Mapping) and not _is_table_array(v)}
+    )
     for name, v in config.items():
         if isinstance(v, Mapping):
             lines += ["", f"[{_key(name)}]", *_body(v)]

@@ -69,16 +69,21 @@ class VehicleScoring:
     """How runs become costs and yaw metrics (DESIGN 3.3, 5)."""
 
     lock_penalty_per_s: float = field(default=100.0, metadata={"nonnegative": True})
-    hopeless_factor: float = field(default=3.0, metadata={"positive": True,
-                                                          "plausible": (1.5, 20.0)})
+    hopeless_factor: float = field(
+        default=3.0, metadata={"positive": True, "plausible": (1.5, 20.0)}
+    )
     """Stop a candidate early once its path exceeds this many times the bound (must exceed 1:
     every run is at least as long as the bound)."""
     yaw_window_s: float = field(default=1.0, metadata={"positive": True})
 
 
-
-OBJECTIVE_COLUMNS = {"itae": K.M_ITAE, "iae": K.M_IAE, "ise": K.M_ISE, "distance": K.M_DIST,
-                     "time": K.M_TIME}
+OBJECTIVE_COLUMNS = {
+    "itae": K.M_ITAE,
+    "iae": K.M_IAE,
+    "ise": K.M_ISE,
+    "distance": K.M_DIST,
+    "time": K.M_TIME,
+}
 STATUS_NAMES = ("stopped", "hopeless", "timeout", "diverged")
 
 
@@ -100,28 +105,41 @@ def check_step(pp: VehicleParams, road: VehicleRoad) -> None:
     if lam * pp.dt_s > RK4_REAL_LIMIT:
         dt_max = RK4_REAL_LIMIT / lam
         v_min = pp.v_stop_m_s * lam * pp.dt_s / RK4_REAL_LIMIT
-        raise InputError("params.dt_s", f"dt_s = {pp.dt_s:g} s with v_stop_m_s = "
-                         f"{pp.v_stop_m_s:g} m/s is past RK4's stability limit of the wheel mode "
-                         f"(|lambda| dt = {lam * pp.dt_s:.2f} > {RK4_REAL_LIMIT}): use dt_s <= "
-                         f"{dt_max:.3g} or v_stop_m_s >= {v_min:.3g}")
+        raise InputError(
+            "params.dt_s",
+            f"dt_s = {pp.dt_s:g} s with v_stop_m_s = "
+            f"{pp.v_stop_m_s:g} m/s is past RK4's stability limit of the wheel mode "
+            f"(|lambda| dt = {lam * pp.dt_s:.2f} > {RK4_REAL_LIMIT}): use dt_s <= "
+            f"{dt_max:.3g} or v_stop_m_s >= {v_min:.3g}",
+        )
 
 
-def _check_consistency(pp: VehicleParams, road: VehicleRoad, steering: SteeringParams,
-                       scoring: VehicleScoring) -> None:
+def _check_consistency(
+    pp: VehicleParams, road: VehicleRoad, steering: SteeringParams, scoring: VehicleScoring
+) -> None:
     """Refuse parameter combinations the model does not describe (one InputError naming the
     field)."""
     if steering.max_steer_rad >= MAX_STEER_LIMIT_RAD:
-        raise InputError("params.max_steer_rad", f"must be below pi/2 = {MAX_STEER_LIMIT_RAD:.4g}"
-                         f" rad (a wheel turned sideways), got {steering.max_steer_rad:g}")
+        raise InputError(
+            "params.max_steer_rad",
+            f"must be below pi/2 = {MAX_STEER_LIMIT_RAD:.4g}"
+            f" rad (a wheel turned sideways), got {steering.max_steer_rad:g}",
+        )
     if scoring.hopeless_factor <= 1.0:
-        raise InputError("params.hopeless_factor", "must exceed 1 (no run is shorter than the "
-                         f"bound), got {scoring.hopeless_factor:g}")
+        raise InputError(
+            "params.hopeless_factor",
+            f"must exceed 1 (no run is shorter than the bound), got {scoring.hopeless_factor:g}",
+        )
     if pp.min_speed_m_s >= pp.v_stop_m_s:
-        raise InputError("params.min_speed_m_s", f"must be below v_stop_m_s = "
-                         f"{pp.v_stop_m_s:g} (the slip's speed floor), got {pp.min_speed_m_s:g}")
+        raise InputError(
+            "params.min_speed_m_s",
+            f"must be below v_stop_m_s = "
+            f"{pp.v_stop_m_s:g} (the slip's speed floor), got {pp.min_speed_m_s:g}",
+        )
     if pp.v0_m_s <= pp.v_stop_m_s:
-        raise InputError("params.v0_m_s", f"must exceed v_stop_m_s = {pp.v_stop_m_s:g}, "
-                         f"got {pp.v0_m_s:g}")
+        raise InputError(
+            "params.v0_m_s", f"must exceed v_stop_m_s = {pp.v_stop_m_s:g}, got {pp.v0_m_s:g}"
+        )
     if pp.t_max_s < 10 * pp.dt_s:
         raise InputError("params.t_max_s", f"must be at least 10 steps, got {pp.t_max_s:g}")
     if pp.t_max_s / pp.dt_s > 5e7:
@@ -135,10 +153,18 @@ class AbsVehicleScenario(Scenario):
     objectives = tuple(OBJECTIVE_COLUMNS)
     default_objective = "itae"
 
-    def __init__(self, preset: str, road: VehicleRoad, road_params: dict[str, object],
-                 controller: ControllerSpec, plant_params: VehicleParams,
-                 steering: SteeringParams, controller_params: dict[str, Any],
-                 scoring: VehicleScoring, seed: int) -> None:
+    def __init__(
+        self,
+        preset: str,
+        road: VehicleRoad,
+        road_params: dict[str, object],
+        controller: ControllerSpec,
+        plant_params: VehicleParams,
+        steering: SteeringParams,
+        controller_params: dict[str, Any],
+        scoring: VehicleScoring,
+        seed: int,
+    ) -> None:
         self.plant = PLANT_NAME
         self.preset = preset
         self.road = road.name
@@ -160,18 +186,30 @@ class AbsVehicleScenario(Scenario):
         pp, st, cp = self.plant_params, self.steering, self.controller_params
         road = self.road_spec
         values = {
-            "mass_kg": pp.mass_kg, "yaw_inertia_kg_m2": pp.yaw_inertia_kg_m2,
-            "wheel_inertia_kg_m2": pp.wheel_inertia_kg_m2, "wheel_radius_m": pp.wheel_radius_m,
-            "v0_m_s": pp.v0_m_s, "actuator_gain": pp.actuator_gain,
-            "actuator_tau_s": pp.actuator_tau_s, "brake_gain": pp.brake_gain,
-            "q_max": pp.q_max, "v_stop_m_s": pp.v_stop_m_s, "t_max_s": pp.t_max_s,
-            "dt_s": pp.dt_s, "lock_ratio": pp.lock_ratio, "min_speed_m_s": pp.min_speed_m_s,
+            "mass_kg": pp.mass_kg,
+            "yaw_inertia_kg_m2": pp.yaw_inertia_kg_m2,
+            "wheel_inertia_kg_m2": pp.wheel_inertia_kg_m2,
+            "wheel_radius_m": pp.wheel_radius_m,
+            "v0_m_s": pp.v0_m_s,
+            "actuator_gain": pp.actuator_gain,
+            "actuator_tau_s": pp.actuator_tau_s,
+            "brake_gain": pp.brake_gain,
+            "q_max": pp.q_max,
+            "v_stop_m_s": pp.v_stop_m_s,
+            "t_max_s": pp.t_max_s,
+            "dt_s": pp.dt_s,
+            "lock_ratio": pp.lock_ratio,
+            "min_speed_m_s": pp.min_speed_m_s,
             "hopeless_m": self.scoring.hopeless_factor * self.bound_distance_m,
-            "n_filter": cp.get("n_filter", 100.0), "road_kind": road.kind,
-            "x_jump_global_m": pp.cg_to_front_m + road.x_jump_m, "split_y_m": road.split_y_m,
+            "n_filter": cp.get("n_filter", 100.0),
+            "road_kind": road.kind,
+            "x_jump_global_m": pp.cg_to_front_m + road.x_jump_m,
+            "split_y_m": road.split_y_m,
             "split_by_road": 1.0 if road.split_by == "road" else 0.0,
-            "driver": 1.0 if st.steering == "driver" else 0.0, "heading_gain": st.heading_gain,
-            "yaw_rate_gain_s": st.yaw_rate_gain_s, "max_steer_rad": st.max_steer_rad,
+            "driver": 1.0 if st.steering == "driver" else 0.0,
+            "heading_gain": st.heading_gain,
+            "yaw_rate_gain_s": st.yaw_rate_gain_s,
+            "max_steer_rad": st.max_steer_rad,
             "steer_tau_s": st.steer_tau_s,
             "select_low": 1.0 if cp.get("rear") == "select-low" else 0.0,
             "axle_gains": 1.0 if cp.get("axle_gains") == "per-axle" else 0.0,
@@ -179,17 +217,24 @@ class AbsVehicleScenario(Scenario):
         }
         p = K.PLANT_LAYOUT.pack(values)
         geo = geometry(pp)
-        surfs = np.stack([surface_row(t.slip_opt, t.mu_peak, t.mu_lock,
-                                      pp.cornering_stiffness_n_rad) for t in road.surfaces])
-        c = K.CONTROLLER_LAYOUT.pack({
-            "ts_s": cp.get("ts_s", pp.dt_s), "amplitude": cp.get("amplitude", 0.0),
-            "decel_threshold_m_s2": cp.get("decel_threshold_m_s2", 0.0),
-            "accel_threshold_m_s2": cp.get("accel_threshold_m_s2", 0.0),
-            "slip_margin": cp.get("slip_margin", 0.0),
-            "slow_fraction": cp.get("slow_fraction", 0.0)})
+        surfs = np.stack(
+            [
+                surface_row(t.slip_opt, t.mu_peak, t.mu_lock, pp.cornering_stiffness_n_rad)
+                for t in road.surfaces
+            ]
+        )
+        c = K.CONTROLLER_LAYOUT.pack(
+            {
+                "ts_s": cp.get("ts_s", pp.dt_s),
+                "amplitude": cp.get("amplitude", 0.0),
+                "decel_threshold_m_s2": cp.get("decel_threshold_m_s2", 0.0),
+                "accel_threshold_m_s2": cp.get("accel_threshold_m_s2", 0.0),
+                "slip_margin": cp.get("slip_margin", 0.0),
+                "slow_fraction": cp.get("slow_fraction", 0.0),
+            }
+        )
         base = self.controller.name
-        table = (fuzzy_table(base, str(cp["rulebase"])) if base in FUZZY_OUTPUTS
-                 else _no_surface())
+        table = fuzzy_table(base, str(cp["rulebase"])) if base in FUZZY_OUTPUTS else _no_surface()
         return p, geo, surfs, K.CONTROLLER_KINDS.index(base), c, table
 
     @property
@@ -239,10 +284,14 @@ class AbsVehicleScenario(Scenario):
     def cost_from_raw(self, raw: np.ndarray, objective: str | None = None) -> np.ndarray:
         objective = objective or self.default_objective
         if objective not in OBJECTIVE_COLUMNS:
-            raise InputError("objective", f"unknown objective {objective!r} for abs-vehicle "
-                             f"(known: {', '.join(OBJECTIVE_COLUMNS)})")
+            raise InputError(
+                "objective",
+                f"unknown objective {objective!r} for abs-vehicle "
+                f"(known: {', '.join(OBJECTIVE_COLUMNS)})",
+            )
         cost = raw[:, OBJECTIVE_COLUMNS[objective]] + (
-            self.scoring.lock_penalty_per_s * raw[:, K.M_LOCKED])
+            self.scoring.lock_penalty_per_s * raw[:, K.M_LOCKED]
+        )
         bad = (raw[:, K.M_STATUS] != K.STATUS_STOPPED) | ~np.isfinite(cost)
         return np.where(bad, PENALTY, np.minimum(cost, PENALTY))
 
@@ -278,8 +327,13 @@ class AbsVehiclePlant(Plant):
 
     def parameter_sets(self, preset: str | None = None) -> dict[str, Any]:
         pre = PRESETS[pick_preset(PLANT_NAME, preset, self.default_preset, PRESETS)]
-        return {"plant": pre.params, "steering": SteeringParams(), "scoring": VehicleScoring(),
-                "road mu-jump": MuJumpParams(), "road split-mu": SplitMuParams()}
+        return {
+            "plant": pre.params,
+            "steering": SteeringParams(),
+            "scoring": VehicleScoring(),
+            "road mu-jump": MuJumpParams(),
+            "road split-mu": SplitMuParams(),
+        }
 
     def param_names(self) -> list[str]:
         """Every `--param` name of the plant, road and solver (controllers add their own)."""
@@ -304,8 +358,9 @@ class AbsVehiclePlant(Plant):
         plant_params, used = override(pre.params, values)
         steering, used_steering = override(SteeringParams(), values)
         if steering.steering not in STEERING_MODES:
-            raise InputError("params.steering", f"must be fixed or driver, got "
-                             f"{steering.steering!r}")
+            raise InputError(
+                "params.steering", f"must be fixed or driver, got {steering.steering!r}"
+            )
         road_spec, used_road, road_params = make_road(road_name, values)
         scoring, used_scoring = override(VehicleScoring(), values)
         used |= used_steering | used_road | used_scoring
@@ -315,14 +370,18 @@ class AbsVehiclePlant(Plant):
         unknown = sorted(set(values) - used)
         if unknown:
             known = sorted(set(self.param_names()) | set(spec.param_names))
-            raise InputError(f"params.{unknown[0]}", f"unknown parameter for abs-vehicle with "
-                             f"{spec.name} on {road_name} (known: {', '.join(known)})")
+            raise InputError(
+                f"params.{unknown[0]}",
+                f"unknown parameter for abs-vehicle with "
+                f"{spec.name} on {road_name} (known: {', '.join(known)})",
+            )
         if ctrl_values.get("axle_gains") == "per-axle":
             spec = vehicle_specs.per_axle(spec)
         plant_params = validate(plant_params, "params.")
         _check_consistency(plant_params, road_spec, steering, scoring)
-        scenario = AbsVehicleScenario(preset, road_spec, road_params, spec, plant_params,
-                                      steering, ctrl_values, scoring, seed)
+        scenario = AbsVehicleScenario(
+            preset, road_spec, road_params, spec, plant_params, steering, ctrl_values, scoring, seed
+        )
         for warning in implausible(plant_params) + implausible(steering) + implausible(scoring):
             warnings.warn(warning, stacklevel=2)  # valid input only
         return scenario

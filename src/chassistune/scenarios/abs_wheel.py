@@ -71,8 +71,17 @@ FUZZY_OUTPUTS = {"fuzzy-pid": 3, "fuzzy-immune-pid": 1}
 
 def _no_surface() -> tuple[Any, ...]:
     """A placeholder surface of the kernel's table type, for controllers without a rule base."""
-    return (np.zeros((1, 2, 2)), np.full((1, 1), -1, dtype=np.int32), np.zeros(0, dtype=np.int64),
-            np.zeros(0, dtype=np.int64), np.zeros(0), 0.0, 1.0, 0.0, 1.0)
+    return (
+        np.zeros((1, 2, 2)),
+        np.full((1, 1), -1, dtype=np.int32),
+        np.zeros(0, dtype=np.int64),
+        np.zeros(0, dtype=np.int64),
+        np.zeros(0),
+        0.0,
+        1.0,
+        0.0,
+        1.0,
+    )
 
 
 def fuzzy_table(controller: str, rulebase: str) -> tuple[Any, ...]:
@@ -83,17 +92,28 @@ def fuzzy_table(controller: str, rulebase: str) -> tuple[Any, ...]:
     rb = load_rulebase(rulebase, "params.rulebase")
     need = FUZZY_OUTPUTS[controller]
     if len(rb.inputs) != 2 or len(rb.outputs) != need:
-        raise InputError("params.rulebase", f"{controller} needs a rule base with inputs (e, ec) "
-                         f"and {need} output(s); {rulebase!r} has {len(rb.inputs)} inputs and "
-                         f"{len(rb.outputs)} outputs")
+        raise InputError(
+            "params.rulebase",
+            f"{controller} needs a rule base with inputs (e, ec) "
+            f"and {need} output(s); {rulebase!r} has {len(rb.inputs)} inputs and "
+            f"{len(rb.outputs)} outputs",
+        )
     return compiled(rb).table
+
 
 METRIC_COLUMNS = {name: KL.METRICS[name] for name in KL.RUN_METRICS}
 STATUS_NAMES = dict(enumerate(KL.STATUS_NAMES))
-OBJECTIVE_COLUMNS = {obj: KL.METRICS[name] for obj, name in (
-    ("itae", "slip_itae"), ("iae", "slip_iae"), ("ise", "slip_ise"),
-    ("distance", "stop_distance_m"), ("time", "stop_time_s"),
-    ("distance_ratio", "stop_distance_m"))}
+OBJECTIVE_COLUMNS = {
+    obj: KL.METRICS[name]
+    for obj, name in (
+        ("itae", "slip_itae"),
+        ("iae", "slip_iae"),
+        ("ise", "slip_ise"),
+        ("distance", "stop_distance_m"),
+        ("time", "stop_time_s"),
+        ("distance_ratio", "stop_distance_m"),
+    )
+}
 PER_BOUND = frozenset({"distance_ratio"})
 """Objectives divided by the scenario's adhesion-bound distance (stop distance / bound: scenarios
 of different speeds and roads compare on one scale; issue 17)."""
@@ -151,17 +171,22 @@ class AbsWheelScenario(Scenario):
 
     def _pack(self) -> tuple[Any, ...]:
         cp = self.controller_params
-        p = KL.pack_plant({
-            **as_dict(self.plant_params),
-            "target_slip": self.target_slip,
-            "hopeless_distance_m": self.scoring.hopeless_factor * self.bound_distance_m,
-            "n_filter": cp.get("n_filter", 100.0),
-        })
+        p = KL.pack_plant(
+            {
+                **as_dict(self.plant_params),
+                "target_slip": self.target_slip,
+                "hopeless_distance_m": self.scoring.hopeless_factor * self.bound_distance_m,
+                "n_filter": cp.get("n_filter", 100.0),
+            }
+        )
         c = KL.pack_controller({"ts_s": self.plant_params.dt_s, **cp})
         kind, coef, xs, ys = self.tire.kernel_data()
         name = self.controller.name
-        table = (fuzzy_table(name, str(self.controller_params["rulebase"]))
-                 if name in FUZZY_OUTPUTS else _no_surface())
+        table = (
+            fuzzy_table(name, str(self.controller_params["rulebase"]))
+            if name in FUZZY_OUTPUTS
+            else _no_surface()
+        )
         return p, kind, coef, xs, ys, KERNEL_KIND[name], c, table
 
     def params(self) -> dict[str, Any]:
@@ -193,16 +218,38 @@ class AbsWheelScenario(Scenario):
         """The realistic kernel on gain rows (issue 15)."""
         assert self.ecu is not None
         p, kind, coef, xs, ys, *_ = self._kernel_args
-        lp = law_params(self.controller.name, self.gain_names, gains, self.controller_params,
-                        self.target_slip, self.ecu.params.ecu_ts_s,
-                        self.plant_params.wheel_radius_m)
-        simulate_abs_wheel_ecu(lp, p, self.ecu.vector, kind, coef, xs, ys, self.ecu.table,
-                               self.ecu.grid, self.ecu.noise, trace, out)
+        lp = law_params(
+            self.controller.name,
+            self.gain_names,
+            gains,
+            self.controller_params,
+            self.target_slip,
+            self.ecu.params.ecu_ts_s,
+            self.plant_params.wheel_radius_m,
+        )
+        simulate_abs_wheel_ecu(
+            lp,
+            p,
+            self.ecu.vector,
+            kind,
+            coef,
+            xs,
+            ys,
+            self.ecu.table,
+            self.ecu.grid,
+            self.ecu.noise,
+            trace,
+            out,
+        )
 
     def _raw_ecu(self, gains: np.ndarray, workers: int | None) -> np.ndarray:
         empty = np.zeros((0, len(EL.TRACE)))
-        return run_chunked(lambda g, out: self._ecu_call(g, empty, out),
-                           kernel_gains(gains, self.controller), len(EL.METRICS), workers)
+        return run_chunked(
+            lambda g, out: self._ecu_call(g, empty, out),
+            kernel_gains(gains, self.controller),
+            len(EL.METRICS),
+            workers,
+        )
 
     def metrics_from_raw(self, raw: np.ndarray) -> dict[str, np.ndarray]:
         """Metrics by name; stop metrics NaN (JSON null) for runs that did not stop; status
@@ -251,7 +298,6 @@ class AbsWheelScenario(Scenario):
         return Trace(KL.decode_trace(tr, out[0]), metrics, KL.TRACE.units)
 
 
-
 class AbsWheelPlant(Plant[AbsWheelScenario]):
     """The single-wheel ABS plant."""
 
@@ -263,11 +309,21 @@ class AbsWheelPlant(Plant[AbsWheelScenario]):
     def parameter_sets(self, preset: str | None = None) -> dict[str, Any]:
         pre = PRESETS[pick_preset(self.name, preset, self.default_preset, PRESETS)]
         road = pre.info.roads[0]
-        return {"plant": pre.params, f"road ({road}; others have their own values)":
-                tire_for_road(road, {})[0], "scoring": Scoring()}
+        return {
+            "plant": pre.params,
+            f"road ({road}; others have their own values)": tire_for_road(road, {})[0],
+            "scoring": Scoring(),
+        }
 
-    def build(self, preset: str, pre: Preset, road: str, controller: str,
-              values: dict[str, object], seed: int) -> AbsWheelScenario:
+    def build(
+        self,
+        preset: str,
+        pre: Preset,
+        road: str,
+        controller: str,
+        values: dict[str, object],
+        seed: int,
+    ) -> AbsWheelScenario:
         spec = catalogue.get(ABS_WHEEL.name, controller)
         mode = ecu_mode(values)
         plant_params, used = override(pre.params, values)
@@ -277,8 +333,9 @@ class AbsWheelPlant(Plant[AbsWheelScenario]):
         used |= used_tire | used_scoring
         # default command: reaches q_max in 0.15 s through the integrating actuator
         amplitude = plant_params.q_max / (0.15 * plant_params.actuator_gain)
-        ctrl_values = resolve_controller_params(spec, values, used, pre.controller_defaults,
-                                                amplitude)
+        ctrl_values = resolve_controller_params(
+            spec, values, used, pre.controller_defaults, amplitude
+        )
         target = tire.peak()[2]
         if "target_slip" in values:
             target = to_float(values["target_slip"], "params.target_slip")
@@ -287,7 +344,8 @@ class AbsWheelPlant(Plant[AbsWheelScenario]):
             used.add("target_slip")
         if "t_max_s" not in values:
             plant_params = dataclasses.replace(
-                plant_params, t_max_s=default_t_max_s(plant_params, tire.peak()[0]))
+                plant_params, t_max_s=default_t_max_s(plant_params, tire.peak()[0])
+            )
         if mode == "realistic":
             used |= ECU_PARAM_NAMES & set(values)
         unknown = sorted(set(values) - used)
@@ -296,17 +354,25 @@ class AbsWheelPlant(Plant[AbsWheelScenario]):
                 {f.name for f in dataclasses.fields(AbsWheelParams)}
                 | {f.name for f in dataclasses.fields(tire)}
                 | {f.name for f in dataclasses.fields(Scoring)}
-                | set(spec.param_names) | {"target_slip", "ecu"}
+                | set(spec.param_names)
+                | {"target_slip", "ecu"}
                 | (ECU_PARAM_NAMES if mode == "realistic" else set())
             )
-            raise InputError(f"params.{unknown[0]}", f"unknown parameter for abs-wheel with "
-                             f"{spec.name} on {road} (known: {', '.join(known)})")
+            raise InputError(
+                f"params.{unknown[0]}",
+                f"unknown parameter for abs-wheel with "
+                f"{spec.name} on {road} (known: {', '.join(known)})",
+            )
         check_consistency(plant_params, set(values))
         plant_params = validate(plant_params, "params.")
-        ecu = (ecu_setup(values, spec.name, ctrl_values, plant_params, seed)
-               if mode == "realistic" else None)
-        scenario = AbsWheelScenario(preset, road, spec, plant_params, tire, ctrl_values, target,
-                                    scoring, seed, ecu)
+        ecu = (
+            ecu_setup(values, spec.name, ctrl_values, plant_params, seed)
+            if mode == "realistic"
+            else None
+        )
+        scenario = AbsWheelScenario(
+            preset, road, spec, plant_params, tire, ctrl_values, target, scoring, seed, ecu
+        )
         for warning in implausible(plant_params) + implausible(tire):  # valid input only
             warnings.warn(warning, stacklevel=2)
         return scenario

@@ -64,39 +64,61 @@ def table_points(values: Mapping[str, object]) -> int:
         return discrete.DEFAULT_TABLE_POINTS
     n = to_float(values["fuzzy_table_points"], "params.fuzzy_table_points")
     if not (n == math.floor(n) and 2 <= n <= 1025):
-        raise InputError("params.fuzzy_table_points", f"must be a whole number from 2 to 1025, "
-                         f"got {n:g}")
+        raise InputError(
+            "params.fuzzy_table_points", f"must be a whole number from 2 to 1025, got {n:g}"
+        )
     return int(n)
 
 
-def ecu_setup(values: Mapping[str, object], controller: str, ctrl_values: Mapping[str, Any],
-              plant: AbsWheelParams, seed: int) -> EcuSetup:
+def ecu_setup(
+    values: Mapping[str, object],
+    controller: str,
+    ctrl_values: Mapping[str, Any],
+    plant: AbsWheelParams,
+    seed: int,
+) -> EcuSetup:
     """The realistic ECU of a scenario from its parameter values (names in ECU_PARAM_NAMES).
 
     ecu_ts_s must be a whole number of integration steps (the limit test needs the ticks on
     step boundaries)."""
-    p, _ = ecu_params({k: v for k, v in values.items() if k in ECU_PARAM_NAMES
-                       and k != "fuzzy_table_points"})
+    p, _ = ecu_params(
+        {k: v for k, v in values.items() if k in ECU_PARAM_NAMES and k != "fuzzy_table_points"}
+    )
     m = round(p.ecu_ts_s / plant.dt_s)
     if m < 1 or abs(m * plant.dt_s - p.ecu_ts_s) > 1e-9 * p.ecu_ts_s:
-        raise InputError("params.ecu_ts_s", f"must be a whole number of steps dt_s = "
-                         f"{plant.dt_s:g}, got {p.ecu_ts_s:g}")
+        raise InputError(
+            "params.ecu_ts_s",
+            f"must be a whole number of steps dt_s = {plant.dt_s:g}, got {p.ecu_ts_s:g}",
+        )
     kb, kd = orifice_gains(p, plant.q_max, 0.0)
     amplitude = ctrl_values.get("amplitude", plant.q_max / (0.15 * plant.actuator_gain))
-    vector = EL.pack_ecu({
-        "law": EL.LAW_KINDS.index(controller), "steps_per_tick": m,
-        "delay_samples": p.ecu_delay_samples, "toothed": p.sensor == "toothed",
-        "teeth": p.sensor_teeth, "timer_s": p.sensor_timer_s,
-        "stale_bound": p.sensor_stale == "bound", "vref_mode": _VREF_CODES[p.vref],
-        "vref_decel_max_m_s2": p.vref_decel_max_m_s2, "accel_bias_m_s2": p.accel_bias_m_s2,
-        "vref_agree_m_s": p.vref_agree_m_s, "free_pressure": p.vref_free_pressure * plant.q_max,
-        "vref_agree_m_s2": p.vref_agree_m_s2,
-        "anchor_samples": max(1, math.ceil(p.vref_anchor_s / p.ecu_ts_s - 1e-9)),
-        "three_state": p.valves == "three-state",
-        "kb": kb, "kd": kd, "dead_time_s": p.valve_dead_time_s, "min_on_s": p.valve_min_on_s,
-        "cutout_m_s": p.abs_cutout_m_s, "scheduled": p.gain_schedule == "speed",
-        "schedule_floor": p.gain_schedule_floor, "amplitude": amplitude,
-    })
+    vector = EL.pack_ecu(
+        {
+            "law": EL.LAW_KINDS.index(controller),
+            "steps_per_tick": m,
+            "delay_samples": p.ecu_delay_samples,
+            "toothed": p.sensor == "toothed",
+            "teeth": p.sensor_teeth,
+            "timer_s": p.sensor_timer_s,
+            "stale_bound": p.sensor_stale == "bound",
+            "vref_mode": _VREF_CODES[p.vref],
+            "vref_decel_max_m_s2": p.vref_decel_max_m_s2,
+            "accel_bias_m_s2": p.accel_bias_m_s2,
+            "vref_agree_m_s": p.vref_agree_m_s,
+            "free_pressure": p.vref_free_pressure * plant.q_max,
+            "vref_agree_m_s2": p.vref_agree_m_s2,
+            "anchor_samples": max(1, math.ceil(p.vref_anchor_s / p.ecu_ts_s - 1e-9)),
+            "three_state": p.valves == "three-state",
+            "kb": kb,
+            "kd": kd,
+            "dead_time_s": p.valve_dead_time_s,
+            "min_on_s": p.valve_min_on_s,
+            "cutout_m_s": p.abs_cutout_m_s,
+            "scheduled": p.gain_schedule == "speed",
+            "schedule_floor": p.gain_schedule_floor,
+            "amplitude": amplitude,
+        }
+    )
     points = table_points(values)
     law = discrete.law(controller)
     table, grid = discrete.no_table()
@@ -104,15 +126,23 @@ def ecu_setup(values: Mapping[str, object], controller: str, ctrl_values: Mappin
         from chassistune.fuzzy.loader import load_rulebase
 
         table, grid, _ = discrete.ecu_table(
-            load_rulebase(str(ctrl_values["rulebase"]), "params.rulebase"), points)
+            load_rulebase(str(ctrl_values["rulebase"]), "params.rulebase"), points
+        )
     noise = draw_noise(p, seed)
-    return EcuSetup(p, points, vector, table, grid,
-                    (noise.spacing_rad, noise.jitter_s, noise.accel_noise_m_s2))
+    return EcuSetup(
+        p, points, vector, table, grid, (noise.spacing_rad, noise.jitter_s, noise.accel_noise_m_s2)
+    )
 
 
-def law_params(controller: str, gain_names: tuple[str, ...], gains: NDArray[np.float64],
-               ctrl_values: Mapping[str, Any], target_slip: float, ts_s: float,
-               wheel_radius_m: float) -> NDArray[np.float64]:
+def law_params(
+    controller: str,
+    gain_names: tuple[str, ...],
+    gains: NDArray[np.float64],
+    ctrl_values: Mapping[str, Any],
+    target_slip: float,
+    ts_s: float,
+    wheel_radius_m: float,
+) -> NDArray[np.float64]:
     """The discrete law's parameter rows (n, P) for gain rows (n, k); one zero column for the
     laws without a discrete form (none, bang-bang: the kernel reads the ECU vector)."""
     law = discrete.law(controller)
@@ -121,6 +151,8 @@ def law_params(controller: str, gain_names: tuple[str, ...], gains: NDArray[np.f
     fixed = {k: float(v) for k, v in ctrl_values.items() if not isinstance(v, str)}
     fixed.setdefault("n_filter", 100.0)
     fixed.update(target_slip=target_slip, ts_s=ts_s, wheel_radius_m=wheel_radius_m)
-    cols = [gains[:, gain_names.index(n)] if n in gain_names else np.full(gains.shape[0], fixed[n])
-            for n in law.params]
+    cols = [
+        gains[:, gain_names.index(n)] if n in gain_names else np.full(gains.shape[0], fixed[n])
+        for n in law.params
+    ]
     return np.ascontiguousarray(np.stack(cols, axis=1))

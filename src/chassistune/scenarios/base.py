@@ -40,8 +40,9 @@ def pick_preset(plant: str, name: str | None, default: str, known: Mapping[str, 
     """The preset name to use (default when None), or InputError listing the known ones."""
     name = name or default
     if name not in known:
-        raise InputError("preset", f"unknown preset {name!r} for {plant} "
-                         f"(known: {', '.join(known)})")
+        raise InputError(
+            "preset", f"unknown preset {name!r} for {plant} (known: {', '.join(known)})"
+        )
     return name
 
 
@@ -111,8 +112,11 @@ class Scenario(ABC):
         """The objective to use (the default when None), or InputError listing the known ones."""
         objective = objective or self.default_objective
         if objective not in self.objectives:
-            raise InputError("objective", f"unknown objective {objective!r} for {self.plant} "
-                             f"(known: {', '.join(self.objectives)})")
+            raise InputError(
+                "objective",
+                f"unknown objective {objective!r} for {self.plant} "
+                f"(known: {', '.join(self.objectives)})",
+            )
         return objective
 
     @abstractmethod
@@ -137,10 +141,12 @@ class Scenario(ABC):
         for name, value in (gains or {}).items():
             if name not in values:
                 if not self.gain_names:
-                    raise InputError("gains", f"{self.controller.name} has no gains, got "
-                                     f"{name!r}")
-                raise InputError("gains", f"unknown gain {name!r} for {self.controller.name} "
-                                 f"(known: {', '.join(self.gain_names)})")
+                    raise InputError("gains", f"{self.controller.name} has no gains, got {name!r}")
+                raise InputError(
+                    "gains",
+                    f"unknown gain {name!r} for {self.controller.name} "
+                    f"(known: {', '.join(self.gain_names)})",
+                )
             values[name] = float(value)
         return np.array([values[n] for n in self.gain_names], dtype=np.float64)
 
@@ -198,11 +204,19 @@ class Plant(ABC, Generic[S]):
         presets = self.spec.preset_table()
         name = pick_preset(self.name, preset, self.default_preset, presets)
         pre = presets[name]
-        return self.build(name, pre, road or pre.info.roads[0], controller, dict(params or {}),
-                          seed)
+        return self.build(
+            name, pre, road or pre.info.roads[0], controller, dict(params or {}), seed
+        )
 
-    def build(self, preset: str, pre: Any, road: str, controller: str,
-              values: dict[str, object], seed: int) -> S:
+    def build(
+        self,
+        preset: str,
+        pre: Any,
+        road: str,
+        controller: str,
+        values: dict[str, object],
+        seed: int,
+    ) -> S:
         """The scenario of preset `preset` (its object `pre` from the spec's presets) on `road`
         with `controller` and parameter overrides `values`. Plants whose spec declares no
         presets override `scenario` instead."""

@@ -55,24 +55,34 @@ def _check_costs(sc: Scenario, gains: np.ndarray, fail: Callable[[str], Conforma
             raise fail(f"cost of {gains.shape[0]} rows has shape {batch.shape} ({objective})")
         if not np.all(np.isfinite(batch)) or np.any(batch > PENALTY):
             rows = np.flatnonzero(~np.isfinite(batch) | (batch > PENALTY)).tolist()
-            raise fail(f"cost not finite or above PENALTY for rows {rows} ({objective}): "
-                       f"{batch[rows].tolist()} at gains {gains[rows].tolist()}")
+            raise fail(
+                f"cost not finite or above PENALTY for rows {rows} ({objective}): "
+                f"{batch[rows].tolist()} at gains {gains[rows].tolist()}"
+            )
         if objective != sc.default_objective:
             continue  # rows are computed by the same kernel call whatever the objective
         for i in range(gains.shape[0]):
             single = np.asarray(sc.cost(gains[i : i + 1], objective), dtype=np.float64)
             if single.tobytes() != batch[i : i + 1].tobytes():
-                raise fail(f"batch row {i} differs from its single run ({objective}): "
-                           f"{batch[i]!r} != {single[0]!r}")
+                raise fail(
+                    f"batch row {i} differs from its single run ({objective}): "
+                    f"{batch[i]!r} != {single[0]!r}"
+                )
 
 
-def _check_metrics(sc: Scenario, gains: np.ndarray, key_metrics: tuple[str, ...],
-                   fail: Callable[[str], ConformanceError]) -> None:
+def _check_metrics(
+    sc: Scenario,
+    gains: np.ndarray,
+    key_metrics: tuple[str, ...],
+    fail: Callable[[str], ConformanceError],
+) -> None:
     batch = sc.metrics(gains)
     missing = [m for m in key_metrics if m not in batch]
     if missing:
-        raise fail(f"key metrics {missing} of the spec are not among the scenario's metrics "
-                   f"({', '.join(batch)})")
+        raise fail(
+            f"key metrics {missing} of the spec are not among the scenario's metrics "
+            f"({', '.join(batch)})"
+        )
     for name, values in batch.items():
         if np.shape(values) != (gains.shape[0],):
             raise fail(f"metric {name!r} has shape {np.shape(values)}, not ({gains.shape[0]},)")
@@ -83,8 +93,9 @@ def _check_metrics(sc: Scenario, gains: np.ndarray, key_metrics: tuple[str, ...]
                 raise fail(f"metric {name!r} of batch row {i} differs from its single run")
 
 
-def _json_round_trip(obj: Mapping[str, Any], what: str,
-                     fail: Callable[[str], ConformanceError]) -> None:
+def _json_round_trip(
+    obj: Mapping[str, Any], what: str, fail: Callable[[str], ConformanceError]
+) -> None:
     try:
         back = json.loads(json.dumps(obj, allow_nan=False))
     except (TypeError, ValueError) as exc:
@@ -93,9 +104,11 @@ def _json_round_trip(obj: Mapping[str, Any], what: str,
         raise fail(f"{what} changes in a JSON round trip")
 
 
-def check_scenario(sc: Scenario, key_metrics: tuple[str, ...], plot: str | None,
-                   seed: int = 0) -> None:
+def check_scenario(
+    sc: Scenario, key_metrics: tuple[str, ...], plot: str | None, seed: int = 0
+) -> None:
     """Every check on one resolved scenario (plot drawn by "module:attr" `plot` unless None)."""
+
     def fail(problem: str) -> ConformanceError:
         return _fail(sc.plant, sc.controller.name, problem)
 
@@ -128,8 +141,7 @@ def check_scenario(sc: Scenario, key_metrics: tuple[str, ...], plot: str | None,
             os.remove(path)
 
 
-def check_plant(name: str, params: Mapping[str, object] | None = None,
-                plot: bool = True) -> None:
+def check_plant(name: str, params: Mapping[str, object] | None = None, plot: bool = True) -> None:
     """Check the registered plant `name` with every controller on its default preset and road.
 
     `params` overrides parameters (e.g. a shorter simulated time); raises ConformanceError.

@@ -13,8 +13,13 @@ from chassistune.errors import InputError
 from chassistune.params import to_float
 
 
-def resolve_controller_params(spec: ControllerSpec, values: Mapping[str, object], used: set[str],
-                              defaults: Mapping[str, float], amplitude: float) -> dict[str, Any]:
+def resolve_controller_params(
+    spec: ControllerSpec,
+    values: Mapping[str, object],
+    used: set[str],
+    defaults: Mapping[str, float],
+    amplitude: float,
+) -> dict[str, Any]:
     """The controller's fixed parameters: given values (strings checked against their choices,
     numbers finite and, where required, positive), else the preset's defaults, else the
     catalogue's; `amplitude` (the driver's command) when the law has one and none was given.
@@ -24,8 +29,9 @@ def resolve_controller_params(spec: ControllerSpec, values: Mapping[str, object]
         if isinstance(ps.default, str):
             value = str(values.get(ps.name, ps.default))
             if ps.choices and value not in ps.choices:
-                raise InputError(f"params.{ps.name}", f"must be one of {', '.join(ps.choices)}, "
-                                 f"got {value!r}")
+                raise InputError(
+                    f"params.{ps.name}", f"must be one of {', '.join(ps.choices)}, got {value!r}"
+                )
             out[ps.name] = value
             used.add(ps.name)
             continue
@@ -51,8 +57,9 @@ def kernel_gains(gains: np.ndarray, spec: ControllerSpec) -> np.ndarray:
         g = g[None, :]
     k = len(spec.gain_names)
     if g.ndim != 2 or g.shape[1] != k:
-        raise InputError("gains", f"expected shape (n, {k}) for {spec.name}, got "
-                         f"{tuple(np.shape(gains))}")
+        raise InputError(
+            "gains", f"expected shape (n, {k}) for {spec.name}, got {tuple(np.shape(gains))}"
+        )
     if k == 0:
         return np.zeros((g.shape[0], 1))
     return np.ascontiguousarray(g)

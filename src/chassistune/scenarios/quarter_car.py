@@ -99,11 +99,13 @@ class QuarterCarScenario(Scenario):
         self.solver = solver
         self.controller_params = controller_params
         self.seed = seed
-        self.plant_vector = kernel.PLANT.pack({
-            **as_dict(vehicle),
-            "road_pole_rad_s": road_params.pole_rad_s,
-            "road_gain": road_params.gain,
-        })
+        self.plant_vector = kernel.PLANT.pack(
+            {
+                **as_dict(vehicle),
+                "road_pole_rad_s": road_params.pole_rad_s,
+                "road_gain": road_params.gain,
+            }
+        )
         self.feedback_code = model.FEEDBACK_CODES[controller_params.feedback]
 
     # -- parameters -------------------------------------------------------------------------
@@ -126,8 +128,10 @@ class QuarterCarScenario(Scenario):
         if g.ndim == 1 and g.size == k:
             g = g.reshape(1, k)
         if g.ndim != 2 or g.shape[1] != k:
-            raise InputError("gains", f"expected shape (n, {k}) for {self.controller.name}, got "
-                             f"{tuple(np.shape(gains))}")
+            raise InputError(
+                "gains",
+                f"expected shape (n, {k}) for {self.controller.name}, got {tuple(np.shape(gains))}",
+            )
         full = np.zeros((g.shape[0], 3))
         if self.controller.name == "pid":
             full[:] = g
@@ -143,14 +147,19 @@ class QuarterCarScenario(Scenario):
 
     def exact(self, gains: np.ndarray) -> np.ndarray:
         """(n, lyapunov.N_EXACT): stationary RMS (acc, travel, tire, force) and stable flag."""
-        return lyapunov.exact_rms(self.plant_vector, self._feedback,
-                                  self.controller_params.n_filter, self.pid_gains(gains))
+        return lyapunov.exact_rms(
+            self.plant_vector,
+            self._feedback,
+            self.controller_params.n_filter,
+            self.pid_gains(gains),
+        )
 
     @cached_property
     def passive_exact(self) -> np.ndarray:
         """Stationary RMS of the passive suspension (acc, travel, tire)."""
-        return lyapunov.exact_rms(self.plant_vector, model.FB_VELOCITY, 1.0,
-                                  np.zeros((1, 3)))[0, :3]
+        return lyapunov.exact_rms(self.plant_vector, model.FB_VELOCITY, 1.0, np.zeros((1, 3)))[
+            0, :3
+        ]
 
     # -- simulation ---------------------------------------------------------------------------
 
@@ -175,8 +184,17 @@ class QuarterCarScenario(Scenario):
         """Simulated RMS of the passive suspension on this run's road (acc, travel, tire)."""
         out = np.empty((1, kernel.N_RESULT))
         no_trace = np.zeros((len(kernel.OUTPUTS), 0))
-        kernel.simulate_batch(self.plant_vector, model.FB_VELOCITY, 1.0, np.zeros((1, 3)),
-                              self.noise, self.solver.dt_s, no_trace, 1, out)
+        kernel.simulate_batch(
+            self.plant_vector,
+            model.FB_VELOCITY,
+            1.0,
+            np.zeros((1, 3)),
+            self.noise,
+            self.solver.dt_s,
+            no_trace,
+            1,
+            out,
+        )
         return out[0, :3]
 
     # -- metrics and costs ----------------------------------------------------------------------
@@ -202,8 +220,9 @@ class QuarterCarScenario(Scenario):
             "force_rms": rms["force_rms"],
             "damping_ratio": np.full(n, v.damping_ratio),
             "travel_3sigma_m": 3.0 * rms["susp_travel_rms"],
-            "dynamic_tire_load_ratio": (v.tire_stiffness_n_m * rms["tire_defl_rms"]
-                                        / v.static_tire_load_n),
+            "dynamic_tire_load_ratio": (
+                v.tire_stiffness_n_m * rms["tire_defl_rms"] / v.static_tire_load_n
+            ),
             "stable": stable,
             "diverged": diverged,
         }
@@ -226,8 +245,17 @@ class QuarterCarScenario(Scenario):
     def _trace_run(self, pid: np.ndarray, feedback: int, stride: int, n_rec: int) -> np.ndarray:
         rec = np.zeros((len(kernel.OUTPUTS), n_rec))
         out = np.empty((1, kernel.N_RESULT))
-        kernel.simulate_batch(self.plant_vector, feedback, self.controller_params.n_filter,
-                              pid.reshape(1, 3), self.noise, self.solver.dt_s, rec, stride, out)
+        kernel.simulate_batch(
+            self.plant_vector,
+            feedback,
+            self.controller_params.n_filter,
+            pid.reshape(1, 3),
+            self.noise,
+            self.solver.dt_s,
+            rec,
+            stride,
+            out,
+        )
         return rec
 
     def trace(self, gains: np.ndarray) -> QuarterCarTrace:
@@ -241,8 +269,10 @@ class QuarterCarScenario(Scenario):
         out = kernel.OUTPUTS
         signals = {"time_s": np.arange(n_rec) * stride * self.solver.dt_s}
         units = {"time_s": "s"}
-        for prefix, rows, names in (("", active, TRACE_SIGNALS),
-                                    ("passive_", passive, PASSIVE_SIGNALS)):
+        for prefix, rows, names in (
+            ("", active, TRACE_SIGNALS),
+            ("passive_", passive, PASSIVE_SIGNALS),
+        ):
             for name in names:
                 signals[prefix + name] = rows[out[TRACE_SIGNALS[name]]]
                 units[prefix + name] = out.units[TRACE_SIGNALS[name]]
@@ -254,20 +284,36 @@ class QuarterCarScenario(Scenario):
         pid = self.pid_gains(np.asarray(gains, dtype=np.float64).reshape(1, -1))[0]
         omega = 2.0 * math.pi * np.asarray(freq_hz, dtype=np.float64)
         key = "body_acc_per_road_velocity"
-        active = model.frequency_response(self.plant_vector, self._feedback, pid[0], pid[1],
-                                          pid[2], self.controller_params.n_filter, omega)[key]
-        passive = model.frequency_response(self.plant_vector, model.FB_VELOCITY, 0.0, 0.0, 0.0,
-                                           1.0, omega)[key]
-        return {"freq_hz": np.asarray(freq_hz, dtype=np.float64), "active": np.abs(active),
-                "passive": np.abs(passive)}
+        active = model.frequency_response(
+            self.plant_vector,
+            self._feedback,
+            pid[0],
+            pid[1],
+            pid[2],
+            self.controller_params.n_filter,
+            omega,
+        )[key]
+        passive = model.frequency_response(
+            self.plant_vector, model.FB_VELOCITY, 0.0, 0.0, 0.0, 1.0, omega
+        )[key]
+        return {
+            "freq_hz": np.asarray(freq_hz, dtype=np.float64),
+            "active": np.abs(active),
+            "passive": np.abs(passive),
+        }
 
 
-TRACE_SIGNALS = {"road_m": "road", "body_acc_m_s2": "body_acc", "susp_travel_m": "susp_travel",
-                 "tire_defl_m": "tire_defl", "force_n": "force", "body_disp_m": "body_disp"}
+TRACE_SIGNALS = {
+    "road_m": "road",
+    "body_acc_m_s2": "body_acc",
+    "susp_travel_m": "susp_travel",
+    "tire_defl_m": "tire_defl",
+    "force_n": "force",
+    "body_disp_m": "body_disp",
+}
 """Trace signal name -> output row of the kernel's trace (`kernel.OUTPUTS`)."""
 PASSIVE_SIGNALS = ("body_acc_m_s2", "susp_travel_m", "tire_defl_m")
 """Signals also traced for the passive suspension on the same road (as passive_<name>)."""
-
 
 
 class QuarterCarPlant(Plant[QuarterCarScenario]):
@@ -278,8 +324,15 @@ class QuarterCarPlant(Plant[QuarterCarScenario]):
     def controllers(self) -> list[ControllerSpec]:
         return catalogue.for_plant(QUARTER_CAR.name)
 
-    def build(self, preset: str, pre: Preset, road: str, controller: str,
-              values: dict[str, object], seed: int) -> QuarterCarScenario:
+    def build(
+        self,
+        preset: str,
+        pre: Preset,
+        road: str,
+        controller: str,
+        values: dict[str, object],
+        seed: int,
+    ) -> QuarterCarScenario:
         gq = roughness_class(road)
         spec = catalogue.get(QUARTER_CAR.name, "passive" if controller == "none" else controller)
         if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
@@ -298,27 +351,38 @@ class QuarterCarPlant(Plant[QuarterCarScenario]):
                 | {f.name for f in dataclasses.fields(SolverParams)}
                 | set(spec.param_names)
             )
-            raise InputError(f"params.{unknown[0]}", f"unknown parameter for quarter-car with "
-                             f"{spec.name} (known: {', '.join(known)})")
+            raise InputError(
+                f"params.{unknown[0]}",
+                f"unknown parameter for quarter-car with {spec.name} (known: {', '.join(known)})",
+            )
         if ctrl.feedback not in model.FEEDBACK_CODES:
-            raise InputError("params.feedback", f"unknown feedback {ctrl.feedback!r} (known: "
-                             f"{', '.join(model.FEEDBACK_CODES)})")
+            raise InputError(
+                "params.feedback",
+                f"unknown feedback {ctrl.feedback!r} (known: {', '.join(model.FEEDBACK_CODES)})",
+            )
         iso_roads.validate_road(road_params)
         _check_solver(solver)
-        return QuarterCarScenario(preset, road, spec, validate(vehicle, "params."),
-                                  road_params, solver, ctrl, int(seed))
+        return QuarterCarScenario(
+            preset, road, spec, validate(vehicle, "params."), road_params, solver, ctrl, int(seed)
+        )
 
 
 def _check_solver(solver: SolverParams) -> None:
     if solver.dt_s > 0.01:
-        raise InputError("params.dt_s", f"must be at most 0.01 s (the road noise is held over "
-                         f"the step), got {solver.dt_s:g}")
+        raise InputError(
+            "params.dt_s",
+            f"must be at most 0.01 s (the road noise is held over the step), got {solver.dt_s:g}",
+        )
     if solver.duration_s < solver.dt_s:
-        raise InputError("params.duration_s", f"must be at least one step dt_s = "
-                         f"{solver.dt_s:g}, got {solver.duration_s:g}")
+        raise InputError(
+            "params.duration_s",
+            f"must be at least one step dt_s = {solver.dt_s:g}, got {solver.duration_s:g}",
+        )
     if solver.n_steps > MAX_STEPS:
-        raise InputError("params.duration_s", f"too many steps: duration_s / dt_s = "
-                         f"{solver.n_steps} exceeds {MAX_STEPS}")
+        raise InputError(
+            "params.duration_s",
+            f"too many steps: duration_s / dt_s = {solver.n_steps} exceeds {MAX_STEPS}",
+        )
 
 
 PLANT = QuarterCarPlant()

@@ -78,9 +78,14 @@ class R13hResult:
         return self.epsilon >= EPSILON_REQUIRED
 
 
-def _trace(preset: str | None, road: str | None, controller: str,
-           params: Mapping[str, object], gains: Mapping[str, object] | None = None,
-           seed: int = 0) -> tuple[Scenario, Trace]:
+def _trace(
+    preset: str | None,
+    road: str | None,
+    controller: str,
+    params: Mapping[str, object],
+    gains: Mapping[str, object] | None = None,
+    seed: int = 0,
+) -> tuple[Scenario, Trace]:
     """One abs-wheel run through the scenario API: (scenario, trace)."""
     sc = get_plant("abs-wheel").scenario(preset, road, controller, params, seed)
     g = sc.gains_array({k: to_float(v, f"gains.{k}") for k, v in (gains or {}).items()})
@@ -105,28 +110,42 @@ def _crossing(t: np.ndarray, v: np.ndarray, level: float) -> float:
     return float(t[j - 1] + (t[j] - t[j - 1]) * (v[j - 1] - level) / (v[j - 1] - v[j]))
 
 
-def _locked_above(trace_signals: Mapping[str, np.ndarray], v_min: float,
-                  lock_ratio: float) -> bool:
+def _locked_above(trace_signals: Mapping[str, np.ndarray], v_min: float, lock_ratio: float) -> bool:
     v = trace_signals["vehicle_speed_m_s"]
     w = trace_signals["wheel_speed_m_s"]
     above = v > v_min
     return bool(np.any(w[above] < lock_ratio * v[above]))
 
 
-def _constant_pressure_run(preset: str | None, road: str | None, params: Mapping[str, object],
-                           cap: float, lock_ratio: float) -> tuple[float, bool]:
+def _constant_pressure_run(
+    preset: str | None,
+    road: str | None,
+    params: Mapping[str, object],
+    cap: float,
+    lock_ratio: float,
+) -> tuple[float, bool]:
     """(t from 40 to 20 km/h, locked above 20 km/h) for one constant pressure cap."""
-    run_params = {**params, **_NO_HOPELESS, "v0_m_s": K_START_M_S,
-                  "v_stop_m_s": K_LO_M_S - _END_MARGIN_M_S, "q_max": cap}
+    run_params = {
+        **params,
+        **_NO_HOPELESS,
+        "v0_m_s": K_START_M_S,
+        "v_stop_m_s": K_LO_M_S - _END_MARGIN_M_S,
+        "q_max": cap,
+    }
     _, tr = _trace(preset, road, "none", run_params)
     locked = _locked_above(tr.signals, K_LO_M_S, lock_ratio)
-    return window_time_s(tr.signals["time_s"], tr.signals["vehicle_speed_m_s"], K_HI_M_S,
-                         K_LO_M_S), locked
+    return window_time_s(
+        tr.signals["time_s"], tr.signals["vehicle_speed_m_s"], K_HI_M_S, K_LO_M_S
+    ), locked
 
 
-def adhesion_coefficient(preset: str | None = None, road: str | None = None,
-                         params: Mapping[str, object] | None = None, grid: int = 12,
-                         rounds: int = 4) -> AdhesionCoefficient:
+def adhesion_coefficient(
+    preset: str | None = None,
+    road: str | None = None,
+    params: Mapping[str, object] | None = None,
+    grid: int = 12,
+    rounds: int = 4,
+) -> AdhesionCoefficient:
     """k_M by a search over constant pressure caps in (0, q_max] (1.1.3): a grid of `grid`
     caps, then `rounds` grids over one spacing either side of the best cap so far (z is not
     monotone in the cap: past the static limit the wheel slides slowly over the peak and may
@@ -156,15 +175,22 @@ def adhesion_coefficient(preset: str | None = None, road: str | None = None,
         else:
             lo, hi = 0.0, min(lock_p, q_max)
     if not np.isfinite(best_t):
-        raise InputError("road", f"every constant pressure cap up to {q_max:g} tried locks "
-                         "the wheel above 20 km/h")
+        raise InputError(
+            "road",
+            f"every constant pressure cap up to {q_max:g} tried locks the wheel above 20 km/h",
+        )
     return AdhesionCoefficient(Z_M_COEF / best_t, best_t, best_p, lock_p, runs)
 
 
-def r13h_epsilon(controller: str, preset: str | None = None, road: str | None = None,
-                 gains: Mapping[str, object] | None = None,
-                 params: Mapping[str, object] | None = None,
-                 adhesion: AdhesionCoefficient | None = None, seed: int = 0) -> R13hResult:
+def r13h_epsilon(
+    controller: str,
+    preset: str | None = None,
+    road: str | None = None,
+    gains: Mapping[str, object] | None = None,
+    params: Mapping[str, object] | None = None,
+    adhesion: AdhesionCoefficient | None = None,
+    seed: int = 0,
+) -> R13hResult:
     """epsilon = z_AL / k_M (Annex 6 Appendix 2) of `controller` with `gains` on `road`.
 
     The ABS stop starts at 55 km/h and is timed from 45 to 15 km/h (1.2); a wheel locked above
@@ -173,11 +199,22 @@ def r13h_epsilon(controller: str, preset: str | None = None, road: str | None = 
     """
     base = dict(params or {})
     adhesion = adhesion or adhesion_coefficient(preset, road, base)
-    sc, tr = _trace(preset, road, controller,
-                    {**base, **_NO_HOPELESS, "v0_m_s": ABS_START_M_S,
-                     "v_stop_m_s": ABS_LO_M_S - _END_MARGIN_M_S}, gains, seed)
+    sc, tr = _trace(
+        preset,
+        road,
+        controller,
+        {
+            **base,
+            **_NO_HOPELESS,
+            "v0_m_s": ABS_START_M_S,
+            "v_stop_m_s": ABS_LO_M_S - _END_MARGIN_M_S,
+        },
+        gains,
+        seed,
+    )
     locked = _locked_above(tr.signals, ABS_LO_M_S, float(sc.params()["lock_ratio"]))
-    t_abs = window_time_s(tr.signals["time_s"], tr.signals["vehicle_speed_m_s"], ABS_HI_M_S,
-                          ABS_LO_M_S)
+    t_abs = window_time_s(
+        tr.signals["time_s"], tr.signals["vehicle_speed_m_s"], ABS_HI_M_S, ABS_LO_M_S
+    )
     z_al = 0.0 if locked else Z_AL_COEF / t_abs
     return R13hResult(z_al / adhesion.k_m, z_al, t_abs, locked, adhesion)

@@ -53,18 +53,27 @@ class StepCheck:
             return f"the run ends differently at dt/{self.factor}: not converged in the step"
         if not self.max_rel_change > self.threshold:
             return None
-        worst = max(self.metrics_rel_change, key=lambda k: self.metrics_rel_change[k],
-                    default="cost")
+        worst = max(
+            self.metrics_rel_change, key=lambda k: self.metrics_rel_change[k], default="cost"
+        )
         if self.cost_rel_change >= self.metrics_rel_change.get(worst, 0.0):
             worst = "cost"
-        return (f"{worst} changes by {self.max_rel_change:.2e} (relative) at dt/{self.factor}: "
-                f"above {self.threshold:g}, the step is too coarse for this candidate")
+        return (
+            f"{worst} changes by {self.max_rel_change:.2e} (relative) at dt/{self.factor}: "
+            f"above {self.threshold:g}, the step is too coarse for this candidate"
+        )
 
     def as_dict(self) -> dict[str, Any]:
-        return {"factor": self.factor, "dt_s": self.dt_s, "cost": self.cost,
-                "cost_refined": self.cost_refined, "cost_rel_change": self.cost_rel_change,
-                "metrics_rel_change": dict(self.metrics_rel_change),
-                "max_rel_change": self.max_rel_change, "warning": self.warning}
+        return {
+            "factor": self.factor,
+            "dt_s": self.dt_s,
+            "cost": self.cost,
+            "cost_refined": self.cost_refined,
+            "cost_rel_change": self.cost_rel_change,
+            "metrics_rel_change": dict(self.metrics_rel_change),
+            "max_rel_change": self.max_rel_change,
+            "warning": self.warning,
+        }
 
 
 def _rel_change(coarse: float, fine: float) -> float:
@@ -81,9 +90,13 @@ def refined_scenario(scenario: Scenario, factor: int, base: Mapping[str, object]
     from chassistune.scenarios.registry import get_plant
 
     dt_s = float(scenario.params()["dt_s"]) / factor
-    return get_plant(scenario.plant).scenario(scenario.preset, scenario.road,
-                                              scenario.controller.name, {**base, "dt_s": dt_s},
-                                              scenario.seed)
+    return get_plant(scenario.plant).scenario(
+        scenario.preset,
+        scenario.road,
+        scenario.controller.name,
+        {**base, "dt_s": dt_s},
+        scenario.seed,
+    )
 
 
 def step_refinement(
@@ -106,5 +119,13 @@ def step_refinement(
     status_changed = bool("status" in m0 and m0["status"][0] != m1["status"][0])
     c0 = float(scenario.cost(g, objective)[0])
     c1 = float(fine.cost(g, objective)[0])
-    return StepCheck(factor, float(scenario.params()["dt_s"]), c0, c1, _rel_change(c0, c1),
-                     changes, status_changed, threshold)
+    return StepCheck(
+        factor,
+        float(scenario.params()["dt_s"]),
+        c0,
+        c1,
+        _rel_change(c0, c1),
+        changes,
+        status_changed,
+        threshold,
+    )

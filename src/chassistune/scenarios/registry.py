@@ -16,8 +16,7 @@ ABS_WHEEL = PlantSpec(
     version=1,
     description="single-wheel (quarter-car) ABS: bilinear/Burckhardt tire, K/(s(Ts+1)) brake",
     default_preset="paper-derlsp-ao",
-    key_metrics=("stop_distance_m", "distance_ratio", "stop_time_s", "slip_itae",
-                 "locked_time_s"),
+    key_metrics=("stop_distance_m", "distance_ratio", "stop_time_s", "slip_itae", "locked_time_s"),
     plot="chassistune.plots.abs_wheel:plot_trace",
     presets="chassistune.plants.abs_wheel:PRESETS",
     roads="chassistune.plants.roads:friction_roads",
@@ -26,10 +25,9 @@ ABS_VEHICLE = PlantSpec(
     name="abs-vehicle",
     version=1,
     description="7-DOF vehicle ABS (deffao-vehicle-abs): four braked wheels, load transfer, "
-                "combined-slip tires, uniform, mu-jump and split-mu roads, optional driver",
+    "combined-slip tires, uniform, mu-jump and split-mu roads, optional driver",
     default_preset="paper-deffao",
-    key_metrics=("stop_distance_m", "distance_ratio", "stop_time_s", "slip_itae",
-                 "locked_time_s"),
+    key_metrics=("stop_distance_m", "distance_ratio", "stop_time_s", "slip_itae", "locked_time_s"),
     plot="chassistune.plots.abs_vehicle:plot_trace",
     presets="chassistune.plants.abs_vehicle_params:PRESETS",
     roads="chassistune.plants.vehicle_roads:road_names",
@@ -38,10 +36,15 @@ QUARTER_CAR = PlantSpec(
     name="quarter-car",
     version=1,
     description="2-DOF quarter-car active suspension on an ISO 8608 random road "
-                "(Jing and Xu 2023, iabc-suspension)",
+    "(Jing and Xu 2023, iabc-suspension)",
     default_preset="paper-iabc",
-    key_metrics=("objective_exact", "body_acc_rms", "susp_travel_rms", "tire_defl_rms",
-                 "force_rms"),
+    key_metrics=(
+        "objective_exact",
+        "body_acc_rms",
+        "susp_travel_rms",
+        "tire_defl_rms",
+        "force_rms",
+    ),
     plot="chassistune.plots.quarter_car:plot_trace",
     presets="chassistune.plants.quarter_car_params:PRESETS",
     roads="chassistune.plants.roads:roughness_roads",
@@ -96,4 +99,3 @@ def plant_roads(name: str) -> dict[str, str]:
 def get_plant(name: str) -> Plant:
     """The scenario builder of plant `name`, or InputError listing the known plants."""
     return BUILDERS.get(name)
-

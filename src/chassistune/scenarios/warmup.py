@@ -30,8 +30,9 @@ def warm_up(progress: Callable[[str], None] | None = None) -> list[str]:
             sc = plant.scenario(None, None, spec.name, {}, 0)
             gains = sc.gains_array(None)
             box = np.array(spec.bounds(), dtype=float).reshape(-1, 2)
-            population = box[:, 0] + rng.random((POPULATION, box.shape[0])) * (box[:, 1]
-                                                                                - box[:, 0])
+            population = box[:, 0] + rng.random((POPULATION, box.shape[0])) * (
+                box[:, 1] - box[:, 0]
+            )
             for objective in sc.objectives:
                 sc.cost(population, objective)
                 sc.cost(gains.reshape(1, -1), objective)

@@ -95,92 +95,126 @@ Q_ACCEL = CONTROLLER_LAYOUT["accel_threshold_m_s2"]
 Q_SLIP_MARGIN = CONTROLLER_LAYOUT["slip_margin"]
 Q_SLOW = CONTROLLER_LAYOUT["slow_fraction"]
 
-PLANT_LAYOUT = Layout("abs-vehicle plant", (
-    Slot("mass_kg", "kg"),
-    Slot("yaw_inertia_kg_m2", "kg m^2"),
-    Slot("wheel_inertia_kg_m2", "kg m^2"),
-    Slot("wheel_radius_m", "m"),
-    Slot("v0_m_s", "m/s"),
-    Slot("actuator_gain", "-"),
-    Slot("actuator_tau_s", "s"),
-    Slot("brake_gain", "N m/unit"),
-    Slot("q_max", "unit"),
-    Slot("v_stop_m_s", "m/s"),
-    Slot("t_max_s", "s"),
-    Slot("dt_s", "s"),
-    Slot("lock_ratio", "-"),
-    Slot("min_speed_m_s", "m/s"),
-    Slot("hopeless_m", "m", "stop a candidate once its path exceeds this"),
-    Slot("n_filter", "rad/s", "PID derivative filter coefficient"),
-    Slot("road_kind", "-", "0 uniform, 1 mu-jump, 2 split-mu"),
-    Slot("x_jump_global_m", "m", "global X of the mu jump (CG starts at 0)"),
-    Slot("split_y_m", "m", "global Y of the split line"),
-    Slot("split_by_road", "-", "1: split-mu surface from the contact point's global Y; 0: by "
-         "the wheel's side of the car"),
-    Slot("driver", "-", "1: counter-steering driver, 0: steering fixed at 0"),
-    Slot("heading_gain", "rad/rad"),
-    Slot("yaw_rate_gain_s", "s"),
-    Slot("max_steer_rad", "rad"),
-    Slot("steer_tau_s", "s"),
-    Slot("select_low", "-", "1: one rear channel on min(e_rl, e_rr)"),
-    Slot("axle_gains", "-", "1: gains (front row, rear row) per axle"),
-    Slot("yaw_window_s", "s", "window of the yaw metrics"),
-))
-GEOMETRY_LAYOUT = Layout("abs-vehicle geometry rows (columns fl, fr, rl, rr)", (
-    Slot("x_m", "m", "wheel position forward of the CG"),
-    Slot("y_m", "m", "wheel position left of the CG"),
-    Slot("static_load_n", "N", "Fz0_i"),
-    Slot("load_per_ax", "N/(m/s^2)", "A_i"),
-    Slot("load_per_ay", "N/(m/s^2)", "B_i"),
-))
-STATE_LAYOUT = Layout("abs-vehicle state rows", (
-    Slot("vx", "m/s"), Slot("vy", "m/s"), Slot("yaw_rate", "rad/s"), Slot("x", "m"),
-    Slot("y", "m"), Slot("heading", "rad"), Slot("steer", "rad"),
-    *(Slot(f"w_{w}", "rad/s") for w in WHEELS),
-    *(Slot(f"q_{w}", "unit") for w in WHEELS),
-    *(Slot(f"qrate_{w}", "unit/s") for w in WHEELS),
-    *(Slot(f"z_{w}", "s") for w in WHEELS),
-    *(Slot(f"xf_{w}", "-") for w in WHEELS),
-))
-METRIC_LAYOUT = Layout("abs-vehicle metrics", (
-    Slot("status", "-", "0 stopped, 1 hopeless, 2 timeout, 3 diverged"),
-    Slot("stop_time_s", "s"),
-    Slot("stop_distance_m", "m", "CG path length"),
-    Slot("stop_x_m", "m", "global X of the CG at the stop"),
-    Slot("slip_iae", "s", "sum over the wheels"),
-    Slot("slip_itae", "s^2", "sum over the wheels"),
-    Slot("slip_ise", "s", "sum over the wheels"),
-    Slot("locked_time_s", "s", "sum over the wheels of the time locked while moving"),
-    Slot("yaw_rate_peak_1s_rad_s", "rad/s", "signed yaw rate of largest |r| in the window"),
-    Slot("heading_1s_deg", "deg", "heading at the end of the window"),
-    Slot("lateral_offset_1s_m", "m", "global Y of the CG at the end of the window"),
-    Slot("peak_yaw_rate_rad_s", "rad/s", "signed peak before a spin, or of the whole run"),
-    Slot("spun", "-", "1 when |heading| reached 90 degrees"),
-    Slot("spin_time_s", "s", "when |heading| reached 90 degrees (NaN: never)"),
-    Slot("heading_change_deg", "deg", "heading at the end"),
-    Slot("lateral_offset_m", "m", "global Y of the CG at the end"),
-    Slot("all_locked_time_s", "s", "first time all four wheels stand still (NaN: never)"),
-    Slot("all_locked_speed_m_s", "m/s", "CG speed then"),
-    Slot("all_locked_distance_m", "m", "CG path length then"),
-    *(Slot(f"mean_slip_{w}", "-") for w in WHEELS),
-    *(Slot(f"lock_time_{w}_s", "s", "first time w R < lock_ratio |V| (NaN: never)")
-      for w in WHEELS),
-    Slot("load_iterations_max", "-", "most Newton iterations of one load solve"),
-    Slot("n_trace", "-", "trace rows written"),
-))
-TRACE_LAYOUT = Layout("abs-vehicle trace", (
-    Slot("time_s", "s"), Slot("vx_m_s", "m/s"), Slot("vy_m_s", "m/s"),
-    Slot("speed_m_s", "m/s"), Slot("yaw_rate_rad_s", "rad/s"), Slot("heading_rad", "rad"),
-    Slot("x_m", "m"), Slot("y_m", "m"), Slot("steer_rad", "rad"), Slot("ax_m_s2", "m/s^2"),
-    Slot("ay_m_s2", "m/s^2"), Slot("distance_m", "m"),
-    *(Slot(f"wheel_speed_{w}_m_s", "m/s") for w in WHEELS),
-    *(Slot(f"slip_{w}", "-") for w in WHEELS),
-    *(Slot(f"target_slip_{w}", "-") for w in WHEELS),
-    *(Slot(f"load_{w}_n", "N") for w in WHEELS),
-    *(Slot(f"brake_torque_{w}_n_m", "N m") for w in WHEELS),
-    *(Slot(f"fx_{w}_n", "N", "wheel-frame longitudinal tire force") for w in WHEELS),
-    *(Slot(f"surface_{w}", "-", "index of the surface under the wheel") for w in WHEELS),
-))
+PLANT_LAYOUT = Layout(
+    "abs-vehicle plant",
+    (
+        Slot("mass_kg", "kg"),
+        Slot("yaw_inertia_kg_m2", "kg m^2"),
+        Slot("wheel_inertia_kg_m2", "kg m^2"),
+        Slot("wheel_radius_m", "m"),
+        Slot("v0_m_s", "m/s"),
+        Slot("actuator_gain", "-"),
+        Slot("actuator_tau_s", "s"),
+        Slot("brake_gain", "N m/unit"),
+        Slot("q_max", "unit"),
+        Slot("v_stop_m_s", "m/s"),
+        Slot("t_max_s", "s"),
+        Slot("dt_s", "s"),
+        Slot("lock_ratio", "-"),
+        Slot("min_speed_m_s", "m/s"),
+        Slot("hopeless_m", "m", "stop a candidate once its path exceeds this"),
+        Slot("n_filter", "rad/s", "PID derivative filter coefficient"),
+        Slot("road_kind", "-", "0 uniform, 1 mu-jump, 2 split-mu"),
+        Slot("x_jump_global_m", "m", "global X of the mu jump (CG starts at 0)"),
+        Slot("split_y_m", "m", "global Y of the split line"),
+        Slot(
+            "split_by_road",
+            "-",
+            "1: split-mu surface from the contact point's global Y; 0: by "
+            "the wheel's side of the car",
+        ),
+        Slot("driver", "-", "1: counter-steering driver, 0: steering fixed at 0"),
+        Slot("heading_gain", "rad/rad"),
+        Slot("yaw_rate_gain_s", "s"),
+        Slot("max_steer_rad", "rad"),
+        Slot("steer_tau_s", "s"),
+        Slot("select_low", "-", "1: one rear channel on min(e_rl, e_rr)"),
+        Slot("axle_gains", "-", "1: gains (front row, rear row) per axle"),
+        Slot("yaw_window_s", "s", "window of the yaw metrics"),
+    ),
+)
+GEOMETRY_LAYOUT = Layout(
+    "abs-vehicle geometry rows (columns fl, fr, rl, rr)",
+    (
+        Slot("x_m", "m", "wheel position forward of the CG"),
+        Slot("y_m", "m", "wheel position left of the CG"),
+        Slot("static_load_n", "N", "Fz0_i"),
+        Slot("load_per_ax", "N/(m/s^2)", "A_i"),
+        Slot("load_per_ay", "N/(m/s^2)", "B_i"),
+    ),
+)
+STATE_LAYOUT = Layout(
+    "abs-vehicle state rows",
+    (
+        Slot("vx", "m/s"),
+        Slot("vy", "m/s"),
+        Slot("yaw_rate", "rad/s"),
+        Slot("x", "m"),
+        Slot("y", "m"),
+        Slot("heading", "rad"),
+        Slot("steer", "rad"),
+        *(Slot(f"w_{w}", "rad/s") for w in WHEELS),
+        *(Slot(f"q_{w}", "unit") for w in WHEELS),
+        *(Slot(f"qrate_{w}", "unit/s") for w in WHEELS),
+        *(Slot(f"z_{w}", "s") for w in WHEELS),
+        *(Slot(f"xf_{w}", "-") for w in WHEELS),
+    ),
+)
+METRIC_LAYOUT = Layout(
+    "abs-vehicle metrics",
+    (
+        Slot("status", "-", "0 stopped, 1 hopeless, 2 timeout, 3 diverged"),
+        Slot("stop_time_s", "s"),
+        Slot("stop_distance_m", "m", "CG path length"),
+        Slot("stop_x_m", "m", "global X of the CG at the stop"),
+        Slot("slip_iae", "s", "sum over the wheels"),
+        Slot("slip_itae", "s^2", "sum over the wheels"),
+        Slot("slip_ise", "s", "sum over the wheels"),
+        Slot("locked_time_s", "s", "sum over the wheels of the time locked while moving"),
+        Slot("yaw_rate_peak_1s_rad_s", "rad/s", "signed yaw rate of largest |r| in the window"),
+        Slot("heading_1s_deg", "deg", "heading at the end of the window"),
+        Slot("lateral_offset_1s_m", "m", "global Y of the CG at the end of the window"),
+        Slot("peak_yaw_rate_rad_s", "rad/s", "signed peak before a spin, or of the whole run"),
+        Slot("spun", "-", "1 when |heading| reached 90 degrees"),
+        Slot("spin_time_s", "s", "when |heading| reached 90 degrees (NaN: never)"),
+        Slot("heading_change_deg", "deg", "heading at the end"),
+        Slot("lateral_offset_m", "m", "global Y of the CG at the end"),
+        Slot("all_locked_time_s", "s", "first time all four wheels stand still (NaN: never)"),
+        Slot("all_locked_speed_m_s", "m/s", "CG speed then"),
+        Slot("all_locked_distance_m", "m", "CG path length then"),
+        *(Slot(f"mean_slip_{w}", "-") for w in WHEELS),
+        *(
+            Slot(f"lock_time_{w}_s", "s", "first time w R < lock_ratio |V| (NaN: never)")
+            for w in WHEELS
+        ),
+        Slot("load_iterations_max", "-", "most Newton iterations of one load solve"),
+        Slot("n_trace", "-", "trace rows written"),
+    ),
+)
+TRACE_LAYOUT = Layout(
+    "abs-vehicle trace",
+    (
+        Slot("time_s", "s"),
+        Slot("vx_m_s", "m/s"),
+        Slot("vy_m_s", "m/s"),
+        Slot("speed_m_s", "m/s"),
+        Slot("yaw_rate_rad_s", "rad/s"),
+        Slot("heading_rad", "rad"),
+        Slot("x_m", "m"),
+        Slot("y_m", "m"),
+        Slot("steer_rad", "rad"),
+        Slot("ax_m_s2", "m/s^2"),
+        Slot("ay_m_s2", "m/s^2"),
+        Slot("distance_m", "m"),
+        *(Slot(f"wheel_speed_{w}_m_s", "m/s") for w in WHEELS),
+        *(Slot(f"slip_{w}", "-") for w in WHEELS),
+        *(Slot(f"target_slip_{w}", "-") for w in WHEELS),
+        *(Slot(f"load_{w}_n", "N") for w in WHEELS),
+        *(Slot(f"brake_torque_{w}_n_m", "N m") for w in WHEELS),
+        *(Slot(f"fx_{w}_n", "N", "wheel-frame longitudinal tire force") for w in WHEELS),
+        *(Slot(f"surface_{w}", "-", "index of the surface under the wheel") for w in WHEELS),
+    ),
+)
 
 P_MASS = PLANT_LAYOUT["mass_kg"]
 P_IZ = PLANT_LAYOUT["yaw_inertia_kg_m2"]
@@ -289,8 +323,16 @@ LAW_KP, LAW_KI, LAW_KD, LAW_U0 = range(4)
 N_LAW = 4
 
 # scratch rows of one evaluation (columns: the wheels): the physics' work rows, then ours
-W_SX, W_VR, W_CS, W_SN, W_FZ, W_FXW, W_FXB, W_FYB = WK_SX, WK_VR, WK_CS, WK_SN, WK_FZ, WK_FXW, \
-    WK_FXB, WK_FYB
+W_SX, W_VR, W_CS, W_SN, W_FZ, W_FXW, W_FXB, W_FYB = (
+    WK_SX,
+    WK_VR,
+    WK_CS,
+    WK_SN,
+    WK_FZ,
+    WK_FXW,
+    WK_FXB,
+    WK_FYB,
+)
 W_SLIP, W_VABS, W_E = N_WORK, N_WORK + 1, N_WORK + 2
 N_SCRATCH = N_WORK + 3
 
@@ -314,17 +356,64 @@ R_LOCK_T = R_SINT + 4
 R_AW = R_LOCK_T + 4
 R_PHASE = R_AW + 4
 R_WS = R_PHASE + 4
-(R_DIST, R_SPEED, R_IAE, R_ITAE, R_ISE, R_LOCKED, R_ALL_T, R_ALL_V, R_ALL_D, R_YAWPK1, R_PSI1,
- R_Y1, R_YAWPK, R_SPIN_T, R_STATUS, R_TEND, R_STEP, R_ENDED, R_DONE, R_AX, R_AY,
- R_ITER) = range(R_WS + 4, R_WS + 26)
+(
+    R_DIST,
+    R_SPEED,
+    R_IAE,
+    R_ITAE,
+    R_ISE,
+    R_LOCKED,
+    R_ALL_T,
+    R_ALL_V,
+    R_ALL_D,
+    R_YAWPK1,
+    R_PSI1,
+    R_Y1,
+    R_YAWPK,
+    R_SPIN_T,
+    R_STATUS,
+    R_TEND,
+    R_STEP,
+    R_ENDED,
+    R_DONE,
+    R_AX,
+    R_AY,
+    R_ITER,
+) = range(R_WS + 4, R_WS + 26)
 N_ROWS = R_WS + 26
 
 # the kernel's constants, one tuple (`_constants`): plant, geometry, solver and road
 (KC_MASS, KC_FZ0, KC_A, KC_GX, KC_GY) = (0, 1, 5, 9, 13)
-(KC_RW, KC_VMIN, KC_KQ, KC_NF, KC_GAIN, KC_QMAX, KC_KPSI, KC_KR, KC_DMAX, KC_INV_IZ, KC_INV_J,
- KC_INV_TAU, KC_INV_ST, KC_DRIVER, KC_SELECT_LOW, KC_KIND, KC_XJUMP, KC_SPLIT_ROAD, KC_YSPLIT,
- KC_VSTOP, KC_LOCK, KC_HOPELESS, KC_WINDOW, KC_DT, KC_HS, KC_H6, KC_NSTEPS,
- KC_TTIMEOUT) = range(17, 45)
+(
+    KC_RW,
+    KC_VMIN,
+    KC_KQ,
+    KC_NF,
+    KC_GAIN,
+    KC_QMAX,
+    KC_KPSI,
+    KC_KR,
+    KC_DMAX,
+    KC_INV_IZ,
+    KC_INV_J,
+    KC_INV_TAU,
+    KC_INV_ST,
+    KC_DRIVER,
+    KC_SELECT_LOW,
+    KC_KIND,
+    KC_XJUMP,
+    KC_SPLIT_ROAD,
+    KC_YSPLIT,
+    KC_VSTOP,
+    KC_LOCK,
+    KC_HOPELESS,
+    KC_WINDOW,
+    KC_DT,
+    KC_HS,
+    KC_H6,
+    KC_NSTEPS,
+    KC_TTIMEOUT,
+) = range(17, 45)
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -332,15 +421,53 @@ def _constants(p, geo):
     """The constants tuple (KC_* entries) of a plant vector and geometry."""
     dt = p[P_DT]
     n_steps = math.ceil(p[P_TMAX] / dt - 1e-9)
-    return (p[P_MASS], geo[G_FZ0, 0], geo[G_FZ0, 1], geo[G_FZ0, 2], geo[G_FZ0, 3],
-            geo[G_A, 0], geo[G_A, 1], geo[G_A, 2], geo[G_A, 3],
-            geo[G_X, 0], geo[G_X, 1], geo[G_X, 2], geo[G_X, 3],
-            geo[G_Y, 0], geo[G_Y, 1], geo[G_Y, 2], geo[G_Y, 3],
-            p[P_R], p[P_VMIN], p[P_KQ], p[P_NF], p[P_K], p[P_QMAX], p[P_KPSI], p[P_KR],
-            p[P_DMAX], 1.0 / p[P_IZ], 1.0 / p[P_J], 1.0 / p[P_TAU], 1.0 / p[P_STAU],
-            p[P_DRIVER], p[P_SELECT_LOW], p[P_ROAD], p[P_XJUMP], p[P_SPLIT_ROAD], p[P_YSPLIT],
-            p[P_VSTOP], p[P_LOCK], p[P_HOPELESS], p[P_WINDOW], dt, 0.5 * dt, dt / 6.0,
-            float(n_steps), n_steps * dt)
+    return (
+        p[P_MASS],
+        geo[G_FZ0, 0],
+        geo[G_FZ0, 1],
+        geo[G_FZ0, 2],
+        geo[G_FZ0, 3],
+        geo[G_A, 0],
+        geo[G_A, 1],
+        geo[G_A, 2],
+        geo[G_A, 3],
+        geo[G_X, 0],
+        geo[G_X, 1],
+        geo[G_X, 2],
+        geo[G_X, 3],
+        geo[G_Y, 0],
+        geo[G_Y, 1],
+        geo[G_Y, 2],
+        geo[G_Y, 3],
+        p[P_R],
+        p[P_VMIN],
+        p[P_KQ],
+        p[P_NF],
+        p[P_K],
+        p[P_QMAX],
+        p[P_KPSI],
+        p[P_KR],
+        p[P_DMAX],
+        1.0 / p[P_IZ],
+        1.0 / p[P_J],
+        1.0 / p[P_TAU],
+        1.0 / p[P_STAU],
+        p[P_DRIVER],
+        p[P_SELECT_LOW],
+        p[P_ROAD],
+        p[P_XJUMP],
+        p[P_SPLIT_ROAD],
+        p[P_YSPLIT],
+        p[P_VSTOP],
+        p[P_LOCK],
+        p[P_HOPELESS],
+        p[P_WINDOW],
+        dt,
+        0.5 * dt,
+        dt / 6.0,
+        float(n_steps),
+        n_steps * dt,
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -391,8 +518,7 @@ def _select_low(sc, select_low):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _wheel_rates(w, q, qr, z, xf, e, fxw, kp, ki, kd, u0, r_w, kq, inv_j, nf, gain, inv_tau,
-                 q_max):
+def _wheel_rates(w, q, qr, z, xf, e, fxw, kp, ki, kd, u0, r_w, kq, inv_j, nf, gain, inv_tau, q_max):
     """Rates (dw, dq, dqr, dz, dxf) of a wheel's spin, brake actuator and PID states (DESIGN
     3.1, 4): J dw/dt = -R Fx - kq q (held at w = 0), T dqr/dt = K u - qr, dq/dt = qr held in
     [0, q_max], u = u0 + kp e + ki z + kd N (e - xf) with conditional integration. Branch-free."""
@@ -400,9 +526,13 @@ def _wheel_rates(w, q, qr, z, xf, e, fxw, kp, ki, kd, u0, r_w, kq, inv_j, nf, ga
     q_hi = q >= q_max
     q_lo = q <= 0.0
     u, dz, dxf = pid_step(e, z, xf, u0, kp, ki, kd, nf, q_hi, q_lo)
-    return (select((w <= 0.0) & (dw < 0.0), 0.0, dw),
-            select((q_hi & (qr > 0.0)) | (q_lo & (qr < 0.0)), 0.0, qr),
-            (gain * u - qr) * inv_tau, dz, dxf)
+    return (
+        select((w <= 0.0) & (dw < 0.0), 0.0, dw),
+        select((q_hi & (qr > 0.0)) | (q_lo & (qr < 0.0)), 0.0, qr),
+        (gain * u - qr) * inv_tau,
+        dz,
+        dxf,
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -450,9 +580,25 @@ def _rhs(y, dy, i, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv):
     _select_low(sc, p[P_SELECT_LOW] != 0.0)
     for j in range(4):
         dw, dq, dqr, dz, dxf = _wheel_rates(
-            y[S_W + j], y[S_Q + j], y[S_QR + j], y[S_Z + j], y[S_XF + j], sc[W_E, j],
-            sc[W_FXW, j], law[LAW_KP, j, i], law[LAW_KI, j, i], law[LAW_KD, j, i],
-            law[LAW_U0, j, i], p[P_R], p[P_KQ], inv[1], p[P_NF], p[P_K], inv[2], p[P_QMAX])
+            y[S_W + j],
+            y[S_Q + j],
+            y[S_QR + j],
+            y[S_Z + j],
+            y[S_XF + j],
+            sc[W_E, j],
+            sc[W_FXW, j],
+            law[LAW_KP, j, i],
+            law[LAW_KI, j, i],
+            law[LAW_KD, j, i],
+            law[LAW_U0, j, i],
+            p[P_R],
+            p[P_KQ],
+            inv[1],
+            p[P_NF],
+            p[P_K],
+            inv[2],
+            p[P_QMAX],
+        )
         dy[S_W + j, i] = dw
         dy[S_Q + j, i] = dq
         dy[S_QR + j, i] = dqr
@@ -469,9 +615,13 @@ def _rhs(y, dy, i, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv):
 def _surface_of(b, srf):
     """(S_T, rise, fall0, fall1, target) of the surface a wheel is on (b: 1.0 the second)."""
     two = b != 0.0
-    return (select(two, srf[5], srf[0]), select(two, srf[6], srf[1]),
-            select(two, srf[7], srf[2]), select(two, srf[8], srf[3]),
-            select(two, srf[9], srf[4]))
+    return (
+        select(two, srf[5], srf[0]),
+        select(two, srf[6], srf[1]),
+        select(two, srf[7], srf[2]),
+        select(two, srf[8], srf[3]),
+        select(two, srf[9], srf[4]),
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -490,9 +640,26 @@ def _straight_wheel(vx, w, s, r_w, vmin):
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _lane_wheel_rates(wt, e, fx, g, kc):
     """`_wheel_rates` of wheel state wt = (w, q, qr, z, xf) with law g = (kp, ki, kd, u0)."""
-    return _wheel_rates(wt[0], wt[1], wt[2], wt[3], wt[4], e, fx, g[0], g[1], g[2], g[3],
-                        kc[KC_RW], kc[KC_KQ], kc[KC_INV_J], kc[KC_NF], kc[KC_GAIN],
-                        kc[KC_INV_TAU], kc[KC_QMAX])
+    return _wheel_rates(
+        wt[0],
+        wt[1],
+        wt[2],
+        wt[3],
+        wt[4],
+        e,
+        fx,
+        g[0],
+        g[1],
+        g[2],
+        g[3],
+        kc[KC_RW],
+        kc[KC_KQ],
+        kc[KC_INV_J],
+        kc[KC_NF],
+        kc[KC_GAIN],
+        kc[KC_INV_TAU],
+        kc[KC_QMAX],
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -528,8 +695,16 @@ def _straight_stage(b, w0, w1, w2, w3, g0, g1, g2, g3, s0, s1, s2, s3, kc):
     fz1 = kc[KC_FZ0 + 1] + kc[KC_A + 1] * ax
     fz2 = kc[KC_FZ0 + 2] + kc[KC_A + 2] * ax
     fz3 = kc[KC_FZ0 + 3] + kc[KC_A + 3] * ax
-    ok = ((vy == 0.0) & (r == 0.0) & (psi == 0.0) & (delta == 0.0) & (fz0 >= 0.0)
-          & (fz1 >= 0.0) & (fz2 >= 0.0) & (fz3 >= 0.0))
+    ok = (
+        (vy == 0.0)
+        & (r == 0.0)
+        & (psi == 0.0)
+        & (delta == 0.0)
+        & (fz0 >= 0.0)
+        & (fz1 >= 0.0)
+        & (fz2 >= 0.0)
+        & (fz3 >= 0.0)
+    )
     fx0 = c0 * fz0
     fx1 = c1 * fz1
     fx2 = c2 * fz2
@@ -547,8 +722,15 @@ def _straight_stage(b, w0, w1, w2, w3, g0, g1, g2, g3, s0, s1, s2, s3, kc):
     mz += kc[KC_GX + 3] * 0.0 - kc[KC_GY + 3] * fx3
     dmax = kc[KC_DMAX]
     cmd = clip(-kc[KC_KPSI] * psi - kc[KC_KR] * r, -dmax, dmax)
-    db = (ax + vy * r, 0.0 - vx * r, mz * kc[KC_INV_IZ], vx, vy, r,
-          select(kc[KC_DRIVER] != 0.0, (cmd - delta) * kc[KC_INV_ST], 0.0))
+    db = (
+        ax + vy * r,
+        0.0 - vx * r,
+        mz * kc[KC_INV_IZ],
+        vx,
+        vy,
+        r,
+        select(kc[KC_DRIVER] != 0.0, (cmd - delta) * kc[KC_INV_ST], 0.0),
+    )
     e0 = s0[4] - sl0
     e1 = s1[4] - sl1
     e2 = s2[4] - sl2
@@ -556,46 +738,66 @@ def _straight_stage(b, w0, w1, w2, w3, g0, g1, g2, g3, s0, s1, s2, s3, kc):
     sel = kc[KC_SELECT_LOW] != 0.0
     low = e3 < e2
     high = not low
-    return (db, _lane_wheel_rates(w0, e0, fx0, g0, kc), _lane_wheel_rates(w1, e1, fx1, g1, kc),
-            _lane_wheel_rates(w2, select(sel & low, e3, e2), fx2, g2, kc),
-            _lane_wheel_rates(w3, select(sel & high, e2, e3), fx3, g3, kc), ok)
+    return (
+        db,
+        _lane_wheel_rates(w0, e0, fx0, g0, kc),
+        _lane_wheel_rates(w1, e1, fx1, g1, kc),
+        _lane_wheel_rates(w2, select(sel & low, e3, e2), fx2, g2, kc),
+        _lane_wheel_rates(w3, select(sel & high, e2, e3), fx3, g3, kc),
+        ok,
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _pt7(b, c, k):
     """Stage point b + c k of the body state."""
-    return (rk4_point(b[0], c, k[0]), rk4_point(b[1], c, k[1]), rk4_point(b[2], c, k[2]),
-            rk4_point(b[3], c, k[3]), rk4_point(b[4], c, k[4]), rk4_point(b[5], c, k[5]),
-            rk4_point(b[6], c, k[6]))
+    return (
+        rk4_point(b[0], c, k[0]),
+        rk4_point(b[1], c, k[1]),
+        rk4_point(b[2], c, k[2]),
+        rk4_point(b[3], c, k[3]),
+        rk4_point(b[4], c, k[4]),
+        rk4_point(b[5], c, k[5]),
+        rk4_point(b[6], c, k[6]),
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _pt5(w, c, k):
     """Stage point w + c k of a wheel state."""
-    return (rk4_point(w[0], c, k[0]), rk4_point(w[1], c, k[1]), rk4_point(w[2], c, k[2]),
-            rk4_point(w[3], c, k[3]), rk4_point(w[4], c, k[4]))
+    return (
+        rk4_point(w[0], c, k[0]),
+        rk4_point(w[1], c, k[1]),
+        rk4_point(w[2], c, k[2]),
+        rk4_point(w[3], c, k[3]),
+        rk4_point(w[4], c, k[4]),
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _up7(b, h6, k1, k2, k3, k4):
     """RK4 update of the body state."""
-    return (rk4_update(b[0], h6, k1[0], k2[0], k3[0], k4[0]),
-            rk4_update(b[1], h6, k1[1], k2[1], k3[1], k4[1]),
-            rk4_update(b[2], h6, k1[2], k2[2], k3[2], k4[2]),
-            rk4_update(b[3], h6, k1[3], k2[3], k3[3], k4[3]),
-            rk4_update(b[4], h6, k1[4], k2[4], k3[4], k4[4]),
-            rk4_update(b[5], h6, k1[5], k2[5], k3[5], k4[5]),
-            rk4_update(b[6], h6, k1[6], k2[6], k3[6], k4[6]))
+    return (
+        rk4_update(b[0], h6, k1[0], k2[0], k3[0], k4[0]),
+        rk4_update(b[1], h6, k1[1], k2[1], k3[1], k4[1]),
+        rk4_update(b[2], h6, k1[2], k2[2], k3[2], k4[2]),
+        rk4_update(b[3], h6, k1[3], k2[3], k3[3], k4[3]),
+        rk4_update(b[4], h6, k1[4], k2[4], k3[4], k4[4]),
+        rk4_update(b[5], h6, k1[5], k2[5], k3[5], k4[5]),
+        rk4_update(b[6], h6, k1[6], k2[6], k3[6], k4[6]),
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _up5(w, h6, k1, k2, k3, k4, q_max):
     """RK4 update of a wheel state, w held >= 0 and q in [0, q_max]."""
-    return (fmax(rk4_update(w[0], h6, k1[0], k2[0], k3[0], k4[0]), 0.0),
-            clip(rk4_update(w[1], h6, k1[1], k2[1], k3[1], k4[1]), 0.0, q_max),
-            rk4_update(w[2], h6, k1[2], k2[2], k3[2], k4[2]),
-            rk4_update(w[3], h6, k1[3], k2[3], k3[3], k4[3]),
-            rk4_update(w[4], h6, k1[4], k2[4], k3[4], k4[4]))
+    return (
+        fmax(rk4_update(w[0], h6, k1[0], k2[0], k3[0], k4[0]), 0.0),
+        clip(rk4_update(w[1], h6, k1[1], k2[1], k3[1], k4[1]), 0.0, q_max),
+        rk4_update(w[2], h6, k1[2], k2[2], k3[2], k4[2]),
+        rk4_update(w[3], h6, k1[3], k2[3], k3[3], k4[3]),
+        rk4_update(w[4], h6, k1[4], k2[4], k3[4], k4[4]),
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -611,22 +813,36 @@ def _put(st, row, l, commit, value):
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _body(st, row0, l):
-    return (_get(st, row0 + S_VX, l), _get(st, row0 + S_VY, l), _get(st, row0 + S_YR, l),
-            _get(st, row0 + S_X, l), _get(st, row0 + S_Y, l), _get(st, row0 + S_PSI, l),
-            _get(st, row0 + S_DELTA, l))
+    return (
+        _get(st, row0 + S_VX, l),
+        _get(st, row0 + S_VY, l),
+        _get(st, row0 + S_YR, l),
+        _get(st, row0 + S_X, l),
+        _get(st, row0 + S_Y, l),
+        _get(st, row0 + S_PSI, l),
+        _get(st, row0 + S_DELTA, l),
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _wheel(st, row0, j, l):
-    return (_get(st, row0 + S_W + j, l), _get(st, row0 + S_Q + j, l),
-            _get(st, row0 + S_QR + j, l), _get(st, row0 + S_Z + j, l),
-            _get(st, row0 + S_XF + j, l))
+    return (
+        _get(st, row0 + S_W + j, l),
+        _get(st, row0 + S_Q + j, l),
+        _get(st, row0 + S_QR + j, l),
+        _get(st, row0 + S_Z + j, l),
+        _get(st, row0 + S_XF + j, l),
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _law(st, j, l):
-    return (_get(st, R_KP + j, l), _get(st, R_KI + j, l), _get(st, R_KD + j, l),
-            _get(st, R_U0 + j, l))
+    return (
+        _get(st, R_KP + j, l),
+        _get(st, R_KI + j, l),
+        _get(st, R_KD + j, l),
+        _get(st, R_U0 + j, l),
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -661,10 +877,16 @@ def _surface_flag(b_old, x, y, cp, sp, j, kc):
     mu-jump and split-mu roads (kept on uniform roads), heading psi given as (cos, sin)."""
     gx = x + kc[KC_GX + j] * cp - kc[KC_GY + j] * sp
     gy = y + kc[KC_GX + j] * sp + kc[KC_GY + j] * cp
-    split = select(kc[KC_SPLIT_ROAD] != 0.0, select(gy >= kc[KC_YSPLIT], 0.0, 1.0),
-                   select(kc[KC_GY + j] > 0.0, 0.0, 1.0))
-    return select(kc[KC_KIND] == ROAD_MU_JUMP, select(gx >= kc[KC_XJUMP], 1.0, 0.0),
-                  select(kc[KC_KIND] == ROAD_SPLIT, split, b_old))
+    split = select(
+        kc[KC_SPLIT_ROAD] != 0.0,
+        select(gy >= kc[KC_YSPLIT], 0.0, 1.0),
+        select(kc[KC_GY + j] > 0.0, 0.0, 1.0),
+    )
+    return select(
+        kc[KC_KIND] == ROAD_MU_JUMP,
+        select(gx >= kc[KC_XJUMP], 1.0, 0.0),
+        select(kc[KC_KIND] == ROAD_SPLIT, split, b_old),
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -680,13 +902,19 @@ def _wheel_end(st, l, commit, j, s_new, vabs, w, acc, frac, h, t, moving, kc, sr
     locked = moving & (w * kc[KC_RW] < kc[KC_LOCK] * vabs)
     lock_t = _get(st, R_LOCK_T + j, l)
     _put(st, R_LOCK_T + j, l, commit, select(locked & (lock_t != lock_t), t + kc[KC_DT], lock_t))
-    return (acc[0] + d_iae, acc[1] + d_itae, acc[2] + d_ise,
-            acc[3] + select(locked, kc[KC_DT], 0.0), acc[4] & (w == 0.0))
+    return (
+        acc[0] + d_iae,
+        acc[1] + d_itae,
+        acc[2] + d_ise,
+        acc[3] + select(locked, kc[KC_DT], 0.0),
+        acc[4] & (w == 0.0),
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _end_step(st, l, commit, b, w0, w1, w2, w3, slips, vabs, cp, sp, k4b, k4w0, k4w1, k4w2,
-              k4w3, kc, srf):
+def _end_step(
+    st, l, commit, b, w0, w1, w2, w3, slips, vabs, cp, sp, k4b, k4w0, k4w1, k4w2, k4w3, kc, srf
+):
     """Commit the step to state (b, wj) and k4 of lane l where `commit`: distance, integrals,
     locking, surfaces, yaw metrics, status. Returns whether the run ended."""
     dt = kc[KC_DT]
@@ -702,8 +930,7 @@ def _end_step(st, l, commit, b, w0, w1, w2, w3, slips, vabs, cp, sp, k4b, k4w0, 
     h = frac * dt
     dist = _get(st, R_DIST, l) + trapezoid(sp_old, select(stop, v_stop, sp_new), h)
     moving = sp_new > v_stop
-    acc = (_get(st, R_IAE, l), _get(st, R_ITAE, l), _get(st, R_ISE, l), _get(st, R_LOCKED, l),
-           True)
+    acc = (_get(st, R_IAE, l), _get(st, R_ITAE, l), _get(st, R_ISE, l), _get(st, R_LOCKED, l), True)
     acc = _wheel_end(st, l, commit, 0, slips[0], vabs[0], w0[0], acc, frac, h, t, moving, kc, srf)
     acc = _wheel_end(st, l, commit, 1, slips[1], vabs[1], w1[0], acc, frac, h, t, moving, kc, srf)
     acc = _wheel_end(st, l, commit, 2, slips[2], vabs[2], w2[0], acc, frac, h, t, moving, kc, srf)
@@ -714,20 +941,23 @@ def _end_step(st, l, commit, b, w0, w1, w2, w3, slips, vabs, cp, sp, k4b, k4w0, 
     _put(st, R_ALL_T, l, commit, select(first, t + dt, all_t))
     _put(st, R_ALL_V, l, commit, select(first, sp_new, _get(st, R_ALL_V, l)))
     _put(st, R_ALL_D, l, commit, select(first, dist, _get(st, R_ALL_D, l)))
-    _put(st, R_SURF + 0, l, commit,
-         _surface_flag(_get(st, R_SURF + 0, l), b[3], b[4], cp, sp, 0, kc))
-    _put(st, R_SURF + 1, l, commit,
-         _surface_flag(_get(st, R_SURF + 1, l), b[3], b[4], cp, sp, 1, kc))
-    _put(st, R_SURF + 2, l, commit,
-         _surface_flag(_get(st, R_SURF + 2, l), b[3], b[4], cp, sp, 2, kc))
-    _put(st, R_SURF + 3, l, commit,
-         _surface_flag(_get(st, R_SURF + 3, l), b[3], b[4], cp, sp, 3, kc))
+    _put(
+        st, R_SURF + 0, l, commit, _surface_flag(_get(st, R_SURF + 0, l), b[3], b[4], cp, sp, 0, kc)
+    )
+    _put(
+        st, R_SURF + 1, l, commit, _surface_flag(_get(st, R_SURF + 1, l), b[3], b[4], cp, sp, 1, kc)
+    )
+    _put(
+        st, R_SURF + 2, l, commit, _surface_flag(_get(st, R_SURF + 2, l), b[3], b[4], cp, sp, 2, kc)
+    )
+    _put(
+        st, R_SURF + 3, l, commit, _surface_flag(_get(st, R_SURF + 3, l), b[3], b[4], cp, sp, 3, kc)
+    )
     r_now = b[2]
     psi_now = b[5]
     in_window = t + 0.5 * dt < kc[KC_WINDOW]
     yaw_pk1 = _get(st, R_YAWPK1, l)
-    _put(st, R_YAWPK1, l, commit, select(in_window & (abs(r_now) > abs(yaw_pk1)), r_now,
-                                         yaw_pk1))
+    _put(st, R_YAWPK1, l, commit, select(in_window & (abs(r_now) > abs(yaw_pk1)), r_now, yaw_pk1))
     window_end = in_window & (t + 1.5 * dt >= kc[KC_WINDOW])
     _put(st, R_PSI1, l, commit, select(window_end, psi_now, _get(st, R_PSI1, l)))
     _put(st, R_Y1, l, commit, select(window_end, b[4], _get(st, R_Y1, l)))
@@ -735,16 +965,29 @@ def _end_step(st, l, commit, b, w0, w1, w2, w3, slips, vabs, cp, sp, k4b, k4w0, 
     no_spin = spin_t != spin_t
     yaw_pk = _get(st, R_YAWPK, l)
     _put(st, R_YAWPK, l, commit, select(no_spin & (abs(r_now) > abs(yaw_pk)), r_now, yaw_pk))
-    _put(st, R_SPIN_T, l, commit, select(no_spin & (abs(psi_now) >= 0.5 * math.pi), t + dt,
-                                         spin_t))
+    _put(st, R_SPIN_T, l, commit, select(no_spin & (abs(psi_now) >= 0.5 * math.pi), t + dt, spin_t))
     check = sp_new + r_now + psi_now + itae + w0[1] + w0[3] + w0[0]
     diverged = check - check != 0.0
     hopeless = dist > kc[KC_HOPELESS]
     timeout = k + 1.0 >= kc[KC_NSTEPS]
-    _put(st, R_STATUS, l, commit, select(diverged, STATUS_DIVERGED, select(
-        stop, STATUS_STOPPED, select(hopeless, STATUS_HOPELESS, STATUS_TIMEOUT))))
-    _put(st, R_TEND, l, commit, select(diverged, t, select(
-        stop, t + h, select(hopeless, t + dt, kc[KC_TTIMEOUT]))))
+    _put(
+        st,
+        R_STATUS,
+        l,
+        commit,
+        select(
+            diverged,
+            STATUS_DIVERGED,
+            select(stop, STATUS_STOPPED, select(hopeless, STATUS_HOPELESS, STATUS_TIMEOUT)),
+        ),
+    )
+    _put(
+        st,
+        R_TEND,
+        l,
+        commit,
+        select(diverged, t, select(stop, t + h, select(hopeless, t + dt, kc[KC_TTIMEOUT]))),
+    )
     ended = diverged | stop | hopeless | timeout
     _put(st, R_ENDED, l, commit, select(ended, 1.0, 0.0))
     _put(st, R_SPEED, l, commit, sp_new)
@@ -793,17 +1036,69 @@ def _lane_step(st, l, kc, srf, live):
     kw2 = _wheel(st, R_K4, 2, l)
     kw3 = _wheel(st, R_K4, 3, l)
     ab, a0, a1, a2, a3, ok1 = _straight_stage(
-        _pt7(x, 0.0, kb), _pt5(x0, 0.0, kw0), _pt5(x1, 0.0, kw1), _pt5(x2, 0.0, kw2),
-        _pt5(x3, 0.0, kw3), g0, g1, g2, g3, s0, s1, s2, s3, kc)
+        _pt7(x, 0.0, kb),
+        _pt5(x0, 0.0, kw0),
+        _pt5(x1, 0.0, kw1),
+        _pt5(x2, 0.0, kw2),
+        _pt5(x3, 0.0, kw3),
+        g0,
+        g1,
+        g2,
+        g3,
+        s0,
+        s1,
+        s2,
+        s3,
+        kc,
+    )
     bb, b0, b1, b2, b3, ok2 = _straight_stage(
-        _pt7(x, hs, ab), _pt5(x0, hs, a0), _pt5(x1, hs, a1), _pt5(x2, hs, a2), _pt5(x3, hs, a3),
-        g0, g1, g2, g3, s0, s1, s2, s3, kc)
+        _pt7(x, hs, ab),
+        _pt5(x0, hs, a0),
+        _pt5(x1, hs, a1),
+        _pt5(x2, hs, a2),
+        _pt5(x3, hs, a3),
+        g0,
+        g1,
+        g2,
+        g3,
+        s0,
+        s1,
+        s2,
+        s3,
+        kc,
+    )
     cb, c0, c1, c2, c3, ok3 = _straight_stage(
-        _pt7(x, hs, bb), _pt5(x0, hs, b0), _pt5(x1, hs, b1), _pt5(x2, hs, b2), _pt5(x3, hs, b3),
-        g0, g1, g2, g3, s0, s1, s2, s3, kc)
+        _pt7(x, hs, bb),
+        _pt5(x0, hs, b0),
+        _pt5(x1, hs, b1),
+        _pt5(x2, hs, b2),
+        _pt5(x3, hs, b3),
+        g0,
+        g1,
+        g2,
+        g3,
+        s0,
+        s1,
+        s2,
+        s3,
+        kc,
+    )
     db, d0, d1, d2, d3, ok4 = _straight_stage(
-        _pt7(x, dt, cb), _pt5(x0, dt, c0), _pt5(x1, dt, c1), _pt5(x2, dt, c2), _pt5(x3, dt, c3),
-        g0, g1, g2, g3, s0, s1, s2, s3, kc)
+        _pt7(x, dt, cb),
+        _pt5(x0, dt, c0),
+        _pt5(x1, dt, c1),
+        _pt5(x2, dt, c2),
+        _pt5(x3, dt, c3),
+        g0,
+        g1,
+        g2,
+        g3,
+        s0,
+        s1,
+        s2,
+        s3,
+        kc,
+    )
     h6 = kc[KC_H6]
     q_max = kc[KC_QMAX]
     nb = _up7(x, h6, ab, bb, cb, db)
@@ -811,8 +1106,9 @@ def _lane_step(st, l, kc, srf, live):
     n1 = _up5(x1, h6, a1, b1, c1, d1, q_max)
     n2 = _up5(x2, h6, a2, b2, c2, d2, q_max)
     n3 = _up5(x3, h6, a3, b3, c3, d3, q_max)
-    commit = (ok1 & ok2 & ok3 & ok4 & (nb[1] == 0.0) & (nb[2] == 0.0) & (nb[5] == 0.0)
-              & (nb[6] == 0.0))
+    commit = (
+        ok1 & ok2 & ok3 & ok4 & (nb[1] == 0.0) & (nb[2] == 0.0) & (nb[5] == 0.0) & (nb[6] == 0.0)
+    )
     # the step end's kinematics with delta = 0 (`_kinematics`, unsteered)
     vx = nb[0]
     vy = nb[1]
@@ -820,14 +1116,36 @@ def _lane_step(st, l, kc, srf, live):
     r_w = kc[KC_RW]
     vmin = kc[KC_VMIN]
     _, _, va0, sl0 = _wheel_kinematics(vx - r * kc[KC_GY], vy + r * kc[KC_GX], n0[0], r_w, vmin)
-    _, _, va1, sl1 = _wheel_kinematics(vx - r * kc[KC_GY + 1], vy + r * kc[KC_GX + 1], n1[0],
-                                       r_w, vmin)
-    _, _, va2, sl2 = _wheel_kinematics(vx - r * kc[KC_GY + 2], vy + r * kc[KC_GX + 2], n2[0],
-                                       r_w, vmin)
-    _, _, va3, sl3 = _wheel_kinematics(vx - r * kc[KC_GY + 3], vy + r * kc[KC_GX + 3], n3[0],
-                                       r_w, vmin)
-    ended = _end_step(st, l, commit, nb, n0, n1, n2, n3, (sl0, sl1, sl2, sl3),
-                      (va0, va1, va2, va3), 1.0, 0.0, db, d0, d1, d2, d3, kc, srf)
+    _, _, va1, sl1 = _wheel_kinematics(
+        vx - r * kc[KC_GY + 1], vy + r * kc[KC_GX + 1], n1[0], r_w, vmin
+    )
+    _, _, va2, sl2 = _wheel_kinematics(
+        vx - r * kc[KC_GY + 2], vy + r * kc[KC_GX + 2], n2[0], r_w, vmin
+    )
+    _, _, va3, sl3 = _wheel_kinematics(
+        vx - r * kc[KC_GY + 3], vy + r * kc[KC_GX + 3], n3[0], r_w, vmin
+    )
+    ended = _end_step(
+        st,
+        l,
+        commit,
+        nb,
+        n0,
+        n1,
+        n2,
+        n3,
+        (sl0, sl1, sl2, sl3),
+        (va0, va1, va2, va3),
+        1.0,
+        0.0,
+        db,
+        d0,
+        d1,
+        d2,
+        d3,
+        kc,
+        srf,
+    )
     st[R_DONE * LANES + l] = select(commit, 1.0, 0.0)
     return ended & commit & (l < live)
 
@@ -861,19 +1179,32 @@ def _lane_arrays(st, l, law, sidx, guess):
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _tup7(y, row0):
-    return (y[row0 + S_VX], y[row0 + S_VY], y[row0 + S_YR], y[row0 + S_X], y[row0 + S_Y],
-            y[row0 + S_PSI], y[row0 + S_DELTA])
+    return (
+        y[row0 + S_VX],
+        y[row0 + S_VY],
+        y[row0 + S_YR],
+        y[row0 + S_X],
+        y[row0 + S_Y],
+        y[row0 + S_PSI],
+        y[row0 + S_DELTA],
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _tup5(y, row0, j):
-    return (y[row0 + S_W + j], y[row0 + S_Q + j], y[row0 + S_QR + j], y[row0 + S_Z + j],
-            y[row0 + S_XF + j])
+    return (
+        y[row0 + S_W + j],
+        y[row0 + S_Q + j],
+        y[row0 + S_QR + j],
+        y[row0 + S_Z + j],
+        y[row0 + S_XF + j],
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
-def _general_step(st, l, kc, srf, p, geo, surfs, x, ks, y, dy, law, sidx, guess, sc, wbuf, tgt,
-                  inv):
+def _general_step(
+    st, l, kc, srf, p, geo, surfs, x, ks, y, dy, law, sidx, guess, sc, wbuf, tgt, inv
+):
     """The step of lane l stage by stage: each stage in the straight-line case where it holds,
     else the general right-hand side `_rhs` (loads by Newton's method from the lane's last
     general solution). Returns whether the run ended."""
@@ -896,8 +1227,21 @@ def _general_step(st, l, kc, srf, p, geo, surfs, x, ks, y, dy, law, sidx, guess,
         for s in range(N_STATE):
             y[s] = rk4_point(x[s], c, ks[prev, s])
         kb, k0, k1, k2, k3, ok = _straight_stage(
-            _tup7(y, 0), _tup5(y, 0, 0), _tup5(y, 0, 1), _tup5(y, 0, 2), _tup5(y, 0, 3),
-            g0, g1, g2, g3, s0, s1, s2, s3, kc)
+            _tup7(y, 0),
+            _tup5(y, 0, 0),
+            _tup5(y, 0, 1),
+            _tup5(y, 0, 2),
+            _tup5(y, 0, 3),
+            g0,
+            g1,
+            g2,
+            g3,
+            s0,
+            s1,
+            s2,
+            s3,
+            kc,
+        )
         if ok:
             for s in range(7):
                 ks[stage, s] = kb[s]
@@ -923,12 +1267,27 @@ def _general_step(st, l, kc, srf, p, geo, surfs, x, ks, y, dy, law, sidx, guess,
     psi = y[S_PSI]
     cp = math.cos(psi) if psi != 0.0 else 1.0
     sp = math.sin(psi) if psi != 0.0 else 0.0
-    ended = _end_step(st, l, True, _tup7(y, 0), _tup5(y, 0, 0), _tup5(y, 0, 1), _tup5(y, 0, 2),
-                      _tup5(y, 0, 3), (sc[W_SLIP, 0], sc[W_SLIP, 1], sc[W_SLIP, 2],
-                                       sc[W_SLIP, 3]),
-                      (sc[W_VABS, 0], sc[W_VABS, 1], sc[W_VABS, 2], sc[W_VABS, 3]), cp, sp,
-                      _tup7(ks[3], 0), _tup5(ks[3], 0, 0), _tup5(ks[3], 0, 1),
-                      _tup5(ks[3], 0, 2), _tup5(ks[3], 0, 3), kc, srf)
+    ended = _end_step(
+        st,
+        l,
+        True,
+        _tup7(y, 0),
+        _tup5(y, 0, 0),
+        _tup5(y, 0, 1),
+        _tup5(y, 0, 2),
+        _tup5(y, 0, 3),
+        (sc[W_SLIP, 0], sc[W_SLIP, 1], sc[W_SLIP, 2], sc[W_SLIP, 3]),
+        (sc[W_VABS, 0], sc[W_VABS, 1], sc[W_VABS, 2], sc[W_VABS, 3]),
+        cp,
+        sp,
+        _tup7(ks[3], 0),
+        _tup5(ks[3], 0, 0),
+        _tup5(ks[3], 0, 1),
+        _tup5(ks[3], 0, 2),
+        _tup5(ks[3], 0, 3),
+        kc,
+        srf,
+    )
     st[R_AX * LANES + l] = guess[0, 0]
     st[R_AY * LANES + l] = guess[1, 0]
     st[R_ITER * LANES + l] = iters
@@ -952,19 +1311,37 @@ def _tick_wheel(st, l, i, k, j, src, e, gains, col0, ctrl_kind, c, table, kc, sr
         ec = kc[KC_NF] * (e - _get(st, S_XF + j, l))
         g0 = col0[j]
         kp_s, ki_s, kd_s = fuzzy_pid_gains(
-            table, e, ec, gains[i, g0], gains[i, g0 + 1], gains[i, g0 + 2], gains[i, g0 + 3],
-            gains[i, g0 + 4], gains[i, g0 + 5], gains[i, g0 + 6], gains[i, g0 + 7])
+            table,
+            e,
+            ec,
+            gains[i, g0],
+            gains[i, g0 + 1],
+            gains[i, g0 + 2],
+            gains[i, g0 + 3],
+            gains[i, g0 + 4],
+            gains[i, g0 + 5],
+            gains[i, g0 + 6],
+            gains[i, g0 + 7],
+        )
         st[(R_KP + j) * LANES + l] = kp_s
         st[(R_KI + j) * LANES + l] = ki_s
         st[(R_KD + j) * LANES + l] = kd_s
     elif ctrl_kind == C_THRESHOLD:
         if k > 0:
             st[(R_AW + j) * LANES + l] = wheel_deceleration_sample(
-                _get(st, S_W + src, l), _get(st, R_WS + src, l), kc[KC_RW], ts)
+                _get(st, S_W + src, l), _get(st, R_WS + src, l), kc[KC_RW], ts
+            )
         u0_s, ph = threshold_step(
-            int(_get(st, R_PHASE + j, l)), _get(st, R_SLIP + src, l), _target(st, src, l, srf),
-            _get(st, R_AW + j, l), c[Q_AMPLITUDE], c[Q_DECEL], c[Q_ACCEL], c[Q_SLIP_MARGIN],
-            c[Q_SLOW])
+            int(_get(st, R_PHASE + j, l)),
+            _get(st, R_SLIP + src, l),
+            _target(st, src, l, srf),
+            _get(st, R_AW + j, l),
+            c[Q_AMPLITUDE],
+            c[Q_DECEL],
+            c[Q_ACCEL],
+            c[Q_SLIP_MARGIN],
+            c[Q_SLOW],
+        )
         st[(R_U0 + j) * LANES + l] = u0_s
         st[(R_PHASE + j) * LANES + l] = ph
 
@@ -982,10 +1359,12 @@ def _tick(st, l, i, k, gains, col0, ctrl_kind, c, table, kc, srf, ts):
     rear = 3 if (sel and err3 < err2) else 2  # select-low: the rear wheel whose error it took
     _tick_wheel(st, l, i, k, 0, 0, e0, gains, col0, ctrl_kind, c, table, kc, srf, ts)
     _tick_wheel(st, l, i, k, 1, 1, e1, gains, col0, ctrl_kind, c, table, kc, srf, ts)
-    _tick_wheel(st, l, i, k, 2, rear if sel else 2, e2, gains, col0, ctrl_kind, c, table, kc,
-                srf, ts)
-    _tick_wheel(st, l, i, k, 3, rear if sel else 3, e3, gains, col0, ctrl_kind, c, table, kc,
-                srf, ts)
+    _tick_wheel(
+        st, l, i, k, 2, rear if sel else 2, e2, gains, col0, ctrl_kind, c, table, kc, srf, ts
+    )
+    _tick_wheel(
+        st, l, i, k, 3, rear if sel else 3, e3, gains, col0, ctrl_kind, c, table, kc, srf, ts
+    )
     for j in range(4):
         st[(R_WS + j) * LANES + l] = _get(st, S_W + j, l)
 
@@ -1010,8 +1389,13 @@ def _fill_lane(st, l, i, gains, col0, ctrl_kind, c, kc, srf, v0):
             st[(R_U0 + j) * LANES + l] = no_abs_command(c[Q_AMPLITUDE])
         st[(R_SURF + j) * LANES + l] = _surface_flag(0.0, 0.0, 0.0, 1.0, 0.0, j, kc)
     # e(0): the wheels roll freely
-    e = _channel_errors(_target(st, 0, l, srf), _target(st, 1, l, srf), _target(st, 2, l, srf),
-                        _target(st, 3, l, srf), kc[KC_SELECT_LOW] != 0.0)
+    e = _channel_errors(
+        _target(st, 0, l, srf),
+        _target(st, 1, l, srf),
+        _target(st, 2, l, srf),
+        _target(st, 3, l, srf),
+        kc[KC_SELECT_LOW] != 0.0,
+    )
     for j in range(4):
         st[(S_XF + j) * LANES + l] = e[j]
     st[R_SPEED * LANES + l] = v0
@@ -1067,9 +1451,18 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
     """
     n = gains.shape[0]
     kc = _constants(p, geo)
-    srf = (surfs[0, SF_ST], surfs[0, SF_RISE], surfs[0, SF_FALL0], surfs[0, SF_FALL1],
-           surfs[0, SF_TARGET], surfs[1, SF_ST], surfs[1, SF_RISE], surfs[1, SF_FALL0],
-           surfs[1, SF_FALL1], surfs[1, SF_TARGET])
+    srf = (
+        surfs[0, SF_ST],
+        surfs[0, SF_RISE],
+        surfs[0, SF_FALL0],
+        surfs[0, SF_FALL1],
+        surfs[0, SF_TARGET],
+        surfs[1, SF_ST],
+        surfs[1, SF_RISE],
+        surfs[1, SF_FALL0],
+        surfs[1, SF_FALL1],
+        surfs[1, SF_TARGET],
+    )
     dt = kc[KC_DT]
     n_g = gains.shape[1] // 2 if p[P_AXLE] != 0.0 else gains.shape[1]
     col0 = np.zeros(4, dtype=np.int64)  # first gain column of each wheel
@@ -1099,8 +1492,7 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
     n_trace = trace.shape[0]
     rows = 0
     if n_trace > 0 and n > 0:
-        _trace_row(trace, 0, 0.0, st, 0, p, geo, surfs, law, sidx, guess, sc, y, dy, wbuf, tgt,
-                   inv)
+        _trace_row(trace, 0, 0.0, st, 0, p, geo, surfs, law, sidx, guess, sc, y, dy, wbuf, tgt, inv)
         rows = 1
     while live > 0:
         if ctrl_kind in (C_FUZZY_PID, C_THRESHOLD):  # sampled laws: at each lane's instants
@@ -1112,12 +1504,47 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
         ended = _lane_steps(st, width, kc, srf, live)
         for l in range(live):
             if _get(st, R_DONE, l) == 0.0:
-                ended |= _general_step(st, l, kc, srf, p, geo, surfs, x, ks, y, dy, law, sidx,
-                                       guess, sc, wbuf, tgt, inv)
+                ended |= _general_step(
+                    st,
+                    l,
+                    kc,
+                    srf,
+                    p,
+                    geo,
+                    surfs,
+                    x,
+                    ks,
+                    y,
+                    dy,
+                    law,
+                    sidx,
+                    guess,
+                    sc,
+                    wbuf,
+                    tgt,
+                    inv,
+                )
         if n_trace > 0 and rows < n_trace:  # one candidate, in lane 0
             t = (_get(st, R_STEP, 0) - 1.0) * dt
-            _trace_row(trace, rows, min(t + dt, _get(st, R_TEND, 0)), st, 0, p, geo, surfs, law,
-                       sidx, guess, sc, y, dy, wbuf, tgt, inv)
+            _trace_row(
+                trace,
+                rows,
+                min(t + dt, _get(st, R_TEND, 0)),
+                st,
+                0,
+                p,
+                geo,
+                surfs,
+                law,
+                sidx,
+                guess,
+                sc,
+                y,
+                dy,
+                wbuf,
+                tgt,
+                inv,
+            )
             if _get(st, R_STATUS, 0) == STATUS_STOPPED:
                 trace[rows, T_SPEED] = max(trace[rows, T_SPEED], kc[KC_VSTOP])
             rows += 1

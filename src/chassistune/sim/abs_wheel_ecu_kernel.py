@@ -66,23 +66,102 @@ from chassistune.sim.integrate import (
     trapezoid,
 )
 
-(X_LAW, X_M, X_DELAY, X_TOOTHED, X_TEETH, X_TIMER, X_BOUND, X_VREF, X_AMAX, X_BIAS, X_AGREE,
- X_PFREE, X_AGREE_A, X_ANCHOR, X_VALVES, X_KB, X_KD, X_DEAD, X_MINON, X_CUTOUT, X_SCHED, X_FLOOR,
- X_AMP) = (EL.ECU[n] for n in EL.ECU.names)
+(
+    X_LAW,
+    X_M,
+    X_DELAY,
+    X_TOOTHED,
+    X_TEETH,
+    X_TIMER,
+    X_BOUND,
+    X_VREF,
+    X_AMAX,
+    X_BIAS,
+    X_AGREE,
+    X_PFREE,
+    X_AGREE_A,
+    X_ANCHOR,
+    X_VALVES,
+    X_KB,
+    X_KD,
+    X_DEAD,
+    X_MINON,
+    X_CUTOUT,
+    X_SCHED,
+    X_FLOOR,
+    X_AMP,
+) = (EL.ECU[n] for n in EL.ECU.names)
 
 LAW_NONE, LAW_PID, LAW_FUZZY_PID, LAW_IMMUNE, LAW_THRESHOLD, LAW_BANGBANG = (
-    EL.LAW_KINDS.index(n) for n in EL.LAW_KINDS)
+    EL.LAW_KINDS.index(n) for n in EL.LAW_KINDS
+)
 
-(M_STATUS, M_TIME, M_DIST, M_LOCK_T, M_IAE, M_ITAE, M_ISE, M_MEAN_SLIP, M_PEAK_SLIP, M_LOCKED_S,
- M_CLIP, M_NTRACE, M_MIN_SLIP, M_ECU_IAE, M_CUT_T, M_SWITCHES, M_MIN_INTERVAL, M_GAP, M_QMIN,
- M_QMAX, M_LOW_ERR) = (EL.METRICS[n] for n in (
-    "status", "stop_time_s", "stop_distance_m", "wheel_lock_time_s", "slip_iae", "slip_itae",
-    "slip_ise", "mean_slip", "peak_slip", "locked_time_s", "slip_clip_max", "trace_rows",
-    "min_slip_unclipped", "ecu_slip_iae", "cutout_time_s", "valve_switches",
-    "valve_min_interval_s", "vref_gap_max_m_s", "pressure_min", "pressure_max",
-    "low_speed_slip_error"))
-(T_TIME, T_V, T_WHEEL_V, T_SLIP, T_TARGET, T_Q, T_TB, T_U, T_X, T_MU, T_VREF, T_WEST, T_ECU_SLIP,
- T_VALVE, T_EDGE_PREV, T_EDGE_LAST) = (EL.TRACE[n] for n in EL.TRACE.names)
+(
+    M_STATUS,
+    M_TIME,
+    M_DIST,
+    M_LOCK_T,
+    M_IAE,
+    M_ITAE,
+    M_ISE,
+    M_MEAN_SLIP,
+    M_PEAK_SLIP,
+    M_LOCKED_S,
+    M_CLIP,
+    M_NTRACE,
+    M_MIN_SLIP,
+    M_ECU_IAE,
+    M_CUT_T,
+    M_SWITCHES,
+    M_MIN_INTERVAL,
+    M_GAP,
+    M_QMIN,
+    M_QMAX,
+    M_LOW_ERR,
+) = (
+    EL.METRICS[n]
+    for n in (
+        "status",
+        "stop_time_s",
+        "stop_distance_m",
+        "wheel_lock_time_s",
+        "slip_iae",
+        "slip_itae",
+        "slip_ise",
+        "mean_slip",
+        "peak_slip",
+        "locked_time_s",
+        "slip_clip_max",
+        "trace_rows",
+        "min_slip_unclipped",
+        "ecu_slip_iae",
+        "cutout_time_s",
+        "valve_switches",
+        "valve_min_interval_s",
+        "vref_gap_max_m_s",
+        "pressure_min",
+        "pressure_max",
+        "low_speed_slip_error",
+    )
+)
+(
+    T_TIME,
+    T_V,
+    T_WHEEL_V,
+    T_SLIP,
+    T_TARGET,
+    T_Q,
+    T_TB,
+    T_U,
+    T_X,
+    T_MU,
+    T_VREF,
+    T_WEST,
+    T_ECU_SLIP,
+    T_VALVE,
+    T_EDGE_PREV,
+    T_EDGE_LAST,
+) = (EL.TRACE[n] for n in EL.TRACE.names)
 
 LOW_SPEED_BAND_M_S = (1.0, 9.0)
 """Speed band of `low_speed_slip_error` (issue 15: fixed gains fail below about 9 m/s)."""
@@ -91,12 +170,12 @@ _jit = njit(cache=True, nogil=True, error_model="numpy")
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _rates(law, v, w, q, r, u, r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max, c0, c1, c2, c3,
-           xc, xs, ys):
+def _rates(
+    law, v, w, q, r, u, r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max, c0, c1, c2, c3, xc, xs, ys
+):
     """Derivatives of (v, w, q, r) of the wheel under the held command u."""
     fx = tire_law_mu(law, wheel_slip(v, w, r_w), c0, c1, c2, c3, xc, xs, ys) * fz
-    dv, dw, dq, dr, _, _ = wheel_rates(w, q, r, fx, u, r_w, inv_m, inv_i, kq, gain, inv_tau,
-                                       q_max)
+    dv, dw, dq, dr, _, _ = wheel_rates(w, q, r, fx, u, r_w, inv_m, inv_i, kq, gain, inv_tau, q_max)
     return dv, dw, dq, dr
 
 
@@ -133,17 +212,20 @@ def _retire_pulse(mode, start, on, ts, t_lim, cur, last_t, n_sw, min_iv):
     """Account the state changes of a pulse (mode for `on` seconds from `start`, then hold) that
     happen up to t_lim."""
     if start <= t_lim:
-        cur, last_t, n_sw, min_iv = _valve_change(mode if on > 0.0 else E.VALVE_HOLD, start, cur,
-                                                  last_t, n_sw, min_iv)
+        cur, last_t, n_sw, min_iv = _valve_change(
+            mode if on > 0.0 else E.VALVE_HOLD, start, cur, last_t, n_sw, min_iv
+        )
     if start + on <= t_lim:
-        cur, last_t, n_sw, min_iv = _valve_change(E.VALVE_HOLD if on < ts else mode, start + on,
-                                                  cur, last_t, n_sw, min_iv)
+        cur, last_t, n_sw, min_iv = _valve_change(
+            E.VALVE_HOLD if on < ts else mode, start + on, cur, last_t, n_sw, min_iv
+        )
     return cur, last_t, n_sw, min_iv
 
 
 @_jit
-def _run(tire, lp, p, x, c0, c1, c2, c3, xc, xs, ys, table, grid, spacing, jitter, acc_noise,
-         trace, out):
+def _run(
+    tire, lp, p, x, c0, c1, c2, c3, xc, xs, ys, table, grid, spacing, jitter, acc_noise, trace, out
+):
     """One stop of one candidate (law parameters `lp`, plant row `p`, ECU vector `x`)."""
     kind = int(x[X_LAW])
     m = int(x[X_M])
@@ -211,11 +293,24 @@ def _run(tire, lp, p, x, c0, c1, c2, c3, xc, xs, ys, table, grid, spacing, jitte
             elif vref_mode == 1:
                 vref = E.vref_slew(vref, vw, x[X_AMAX], ts)
             elif tick > 0:
-                a_true = -tire_law_mu(tire, wheel_slip(v, w, r_w), c0, c1, c2, c3, xc, xs,
-                                      ys) * fz * inv_m
+                a_true = (
+                    -tire_law_mu(tire, wheel_slip(v, w, r_w), c0, c1, c2, c3, xc, xs, ys)
+                    * fz
+                    * inv_m
+                )
                 a_meas = E.accelerometer(a_true, x[X_BIAS], acc_noise[tick % acc_noise.shape[0]])
-                vref, held = E.vref_accel(vref, vw, a_wheel, a_meas, ts, x[X_AGREE],
-                                          x[X_AGREE_A], q <= x[X_PFREE], held, x[X_ANCHOR])
+                vref, held = E.vref_accel(
+                    vref,
+                    vw,
+                    a_wheel,
+                    a_meas,
+                    ts,
+                    x[X_AGREE],
+                    x[X_AGREE_A],
+                    q <= x[X_PFREE],
+                    held,
+                    x[X_ANCHOR],
+                )
             slip_ecu = wheel_slip(vref, wr, r_w)
             was_cut = cut
             cut = E.cutout_latch(cut, vref, x[X_CUTOUT])
@@ -251,14 +346,16 @@ def _run(tire, lp, p, x, c0, c1, c2, c3, xc, xs, ys, table, grid, spacing, jitte
                 if cut:
                     mode, on = E.VALVE_BUILD, ts
                 elif LAW_PID <= kind <= LAW_IMMUNE:  # the PID laws: a pressure rate
-                    mode, on, resid = E.duty_pulse(gain * cmd, resid, q, ts, kb, kdv, q_max, 0.0,
-                                                   min_on)
+                    mode, on, resid = E.duty_pulse(
+                        gain * cmd, resid, q, ts, kb, kdv, q_max, 0.0, min_on
+                    )
                 else:
                     mode, on = E.switching_pulse(cmd, amp, ts, min_on)
                 # the retiring pulse's state changes, then the new pulse's
                 if tick > 0:
                     valve, last_change, n_sw, min_iv = _retire_pulse(
-                        pm1, ps1, po1, ts, np.inf, valve, last_change, n_sw, min_iv)
+                        pm1, ps1, po1, ts, np.inf, valve, last_change, n_sw, min_iv
+                    )
                 pm0, ps0, po0 = pm1, ps1, po1
                 pm1, ps1, po1 = mode, t + dead, on
             tick += 1
@@ -269,23 +366,101 @@ def _run(tire, lp, p, x, c0, c1, c2, c3, xc, xs, ys, table, grid, spacing, jitte
             qb = E.modulator_advance(q, t, dt, pm0, ps0, po0, pm1, ps1, po1, kb, kdv, q_max, 0.0)
         else:
             qa = qb = q
-        k1v, k1w, k1q, k1r = _rates(tire, v, w, q, r, u0, r_w, fz, inv_m, inv_i, kq, gain,
-                                    inv_tau, q_max, c0, c1, c2, c3, xc, xs, ys)
+        k1v, k1w, k1q, k1r = _rates(
+            tire,
+            v,
+            w,
+            q,
+            r,
+            u0,
+            r_w,
+            fz,
+            inv_m,
+            inv_i,
+            kq,
+            gain,
+            inv_tau,
+            q_max,
+            c0,
+            c1,
+            c2,
+            c3,
+            xc,
+            xs,
+            ys,
+        )
         w2 = rk4_point(w, hs, k1w)
         k2v, k2w, k2q, k2r = _rates(
-            tire, rk4_point(v, hs, k1v), w2,
-            qa if three_state else rk4_point(q, hs, k1q), rk4_point(r, hs, k1r), u0, r_w, fz,
-            inv_m, inv_i, kq, gain, inv_tau, q_max, c0, c1, c2, c3, xc, xs, ys)
+            tire,
+            rk4_point(v, hs, k1v),
+            w2,
+            qa if three_state else rk4_point(q, hs, k1q),
+            rk4_point(r, hs, k1r),
+            u0,
+            r_w,
+            fz,
+            inv_m,
+            inv_i,
+            kq,
+            gain,
+            inv_tau,
+            q_max,
+            c0,
+            c1,
+            c2,
+            c3,
+            xc,
+            xs,
+            ys,
+        )
         w3 = rk4_point(w, hs, k2w)
         k3v, k3w, k3q, k3r = _rates(
-            tire, rk4_point(v, hs, k2v), w3,
-            qa if three_state else rk4_point(q, hs, k2q), rk4_point(r, hs, k2r), u0, r_w, fz,
-            inv_m, inv_i, kq, gain, inv_tau, q_max, c0, c1, c2, c3, xc, xs, ys)
+            tire,
+            rk4_point(v, hs, k2v),
+            w3,
+            qa if three_state else rk4_point(q, hs, k2q),
+            rk4_point(r, hs, k2r),
+            u0,
+            r_w,
+            fz,
+            inv_m,
+            inv_i,
+            kq,
+            gain,
+            inv_tau,
+            q_max,
+            c0,
+            c1,
+            c2,
+            c3,
+            xc,
+            xs,
+            ys,
+        )
         w4 = rk4_point(w, dt, k3w)
         k4v, k4w, k4q, k4r = _rates(
-            tire, rk4_point(v, dt, k3v), w4,
-            qb if three_state else rk4_point(q, dt, k3q), rk4_point(r, dt, k3r), u0, r_w, fz,
-            inv_m, inv_i, kq, gain, inv_tau, q_max, c0, c1, c2, c3, xc, xs, ys)
+            tire,
+            rk4_point(v, dt, k3v),
+            w4,
+            qb if three_state else rk4_point(q, dt, k3q),
+            rk4_point(r, dt, k3r),
+            u0,
+            r_w,
+            fz,
+            inv_m,
+            inv_i,
+            kq,
+            gain,
+            inv_tau,
+            q_max,
+            c0,
+            c1,
+            c2,
+            c3,
+            xc,
+            xs,
+            ys,
+        )
         vn = rk4_update(v, h6, k1v, k2v, k3v, k4v)
         wn = max(rk4_update(w, h6, k1w, k2w, k3w, k4w), 0.0)
         if three_state:
@@ -297,8 +472,21 @@ def _run(tire, lp, p, x, c0, c1, c2, c3, xc, xs, ys, table, grid, spacing, jitte
         if toothed:
             theta_n = rk4_update(theta, h6, w, w2, w3, w4)
             k_next, t_last, t_prev, w_est = E.sensor_step(
-                theta, theta_n, w, wn, t, dt, k_next, t_last, t_prev, w_est, teeth, x[X_TIMER],
-                spacing, jitter)
+                theta,
+                theta_n,
+                w,
+                wn,
+                t,
+                dt,
+                k_next,
+                t_last,
+                t_prev,
+                w_est,
+                teeth,
+                x[X_TIMER],
+                spacing,
+                jitter,
+            )
             theta = theta_n
 
         # metrics (the ideal kernel's quadrature); slip objectives and lock end at the cut-out
@@ -343,8 +531,9 @@ def _run(tire, lp, p, x, c0, c1, c2, c3, xc, xs, ys, table, grid, spacing, jitte
             trace[rows, T_VREF] = vref
             trace[rows, T_WEST] = vw
             trace[rows, T_ECU_SLIP] = slip_ecu
-            trace[rows, T_VALVE] = E.valve_mode_at(t + dt, pm0, ps0, po0, pm1, ps1,
-                                                   po1) if three_state else 0.0
+            trace[rows, T_VALVE] = (
+                E.valve_mode_at(t + dt, pm0, ps0, po0, pm1, ps1, po1) if three_state else 0.0
+            )
             trace[rows, T_EDGE_PREV] = read_prev
             trace[rows, T_EDGE_LAST] = read_last
             rows += 1
@@ -359,8 +548,9 @@ def _run(tire, lp, p, x, c0, c1, c2, c3, xc, xs, ys, table, grid, spacing, jitte
             status, t_end = STATUS_HOPELESS, t + dt
             break
     if three_state:  # the last pulse's changes up to the end of the run
-        valve, last_change, n_sw, min_iv = _retire_pulse(pm1, ps1, po1, ts, t_end, valve,
-                                                         last_change, n_sw, min_iv)
+        valve, last_change, n_sw, min_iv = _retire_pulse(
+            pm1, ps1, po1, ts, t_end, valve, last_change, n_sw, min_iv
+        )
     out[:] = 0.0
     out[M_STATUS] = status
     out[M_TIME] = t_end
@@ -386,12 +576,31 @@ def _run(tire, lp, p, x, c0, c1, c2, c3, xc, xs, ys, table, grid, spacing, jitte
 
 
 @_jit
-def _simulate(tire, lp, plant, x, coef, xc, xs, ys, table, grid, spacing, jitter, acc_noise,
-              trace, out):
+def _simulate(
+    tire, lp, plant, x, coef, xc, xs, ys, table, grid, spacing, jitter, acc_noise, trace, out
+):
     """Every candidate in turn (row i of `lp`, plant row min(i, rows - 1))."""
     for i in range(lp.shape[0]):
-        _run(tire, lp[i], plant[min(i, plant.shape[0] - 1)], x, coef[0], coef[1], coef[2],
-             coef[3], xc, xs, ys, table, grid, spacing, jitter, acc_noise, trace, out[i])
+        _run(
+            tire,
+            lp[i],
+            plant[min(i, plant.shape[0] - 1)],
+            x,
+            coef[0],
+            coef[1],
+            coef[2],
+            coef[3],
+            xc,
+            xs,
+            ys,
+            table,
+            grid,
+            spacing,
+            jitter,
+            acc_noise,
+            trace,
+            out[i],
+        )
 
 
 _NO_TABLE = table_tuples(np.array([0.0, 1.0]), np.array([0.0, 0.0]))
@@ -424,8 +633,21 @@ def simulate_abs_wheel_ecu(
     coef4[: len(tire_coef)] = tire_coef
     xc, xs, ys = table_tuples(tire_xs, tire_ys) if tire_kind == KIND_TABLE else _NO_TABLE
     rows = np.ascontiguousarray(np.atleast_2d(plant), dtype=np.float64)
-    _simulate(tire_kind, np.ascontiguousarray(law_params, dtype=np.float64), rows, ecu, coef4,
-              xc, xs, ys, table, grid, *noise, trace, out)
+    _simulate(
+        tire_kind,
+        np.ascontiguousarray(law_params, dtype=np.float64),
+        rows,
+        ecu,
+        coef4,
+        xc,
+        xs,
+        ys,
+        table,
+        grid,
+        *noise,
+        trace,
+        out,
+    )
 
 
 __all__ = ["LOW_SPEED_BAND_M_S", "simulate_abs_wheel_ecu"]

@@ -16,55 +16,72 @@ from chassistune.sim.layout import Layout, Slot
 LAW_KINDS = ("none", "pid", "fuzzy-pid", "fuzzy-immune-pid", "threshold", "bang-bang")
 """The ECU kernel's runtime law switch; indices 1-4 are `controllers.discrete`'s K_* codes."""
 
-ECU = Layout("abs-wheel ecu", (
-    Slot("law", "-", "index into LAW_KINDS"),
-    Slot("steps_per_tick", "-", "ecu_ts_s / dt_s (a whole number)"),
-    Slot("delay_samples", "samples", "computation delay"),
-    Slot("toothed", "-", "1: toothed-wheel sensor, 0: the true wheel speed"),
-    Slot("teeth", "teeth", "tone-wheel teeth"),
-    Slot("timer_s", "s", "edge capture timer resolution"),
-    Slot("stale_bound", "-", "1: cap a stale estimate by pitch / age, 0: hold it"),
-    Slot("vref_mode", "-", "0 true, 1 slew-limited, 2 accelerometer"),
-    Slot("vref_decel_max_m_s2", "m/s^2", "a_max of the slew-limited reference"),
-    Slot("accel_bias_m_s2", "m/s^2", "accelerometer bias"),
-    Slot("vref_agree_m_s", "m/s", "re-anchor when the wheel agrees within this"),
-    Slot("free_pressure", "preset unit", "a brake at most this pressure counts as released"),
-    Slot("vref_agree_m_s2", "m/s^2", "re-anchor only when the wheel's acceleration agrees"),
-    Slot("anchor_samples", "samples", "re-anchor only after this many agreeing samples"),
-    Slot("three_state", "-", "1: build/hold/dump valves, 0: the continuous actuator"),
-    Slot("kb", "preset unit^0.5/s", "orifice gain of the inlet"),
-    Slot("kd", "preset unit^0.5/s", "orifice gain of the outlet"),
-    Slot("dead_time_s", "s", "valve dead time"),
-    Slot("min_on_s", "s", "valve minimum on-time"),
-    Slot("cutout_m_s", "m/s", "ABS off below this reference speed (latched)"),
-    Slot("scheduled", "-", "1: kp, kd scaled by max(vref / v0, floor)"),
-    Slot("schedule_floor", "-", "smallest schedule factor"),
-    Slot("amplitude", "-", "command of the switching laws and the driver's demand"),
-))
+ECU = Layout(
+    "abs-wheel ecu",
+    (
+        Slot("law", "-", "index into LAW_KINDS"),
+        Slot("steps_per_tick", "-", "ecu_ts_s / dt_s (a whole number)"),
+        Slot("delay_samples", "samples", "computation delay"),
+        Slot("toothed", "-", "1: toothed-wheel sensor, 0: the true wheel speed"),
+        Slot("teeth", "teeth", "tone-wheel teeth"),
+        Slot("timer_s", "s", "edge capture timer resolution"),
+        Slot("stale_bound", "-", "1: cap a stale estimate by pitch / age, 0: hold it"),
+        Slot("vref_mode", "-", "0 true, 1 slew-limited, 2 accelerometer"),
+        Slot("vref_decel_max_m_s2", "m/s^2", "a_max of the slew-limited reference"),
+        Slot("accel_bias_m_s2", "m/s^2", "accelerometer bias"),
+        Slot("vref_agree_m_s", "m/s", "re-anchor when the wheel agrees within this"),
+        Slot("free_pressure", "preset unit", "a brake at most this pressure counts as released"),
+        Slot("vref_agree_m_s2", "m/s^2", "re-anchor only when the wheel's acceleration agrees"),
+        Slot("anchor_samples", "samples", "re-anchor only after this many agreeing samples"),
+        Slot("three_state", "-", "1: build/hold/dump valves, 0: the continuous actuator"),
+        Slot("kb", "preset unit^0.5/s", "orifice gain of the inlet"),
+        Slot("kd", "preset unit^0.5/s", "orifice gain of the outlet"),
+        Slot("dead_time_s", "s", "valve dead time"),
+        Slot("min_on_s", "s", "valve minimum on-time"),
+        Slot("cutout_m_s", "m/s", "ABS off below this reference speed (latched)"),
+        Slot("scheduled", "-", "1: kp, kd scaled by max(vref / v0, floor)"),
+        Slot("schedule_floor", "-", "smallest schedule factor"),
+        Slot("amplitude", "-", "command of the switching laws and the driver's demand"),
+    ),
+)
 
-METRICS = Layout("abs-wheel ecu metrics", (
-    *KL.METRICS.slots,
-    Slot("ecu_slip_iae", "s", "integral of |S_target - S_ecu| (the slip the ECU computed)"),
-    Slot("cutout_time_s", "s", "time of the low-speed cut-out (NaN: never)"),
-    Slot("valve_switches", "-", "valve state changes"),
-    Slot("valve_min_interval_s", "s", "shortest time between two valve state changes"),
-    Slot("vref_gap_max_m_s", "m/s", "largest |v - vref| at the ticks before the cut-out"),
-    Slot("pressure_min", "preset unit", "lowest brake pressure"),
-    Slot("pressure_max", "preset unit", "highest brake pressure"),
-    Slot("low_speed_slip_error", "-",
-         "largest |S_target - S| (true slip) at step ends with 1 < v < 9 m/s, before cut-out"),
-))
+METRICS = Layout(
+    "abs-wheel ecu metrics",
+    (
+        *KL.METRICS.slots,
+        Slot("ecu_slip_iae", "s", "integral of |S_target - S_ecu| (the slip the ECU computed)"),
+        Slot("cutout_time_s", "s", "time of the low-speed cut-out (NaN: never)"),
+        Slot("valve_switches", "-", "valve state changes"),
+        Slot("valve_min_interval_s", "s", "shortest time between two valve state changes"),
+        Slot("vref_gap_max_m_s", "m/s", "largest |v - vref| at the ticks before the cut-out"),
+        Slot("pressure_min", "preset unit", "lowest brake pressure"),
+        Slot("pressure_max", "preset unit", "highest brake pressure"),
+        Slot(
+            "low_speed_slip_error",
+            "-",
+            "largest |S_target - S| (true slip) at step ends with 1 < v < 9 m/s, before cut-out",
+        ),
+    ),
+)
 
-TRACE = Layout("abs-wheel ecu trace", (
-    *KL.TRACE.slots,
-    Slot("vref_m_s", "m/s"),
-    Slot("wheel_speed_est_m_s", "m/s"),
-    Slot("ecu_slip", "-"),
-    Slot("valve_mode", "-"),
-    Slot("edge_prev_s", "s", "captured time of the edge before the last, as read at the latest "
-         "tick (-1: none yet; toothed sensor)"),
-    Slot("edge_last_s", "s", "captured time of the last edge, as read at the latest tick"),
-))
+TRACE = Layout(
+    "abs-wheel ecu trace",
+    (
+        *KL.TRACE.slots,
+        Slot("vref_m_s", "m/s"),
+        Slot("wheel_speed_est_m_s", "m/s"),
+        Slot("ecu_slip", "-"),
+        Slot("valve_mode", "-"),
+        Slot(
+            "edge_prev_s",
+            "s",
+            "captured time of the edge before the last, as read at the latest "
+            "tick (-1: none yet; toothed sensor)",
+        ),
+        Slot("edge_last_s", "s", "captured time of the last edge, as read at the latest tick"),
+    ),
+)
+
 
 def pack_ecu(values: Mapping[str, float]) -> np.ndarray:
     """The kernel's ECU vector from every ECU slot by name."""
@@ -74,7 +91,7 @@ def pack_ecu(values: Mapping[str, float]) -> np.ndarray:
 def decode_metrics(raw: np.ndarray) -> dict[str, np.ndarray]:
     """The run metrics by name (the ideal kernel's, decoded alike, plus the ECU's)."""
     out = KL.decode_metrics(raw[:, : len(KL.METRICS)])
-    out.update(METRICS.decode(raw, METRICS.names[len(KL.METRICS):]))
+    out.update(METRICS.decode(raw, METRICS.names[len(KL.METRICS) :]))
     return out
 
 

@@ -79,34 +79,87 @@ from chassistune.sim.integrate import (
 )
 
 # slots of the declared layouts (numba freezes these module integers as constants)
-P_MASS, P_INERTIA, P_RADIUS, P_V0 = (L.PLANT[n] for n in (
-    "mass_kg", "wheel_inertia_kg_m2", "wheel_radius_m", "v0_m_s"))
-P_G, P_K, P_TAU, P_KQ, P_QMAX = (L.PLANT[n] for n in (
-    "g_m_s2", "actuator_gain", "actuator_tau_s", "brake_gain", "q_max"))
-P_VSTOP, P_TMAX, P_DT, P_LOAD, P_TARGET = (L.PLANT[n] for n in (
-    "v_stop_m_s", "t_max_s", "dt_s", "load_fraction", "target_slip"))
-P_HOPELESS_M, P_LOCK_RATIO, P_NFILTER = (L.PLANT[n] for n in (
-    "hopeless_distance_m", "lock_ratio", "n_filter"))
+P_MASS, P_INERTIA, P_RADIUS, P_V0 = (
+    L.PLANT[n] for n in ("mass_kg", "wheel_inertia_kg_m2", "wheel_radius_m", "v0_m_s")
+)
+P_G, P_K, P_TAU, P_KQ, P_QMAX = (
+    L.PLANT[n] for n in ("g_m_s2", "actuator_gain", "actuator_tau_s", "brake_gain", "q_max")
+)
+P_VSTOP, P_TMAX, P_DT, P_LOAD, P_TARGET = (
+    L.PLANT[n] for n in ("v_stop_m_s", "t_max_s", "dt_s", "load_fraction", "target_slip")
+)
+P_HOPELESS_M, P_LOCK_RATIO, P_NFILTER = (
+    L.PLANT[n] for n in ("hopeless_distance_m", "lock_ratio", "n_filter")
+)
 
 C_NONE, C_PID, C_BANGBANG, C_THRESHOLD, C_FUZZY_PID, C_IMMUNE = (
-    L.CONTROLLER_KINDS.index(n) for n in (
-        "none", "pid", "bang-bang", "threshold", "fuzzy-pid", "fuzzy-immune-pid"))
-Q_TS, Q_AMPLITUDE, Q_DECEL, Q_ACCEL, Q_SLIP_HIGH, Q_SLOW = (L.CONTROLLER[n] for n in (
-    "ts_s", "amplitude", "decel_threshold_m_s2", "accel_threshold_m_s2", "slip_margin",
-    "slow_fraction"))
+    L.CONTROLLER_KINDS.index(n)
+    for n in ("none", "pid", "bang-bang", "threshold", "fuzzy-pid", "fuzzy-immune-pid")
+)
+Q_TS, Q_AMPLITUDE, Q_DECEL, Q_ACCEL, Q_SLIP_HIGH, Q_SLOW = (
+    L.CONTROLLER[n]
+    for n in (
+        "ts_s",
+        "amplitude",
+        "decel_threshold_m_s2",
+        "accel_threshold_m_s2",
+        "slip_margin",
+        "slow_fraction",
+    )
+)
 
-(M_STATUS, M_TIME, M_DIST, M_LOCK_T, M_IAE, M_ITAE, M_ISE, M_MEAN_SLIP, M_PEAK_SLIP, M_LOCKED_S,
- M_CLIP, M_NTRACE, M_MIN_SLIP) = (L.METRICS[n] for n in (
-    "status", "stop_time_s", "stop_distance_m", "wheel_lock_time_s", "slip_iae", "slip_itae",
-    "slip_ise", "mean_slip", "peak_slip", "locked_time_s", "slip_clip_max", "trace_rows",
-    "min_slip_unclipped"))
+(
+    M_STATUS,
+    M_TIME,
+    M_DIST,
+    M_LOCK_T,
+    M_IAE,
+    M_ITAE,
+    M_ISE,
+    M_MEAN_SLIP,
+    M_PEAK_SLIP,
+    M_LOCKED_S,
+    M_CLIP,
+    M_NTRACE,
+    M_MIN_SLIP,
+) = (
+    L.METRICS[n]
+    for n in (
+        "status",
+        "stop_time_s",
+        "stop_distance_m",
+        "wheel_lock_time_s",
+        "slip_iae",
+        "slip_itae",
+        "slip_ise",
+        "mean_slip",
+        "peak_slip",
+        "locked_time_s",
+        "slip_clip_max",
+        "trace_rows",
+        "min_slip_unclipped",
+    )
+)
 N_METRICS = len(L.METRICS)
 STATUS_STOPPED, STATUS_HOPELESS, STATUS_TIMEOUT, STATUS_DIVERGED = (
-    L.STATUS_NAMES.index(n) for n in ("stopped", "hopeless", "timeout", "diverged"))
+    L.STATUS_NAMES.index(n) for n in ("stopped", "hopeless", "timeout", "diverged")
+)
 
-(T_TIME, T_V, T_WHEEL_V, T_SLIP, T_TARGET, T_Q, T_TB, T_U, T_X, T_MU) = (L.TRACE[n] for n in (
-    "time_s", "vehicle_speed_m_s", "wheel_speed_m_s", "slip", "target_slip", "pressure",
-    "brake_torque_n_m", "command", "distance_m", "mu"))
+(T_TIME, T_V, T_WHEEL_V, T_SLIP, T_TARGET, T_Q, T_TB, T_U, T_X, T_MU) = (
+    L.TRACE[n]
+    for n in (
+        "time_s",
+        "vehicle_speed_m_s",
+        "wheel_speed_m_s",
+        "slip",
+        "target_slip",
+        "pressure",
+        "brake_torque_n_m",
+        "command",
+        "distance_m",
+        "mu",
+    )
+)
 N_TRACE = len(L.TRACE)
 
 LANES = 32
@@ -118,31 +171,98 @@ RK3, RK4 = 3, 4
 """Integration methods (`_lane_step`): RK3 for the PID and no ABS, RK4 for the sampled laws."""
 
 # Lane rows: states, metrics, bookkeeping, controller state, the lane's plant parameters.
-(R_V, R_W, R_Q, R_R, R_Z, R_XF,
- R_SLIP, R_DIST, R_IAE, R_ITAE, R_ISE, R_SINT, R_CLIP, R_MINSLIP, R_PEAK, R_LOCKED, R_LOCK_T,
- R_STEP, R_STATUS, R_TEND, R_ENDED, R_U1,
- R_KP, R_KI, R_KD, R_U0, R_E1, R_E2, R_AW, R_WS, R_PHASE,
- R_RW, R_FZ, R_INV_M, R_INV_I, R_KQ, R_GAIN, R_INV_TAU, R_QMAX, R_NF, R_VSTOP, R_LOCK_RATIO,
- R_HOPELESS) = range(43)
+(
+    R_V,
+    R_W,
+    R_Q,
+    R_R,
+    R_Z,
+    R_XF,
+    R_SLIP,
+    R_DIST,
+    R_IAE,
+    R_ITAE,
+    R_ISE,
+    R_SINT,
+    R_CLIP,
+    R_MINSLIP,
+    R_PEAK,
+    R_LOCKED,
+    R_LOCK_T,
+    R_STEP,
+    R_STATUS,
+    R_TEND,
+    R_ENDED,
+    R_U1,
+    R_KP,
+    R_KI,
+    R_KD,
+    R_U0,
+    R_E1,
+    R_E2,
+    R_AW,
+    R_WS,
+    R_PHASE,
+    R_RW,
+    R_FZ,
+    R_INV_M,
+    R_INV_I,
+    R_KQ,
+    R_GAIN,
+    R_INV_TAU,
+    R_QMAX,
+    R_NF,
+    R_VSTOP,
+    R_LOCK_RATIO,
+    R_HOPELESS,
+) = range(43)
 N_ROWS = 43
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _rates(law, v, w, q, r, z, xf, u0, kp, ki, kd, target, r_w, fz, inv_m, inv_i, kq, gain,
-           inv_tau, q_max, nf, c0, c1, c2, c3, xc, xs, ys):
+def _rates(
+    law,
+    v,
+    w,
+    q,
+    r,
+    z,
+    xf,
+    u0,
+    kp,
+    ki,
+    kd,
+    target,
+    r_w,
+    fz,
+    inv_m,
+    inv_i,
+    kq,
+    gain,
+    inv_tau,
+    q_max,
+    nf,
+    c0,
+    c1,
+    c2,
+    c3,
+    xc,
+    xs,
+    ys,
+):
     """Derivatives of (v, w, q, r, z, xf) and the command u of the wheel under the PID."""
     s = wheel_slip(v, w, r_w)
     e = target - s
     fx = tire_law_mu(law, s, c0, c1, c2, c3, xc, xs, ys) * fz
     u, dz, dxf = pid_step(e, z, xf, u0, kp, ki, kd, nf, q >= q_max, q <= 0.0)
-    dv, dw, dq, dr, _, _ = wheel_rates(w, q, r, fx, u, r_w, inv_m, inv_i, kq, gain, inv_tau,
-                                       q_max)
+    dv, dw, dq, dr, _, _ = wheel_rates(w, q, r, fx, u, r_w, inv_m, inv_i, kq, gain, inv_tau, q_max)
     return dv, dw, dq, dr, dz, dxf, u
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _lane_step(st, l, law, method, dt, hs, h6, target, n_steps, t_timeout, live, c0, c1, c2, c3,
-               xc, xs, ys):
+def _lane_step(
+    st, l, law, method, dt, hs, h6, target, n_steps, t_timeout, live, c0, c1, c2, c3, xc, xs, ys
+):
     """One fused step (`method` RK3 or RK4, a constant at each call site) of lane l with its
     metrics and end flags; returns 1 if a live lane ended. Straight-line code: the body of the
     vector loop."""
@@ -170,24 +290,126 @@ def _lane_step(st, l, law, method, dt, hs, h6, target, n_steps, t_timeout, live,
     t = k * dt
 
     k1v, k1w, k1q, k1r, k1z, k1x, u1 = _rates(
-        law, v, w, q, r, z, xf, u0, kp, ki, kd, target, r_w, fz, inv_m, inv_i, kq, gain,
-        inv_tau, q_max, nf, c0, c1, c2, c3, xc, xs, ys)
+        law,
+        v,
+        w,
+        q,
+        r,
+        z,
+        xf,
+        u0,
+        kp,
+        ki,
+        kd,
+        target,
+        r_w,
+        fz,
+        inv_m,
+        inv_i,
+        kq,
+        gain,
+        inv_tau,
+        q_max,
+        nf,
+        c0,
+        c1,
+        c2,
+        c3,
+        xc,
+        xs,
+        ys,
+    )
     if method == RK4:
         k2v, k2w, k2q, k2r, k2z, k2x, _ = _rates(
-            law, rk4_point(v, hs, k1v), rk4_point(w, hs, k1w), rk4_point(q, hs, k1q),
-            rk4_point(r, hs, k1r), rk4_point(z, hs, k1z), rk4_point(xf, hs, k1x), u0, kp, ki,
-            kd, target, r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max, nf, c0, c1, c2, c3, xc,
-            xs, ys)
+            law,
+            rk4_point(v, hs, k1v),
+            rk4_point(w, hs, k1w),
+            rk4_point(q, hs, k1q),
+            rk4_point(r, hs, k1r),
+            rk4_point(z, hs, k1z),
+            rk4_point(xf, hs, k1x),
+            u0,
+            kp,
+            ki,
+            kd,
+            target,
+            r_w,
+            fz,
+            inv_m,
+            inv_i,
+            kq,
+            gain,
+            inv_tau,
+            q_max,
+            nf,
+            c0,
+            c1,
+            c2,
+            c3,
+            xc,
+            xs,
+            ys,
+        )
         k3v, k3w, k3q, k3r, k3z, k3x, _ = _rates(
-            law, rk4_point(v, hs, k2v), rk4_point(w, hs, k2w), rk4_point(q, hs, k2q),
-            rk4_point(r, hs, k2r), rk4_point(z, hs, k2z), rk4_point(xf, hs, k2x), u0, kp, ki,
-            kd, target, r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max, nf, c0, c1, c2, c3, xc,
-            xs, ys)
+            law,
+            rk4_point(v, hs, k2v),
+            rk4_point(w, hs, k2w),
+            rk4_point(q, hs, k2q),
+            rk4_point(r, hs, k2r),
+            rk4_point(z, hs, k2z),
+            rk4_point(xf, hs, k2x),
+            u0,
+            kp,
+            ki,
+            kd,
+            target,
+            r_w,
+            fz,
+            inv_m,
+            inv_i,
+            kq,
+            gain,
+            inv_tau,
+            q_max,
+            nf,
+            c0,
+            c1,
+            c2,
+            c3,
+            xc,
+            xs,
+            ys,
+        )
         k4v, k4w, k4q, k4r, k4z, k4x, _ = _rates(
-            law, rk4_point(v, dt, k3v), rk4_point(w, dt, k3w), rk4_point(q, dt, k3q),
-            rk4_point(r, dt, k3r), rk4_point(z, dt, k3z), rk4_point(xf, dt, k3x), u0, kp, ki,
-            kd, target, r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max, nf, c0, c1, c2, c3, xc,
-            xs, ys)
+            law,
+            rk4_point(v, dt, k3v),
+            rk4_point(w, dt, k3w),
+            rk4_point(q, dt, k3q),
+            rk4_point(r, dt, k3r),
+            rk4_point(z, dt, k3z),
+            rk4_point(xf, dt, k3x),
+            u0,
+            kp,
+            ki,
+            kd,
+            target,
+            r_w,
+            fz,
+            inv_m,
+            inv_i,
+            kq,
+            gain,
+            inv_tau,
+            q_max,
+            nf,
+            c0,
+            c1,
+            c2,
+            c3,
+            xc,
+            xs,
+            ys,
+        )
         vn = rk4_update(v, h6, k1v, k2v, k3v, k4v)
         wn = rk4_update(w, h6, k1w, k2w, k3w, k4w)
         qn = rk4_update(q, h6, k1q, k2q, k3q, k4q)
@@ -196,18 +418,67 @@ def _lane_step(st, l, law, method, dt, hs, h6, target, n_steps, t_timeout, live,
         xfn = rk4_update(xf, h6, k1x, k2x, k3x, k4x)
     else:
         k2v, k2w, k2q, k2r, k2z, k2x, _ = _rates(
-            law, rk3_point2(v, hs, k1v), rk3_point2(w, hs, k1w), rk3_point2(q, hs, k1q),
-            rk3_point2(r, hs, k1r), rk3_point2(z, hs, k1z), rk3_point2(xf, hs, k1x), u0, kp,
-            ki, kd, target, r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max, nf, c0, c1, c2, c3,
-            xc, xs, ys)
+            law,
+            rk3_point2(v, hs, k1v),
+            rk3_point2(w, hs, k1w),
+            rk3_point2(q, hs, k1q),
+            rk3_point2(r, hs, k1r),
+            rk3_point2(z, hs, k1z),
+            rk3_point2(xf, hs, k1x),
+            u0,
+            kp,
+            ki,
+            kd,
+            target,
+            r_w,
+            fz,
+            inv_m,
+            inv_i,
+            kq,
+            gain,
+            inv_tau,
+            q_max,
+            nf,
+            c0,
+            c1,
+            c2,
+            c3,
+            xc,
+            xs,
+            ys,
+        )
         neg_h = -dt
         h2 = dt + dt
         k3v, k3w, k3q, k3r, k3z, k3x, _ = _rates(
-            law, rk3_point3(v, neg_h, h2, k1v, k2v), rk3_point3(w, neg_h, h2, k1w, k2w),
-            rk3_point3(q, neg_h, h2, k1q, k2q), rk3_point3(r, neg_h, h2, k1r, k2r),
-            rk3_point3(z, neg_h, h2, k1z, k2z), rk3_point3(xf, neg_h, h2, k1x, k2x), u0, kp, ki,
-            kd, target, r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max, nf, c0, c1, c2, c3, xc,
-            xs, ys)
+            law,
+            rk3_point3(v, neg_h, h2, k1v, k2v),
+            rk3_point3(w, neg_h, h2, k1w, k2w),
+            rk3_point3(q, neg_h, h2, k1q, k2q),
+            rk3_point3(r, neg_h, h2, k1r, k2r),
+            rk3_point3(z, neg_h, h2, k1z, k2z),
+            rk3_point3(xf, neg_h, h2, k1x, k2x),
+            u0,
+            kp,
+            ki,
+            kd,
+            target,
+            r_w,
+            fz,
+            inv_m,
+            inv_i,
+            kq,
+            gain,
+            inv_tau,
+            q_max,
+            nf,
+            c0,
+            c1,
+            c2,
+            c3,
+            xc,
+            xs,
+            ys,
+        )
         vn = rk3_update(v, h6, k1v, k2v, k3v)
         wn = rk3_update(w, h6, k1w, k2w, k3w)
         qn = rk3_update(q, h6, k1q, k2q, k3q)
@@ -242,10 +513,14 @@ def _lane_step(st, l, law, method, dt, hs, h6, target, n_steps, t_timeout, live,
     diverged = check - check != 0.0
     hopeless = dist > st[R_HOPELESS * LANES + l]
     timeout = k + 1.0 >= n_steps
-    st[R_STATUS * LANES + l] = select(diverged, STATUS_DIVERGED, select(
-        stop, STATUS_STOPPED, select(hopeless, STATUS_HOPELESS, STATUS_TIMEOUT)))
-    st[R_TEND * LANES + l] = select(diverged, t, select(
-        stop, t + h, select(hopeless, t + dt, t_timeout)))
+    st[R_STATUS * LANES + l] = select(
+        diverged,
+        STATUS_DIVERGED,
+        select(stop, STATUS_STOPPED, select(hopeless, STATUS_HOPELESS, STATUS_TIMEOUT)),
+    )
+    st[R_TEND * LANES + l] = select(
+        diverged, t, select(stop, t + h, select(hopeless, t + dt, t_timeout))
+    )
     ended = diverged | stop | hopeless | timeout
     st[R_ENDED * LANES + l] = select(ended, 1.0, 0.0)
     st[R_V * LANES + l] = vn
@@ -263,14 +538,33 @@ def _lane_step(st, l, law, method, dt, hs, h6, target, n_steps, t_timeout, live,
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _lane_steps(st, width, law, method, dt, hs, h6, target, n_steps, t_timeout, live, c0, c1, c2,
-                c3, xc, xs, ys):
+def _lane_steps(
+    st, width, law, method, dt, hs, h6, target, n_steps, t_timeout, live, c0, c1, c2, c3, xc, xs, ys
+):
     """One step of lanes 0 .. width - 1 (a whole number of vectors); 1 if a live lane ended."""
     any_end = 0
     for b in range(width // VECTOR):
         for j in range(VECTOR):
-            any_end |= _lane_step(st, b * VECTOR + j, law, method, dt, hs, h6, target, n_steps,
-                                  t_timeout, live, c0, c1, c2, c3, xc, xs, ys)
+            any_end |= _lane_step(
+                st,
+                b * VECTOR + j,
+                law,
+                method,
+                dt,
+                hs,
+                h6,
+                target,
+                n_steps,
+                t_timeout,
+                live,
+                c0,
+                c1,
+                c2,
+                c3,
+                xc,
+                xs,
+                ys,
+            )
     return any_end
 
 
@@ -332,18 +626,39 @@ def _tick(st, l, gains, i, ctrl_kind, c, table, target, ts, first):
     e = target - slip
     if ctrl_kind == C_FUZZY_PID:
         ec = st[R_NF * LANES + l] * (e - st[R_XF * LANES + l])  # filtered de/dt
-        kp, ki, kd = fuzzy_pid_gains(table, e, ec, gains[i, 0], gains[i, 1], gains[i, 2],
-                                     gains[i, 3], gains[i, 4], gains[i, 5], gains[i, 6],
-                                     gains[i, 7])
+        kp, ki, kd = fuzzy_pid_gains(
+            table,
+            e,
+            ec,
+            gains[i, 0],
+            gains[i, 1],
+            gains[i, 2],
+            gains[i, 3],
+            gains[i, 4],
+            gains[i, 5],
+            gains[i, 6],
+            gains[i, 7],
+        )
         st[R_KP * LANES + l] = kp
         st[R_KI * LANES + l] = ki
         st[R_KD * LANES + l] = kd
     elif ctrl_kind == C_IMMUNE:
         e1 = st[R_E1 * LANES + l]
-        st[R_U0 * LANES + l] = immune_pid_step(table, e, e1, st[R_E2 * LANES + l],
-                                               st[R_U0 * LANES + l], ts, first, gains[i, 0],
-                                               gains[i, 1], gains[i, 2], gains[i, 3],
-                                               gains[i, 4], gains[i, 5])
+        st[R_U0 * LANES + l] = immune_pid_step(
+            table,
+            e,
+            e1,
+            st[R_E2 * LANES + l],
+            st[R_U0 * LANES + l],
+            ts,
+            first,
+            gains[i, 0],
+            gains[i, 1],
+            gains[i, 2],
+            gains[i, 3],
+            gains[i, 4],
+            gains[i, 5],
+        )
         st[R_E2 * LANES + l] = e1
         st[R_E1 * LANES + l] = e
     elif ctrl_kind == C_BANGBANG:
@@ -351,12 +666,21 @@ def _tick(st, l, gains, i, ctrl_kind, c, table, target, ts, first):
     elif ctrl_kind == C_THRESHOLD:
         w = st[R_W * LANES + l]
         if not first:
-            st[R_AW * LANES + l] = wheel_deceleration_sample(w, st[R_WS * LANES + l],
-                                                             st[R_RW * LANES + l], ts)
+            st[R_AW * LANES + l] = wheel_deceleration_sample(
+                w, st[R_WS * LANES + l], st[R_RW * LANES + l], ts
+            )
         st[R_WS * LANES + l] = w
-        u0, phase = threshold_step(int(st[R_PHASE * LANES + l]), slip, target,
-                                   st[R_AW * LANES + l], c[Q_AMPLITUDE], c[Q_DECEL],
-                                   c[Q_ACCEL], c[Q_SLIP_HIGH], c[Q_SLOW])
+        u0, phase = threshold_step(
+            int(st[R_PHASE * LANES + l]),
+            slip,
+            target,
+            st[R_AW * LANES + l],
+            c[Q_AMPLITUDE],
+            c[Q_DECEL],
+            c[Q_ACCEL],
+            c[Q_SLIP_HIGH],
+            c[Q_SLOW],
+        )
         st[R_U0 * LANES + l] = u0
         st[R_PHASE * LANES + l] = phase
     else:
@@ -364,8 +688,9 @@ def _tick(st, l, gains, i, ctrl_kind, c, table, target, ts, first):
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _simulate(law, gains, plant, coef, xc_tuple, xs_tuple, ys_tuple, ctrl_kind, c, table, trace,
-              out):
+def _simulate(
+    law, gains, plant, coef, xc_tuple, xs_tuple, ys_tuple, ctrl_kind, c, table, trace, out
+):
     """The lane loop (see the module docstring); `law` is a constant of each entry point."""
     xc = stack_copy(xc_tuple)
     xs = stack_copy(xs_tuple)
@@ -406,11 +731,47 @@ def _simulate(law, gains, plant, coef, xc_tuple, xs_tuple, ys_tuple, ctrl_kind, 
                     _tick(st, l, gains, lane_of[l], ctrl_kind, c, table, target, ts, k == 0)
         width = -(-live // VECTOR) * VECTOR
         if rk3:  # two copies of the vector loop, each with its method
-            ended = _lane_steps(st, width, law, RK3, dt, hs, h6, target, n_steps, t_timeout,
-                                live, c0, c1, c2, c3, xc, xs, ys)
+            ended = _lane_steps(
+                st,
+                width,
+                law,
+                RK3,
+                dt,
+                hs,
+                h6,
+                target,
+                n_steps,
+                t_timeout,
+                live,
+                c0,
+                c1,
+                c2,
+                c3,
+                xc,
+                xs,
+                ys,
+            )
         else:
-            ended = _lane_steps(st, width, law, RK4, dt, hs, h6, target, n_steps, t_timeout,
-                                live, c0, c1, c2, c3, xc, xs, ys)
+            ended = _lane_steps(
+                st,
+                width,
+                law,
+                RK4,
+                dt,
+                hs,
+                h6,
+                target,
+                n_steps,
+                t_timeout,
+                live,
+                c0,
+                c1,
+                c2,
+                c3,
+                xc,
+                xs,
+                ys,
+            )
         if ended:
             for l in range(live - 1, -1, -1):  # high to low: lanes moved down are done
                 if st[R_ENDED * LANES + l] == 0.0:
@@ -466,8 +827,11 @@ def simulate_table(gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, o
     _simulate(KIND_TABLE, gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out)
 
 
-ENTRY_POINTS = {KIND_BILINEAR: simulate_bilinear, KIND_BURCKHARDT: simulate_burckhardt,
-                KIND_TABLE: simulate_table}
+ENTRY_POINTS = {
+    KIND_BILINEAR: simulate_bilinear,
+    KIND_BURCKHARDT: simulate_burckhardt,
+    KIND_TABLE: simulate_table,
+}
 _NO_TABLE = table_tuples(np.array([0.0, 1.0]), np.array([0.0, 0.0]))
 
 

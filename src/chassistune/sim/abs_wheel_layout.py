@@ -15,34 +15,40 @@ import numpy as np
 
 from chassistune.sim.layout import Layout, Slot
 
-PLANT = Layout("abs-wheel plant", (
-    Slot("mass_kg", "kg", "vehicle mass on the wheel M"),
-    Slot("wheel_inertia_kg_m2", "kg m^2", "wheel inertia I"),
-    Slot("wheel_radius_m", "m", "wheel radius R"),
-    Slot("v0_m_s", "m/s", "initial speed"),
-    Slot("g_m_s2", "m/s^2", "gravity"),
-    Slot("actuator_gain", "preset unit/s", "K of the brake actuator K/(s(Ts+1))"),
-    Slot("actuator_tau_s", "s", "T of the brake actuator"),
-    Slot("brake_gain", "N m/preset unit", "kq: brake torque per unit pressure"),
-    Slot("q_max", "preset unit", "pressure limit"),
-    Slot("v_stop_m_s", "m/s", "the run ends below this speed"),
-    Slot("t_max_s", "s", "the run times out after this"),
-    Slot("dt_s", "s", "integration step"),
-    Slot("load_fraction", "-", "wheel load as a fraction of M g"),
-    Slot("target_slip", "-", "slip set point"),
-    Slot("hopeless_distance_m", "m", "the run ends as hopeless beyond this distance"),
-    Slot("lock_ratio", "-", "the wheel counts as locked while w R < lock_ratio v"),
-    Slot("n_filter", "rad/s", "derivative filter coefficient N of the PID laws"),
-))
+PLANT = Layout(
+    "abs-wheel plant",
+    (
+        Slot("mass_kg", "kg", "vehicle mass on the wheel M"),
+        Slot("wheel_inertia_kg_m2", "kg m^2", "wheel inertia I"),
+        Slot("wheel_radius_m", "m", "wheel radius R"),
+        Slot("v0_m_s", "m/s", "initial speed"),
+        Slot("g_m_s2", "m/s^2", "gravity"),
+        Slot("actuator_gain", "preset unit/s", "K of the brake actuator K/(s(Ts+1))"),
+        Slot("actuator_tau_s", "s", "T of the brake actuator"),
+        Slot("brake_gain", "N m/preset unit", "kq: brake torque per unit pressure"),
+        Slot("q_max", "preset unit", "pressure limit"),
+        Slot("v_stop_m_s", "m/s", "the run ends below this speed"),
+        Slot("t_max_s", "s", "the run times out after this"),
+        Slot("dt_s", "s", "integration step"),
+        Slot("load_fraction", "-", "wheel load as a fraction of M g"),
+        Slot("target_slip", "-", "slip set point"),
+        Slot("hopeless_distance_m", "m", "the run ends as hopeless beyond this distance"),
+        Slot("lock_ratio", "-", "the wheel counts as locked while w R < lock_ratio v"),
+        Slot("n_filter", "rad/s", "derivative filter coefficient N of the PID laws"),
+    ),
+)
 
-CONTROLLER = Layout("abs-wheel controller", (
-    Slot("ts_s", "s", "sample period of the sampled laws"),
-    Slot("amplitude", "-", "command magnitude of the switching laws"),
-    Slot("decel_threshold_m_s2", "m/s^2", "threshold ABS: -a"),
-    Slot("accel_threshold_m_s2", "m/s^2", "threshold ABS: +a"),
-    Slot("slip_margin", "-", "threshold ABS: dump above target + margin"),
-    Slot("slow_fraction", "-", "threshold ABS: slow build rate / amplitude"),
-))
+CONTROLLER = Layout(
+    "abs-wheel controller",
+    (
+        Slot("ts_s", "s", "sample period of the sampled laws"),
+        Slot("amplitude", "-", "command magnitude of the switching laws"),
+        Slot("decel_threshold_m_s2", "m/s^2", "threshold ABS: -a"),
+        Slot("accel_threshold_m_s2", "m/s^2", "threshold ABS: +a"),
+        Slot("slip_margin", "-", "threshold ABS: dump above target + margin"),
+        Slot("slow_fraction", "-", "threshold ABS: slow build rate / amplitude"),
+    ),
+)
 
 CONTROLLER_KINDS = ("none", "pid", "bang-bang", "threshold", "fuzzy-pid", "fuzzy-immune-pid")
 """The kernel's runtime controller switch: controller name -> its index here."""
@@ -50,34 +56,40 @@ CONTROLLER_KINDS = ("none", "pid", "bang-bang", "threshold", "fuzzy-pid", "fuzzy
 STATUS_NAMES = ("stopped", "hopeless", "timeout", "diverged")
 """How a run ended: the code in the metrics' `status` column indexes this tuple."""
 
-METRICS = Layout("abs-wheel metrics", (
-    Slot("status", "-", "index into STATUS_NAMES"),
-    Slot("stop_time_s", "s", "time at v_stop (or at the end of the run)"),
-    Slot("stop_distance_m", "m", "distance travelled"),
-    Slot("wheel_lock_time_s", "s", "first time the wheel counts as locked (NaN: never)"),
-    Slot("slip_iae", "s", "integral of |S_target - S|"),
-    Slot("slip_itae", "s^2", "integral of t |S_target - S|"),
-    Slot("slip_ise", "s", "integral of (S_target - S)^2"),
-    Slot("mean_slip", "-", "time average of the slip"),
-    Slot("peak_slip", "-", "largest slip"),
-    Slot("locked_time_s", "s", "time spent locked"),
-    Slot("slip_clip_max", "-", "largest clipping of the slip into [0, 1] (a physics check)"),
-    Slot("trace_rows", "-", "rows written to the trace"),
-    Slot("min_slip_unclipped", "-", "smallest slip before clipping (a physics check)"),
-))
+METRICS = Layout(
+    "abs-wheel metrics",
+    (
+        Slot("status", "-", "index into STATUS_NAMES"),
+        Slot("stop_time_s", "s", "time at v_stop (or at the end of the run)"),
+        Slot("stop_distance_m", "m", "distance travelled"),
+        Slot("wheel_lock_time_s", "s", "first time the wheel counts as locked (NaN: never)"),
+        Slot("slip_iae", "s", "integral of |S_target - S|"),
+        Slot("slip_itae", "s^2", "integral of t |S_target - S|"),
+        Slot("slip_ise", "s", "integral of (S_target - S)^2"),
+        Slot("mean_slip", "-", "time average of the slip"),
+        Slot("peak_slip", "-", "largest slip"),
+        Slot("locked_time_s", "s", "time spent locked"),
+        Slot("slip_clip_max", "-", "largest clipping of the slip into [0, 1] (a physics check)"),
+        Slot("trace_rows", "-", "rows written to the trace"),
+        Slot("min_slip_unclipped", "-", "smallest slip before clipping (a physics check)"),
+    ),
+)
 
-TRACE = Layout("abs-wheel trace", (
-    Slot("time_s", "s"),
-    Slot("vehicle_speed_m_s", "m/s"),
-    Slot("wheel_speed_m_s", "m/s"),
-    Slot("slip", "-"),
-    Slot("target_slip", "-"),
-    Slot("pressure", "preset unit"),
-    Slot("brake_torque_n_m", "N m"),
-    Slot("command", "-"),
-    Slot("distance_m", "m"),
-    Slot("mu", "-"),
-))
+TRACE = Layout(
+    "abs-wheel trace",
+    (
+        Slot("time_s", "s"),
+        Slot("vehicle_speed_m_s", "m/s"),
+        Slot("wheel_speed_m_s", "m/s"),
+        Slot("slip", "-"),
+        Slot("target_slip", "-"),
+        Slot("pressure", "preset unit"),
+        Slot("brake_torque_n_m", "N m"),
+        Slot("command", "-"),
+        Slot("distance_m", "m"),
+        Slot("mu", "-"),
+    ),
+)
 
 RUN_METRICS = tuple(n for n in METRICS.names if n not in ("status", "trace_rows"))
 """The metrics a run reports (status is decoded to its name, trace_rows is bookkeeping)."""

@@ -27,8 +27,14 @@ from chassistune.plants.tires import KIND_BILINEAR, KIND_BURCKHARDT, KIND_TABLE,
 TABLE_CAP = MAX_TABLE_NODES
 """Most nodes a table tire may have (TableTire refuses more)."""
 
-__all__ = ["KIND_BILINEAR", "KIND_BURCKHARDT", "KIND_TABLE", "TABLE_CAP", "table_tuples",
-           "tire_law_mu"]
+__all__ = [
+    "KIND_BILINEAR",
+    "KIND_BURCKHARDT",
+    "KIND_TABLE",
+    "TABLE_CAP",
+    "table_tuples",
+    "tire_law_mu",
+]
 
 
 def table_tuples(

@@ -34,8 +34,10 @@ from chassistune.sim.quarter_car_kernel import RMS_SLOTS
 W_ROAD = NOISE_INTENSITY
 """Intensity of the road's white noise: W = 1/2, one-sided PSD 1 (DESIGN 3.4)."""
 
-EXACT = Layout("quarter-car exact stationary results", (
-    *RMS_SLOTS, Slot("stable", "-", "1 if the closed loop is Hurwitz")))
+EXACT = Layout(
+    "quarter-car exact stationary results",
+    (*RMS_SLOTS, Slot("stable", "-", "1 if the closed loop is Hurwitz")),
+)
 """Columns of exact_rms_batch's output: the simulation's RMS columns, then the stability flag."""
 E_ACC, E_TRAVEL, E_TIRE, E_FORCE, E_STABLE = (EXACT[n] for n in EXACT.names)
 N_EXACT = len(EXACT)
@@ -180,8 +182,9 @@ def exact_rms_batch(
     for i in range(gains.shape[0]):
         out[i, :] = np.nan
         out[i, E_STABLE] = 0.0
-        m = closed_loop(plant, feedback, gains[i, 0], gains[i, 1], gains[i, 2], n_filter, False,
-                        a, b, c)
+        m = closed_loop(
+            plant, feedback, gains[i, 0], gains[i, 1], gains[i, 2], n_filter, False, a, b, c
+        )
         if m < 0:
             continue
         if not solve_lyapunov(a, m, b, w, p, x):
@@ -197,8 +200,14 @@ def exact_rms(
     """(n, N_EXACT) array: exact RMS of body acc., travel, tire deflection, force; stable flag."""
     g = np.ascontiguousarray(np.asarray(gains, dtype=np.float64).reshape(-1, 3))
     out = np.empty((g.shape[0], N_EXACT))
-    exact_rms_batch(np.ascontiguousarray(plant, dtype=np.float64), int(feedback),
-                    float(n_filter), g, float(w), out)
+    exact_rms_batch(
+        np.ascontiguousarray(plant, dtype=np.float64),
+        int(feedback),
+        float(n_filter),
+        g,
+        float(w),
+        out,
+    )
     return out
 
 

@@ -30,10 +30,14 @@ PLANT = Layout("quarter-car plant vector", tuple(Slot(*s) for s in PLANT_SLOTS))
 OUTPUTS = Layout("quarter-car outputs (trace rows)", tuple(Slot(*s) for s in OUTPUT_SLOTS))
 N_RMS = 4
 """Outputs 0..3 (acc, travel, tire, force) are accumulated, into result columns 0..3."""
-RMS_SLOTS = tuple(Slot(f"{name}_rms", unit, f"RMS of the {meaning}")
-                  for name, unit, meaning in OUTPUT_SLOTS[:N_RMS])
-RESULT = Layout("quarter-car simulation results", (
-    *RMS_SLOTS, Slot("diverged", "-", "1 if the state left |x| < DIVERGED_ABOVE or turned NaN")))
+RMS_SLOTS = tuple(
+    Slot(f"{name}_rms", unit, f"RMS of the {meaning}")
+    for name, unit, meaning in OUTPUT_SLOTS[:N_RMS]
+)
+RESULT = Layout(
+    "quarter-car simulation results",
+    (*RMS_SLOTS, Slot("diverged", "-", "1 if the state left |x| < DIVERGED_ABOVE or turned NaN")),
+)
 R_ACC, R_TRAVEL, R_TIRE, R_FORCE, R_DIVERGED = (RESULT[n] for n in RESULT.names)
 N_RESULT = len(RESULT)
 
@@ -64,8 +68,17 @@ def simulate_batch(
     no_trace = np.zeros((N_OUT, 0))
     for lo in range(0, gains.shape[0], BLOCK):
         hi = min(lo + BLOCK, gains.shape[0])
-        _simulate_block(plant, feedback, n_filter, gains[lo:hi], noise, dt,
-                        trace if lo == 0 else no_trace, stride, out[lo:hi])
+        _simulate_block(
+            plant,
+            feedback,
+            n_filter,
+            gains[lo:hi],
+            noise,
+            dt,
+            trace if lo == 0 else no_trace,
+            stride,
+            out[lo:hi],
+        )
 
 
 @njit(cache=True, nogil=True)
@@ -92,8 +105,9 @@ def _simulate_block(
     gam1 = np.zeros(ms)
     diverged = np.zeros(n, dtype=np.bool_)
     for i in range(n):
-        m = closed_loop(plant, feedback, gains[i, 0], gains[i, 1], gains[i, 2], n_filter, True,
-                        a, b, c)
+        m = closed_loop(
+            plant, feedback, gains[i, 0], gains[i, 1], gains[i, 2], n_filter, True, a, b, c
+        )
         if m < 0:
             diverged[i] = True
             continue

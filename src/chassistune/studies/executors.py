@@ -32,7 +32,6 @@ from chassistune.studies.worker import execute_run, failed_result
 EXECUTORS = ("serial", "process", "dask")
 
 
-
 class Executor(ABC):
     """Runs specs; `results(specs)` yields one `RunResult` per spec as runs finish."""
 
@@ -81,8 +80,11 @@ def _init_worker(parent: int, extra: Callable[[], None] | None) -> None:
 def _under_main_guard(tree: ast.Module, line: int) -> bool:
     """Whether `line` of a module lies inside an `if __name__ == "__main__":` block."""
     for node in ast.walk(tree):
-        if (isinstance(node, ast.If) and "__main__" in ast.unparse(node.test)
-                and "__name__" in ast.unparse(node.test)):
+        if (
+            isinstance(node, ast.If)
+            and "__main__" in ast.unparse(node.test)
+            and "__name__" in ast.unparse(node.test)
+        ):
             end = node.end_lineno or node.lineno
             if node.lineno <= line <= end:
                 return True
@@ -107,9 +109,12 @@ def check_main_guard() -> None:
     except (OSError, SyntaxError, ValueError):
         return
     if not _under_main_guard(tree, frame.f_lineno):
-        raise InputError("executor", f"worker processes re-import {os.path.basename(path)!r} "
-                         "(spawn): put the study code under `if __name__ == \"__main__\":` "
-                         "(docs/studies.md)")
+        raise InputError(
+            "executor",
+            f"worker processes re-import {os.path.basename(path)!r} "
+            '(spawn): put the study code under `if __name__ == "__main__":` '
+            "(docs/studies.md)",
+        )
 
 
 class ProcessExecutor(Executor):
@@ -123,8 +128,9 @@ class ProcessExecutor(Executor):
 
     name = "process"
 
-    def __init__(self, workers: int | None = None,
-                 initializer: Callable[[], None] | None = None) -> None:
+    def __init__(
+        self, workers: int | None = None, initializer: Callable[[], None] | None = None
+    ) -> None:
         check_main_guard()
         self.workers = workers or default_workers()
         self._initializer = initializer
@@ -134,8 +140,11 @@ class ProcessExecutor(Executor):
         if self._pool is not None:
             self._pool.shutdown(wait=False, cancel_futures=True)
         self._pool = cf.ProcessPoolExecutor(
-            self.workers, mp_context=multiprocessing.get_context("spawn"),
-            initializer=_init_worker, initargs=(os.getpid(), self._initializer))
+            self.workers,
+            mp_context=multiprocessing.get_context("spawn"),
+            initializer=_init_worker,
+            initargs=(os.getpid(), self._initializer),
+        )
         return self._pool
 
     def _alone(self, spec: RunSpec) -> RunResult:
@@ -181,8 +190,11 @@ class ProcessExecutor(Executor):
 
 
 def _dask_missing() -> InputError:
-    return InputError("executor", 'dask is not installed: pip install "chassistune[dask]" '
-                      '(or pip install "dask[distributed]")')
+    return InputError(
+        "executor",
+        'dask is not installed: pip install "chassistune[dask]" '
+        '(or pip install "dask[distributed]")',
+    )
 
 
 def check_dask() -> None:
@@ -216,8 +228,9 @@ class DaskExecutor(Executor):
 
     name = "dask"
 
-    def __init__(self, address: str | None = None, workers: int | None = None,
-                 processes: bool = True) -> None:
+    def __init__(
+        self, address: str | None = None, workers: int | None = None, processes: bool = True
+    ) -> None:
         check_dask()
         from distributed import Client, LocalCluster
 
@@ -226,28 +239,41 @@ class DaskExecutor(Executor):
             if processes:
                 check_main_guard()
             # worker processes listen on loopback only; threads talk in-process (inproc://)
-            where: dict[str, Any] = ({"host": "127.0.0.1", "env": {"CHASSISTUNE_THREADS": "1"}}
-                                     if processes else {})
+            where: dict[str, Any] = (
+                {"host": "127.0.0.1", "env": {"CHASSISTUNE_THREADS": "1"}} if processes else {}
+            )
             self._cluster = LocalCluster(
-                n_workers=workers or default_workers(), threads_per_worker=1,
-                processes=processes, dashboard_address=None,
-                scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0",
-                                  "allowed_failures": ALLOWED_FAILURES}, **where)
+                n_workers=workers or default_workers(),
+                threads_per_worker=1,
+                processes=processes,
+                dashboard_address=None,
+                scheduler_kwargs={
+                    "dashboard": False,
+                    "dashboard_address": "127.0.0.1:0",
+                    "allowed_failures": ALLOWED_FAILURES,
+                },
+                **where,
+            )
             self._client = Client(self._cluster)
         else:
             try:
                 self._client = Client(address, timeout=f"{SCHEDULER_TIMEOUT_S}s")
             except (OSError, ValueError, TypeError) as exc:
-                raise InputError("scheduler", f"cannot reach a Dask scheduler at {address!r} "
-                                 f"within {SCHEDULER_TIMEOUT_S} s ({type(exc).__name__}: "
-                                 f"{exc})") from None
+                raise InputError(
+                    "scheduler",
+                    f"cannot reach a Dask scheduler at {address!r} "
+                    f"within {SCHEDULER_TIMEOUT_S} s ({type(exc).__name__}: "
+                    f"{exc})",
+                ) from None
 
     def results(self, specs: Sequence[RunSpec]) -> Iterator[RunResult]:
         from distributed import as_completed
 
         suspects = []
-        futures = {self._client.submit(execute_run, s, key=f"run-{s.spec_hash}", pure=False): s
-                   for s in specs}
+        futures = {
+            self._client.submit(execute_run, s, key=f"run-{s.spec_hash}", pure=False): s
+            for s in specs
+        }
         for fut in as_completed(futures):
             result = _collect(fut, futures[fut])
             if result is None:
@@ -255,10 +281,10 @@ class DaskExecutor(Executor):
             else:
                 yield result
         for spec in suspects:  # alone now: a worker dying convicts this run
-            fut = self._client.submit(execute_run, spec, key=f"alone-{spec.spec_hash}",
-                                      pure=False)
+            fut = self._client.submit(execute_run, spec, key=f"alone-{spec.spec_hash}", pure=False)
             yield _collect(fut, spec) or failed_result(
-                spec, "the worker process died while running it")
+                spec, "the worker process died while running it"
+            )
 
     def close(self) -> None:
         self._client.close()
@@ -291,8 +317,11 @@ def make_executor(name: str, workers: int | None = None, scheduler: str | None =
         raise InputError("workers", f"must be a positive whole number, got {workers}")
     if name == "serial":
         if workers is not None:
-            raise InputError("workers", "the serial executor runs in the driver alone; use the "
-                             "process or dask executor for workers")
+            raise InputError(
+                "workers",
+                "the serial executor runs in the driver alone; use the "
+                "process or dask executor for workers",
+            )
         return SerialExecutor()
     if name == "process":
         return ProcessExecutor(workers)

@@ -19,9 +19,12 @@ LOCK_NAME = ".study.lock"
 
 
 def _in_use(out_dir: str | Path, pid: bytes) -> InputError:
-    return InputError("out", f"{str(out_dir)!r} is in use by another study run (process "
-                      f"{pid.decode('ascii', 'replace').strip() or 'unknown'}); wait for it to "
-                      "finish or stop it")
+    return InputError(
+        "out",
+        f"{str(out_dir)!r} is in use by another study run (process "
+        f"{pid.decode('ascii', 'replace').strip() or 'unknown'}); wait for it to "
+        "finish or stop it",
+    )
 
 
 def refuse_if_locked(out_dir: str | Path) -> None:

@@ -25,8 +25,17 @@ from chassistune.errors import InputError
 from chassistune.tuning.problem import TuningProblem, build_problem
 
 MAX_PROBLEMS = 64
-PROBLEM_FIELDS = ("plant", "preset", "controller", "objective", "roads", "aggregate", "params",
-                  "bounds", "uncertainty")
+PROBLEM_FIELDS = (
+    "plant",
+    "preset",
+    "controller",
+    "objective",
+    "roads",
+    "aggregate",
+    "params",
+    "bounds",
+    "uncertainty",
+)
 
 _CACHE: OrderedDict[str, TuningProblem] = OrderedDict()
 _LOCK = threading.Lock()
@@ -49,14 +58,23 @@ def remember(key: str, problem: TuningProblem) -> None:
             _CACHE.popitem(last=False)
 
 
-def build(fields: Mapping[str, Any], seed: int,
-          sequence: np.random.SeedSequence | None = None) -> TuningProblem:
+def build(
+    fields: Mapping[str, Any], seed: int, sequence: np.random.SeedSequence | None = None
+) -> TuningProblem:
     """The nominal problem of the spec fields, or with an `uncertainty` table the robust one
     (training set from `sequence`, default the scenario seed); errors name the domain field
     (`uncertainty.vary.mass_kg`)."""
-    problem = build_problem(fields["plant"], fields["controller"], fields["preset"],
-                            list(fields["roads"]), fields["objective"], fields["aggregate"],
-                            fields["params"], fields["bounds"], seed)
+    problem = build_problem(
+        fields["plant"],
+        fields["controller"],
+        fields["preset"],
+        list(fields["roads"]),
+        fields["objective"],
+        fields["aggregate"],
+        fields["params"],
+        fields["bounds"],
+        seed,
+    )
     table = fields.get("uncertainty")
     if table is None:
         return problem
@@ -65,14 +83,16 @@ def build(fields: Mapping[str, Any], seed: int,
 
     try:
         spec = parse_table(table, known_for(problem))
-        return robust_problem(problem, spec, fields["params"],
-                              seed if sequence is None else sequence)
+        return robust_problem(
+            problem, spec, fields["params"], seed if sequence is None else sequence
+        )
     except InputError as exc:
         raise InputError(f"uncertainty.{exc.field}", exc.problem) from None
 
 
-def problem_for(fields: Mapping[str, Any], seed: int,
-                sequence: np.random.SeedSequence | None = None) -> TuningProblem:
+def problem_for(
+    fields: Mapping[str, Any], seed: int, sequence: np.random.SeedSequence | None = None
+) -> TuningProblem:
     """The problem of these spec fields and scenario seed: kept, or built and kept."""
     key = problem_key(fields, seed)
     with _LOCK:

@@ -47,8 +47,7 @@ def check_out_dir(out_dir: str | Path) -> None:
         raise InputError("out", f"{str(p / STORE_NAME)!r} is not a file")
 
 
-def pending_runs(plan: StudyPlan, out_dir: str | Path,
-                 retry_failed: bool = False) -> list[RunSpec]:
+def pending_runs(plan: StudyPlan, out_dir: str | Path, retry_failed: bool = False) -> list[RunSpec]:
     """The plan's runs that still have to be done (reading an existing store, never creating)."""
     if not store_path(out_dir).exists():
         return list(plan.runs)
@@ -56,8 +55,11 @@ def pending_runs(plan: StudyPlan, out_dir: str | Path,
         finished = store.finished()
         name = store.meta().get("study")
     if name is not None and name != plan.config.study.name:
-        raise InputError("out", f"{str(out_dir)!r} holds the study {name!r}, not "
-                         f"{plan.config.study.name!r}; use a new --out folder")
+        raise InputError(
+            "out",
+            f"{str(out_dir)!r} holds the study {name!r}, not "
+            f"{plan.config.study.name!r}; use a new --out folder",
+        )
     todo = []
     for spec in plan.runs:
         if spec.key not in finished:
@@ -65,30 +67,47 @@ def pending_runs(plan: StudyPlan, out_dir: str | Path,
             continue
         spec_hash, status = finished[spec.key]
         if spec_hash != spec.spec_hash:
-            raise InputError("out", f"{str(out_dir)!r} already holds run {spec.key!r} made "
-                             "from a different config; use a new --out folder")
+            raise InputError(
+                "out",
+                f"{str(out_dir)!r} already holds run {spec.key!r} made "
+                "from a different config; use a new --out folder",
+            )
         if retry_failed and status is not RunStatus.COMPLETED:
             todo.append(spec)
     return todo
 
 
-def run_study(plan: StudyPlan, out_dir: str | Path, executor: Executor,
-              retry_failed: bool = False, progress: Progress | None = None) -> StudyOutcome:
+def run_study(
+    plan: StudyPlan,
+    out_dir: str | Path,
+    executor: Executor,
+    retry_failed: bool = False,
+    progress: Progress | None = None,
+) -> StudyOutcome:
     """Do the plan's pending runs on `executor`, recording each in DIR/study.sqlite."""
     check_out_dir(out_dir)
     with study_lock(out_dir):
         return _run_locked(plan, out_dir, executor, retry_failed, progress)
 
 
-def _run_locked(plan: StudyPlan, out_dir: str | Path, executor: Executor, retry_failed: bool,
-                progress: Progress | None) -> StudyOutcome:
+def _run_locked(
+    plan: StudyPlan,
+    out_dir: str | Path,
+    executor: Executor,
+    retry_failed: bool,
+    progress: Progress | None,
+) -> StudyOutcome:
     todo = pending_runs(plan, out_dir, retry_failed)
     specs = {s.key: s for s in todo}
     total, skipped = len(plan.runs), len(plan.runs) - len(todo)
     completed = failed = 0
     t0 = time.perf_counter()
-    meta = {"study": plan.config.study.name, "config": plan.config_json(),
-            "scenarios": "\n".join(plan.scenarios), "optimizers": "\n".join(plan.optimizers)}
+    meta = {
+        "study": plan.config.study.name,
+        "config": plan.config_json(),
+        "scenarios": "\n".join(plan.scenarios),
+        "optimizers": "\n".join(plan.optimizers),
+    }
     with Store.create(out_dir, meta) as store:
         if progress is not None:
             progress(skipped, 0, total)
@@ -100,8 +119,9 @@ def _run_locked(plan: StudyPlan, out_dir: str | Path, executor: Executor, retry_
                 failed += 1
             if progress is not None:
                 progress(skipped + completed + failed, failed, total)
-    return StudyOutcome(total, skipped, completed, failed, time.perf_counter() - t0,
-                        store_path(out_dir))
+    return StudyOutcome(
+        total, skipped, completed, failed, time.perf_counter() - t0, store_path(out_dir)
+    )
 
 
 def rich_progress(run: Callable[[Progress], StudyOutcome], label: str) -> StudyOutcome:
@@ -121,10 +141,17 @@ def rich_progress(run: Callable[[Progress], StudyOutcome], label: str) -> StudyO
     )
     from rich.progress import Progress as Bar
 
-    with Bar(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
-             TextColumn("runs, {task.fields[failed]} failed"), TimeElapsedColumn(),
-             TextColumn("ETA"), TimeRemainingColumn(), console=Console(stderr=True),
-             transient=True) as bar:
+    with Bar(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TextColumn("runs, {task.fields[failed]} failed"),
+        TimeElapsedColumn(),
+        TextColumn("ETA"),
+        TimeRemainingColumn(),
+        console=Console(stderr=True),
+        transient=True,
+    ) as bar:
         task = bar.add_task(label, total=None, failed=0)
         started: list[bool] = []
 

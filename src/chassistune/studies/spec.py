@@ -73,8 +73,9 @@ class StudySection(_Model):
                 raise ValueError("the list of seed indices is empty")
             for s in v:
                 if isinstance(s, bool) or not isinstance(s, int) or not 0 <= s < MAX_SEEDS:
-                    raise ValueError(f"seed indices must be integers in 0..{MAX_SEEDS - 1}, "
-                                     f"got {s!r}")
+                    raise ValueError(
+                        f"seed indices must be integers in 0..{MAX_SEEDS - 1}, got {s!r}"
+                    )
             if len(set(v)) != len(v):
                 raise ValueError("a seed index is listed twice")
             return tuple(v)
@@ -134,8 +135,9 @@ class ScenarioConfig(_Model):
     @classmethod
     def _several(cls, v: list[str] | None) -> list[str] | None:
         if v is not None and len(v) < 2:
-            raise ValueError("one controller for several roads needs at least two roads "
-                             "(use `roads` for one)")
+            raise ValueError(
+                "one controller for several roads needs at least two roads (use `roads` for one)"
+            )
         return v
 
     @field_validator("bounds", mode="before")
@@ -155,17 +157,25 @@ class ScenarioConfig(_Model):
                 raise ValueError(f"{gain}: need lo < hi, got [{lo:g}, {hi:g}]")
         return v
 
-
     @model_validator(mode="after")
     def _kind(self) -> ScenarioConfig:
         if self.functions is not None:
-            plant_keys = ("plant", "preset", "controller", "objective", "roads", "tune_roads",
-                          "test_roads", "uncertainty")
+            plant_keys = (
+                "plant",
+                "preset",
+                "controller",
+                "objective",
+                "roads",
+                "tune_roads",
+                "test_roads",
+                "uncertainty",
+            )
             extra = [k for k in plant_keys if getattr(self, k) is not None]
             extra += [k for k in ("params", "bounds") if getattr(self, k)]
             if extra:
-                raise ValueError("a `functions` scenario takes no plant settings, got "
-                                 f"{', '.join(extra)}")
+                raise ValueError(
+                    f"a `functions` scenario takes no plant settings, got {', '.join(extra)}"
+                )
             if not self.functions or len(set(self.functions)) != len(self.functions):
                 raise ValueError("`functions` must list distinct benchmark functions")
         else:
@@ -216,14 +226,21 @@ def quick_config(config: StudyConfig) -> StudyConfig:
     q = config.quick
     if q is None:
         raise InputError("quick", f"study {config.study.name!r} has no [quick] table")
-    return config.model_copy(update={
-        "study": config.study.model_copy(update={"name": f"{config.study.name}-quick",
-                                                 "seeds": tuple(range(q.seeds))}),
-        "budget": _quick_budget(config.budget, q),
-        "scenarios": [sc.model_copy(update={"budget": _quick_budget(sc.budget, q)})
-                      if sc.budget is not None else sc for sc in config.scenarios],
-        "quick": None,
-    })
+    return config.model_copy(
+        update={
+            "study": config.study.model_copy(
+                update={"name": f"{config.study.name}-quick", "seeds": tuple(range(q.seeds))}
+            ),
+            "budget": _quick_budget(config.budget, q),
+            "scenarios": [
+                sc.model_copy(update={"budget": _quick_budget(sc.budget, q)})
+                if sc.budget is not None
+                else sc
+                for sc in config.scenarios
+            ],
+            "quick": None,
+        }
+    )
 
 
 class RunSpec(_Model):
@@ -320,8 +337,9 @@ def _first_error(exc: ValidationError) -> InputError:
     else:
         problem = str(err["msg"]).removeprefix("Value error, ")
         if problem.startswith(MISSING):  # a field required by the scenario's kind
-            return InputError(_where((*err["loc"], problem.removeprefix(MISSING))),
-                              "missing required field")
+            return InputError(
+                _where((*err["loc"], problem.removeprefix(MISSING))), "missing required field"
+            )
         problem = problem[:1].lower() + problem[1:]
         value = err.get("input")
         if kind != "value_error" and isinstance(value, str | int | float | bool):
@@ -332,8 +350,9 @@ def _first_error(exc: ValidationError) -> InputError:
 def parse_config(data: dict[str, Any]) -> StudyConfig:
     """Validate parsed TOML; the first problem raises InputError naming its field."""
     if not data:
-        raise InputError("CONFIG", "the config is empty (need [study], [[scenarios]] and "
-                         "[[optimizers]])")
+        raise InputError(
+            "CONFIG", "the config is empty (need [study], [[scenarios]] and [[optimizers]])"
+        )
     try:
         return StudyConfig.model_validate(data)
     except ValidationError as exc:
@@ -365,7 +384,9 @@ def load_config(path: str | Path) -> StudyConfig:
 # -- planning ------------------------------------------------------------------------------------
 
 _CONFIG_KEYS = {
-    "road": "roads", "pop_size": "budget.pop_size", "max_iter": "budget.iterations",
+    "road": "roads",
+    "pop_size": "budget.pop_size",
+    "max_iter": "budget.iterations",
     "max_evals": "budget.evaluations",
 }
 """Domain field heads whose config key differs (budget keys live in the top-level table)."""
@@ -389,8 +410,7 @@ class _Cell:
     roads: tuple[str, ...]
 
 
-def _cells(sc: ScenarioConfig, plant: str, controller: str,
-           default_road: str) -> Iterator[_Cell]:
+def _cells(sc: ScenarioConfig, plant: str, controller: str, default_road: str) -> Iterator[_Cell]:
     group = sc.name or f"{plant}-{controller}"
     roads = sc.roads if sc.roads is not None else ([] if sc.tune_roads else [default_road])
     for road in roads:
@@ -399,8 +419,9 @@ def _cells(sc: ScenarioConfig, plant: str, controller: str,
         yield _Cell(group, f"{group}/{'+'.join(sc.tune_roads)}", tuple(sc.tune_roads))
 
 
-def _resolve_functions(index: int, sc: ScenarioConfig, functions: list[str]
-                       ) -> list[dict[str, Any]]:
+def _resolve_functions(
+    index: int, sc: ScenarioConfig, functions: list[str]
+) -> list[dict[str, Any]]:
     """The run-spec fields of a benchmark-function scenario: one cell per function."""
     from chassistune.tuning.functions import FUNCTION_KIND, build_function_problem
 
@@ -411,17 +432,27 @@ def _resolve_functions(index: int, sc: ScenarioConfig, functions: list[str]
             problem = build_function_problem(name, 0)
         except InputError as exc:
             raise InputError(f"scenarios[{index}].functions[{k}]", exc.problem) from None
-        out.append({
-            "group": group, "scenario": f"{group}/{problem.function.name}",
-            "plant": FUNCTION_KIND, "preset": "", "controller": "", "objective": "value",
-            "roads": (problem.function.name,), "aggregate": "mean", "test_roads": (),
-            "params": {}, "bounds": dict(zip(problem.gain_names, problem.bounds, strict=True)),
-        })
+        out.append(
+            {
+                "group": group,
+                "scenario": f"{group}/{problem.function.name}",
+                "plant": FUNCTION_KIND,
+                "preset": "",
+                "controller": "",
+                "objective": "value",
+                "roads": (problem.function.name,),
+                "aggregate": "mean",
+                "test_roads": (),
+                "params": {},
+                "bounds": dict(zip(problem.gain_names, problem.bounds, strict=True)),
+            }
+        )
     return out
 
 
-def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int,
-                      sequence: np.random.SeedSequence) -> list[dict[str, Any]]:
+def _resolve_scenario(
+    index: int, sc: ScenarioConfig, seed: int, sequence: np.random.SeedSequence
+) -> list[dict[str, Any]]:
     """Build each cell's problem once (kept for the runs: `studies.problems`); the run-spec
     fields of each cell. `seed` is the scenario seed of the study's first seed index, `sequence`
     its seed sequence (a robust problem's training set)."""
@@ -441,18 +472,28 @@ def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int,
         out = []
         for cell in cells:
             fields: dict[str, Any] = {
-                "plant": plant_name, "preset": preset, "controller": controller,
-                "objective": sc.objective, "roads": cell.roads, "aggregate": sc.aggregate,
-                "params": dict(sc.params), "bounds": dict(sc.bounds),
+                "plant": plant_name,
+                "preset": preset,
+                "controller": controller,
+                "objective": sc.objective,
+                "roads": cell.roads,
+                "aggregate": sc.aggregate,
+                "params": dict(sc.params),
+                "bounds": dict(sc.bounds),
                 "uncertainty": sc.uncertainty,
             }
             problem = build(fields, seed, sequence)
-            fields.update({
-                "group": cell.group, "scenario": cell.name,
-                "preset": problem.scenarios[0].preset, "objective": problem.objective,
-                "aggregate": str(parse_aggregate(sc.aggregate)), "test_roads": test_roads,
-                "bounds": dict(zip(problem.gain_names, problem.bounds, strict=True)),
-            })
+            fields.update(
+                {
+                    "group": cell.group,
+                    "scenario": cell.name,
+                    "preset": problem.scenarios[0].preset,
+                    "objective": problem.objective,
+                    "aggregate": str(parse_aggregate(sc.aggregate)),
+                    "test_roads": test_roads,
+                    "bounds": dict(zip(problem.gain_names, problem.bounds, strict=True)),
+                }
+            )
             remember(problem_key(fields, seed), problem)
             out.append(fields)
     except InputError as exc:
@@ -466,8 +507,9 @@ def _resolve_scenario(index: int, sc: ScenarioConfig, seed: int,
     return out
 
 
-def _resolve_optimizer(index: int, opt: OptimizerConfig, budget: BudgetConfig,
-                       bounds: list[tuple[float, float]]) -> None:
+def _resolve_optimizer(
+    index: int, opt: OptimizerConfig, budget: BudgetConfig, bounds: list[tuple[float, float]]
+) -> None:
     """Construct the optimizer once (no evaluation) so that every setting is checked."""
     from chassistune.optimizers.peers import PEERS
     from chassistune.optimizers.registry import get, make
@@ -475,8 +517,11 @@ def _resolve_optimizer(index: int, opt: OptimizerConfig, budget: BudgetConfig,
     where = f"optimizers[{index}]"
     if opt.name in PEERS:
         if opt.hyperparameters:
-            raise InputError(f"{where}.hyperparameters", f"the peer {opt.name} runs with the "
-                             "settings of optimizers.peers; give no hyperparameters")
+            raise InputError(
+                f"{where}.hyperparameters",
+                f"the peer {opt.name} runs with the "
+                "settings of optimizers.peers; give no hyperparameters",
+            )
         return
     try:
         get(opt.name)
@@ -484,8 +529,15 @@ def _resolve_optimizer(index: int, opt: OptimizerConfig, budget: BudgetConfig,
         raise InputError(f"{where}.name", exc.problem) from None
     hyper: dict[str, Any] = dict(opt.hyperparameters)
     try:
-        make(opt.name, bounds, budget.pop_size, 0, max_iter=budget.iterations,
-             max_evals=budget.evaluations, **hyper)
+        make(
+            opt.name,
+            bounds,
+            budget.pop_size,
+            0,
+            max_iter=budget.iterations,
+            max_evals=budget.evaluations,
+            **hyper,
+        )
     except InputError as exc:
         if exc.field in _CONFIG_KEYS:
             field = config_path(exc.field, where)
@@ -507,23 +559,36 @@ def plan_study(config: StudyConfig) -> StudyPlan:
         resolved = _resolve_scenario(i, sc, int_seed(first), first)
         budgets += [sc.budget or config.budget] * len(resolved)
         if any(c["group"] == resolved[0]["group"] for c in cells):
-            raise InputError(f"scenarios[{i}].name", f"another scenario is also named "
-                             f"{resolved[0]['group']!r}: give each scenario a distinct `name`")
+            raise InputError(
+                f"scenarios[{i}].name",
+                f"another scenario is also named "
+                f"{resolved[0]['group']!r}: give each scenario a distinct `name`",
+            )
         cells.extend(resolved)
     labels: list[str] = []
     for j, opt in enumerate(config.optimizers):
         label = opt.label or opt.name
         if label in labels:
-            raise InputError(f"optimizers[{j}].label", f"{label!r} is used twice: give each "
-                             "optimizer entry a distinct `label`")
+            raise InputError(
+                f"optimizers[{j}].label",
+                f"{label!r} is used twice: give each optimizer entry a distinct `label`",
+            )
         labels.append(label)
         for c, b in zip(cells, budgets, strict=True):
             _resolve_optimizer(j, opt, b, list(c["bounds"].values()))
     runs = tuple(
-        RunSpec(study=config.study.name, optimizer=label, optimizer_name=opt.name.lower(),
-                hyperparameters=dict(opt.hyperparameters), pop_size=b.pop_size,
-                max_iter=b.iterations, max_evals=b.evaluations, root_seed=config.study.seed,
-                seed=s, **c)
+        RunSpec(
+            study=config.study.name,
+            optimizer=label,
+            optimizer_name=opt.name.lower(),
+            hyperparameters=dict(opt.hyperparameters),
+            pop_size=b.pop_size,
+            max_iter=b.iterations,
+            max_evals=b.evaluations,
+            root_seed=config.study.seed,
+            seed=s,
+            **c,
+        )
         for c, b in zip(cells, budgets, strict=True)
         for opt, label in zip(config.optimizers, labels, strict=True)
         for s in config.study.seeds

@@ -37,6 +37,14 @@ def study_status(study_dir: str | Path) -> StudyStatus:
     keys = {r.key for r in plan.runs}
     done = [s for k, (_, s) in finished.items() if k in keys]
     completed = sum(s is RunStatus.COMPLETED for s in done)
-    return StudyStatus(plan.config.study.name, plan.config, len(plan.runs), completed,
-                       len(done) - completed, len(plan.runs) - len(done), plan.scenarios,
-                       plan.optimizers, holder(study_dir))
+    return StudyStatus(
+        plan.config.study.name,
+        plan.config,
+        len(plan.runs),
+        completed,
+        len(done) - completed,
+        len(plan.runs) - len(done),
+        plan.scenarios,
+        plan.optimizers,
+        holder(study_dir),
+    )

@@ -58,8 +58,16 @@ CREATE TABLE IF NOT EXISTS runs (
 );
 """
 
-_JSON_COLUMNS = ("best_gains", "metrics", "test_costs", "history", "history_nfev", "robust",
-                 "diagnostics", "step_check")
+_JSON_COLUMNS = (
+    "best_gains",
+    "metrics",
+    "test_costs",
+    "history",
+    "history_nfev",
+    "robust",
+    "diagnostics",
+    "step_check",
+)
 
 
 @dataclass(frozen=True)
@@ -160,15 +168,16 @@ class Store:
         if not Path(study_dir).is_dir():
             raise InputError(field, f"no study folder {str(study_dir)!r}")
         if not path.is_file():
-            raise InputError(field, f"{str(study_dir)!r} holds no {STORE_NAME} (not a study "
-                             "folder)")
+            raise InputError(
+                field, f"{str(study_dir)!r} holds no {STORE_NAME} (not a study folder)"
+            )
         try:
             conn = _connect(path, read_only=True)
-            version = conn.execute(
-                "SELECT value FROM meta WHERE key = 'schema_version'").fetchone()
+            version = conn.execute("SELECT value FROM meta WHERE key = 'schema_version'").fetchone()
         except sqlite3.DatabaseError as exc:
-            raise InputError(field, f"{str(path)!r} is not a readable study store ({exc})"
-                             ) from None
+            raise InputError(
+                field, f"{str(path)!r} is not a readable study store ({exc})"
+            ) from None
         if version is None or version[0] != SCHEMA_VERSION:
             conn.close()
             raise InputError(field, f"{str(path)!r} has an unknown store schema")
@@ -204,11 +213,17 @@ class Store:
         if result.key != spec.key or result.spec_hash != spec.spec_hash:
             raise RuntimeError(f"result {result.key} does not belong to run {spec.key}")
         row: dict[str, Any] = {
-            "key": spec.key, "scenario": spec.scenario, "optimizer": spec.optimizer,
-            "seed": spec.seed, "spec_hash": spec.spec_hash,
+            "key": spec.key,
+            "scenario": spec.scenario,
+            "optimizer": spec.optimizer,
+            "seed": spec.seed,
+            "spec_hash": spec.spec_hash,
             "spec": spec.model_dump_json(),  # field and gain order kept
-            "status": result.status.value, "error": result.error,
-            "best_cost": result.best_cost, "nfev": result.nfev, "nit": result.nit,
+            "status": result.status.value,
+            "error": result.error,
+            "best_cost": result.best_cost,
+            "nfev": result.nfev,
+            "nit": result.nit,
             "wall_time_s": result.wall_time_s,
             "versions": dumps(result.versions, sort_keys=True),
             "finished_at": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
@@ -230,17 +245,44 @@ class Store:
         cur = self._conn.execute(
             "SELECT spec, status, error, best_cost, nfev, nit, wall_time_s, best_gains, metrics, "
             f"test_costs, history, history_nfev, versions, {robust}, {diagnostics}, {step_check} "
-            "FROM runs ORDER BY scenario, optimizer, seed")
-        for (spec, status, error, cost, nfev, nit, wall, gains, metrics, tests, hist, hist_n,
-             vers, rob, diag, steps) in cur:
+            "FROM runs ORDER BY scenario, optimizer, seed"
+        )
+        for (
+            spec,
+            status,
+            error,
+            cost,
+            nfev,
+            nit,
+            wall,
+            gains,
+            metrics,
+            tests,
+            hist,
+            hist_n,
+            vers,
+            rob,
+            diag,
+            steps,
+        ) in cur:
             yield RunRecord(
-                spec=RunSpec.model_validate_json(spec), status=RunStatus(status), error=error,
-                best_cost=cost, nfev=nfev, nit=nit, wall_time_s=wall,
-                best_gains=_loads(gains, {}), metrics=_loads(metrics, {}),
-                test_costs=_loads(tests, {}), history=_loads(hist, []),
-                history_nfev=_loads(hist_n, []), versions=_loads(vers, {}),
+                spec=RunSpec.model_validate_json(spec),
+                status=RunStatus(status),
+                error=error,
+                best_cost=cost,
+                nfev=nfev,
+                nit=nit,
+                wall_time_s=wall,
+                best_gains=_loads(gains, {}),
+                metrics=_loads(metrics, {}),
+                test_costs=_loads(tests, {}),
+                history=_loads(hist, []),
+                history_nfev=_loads(hist_n, []),
+                versions=_loads(vers, {}),
                 diagnostics=_loads(diag, {}),
-                robust=_loads(rob, None), step_check=_loads(steps, None))
+                robust=_loads(rob, None),
+                step_check=_loads(steps, None),
+            )
 
 
 def _columns(conn: sqlite3.Connection) -> set[str]:

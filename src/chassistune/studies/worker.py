@@ -43,18 +43,39 @@ def _run_function(spec: RunSpec) -> dict[str, Any]:
 
     problem = build_function_problem(spec.roads[0], spec.scenario_seed)
     if spec.optimizer_name in PEERS:
-        result = run_peer(spec.optimizer_name, problem, problem.bounds, spec.pop_size,
-                          spec.max_iter, spec.max_evals, spec.seed_sequence())
+        result = run_peer(
+            spec.optimizer_name,
+            problem,
+            problem.bounds,
+            spec.pop_size,
+            spec.max_iter,
+            spec.max_evals,
+            spec.seed_sequence(),
+        )
     else:
         hyper: dict[str, Any] = dict(spec.hyperparameters)
-        result = drive(make(spec.optimizer_name, problem.bounds, spec.pop_size,
-                            spec.optimizer_rng(), max_iter=spec.max_iter,
-                            max_evals=spec.max_evals, **hyper), problem)
+        result = drive(
+            make(
+                spec.optimizer_name,
+                problem.bounds,
+                spec.pop_size,
+                spec.optimizer_rng(),
+                max_iter=spec.max_iter,
+                max_evals=spec.max_evals,
+                **hyper,
+            ),
+            problem,
+        )
     return {
         "best_gains": dict(zip(problem.gain_names, result.x.tolist(), strict=True)),
-        "best_cost": result.fun, "nfev": result.nfev, "nit": result.nit,
-        "history": result.history, "history_nfev": result.history_nfev,
-        "metrics": {}, "test_costs": {}, "diagnostics": result.diagnostics,
+        "best_cost": result.fun,
+        "nfev": result.nfev,
+        "nit": result.nit,
+        "history": result.history,
+        "history_nfev": result.history_nfev,
+        "metrics": {},
+        "test_costs": {},
+        "diagnostics": result.diagnostics,
     }
 
 
@@ -71,15 +92,23 @@ def _run(spec: RunSpec) -> dict[str, Any]:
     seed = spec.scenario_seed
     problem = problem_for(spec.model_dump(), seed, spec.seed_sequence())
     hyper: dict[str, Any] = dict(spec.hyperparameters)
-    result = run_optimizer(problem, spec.optimizer_name, spec.pop_size, spec.max_iter,
-                           spec.max_evals, spec.optimizer_rng(), **hyper)
+    result = run_optimizer(
+        problem,
+        spec.optimizer_name,
+        spec.pop_size,
+        spec.max_iter,
+        spec.max_evals,
+        spec.optimizer_rng(),
+        **hyper,
+    )
     best = np.array([result.best_gains[n] for n in problem.gain_names]).reshape(1, -1)
     tuned = {sc.road: sc for sc in problem.scenarios}
     plant = get_plant(spec.plant)
     test_costs = {}
     for road in spec.test_roads:
-        sc = tuned.get(road) or plant.scenario(spec.preset, road, spec.controller, spec.params,
-                                               seed)
+        sc = tuned.get(road) or plant.scenario(
+            spec.preset, road, spec.controller, spec.params, seed
+        )
         test_costs[road] = float(sc.cost(best, spec.objective)[0])
     robust = None
     if isinstance(problem, RobustProblem):  # training summary and validation (issue 17)
@@ -109,14 +138,24 @@ def execute_run(spec: RunSpec) -> RunResult:
     except Exception as exc:
         last = traceback.extract_tb(exc.__traceback__)[-1:]
         where = f" (at {last[0].filename.rsplit('/', 1)[-1]}:{last[0].lineno})" if last else ""
-        return failed_result(spec, f"{type(exc).__name__}: {exc}{where}",
-                             time.perf_counter() - t0)
-    return RunResult(key=spec.key, spec_hash=spec.spec_hash, status=RunStatus.COMPLETED,
-                     wall_time_s=time.perf_counter() - t0, versions=versions(),
-                     **jsonable(numbers))
+        return failed_result(spec, f"{type(exc).__name__}: {exc}{where}", time.perf_counter() - t0)
+    return RunResult(
+        key=spec.key,
+        spec_hash=spec.spec_hash,
+        status=RunStatus.COMPLETED,
+        wall_time_s=time.perf_counter() - t0,
+        versions=versions(),
+        **jsonable(numbers),
+    )
 
 
 def failed_result(spec: RunSpec, error: str, wall_time_s: float = math.nan) -> RunResult:
     """A failed run: raised in the worker, or lost outside it (a dead worker: no wall time)."""
-    return RunResult(key=spec.key, spec_hash=spec.spec_hash, status=RunStatus.FAILED,
-                     wall_time_s=wall_time_s, versions=versions(), error=error)
+    return RunResult(
+        key=spec.key,
+        spec_hash=spec.spec_hash,
+        status=RunStatus.FAILED,
+        wall_time_s=wall_time_s,
+        versions=versions(),
+        error=error,
+    )

@@ -70,10 +70,17 @@ def build_problem(
     box = dict(zip(spec.gain_names, spec.bounds(), strict=True))
     for name, (lo, hi) in (bounds or {}).items():
         if name not in box:
-            raise InputError("bounds", f"unknown gain {name!r} for {controller} "
-                             f"(known: {', '.join(spec.gain_names)})")
+            raise InputError(
+                "bounds",
+                f"unknown gain {name!r} for {controller} (known: {', '.join(spec.gain_names)})",
+            )
         if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
             raise InputError(f"bounds.{name}", f"need finite lo < hi, got [{lo}, {hi}]")
         box[name] = (float(lo), float(hi))
-    return TuningProblem(scenarios, objective, aggregate, [box[n] for n in spec.gain_names],
-                         params=dict(params or {}))
+    return TuningProblem(
+        scenarios,
+        objective,
+        aggregate,
+        [box[n] for n in spec.gain_names],
+        params=dict(params or {}),
+    )

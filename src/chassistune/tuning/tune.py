@@ -51,8 +51,9 @@ class TuneResult(OptimizeResult):
                 out.append((name, value, lo if value - lo <= margin else hi))
         return out
 
-    def test_on(self, roads: Sequence[str], params: Mapping[str, object] | None = None
-                ) -> dict[str, dict[str, Any]]:
+    def test_on(
+        self, roads: Sequence[str], params: Mapping[str, object] | None = None
+    ) -> dict[str, dict[str, Any]]:
         """Metrics of the tuned gains on other roads (same plant, preset, controller and
         `params`), by road."""
         from chassistune.scenarios.registry import get_plant
@@ -60,8 +61,14 @@ class TuneResult(OptimizeResult):
         first = self.problem.scenarios[0]
         plant = get_plant(first.plant)
         gains = np.array([self.best_gains[n] for n in self.problem.gain_names])
-        return {road: plant.scenario(first.preset, road, first.controller.name, params or {},
-                                     first.seed).trace(gains).metrics for road in roads}
+        return {
+            road: plant.scenario(
+                first.preset, road, first.controller.name, params or {}, first.seed
+            )
+            .trace(gains)
+            .metrics
+            for road in roads
+        }
 
     def as_dict(self) -> dict[str, Any]:
         """The `tune --json` object (DESIGN 7); `metrics` by road when several were tuned."""
@@ -92,8 +99,11 @@ class TuneResult(OptimizeResult):
 
     def step_warnings(self) -> list[str]:
         """One line per road whose figures move by more than the tolerance at the finer step."""
-        return [f"step check on {road}: {c.warning}" for road, c in self.step_checks.items()
-                if c.warning]
+        return [
+            f"step check on {road}: {c.warning}"
+            for road, c in self.step_checks.items()
+            if c.warning
+        ]
 
 
 class Incumbent:
@@ -136,10 +146,14 @@ def run_optimizer(
     if max_iter is None and max_evals is None:
         raise InputError("max_iter", "give an iteration or an evaluation budget")
     check_covers_population(pop_size, max_evals)
-    opt = make(optimizer, problem.bounds, pop_size, seed, max_iter=max_iter, max_evals=max_evals,
-               **hyper)
-    run = drive(opt, incumbent or problem, None if progress is None else
-                lambda r: progress(r.nit, r.nfev, r.fun))
+    opt = make(
+        optimizer, problem.bounds, pop_size, seed, max_iter=max_iter, max_evals=max_evals, **hyper
+    )
+    run = drive(
+        opt,
+        incumbent or problem,
+        None if progress is None else lambda r: progress(r.nit, r.nfev, r.fun),
+    )
     best = np.asarray(run.x, dtype=float)
     return TuneResult(
         **vars(run),
@@ -153,27 +167,54 @@ def run_optimizer(
 def step_checks(problem: TuningProblem, gains: np.ndarray) -> dict[str, StepCheck]:
     """The winner re-simulated at a quarter of the step on every road of an ABS plant
     (`scenarios.refine.step_refinement`), by road."""
-    return {sc.road: step_refinement(sc, gains, problem.params, problem.objective)
-            for sc in problem.scenarios if sc.plant in REFINABLE_PLANTS}
+    return {
+        sc.road: step_refinement(sc, gains, problem.params, problem.objective)
+        for sc in problem.scenarios
+        if sc.plant in REFINABLE_PLANTS
+    }
 
 
 @overload
-def tune(plant: str, controller: str, optimizer: str = ..., preset: str | None = ...,
-         roads: Sequence[str] | str | None = ..., objective: str | None = ...,
-         aggregate: str = ..., pop_size: int = ..., max_iter: int | None = ...,
-         max_evals: int | None = ..., seed: int = ..., params: Mapping[str, object] | None = ...,
-         bounds: Mapping[str, tuple[float, float]] | None = ...,
-         progress: Progress | None = ..., uncertainty: None = ..., **hyper: Any) -> TuneResult: ...
+def tune(
+    plant: str,
+    controller: str,
+    optimizer: str = ...,
+    preset: str | None = ...,
+    roads: Sequence[str] | str | None = ...,
+    objective: str | None = ...,
+    aggregate: str = ...,
+    pop_size: int = ...,
+    max_iter: int | None = ...,
+    max_evals: int | None = ...,
+    seed: int = ...,
+    params: Mapping[str, object] | None = ...,
+    bounds: Mapping[str, tuple[float, float]] | None = ...,
+    progress: Progress | None = ...,
+    uncertainty: None = ...,
+    **hyper: Any,
+) -> TuneResult: ...
 
 
 @overload
-def tune(plant: str, controller: str, optimizer: str = ..., preset: str | None = ...,
-         roads: Sequence[str] | str | None = ..., objective: str | None = ...,
-         aggregate: str = ..., pop_size: int = ..., max_iter: int | None = ...,
-         max_evals: int | None = ..., seed: int = ..., params: Mapping[str, object] | None = ...,
-         bounds: Mapping[str, tuple[float, float]] | None = ...,
-         progress: Progress | None = ..., *,
-         uncertainty: UncertaintySpec | Mapping[str, Any], **hyper: Any) -> RobustTuneResult: ...
+def tune(
+    plant: str,
+    controller: str,
+    optimizer: str = ...,
+    preset: str | None = ...,
+    roads: Sequence[str] | str | None = ...,
+    objective: str | None = ...,
+    aggregate: str = ...,
+    pop_size: int = ...,
+    max_iter: int | None = ...,
+    max_evals: int | None = ...,
+    seed: int = ...,
+    params: Mapping[str, object] | None = ...,
+    bounds: Mapping[str, tuple[float, float]] | None = ...,
+    progress: Progress | None = ...,
+    *,
+    uncertainty: UncertaintySpec | Mapping[str, Any],
+    **hyper: Any,
+) -> RobustTuneResult: ...
 
 
 def tune(
@@ -205,19 +246,30 @@ def tune(
     if max_iter is None and max_evals is None:
         max_iter = 100
     road_list = [roads] if isinstance(roads, str) else roads
-    problem = build_problem(plant, controller, preset, road_list, objective, aggregate, params,
-                            bounds, seed)
+    problem = build_problem(
+        plant, controller, preset, road_list, objective, aggregate, params, bounds, seed
+    )
     if uncertainty is not None:
         from chassistune.tuning.robust.run import tune_robust
 
-        return tune_robust(problem, robust_spec(problem, uncertainty), optimizer, pop_size,
-                           max_iter, max_evals, seed, params, progress, **hyper)
-    return run_optimizer(problem, optimizer, pop_size, max_iter, max_evals, seed, progress,
-                         **hyper)
+        return tune_robust(
+            problem,
+            robust_spec(problem, uncertainty),
+            optimizer,
+            pop_size,
+            max_iter,
+            max_evals,
+            seed,
+            params,
+            progress,
+            **hyper,
+        )
+    return run_optimizer(problem, optimizer, pop_size, max_iter, max_evals, seed, progress, **hyper)
 
 
-def robust_spec(nominal: TuningProblem,
-                uncertainty: UncertaintySpec | Mapping[str, Any]) -> UncertaintySpec:
+def robust_spec(
+    nominal: TuningProblem, uncertainty: UncertaintySpec | Mapping[str, Any]
+) -> UncertaintySpec:
     """An `UncertaintySpec` as given, or parsed from an `[uncertainty]` table against the
     parameters every scenario of `nominal` may vary."""
     from chassistune.tuning.robust.problem import known_for

@@ -46,7 +46,7 @@ class Aggregate:
         if self.kind == "mean":
             return np.asarray(c.mean(axis=1))
         m = self.tail_count(c.shape[1])
-        return np.asarray(np.sort(c, axis=1)[:, c.shape[1] - m:].mean(axis=1))
+        return np.asarray(np.sort(c, axis=1)[:, c.shape[1] - m :].mean(axis=1))
 
 
 def parse_aggregate(text: str, field: str = "aggregate") -> Aggregate:

@@ -22,8 +22,17 @@ from chassistune.scenarios.base import Scenario
 from chassistune.scenarios.registry import get_plant
 from chassistune.tuning.robust.spec import ParamRange
 
-NOT_UNCERTAIN = frozenset({"dt_s", "t_max_s", "v_stop_m_s", "lock_ratio", "load_fraction",
-                           "duration_s", "n0_cycles_per_m"})
+NOT_UNCERTAIN = frozenset(
+    {
+        "dt_s",
+        "t_max_s",
+        "v_stop_m_s",
+        "lock_ratio",
+        "load_fraction",
+        "duration_s",
+        "n0_cycles_per_m",
+    }
+)
 """Solver settings, thresholds and model conventions: not physical uncertainties."""
 
 
@@ -40,8 +49,11 @@ def field_range(f: dataclasses.Field[Any]) -> ParamRange:
 
 def ranges_of(obj: Any) -> dict[str, ParamRange]:
     """Valid ranges of a parameter dataclass's float fields (minus the NOT_UNCERTAIN ones)."""
-    return {f.name: field_range(f) for f in dataclasses.fields(obj)
-            if f.name not in NOT_UNCERTAIN and isinstance(getattr(obj, f.name), float)}
+    return {
+        f.name: field_range(f)
+        for f in dataclasses.fields(obj)
+        if f.name not in NOT_UNCERTAIN and isinstance(getattr(obj, f.name), float)
+    }
 
 
 def known_ranges(scenario: Scenario) -> dict[str, ParamRange]:
@@ -63,13 +75,15 @@ def known_ranges(scenario: Scenario) -> dict[str, ParamRange]:
     raise ValueError(f"no uncertain parameters declared for plant {scenario.plant!r}")
 
 
-def scenario_builder(nominal: Scenario, base: Mapping[str, object]
-                     ) -> Callable[[Mapping[str, float]], Scenario]:
+def scenario_builder(
+    nominal: Scenario, base: Mapping[str, object]
+) -> Callable[[Mapping[str, float]], Scenario]:
     """draw -> the nominal scenario (same plant, preset, road, controller, seed) at the draw."""
     plant = get_plant(nominal.plant)
 
     def build(draw: Mapping[str, float]) -> Scenario:
-        return plant.scenario(nominal.preset, nominal.road, nominal.controller.name,
-                              {**base, **draw}, nominal.seed)
+        return plant.scenario(
+            nominal.preset, nominal.road, nominal.controller.name, {**base, **draw}, nominal.seed
+        )
 
     return build

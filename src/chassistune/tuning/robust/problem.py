@@ -53,8 +53,9 @@ def build_grid(builders: Sequence[Builder], draws: ScenarioSet) -> list[list[Sce
         raise InputError(f"vary.{name}", f"a draw the plant refuses: {exc.problem}") from None
 
 
-def cost_matrix(grid: Sequence[Sequence[Scenario]], gains: np.ndarray,
-                objective: str) -> np.ndarray:
+def cost_matrix(
+    grid: Sequence[Sequence[Scenario]], gains: np.ndarray, objective: str
+) -> np.ndarray:
     """Costs (n, K, R) of n gain rows on every scenario of the grid: one kernel call each."""
     g = np.asarray(gains, dtype=np.float64)
     out = np.empty((g.shape[0], len(grid), len(grid[0])))
@@ -95,8 +96,13 @@ def validation_set(spec: UncertaintySpec, seed: SeedLike) -> ScenarioSet:
     return monte_carlo_set(spec.params, spec.validate, scenario_stream(seed, VALIDATION))
 
 
-def validate_gains(builders: Sequence[Builder], objective: str, gains: np.ndarray,
-                   draws: ScenarioSet, spec: UncertaintySpec) -> ValidationResult:
+def validate_gains(
+    builders: Sequence[Builder],
+    objective: str,
+    gains: np.ndarray,
+    draws: ScenarioSet,
+    spec: UncertaintySpec,
+) -> ValidationResult:
     """Pass/fail of one gain vector on every draw: a draw passes when it passes on every road
     (`builders`, one per road); its distance ratio and cost are the worst over the roads."""
     row = np.asarray(gains, dtype=np.float64).reshape(1, -1)
@@ -111,18 +117,30 @@ def validate_gains(builders: Sequence[Builder], objective: str, gains: np.ndarra
             if spec.criterion.max_cost > 0.0:  # a second simulation: only when the test asks
                 costs.append(sc.cost(row, objective))
         cost = np.concatenate(costs) if costs else np.zeros(len(draws))
-        results.append(validate_draws({k: np.concatenate(v) for k, v in metrics.items()}, cost,
-                                      spec.criterion, spec.beta))
+        results.append(
+            validate_draws(
+                {k: np.concatenate(v) for k, v in metrics.items()}, cost, spec.criterion, spec.beta
+            )
+        )
     passed = np.logical_and.reduce([res.passed for res in results])
     ratios = [res.distance_ratio for res in results if res.distance_ratio is not None]
     costs = [res.cost for res in results if res.cost is not None]
-    return ValidationResult(passed, spec.beta, np.max(ratios, axis=0) if ratios else None,
-                            np.max(costs, axis=0) if costs else None)
+    return ValidationResult(
+        passed,
+        spec.beta,
+        np.max(ratios, axis=0) if ratios else None,
+        np.max(costs, axis=0) if costs else None,
+    )
 
 
-def controller_sensitivity(build: Builder, spec: UncertaintySpec, gains: np.ndarray,
-                           n: int = 256, seed: SeedLike = 0,
-                           metric: str = "distance_ratio") -> SensitivityResult:
+def controller_sensitivity(
+    build: Builder,
+    spec: UncertaintySpec,
+    gains: np.ndarray,
+    n: int = 256,
+    seed: SeedLike = 0,
+    metric: str = "distance_ratio",
+) -> SensitivityResult:
     """First-order and total Sobol indices of one controller's `metric` (default the stop
     distance over the adhesion bound) with respect to each uncertain parameter; n (d + 2)
     simulations, one scenario built per point, drawn from the run's sensitivity stream."""
@@ -142,8 +160,12 @@ def known_for(nominal: TuningProblem) -> dict[str, ParamRange]:
     return {name: rng for name, rng in per_road[0].items() if all(name in k for k in per_road)}
 
 
-def robust_problem(nominal: TuningProblem, spec: UncertaintySpec,
-                   params: Mapping[str, object] | None = None, seed: SeedLike = 0) -> RobustProblem:
+def robust_problem(
+    nominal: TuningProblem,
+    spec: UncertaintySpec,
+    params: Mapping[str, object] | None = None,
+    seed: SeedLike = 0,
+) -> RobustProblem:
     """The nominal problem (built with the same `params`) scored over the run's training set,
     drawn from `seed`'s training stream (an int, or a study run's SeedSequence: every optimizer
     at that seed index then sees the same K scenarios); every scenario is built here, before any
@@ -153,5 +175,15 @@ def robust_problem(nominal: TuningProblem, spec: UncertaintySpec,
     draws = training_set(spec.params, spec.scenarios, spec.sampler, scenario_stream(seed, TRAINING))
     builders = [scenario_builder(sc, base) for sc in nominal.scenarios]
     grid = build_grid(builders, draws) if len(draws) else [list(nominal.scenarios)]
-    return RobustProblem(nominal.scenarios, nominal.objective, str(spec.aggregate),
-                         nominal.bounds, spec, builders, draws, grid, seed, params=nominal.params)
+    return RobustProblem(
+        nominal.scenarios,
+        nominal.objective,
+        str(spec.aggregate),
+        nominal.bounds,
+        spec,
+        builders,
+        draws,
+        grid,
+        seed,
+        params=nominal.params,
+    )

@@ -33,12 +33,15 @@ class RobustTuneResult:
     validation: ValidationResult | None
 
     def as_dict(self) -> dict[str, Any]:
-        return {**self.result.as_dict(), **summary_fields(self.problem, self.training_costs,
-                                                          self.validation)}
+        return {
+            **self.result.as_dict(),
+            **summary_fields(self.problem, self.training_costs, self.validation),
+        }
 
 
-def summary_fields(problem: RobustProblem, training_costs: np.ndarray,
-                   validation: ValidationResult | None) -> dict[str, Any]:
+def summary_fields(
+    problem: RobustProblem, training_costs: np.ndarray, validation: ValidationResult | None
+) -> dict[str, Any]:
     """`uncertainty`, `training` (the draws and the winner's cost on each scenario x road) and
     `validation` (None when N = 0): what a robust run adds to the `tune --json` object."""
     spec = problem.spec
@@ -81,8 +84,9 @@ def tune_robust(
     """Tune the nominal problem's controller (built with the same `params` and `seed`) over the
     training set of `spec`, then validate the winner on spec.validate fresh draws."""
     problem = robust_problem(nominal, spec, params, seed)
-    result = run_optimizer(problem, optimizer, pop_size, max_iter, max_evals, seed, progress,
-                           **hyper)
+    result = run_optimizer(
+        problem, optimizer, pop_size, max_iter, max_evals, seed, progress, **hyper
+    )
     best = np.array([result.best_gains[n] for n in problem.gain_names])
     training_costs = problem.costs(best[None, :])[0]
     validation = problem.validate(best) if spec.validate else None

@@ -75,16 +75,18 @@ def unit_points(d: int, k: int, sampler: str, rng: np.random.Generator) -> np.nd
     return np.asarray(qmc.LatinHypercube(d, scramble=True, rng=rng).random(k))
 
 
-def training_set(params: Sequence[UncertainParam], k: int, sampler: str,
-                 rng: np.random.Generator) -> ScenarioSet:
+def training_set(
+    params: Sequence[UncertainParam], k: int, sampler: str, rng: np.random.Generator
+) -> ScenarioSet:
     """The K training scenarios of a run (drawn once; every candidate sees them all); K = 0 is
     an empty set (tuning on the nominal plant)."""
     u = unit_points(len(params), k, sampler, rng) if k else np.zeros((0, len(params)))
     return ScenarioSet(tuple(p.name for p in params), from_unit(params, u))
 
 
-def monte_carlo_set(params: Sequence[UncertainParam], n: int,
-                    rng: np.random.Generator) -> ScenarioSet:
+def monte_carlo_set(
+    params: Sequence[UncertainParam], n: int, rng: np.random.Generator
+) -> ScenarioSet:
     """N independent draws (plain Monte Carlo: what the validation certificate assumes)."""
     u = rng.random((n, len(params)))
     return ScenarioSet(tuple(p.name for p in params), from_unit(params, u))

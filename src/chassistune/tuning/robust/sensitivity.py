@@ -36,8 +36,10 @@ class SensitivityResult:
 
     def rows(self) -> list[dict[str, Any]]:
         """Table rows: parameter, first-order index, total index."""
-        return [{"parameter": name, "first_order": float(s1), "total": float(st)}
-                for name, s1, st in zip(self.names, self.first_order, self.total, strict=True)]
+        return [
+            {"parameter": name, "first_order": float(s1), "total": float(st)}
+            for name, s1, st in zip(self.names, self.first_order, self.total, strict=True)
+        ]
 
 
 def sobol_sensitivity(
@@ -55,6 +57,9 @@ def sobol_sensitivity(
         return np.asarray(func(from_unit(params, np.asarray(u).T)), dtype=float).reshape(1, -1)
 
     res = stats.sobol_indices(func=on_unit_cube, n=n, dists=[unit] * len(params), rng=rng)
-    return SensitivityResult(tuple(p.name for p in params),
-                             np.asarray(res.first_order, dtype=float).reshape(-1),
-                             np.asarray(res.total_order, dtype=float).reshape(-1), n)
+    return SensitivityResult(
+        tuple(p.name for p in params),
+        np.asarray(res.first_order, dtype=float).reshape(-1),
+        np.asarray(res.total_order, dtype=float).reshape(-1),
+        n,
+    )

@@ -104,13 +104,15 @@ class UncertaintySpec:
 
 def _check_name(name: str, known: Mapping[str, ParamRange], where: str) -> ParamRange:
     if name not in known:
-        raise InputError(where, f"unknown uncertain parameter {name!r} "
-                         f"(known: {', '.join(sorted(known))})")
+        raise InputError(
+            where, f"unknown uncertain parameter {name!r} (known: {', '.join(sorted(known))})"
+        )
     return known[name]
 
 
-def parse_one(name: str, text: str | Sequence[Any], known: Mapping[str, ParamRange],
-              where: str) -> UncertainParam:
+def parse_one(
+    name: str, text: str | Sequence[Any], known: Mapping[str, ParamRange], where: str
+) -> UncertainParam:
     """One parameter from 'LO:HI', 'uniform:LO:HI', 'normal:MEAN:SD' or a list [LO, HI]."""
     valid = _check_name(name, known, where)
     if isinstance(text, str):
@@ -159,11 +161,11 @@ def check_sampler(sampler: str, scenarios: int, minimum: int = 1) -> None:
     if sampler not in SAMPLERS:
         raise InputError("sampler", f"must be sobol or lhs, got {sampler!r}")
     if isinstance(scenarios, bool) or not isinstance(scenarios, int) or scenarios < minimum:
-        raise InputError("scenarios", f"must be an integer >= {minimum}, got "
-                         f"{scenarios!r}")
+        raise InputError("scenarios", f"must be an integer >= {minimum}, got {scenarios!r}")
     if sampler == "sobol" and scenarios > 0 and scenarios & (scenarios - 1):
-        raise InputError("scenarios", f"must be a power of two for the sobol sampler, "
-                         f"got {scenarios}")
+        raise InputError(
+            "scenarios", f"must be a power of two for the sobol sampler, got {scenarios}"
+        )
 
 
 def check_validation(n: int, beta: float) -> None:
@@ -174,9 +176,15 @@ def check_validation(n: int, beta: float) -> None:
         raise InputError("beta", f"must be in (0, 1), got {beta:g}")
 
 
-def spec_from_options(known: Mapping[str, ParamRange], vary: Sequence[str], scenarios: int = 16,
-                      sampler: str = "sobol", aggregate: str = "mean", validate: int = 0,
-                      beta: float = 0.05) -> UncertaintySpec:
+def spec_from_options(
+    known: Mapping[str, ParamRange],
+    vary: Sequence[str],
+    scenarios: int = 16,
+    sampler: str = "sobol",
+    aggregate: str = "mean",
+    validate: int = 0,
+    beta: float = 0.05,
+) -> UncertaintySpec:
     """The spec of `tune --vary ... --scenarios K --sampler S --aggregate A --validate N --beta B`,
     all checked before any work (errors name the fields vary.NAME, scenarios, sampler, aggregate,
     validate, beta)."""
@@ -206,12 +214,16 @@ def _criterion(table: Any) -> PassCriterion:
     if "max_distance_ratio" in table:
         ratio = to_float(table["max_distance_ratio"], "pass.max_distance_ratio")
         if ratio != 0.0 and not ratio >= 1.0:
-            raise InputError("pass.max_distance_ratio", f"must be at least 1 (no run beats the "
-                             f"bound) or 0 for no distance test, got {ratio:g}")
+            raise InputError(
+                "pass.max_distance_ratio",
+                f"must be at least 1 (no run beats the "
+                f"bound) or 0 for no distance test, got {ratio:g}",
+            )
     max_cost = to_float(table.get("max_cost", 0.0), "pass.max_cost")
     if max_cost < 0.0:
-        raise InputError("pass.max_cost", f"must be positive, or 0 for no cost test, got "
-                         f"{max_cost:g}")
+        raise InputError(
+            "pass.max_cost", f"must be positive, or 0 for no cost test, got {max_cost:g}"
+        )
     return PassCriterion(max_distance_ratio=ratio, max_cost=max_cost, **flags)
 
 
@@ -223,7 +235,7 @@ def parse_table(table: Mapping[str, Any], known: Mapping[str, ParamRange]) -> Un
             raise InputError(str(key), f"unknown key (known: {', '.join(_TABLE_KEYS)})")
     vary = table.get("vary")
     if not isinstance(vary, Mapping) or not vary:
-        raise InputError("vary", "expected a non-empty table NAME = \"LO:HI\" | ...")
+        raise InputError("vary", 'expected a non-empty table NAME = "LO:HI" | ...')
     params = tuple(parse_one(str(n), s, known, f"vary.{n}") for n, s in vary.items())
     scenarios = table.get("scenarios", UncertaintySpec.scenarios)
     sampler = table.get("sampler", UncertaintySpec.sampler)

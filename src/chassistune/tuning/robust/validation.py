@@ -50,15 +50,18 @@ def failure_upper_bound(n: int, failures: int, beta: float) -> float:
 
 @dataclass(frozen=True)
 class Certificate:
-    """"failure probability <= eps with confidence 1 - beta", from n failure-free draws."""
+    """The certificate "failure probability <= eps with confidence 1 - beta" from n failure-free
+    draws."""
 
     n: int
     eps: float
     beta: float
 
     def __str__(self) -> str:
-        return (f"failure probability <= {100 * self.eps:.3g} % with confidence "
-                f"{100 * (1 - self.beta):.3g} % ({self.n} draws, none failed)")
+        return (
+            f"failure probability <= {100 * self.eps:.3g} % with confidence "
+            f"{100 * (1 - self.beta):.3g} % ({self.n} draws, none failed)"
+        )
 
 
 @dataclass(frozen=True)
@@ -111,13 +114,15 @@ class ValidationResult:
 
 def _metric(metrics: Mapping[str, np.ndarray], name: str, test: str) -> np.ndarray:
     if name not in metrics:
-        raise InputError(f"pass.{test}", f"the plant reports no {name!r} metric: switch this "
-                         f"test off")
+        raise InputError(
+            f"pass.{test}", f"the plant reports no {name!r} metric: switch this test off"
+        )
     return np.asarray(metrics[name])
 
 
-def passes(metrics: Mapping[str, np.ndarray], cost: np.ndarray,
-           criterion: PassCriterion) -> np.ndarray:
+def passes(
+    metrics: Mapping[str, np.ndarray], cost: np.ndarray, criterion: PassCriterion
+) -> np.ndarray:
     """Boolean pass mask of N draws from their metrics (arrays of length N) and costs."""
     ok = np.ones(np.asarray(cost).shape[0], dtype=bool)
     if criterion.require_stop:
@@ -132,10 +137,14 @@ def passes(metrics: Mapping[str, np.ndarray], cost: np.ndarray,
     return ok
 
 
-def validate_draws(metrics: Mapping[str, np.ndarray], cost: np.ndarray,
-                   criterion: PassCriterion, beta: float) -> ValidationResult:
+def validate_draws(
+    metrics: Mapping[str, np.ndarray], cost: np.ndarray, criterion: PassCriterion, beta: float
+) -> ValidationResult:
     """The validation result of N draws of one controller."""
     ratio = metrics.get("distance_ratio")
-    return ValidationResult(passes(metrics, cost, criterion), beta,
-                            None if ratio is None else np.asarray(ratio, dtype=float),
-                            np.asarray(cost, dtype=float) if criterion.max_cost > 0 else None)
+    return ValidationResult(
+        passes(metrics, cost, criterion),
+        beta,
+        None if ratio is None else np.asarray(ratio, dtype=float),
+        np.asarray(cost, dtype=float) if criterion.max_cost > 0 else None,
+    )
