@@ -50,8 +50,10 @@ def resolve_controller_params(
 
 
 def kernel_gains(gains: np.ndarray, spec: ControllerSpec) -> np.ndarray:
-    """Gain rows (n, k) as a C-contiguous float array; one dummy column for laws without gains
-    (the kernels read none)."""
+    """Gain rows (n, k) as a C-contiguous, writeable float array; one dummy column for laws
+    without gains (the kernels read none). Writeable because numba compiles a separate
+    specialization of a kernel for a read-only array (an optimizer's `ask()` returns one): a
+    second compile of a minute of CPU at a user's first tune, after `warmup` compiled the first."""
     g = np.asarray(gains, dtype=np.float64)
     if g.ndim == 1:
         g = g[None, :]
@@ -62,4 +64,4 @@ def kernel_gains(gains: np.ndarray, spec: ControllerSpec) -> np.ndarray:
         )
     if k == 0:
         return np.zeros((g.shape[0], 1))
-    return np.ascontiguousarray(g)
+    return np.require(g, requirements=("C", "W"))
