@@ -1,5 +1,6 @@
-"""`chassistune reproduce all --quick --out DIR [ARGS...]` with every config's [quick] table
-shrunk to 2 seeds, population 6 and 2 iterations: the kill test's tiny budget (run as a script)."""
+"""`chassistune reproduce PAPER --quick --out DIR [ARGS...]` with every config's [quick] table
+shrunk to 2 seeds, population 6 and 2 iterations: the kill test's tiny budget (run as a script
+with the arguments PAPER DIR [ARGS...])."""
 
 from __future__ import annotations
 
@@ -20,4 +21,5 @@ def tiny_config(name: str) -> StudyConfig:
 
 if __name__ == "__main__":
     reproduce.shipped_config = tiny_config
-    main(["reproduce", "all", "--quick", "--out", *sys.argv[1:]])
+    paper, *rest = sys.argv[1:]
+    main(["reproduce", paper, "--quick", "--out", *rest])
