@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from chassistune.plants.abs_vehicle import (
@@ -78,13 +78,14 @@ def test_without_lateral_velocity_the_force_is_the_bilinear_curve_exactly(u, sli
 
 @settings(max_examples=400, deadline=None)
 @given(u=speeds, v=speeds, fz=loads, name=surface_names)
+@example(u=-5e-324, v=1.0, fz=1000.0, name="dry-concrete")  # found by hypothesis: fx underflows
 def test_a_locked_wheel_slides_against_its_contact_velocity_in_every_direction(u, v, fz, name):
     fx, fy, _, _ = force(u, v, 0.0, fz, SURFACES[name])
     assert fx * u <= 0.0 and fy * v <= 0.0
     if math.hypot(u, v) > 1e-6:
         assert fx * u + fy * v < 0.0
-        if u < 0.0:  # sliding backwards: the force points forwards
-            assert fx > 0.0
+        if u < -1e-9:  # sliding backwards: the force points forwards (at |u| ~ 1e-324 its
+            assert fx > 0.0  # component fz mu u/|V| underflows to 0, which the line above allows)
 
 
 @settings(max_examples=200, deadline=None)
