@@ -68,14 +68,15 @@ def simulate(
 
 def prepare(
     plant: str,
-    preset: str | None = None,
-    road: str | None = None,
-    controller: str = "pid",
-    params: Mapping[str, object] | None = None,
-    gains: Mapping[str, object] | None = None,
-    seed: int = 0,
+    preset: str | None,
+    road: str | None,
+    controller: str,
+    params: Mapping[str, object] | None,
+    gains: Mapping[str, object] | None,
+    seed: int,
 ) -> tuple[Scenario, np.ndarray]:
-    """The validated scenario and gain vector of `simulate` (nothing simulated yet)."""
+    """The validated scenario and gain vector of `simulate`'s arguments (nothing simulated
+    yet)."""
     from chassistune.scenarios.registry import get_plant
 
     scenario = get_plant(plant).scenario(preset, road, controller, params or {}, seed)

@@ -80,18 +80,9 @@ def run_optimize(
 @click.option("--evals", type=int, default=None, help="Exact evaluation budget.")
 @click.option("--seed", type=int, default=0, show_default=True, help="Random seed.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
-def optimize_command(
-    function: str,
-    dim: int | None,
-    optimizer: str,
-    pop: int,
-    iters: int | None,
-    evals: int | None,
-    seed: int,
-    as_json: bool,
-) -> None:
+def optimize_command(as_json: bool, **run: Any) -> None:
     """Minimize a benchmark function F1..F23 with one optimizer."""
-    out = run_optimize(function, dim, optimizer, pop, iters, evals, seed)
+    out = run_optimize(**run)
     if as_json:
         click.echo(json.dumps(out))
         return

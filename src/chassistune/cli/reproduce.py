@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import click
 
+from chassistune.cli.options import executor_options
+
 PAPER_CHOICES = [
     "derlsp-ao-abs",
     "iabc-suspension",
@@ -28,19 +30,7 @@ PAPER_CHOICES = [
     help="Report folder: DIR/report.html, tables/, figures/, verdicts.csv, studies/ "
     "(an existing one is resumed).",
 )
-@click.option(
-    "--executor",
-    default="serial",
-    show_default=True,
-    type=click.Choice(["serial", "process", "dask"]),
-    help="Where the runs execute.",
-)
-@click.option(
-    "--scheduler",
-    metavar="ADDRESS",
-    help="Dask scheduler address (default: a LocalCluster on loopback).",
-)
-@click.option("--workers", type=int, help="Worker processes (default: the cores).")
+@executor_options
 @click.option(
     "--interactive",
     is_flag=True,

@@ -7,12 +7,13 @@ Light at import (no numpy): the spec is parsed inside `uncertainty_spec`.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
-from typing import TYPE_CHECKING, Any, TypeVar
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
 
 import click
 
 from chassistune.cli.common import fmt
+from chassistune.cli.options import stacked
 from chassistune.errors import InputError
 
 if TYPE_CHECKING:
@@ -20,9 +21,7 @@ if TYPE_CHECKING:
     from chassistune.tuning.robust.spec import UncertaintySpec
     from chassistune.tuning.tune import TuneResult
 
-F = TypeVar("F", bound=Callable[..., Any])
-
-_OPTIONS = (
+robust_options = stacked(
     click.option(
         "--vary",
         "vary",
@@ -55,15 +54,9 @@ _OPTIONS = (
         help="Confidence 1 - beta of the validation certificate (default 0.05).",
     ),
 )
+"""The robust-tuning options (keyword arguments ROBUST_KEYS)."""
 ROBUST_KEYS = ("vary", "scenarios", "sampler", "validate", "beta")
 """The keyword arguments the options add to the command."""
-
-
-def robust_options(command: F) -> F:
-    """Add the robust-tuning options to a click command (keyword arguments ROBUST_KEYS)."""
-    for option in reversed(_OPTIONS):
-        command = option(command)
-    return command
 
 
 def uncertainty_spec(

@@ -9,6 +9,7 @@ import click
 
 from chassistune.cli.choices import ChoicesCommand, ChoicesOption
 from chassistune.cli.common import announce_compile, check_output_file, echo_json, fmt
+from chassistune.cli.options import ecu_option, param_option, preset_option
 from chassistune.errors import InputError
 from chassistune.units import shown_unit
 
@@ -82,12 +83,7 @@ def _why_not(result: SimulationResult) -> str | None:
 
 @click.command("simulate", cls=ChoicesCommand, arguments={"PLANT": "plants"})
 @click.argument("plant", metavar="PLANT", required=False)
-@click.option(
-    "--preset",
-    cls=ChoicesOption,
-    choices_of="presets",
-    help="Parameter preset (default: the plant's paper preset).",
-)
+@preset_option
 @click.option(
     "--road", cls=ChoicesOption, choices_of="roads", help="Road (default: the preset's first road)."
 )
@@ -98,13 +94,7 @@ def _why_not(result: SimulationResult) -> str | None:
     help="Controller structure (default: pid, or the --from result's); "
     "`chassistune list controllers` shows them.",
 )
-@click.option(
-    "--param",
-    "params",
-    multiple=True,
-    metavar="NAME=VALUE",
-    help="Override a plant, road, solver or controller parameter (repeatable).",
-)
+@param_option
 @click.option(
     "--gains",
     "gains",
@@ -129,11 +119,7 @@ def _why_not(result: SimulationResult) -> str | None:
     "as `tuned`) on one figure and one table.",
 )
 @click.option("--seed", type=int, help="Seed of any random draw (road realizations; default 0).")
-@click.option(
-    "--ecu",
-    type=click.Choice(["ideal", "realistic"]),
-    help="abs-wheel: ideal controller or the realistic ECU (docs/ecu.md).",
-)
+@ecu_option
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
 @click.option("--plot", "plot_path", metavar="FILE.png", help="Draw the response into FILE.png.")
 @click.option("--csv", "csv_path", metavar="FILE.csv", help="Write the time series to FILE.csv.")

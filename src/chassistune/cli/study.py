@@ -8,6 +8,7 @@ import click
 
 from chassistune._interrupt import on_interrupt
 from chassistune.cli.common import announce_compile, check_output_dir, check_output_file
+from chassistune.cli.options import executor_options
 from chassistune.errors import InputError
 
 
@@ -25,19 +26,7 @@ def study_group() -> None:
     metavar="DIR",
     help="Study folder: DIR/study.sqlite (created; an existing study is resumed).",
 )
-@click.option(
-    "--executor",
-    default="serial",
-    show_default=True,
-    type=click.Choice(["serial", "process", "dask"]),
-    help="Where the runs execute.",
-)
-@click.option(
-    "--scheduler",
-    metavar="ADDRESS",
-    help="Dask scheduler address (default: a LocalCluster on loopback).",
-)
-@click.option("--workers", type=int, help="Worker processes (default: the cores).")
+@executor_options
 @click.option("--retry-failed", is_flag=True, help="Redo runs recorded as failed.")
 def run_command(
     config: str,

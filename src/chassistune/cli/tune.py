@@ -11,6 +11,7 @@ import click
 from chassistune._interrupt import on_interrupt
 from chassistune.cli.choices import ChoicesCommand, ChoicesOption
 from chassistune.cli.common import announce_compile, check_output_dir, echo_json, fmt
+from chassistune.cli.options import ecu_option, param_option, preset_option
 from chassistune.cli.robust_options import (
     echo_validation,
     robust_fields,
@@ -25,12 +26,7 @@ if TYPE_CHECKING:
 
 @click.command("tune", cls=ChoicesCommand, arguments={"PLANT": "plants"})
 @click.argument("plant", metavar="PLANT")
-@click.option(
-    "--preset",
-    cls=ChoicesOption,
-    choices_of="presets",
-    help="Parameter preset (default: the plant's paper preset).",
-)
+@preset_option
 @click.option(
     "--road",
     "roads",
@@ -68,24 +64,14 @@ if TYPE_CHECKING:
 )
 @click.option("--evals", type=int, help="Evaluation budget (exact; at least one population).")
 @click.option("--seed", default=0, show_default=True, type=int, help="Run seed.")
-@click.option(
-    "--ecu",
-    type=click.Choice(["ideal", "realistic"]),
-    help="abs-wheel: ideal controller or the realistic ECU (docs/ecu.md).",
-)
+@ecu_option
 @click.option(
     "--objective",
     cls=ChoicesOption,
     choices_of="objectives",
     help="What the tune minimizes (default: the plant's).",
 )
-@click.option(
-    "--param",
-    "params",
-    multiple=True,
-    metavar="NAME=VALUE",
-    help="Override a plant, road, solver or controller parameter (repeatable).",
-)
+@param_option
 @click.option(
     "--test-road",
     "test_roads",

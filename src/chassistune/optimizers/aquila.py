@@ -65,6 +65,7 @@ import numpy as np
 
 from chassistune.optimizers._operators import binomial_crossover, greedy, levy, partners
 from chassistune.optimizers.base import Hyperparameters, Optimizer, Steps
+from chassistune.optimizers.de import check_rates
 
 
 @dataclass(frozen=True)
@@ -132,8 +133,7 @@ class AquilaHyper(Hyperparameters):
             "elim_fraction",
             f"expected (0, 1], got {self.elim_fraction}",
         )
-        self.check(0.0 < self.de_f <= 2.0, "de_f", f"expected 0 < F <= 2, got {self.de_f}")
-        self.check(0.0 <= self.de_cr <= 1.0, "de_cr", f"expected 0 <= CR <= 1, got {self.de_cr}")
+        check_rates(self, "de_f", "de_cr")
 
 
 class Aquila(Optimizer):

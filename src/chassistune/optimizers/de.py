@@ -23,8 +23,15 @@ class DEHyper(Hyperparameters):
     CR: float = 0.9
 
     def __post_init__(self) -> None:
-        self.check(0 < self.F <= 2, "F", f"expected 0 < F <= 2, got {self.F}")
-        self.check(0 <= self.CR <= 1, "CR", f"expected 0 <= CR <= 1, got {self.CR}")
+        check_rates(self, "F", "CR")
+
+
+def check_rates(hyper: Hyperparameters, f_field: str, cr_field: str) -> None:
+    """Refuse a DE scale factor F outside (0, 2] or a crossover rate CR outside [0, 1], held in
+    the fields `f_field` and `cr_field` of `hyper` (the errors name those fields)."""
+    f, cr = getattr(hyper, f_field), getattr(hyper, cr_field)
+    hyper.check(0 < f <= 2, f_field, f"expected 0 < F <= 2, got {f}")
+    hyper.check(0 <= cr <= 1, cr_field, f"expected 0 <= CR <= 1, got {cr}")
 
 
 class DE(Optimizer):

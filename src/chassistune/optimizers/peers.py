@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -20,6 +21,26 @@ from chassistune.optimizers.driver import Objective, OptimizeResult
 
 MEALPY = ("ao", "gwo", "mfo", "abc", "de", "pso", "ga", "poa")
 PEERS = (*(f"mealpy:{m}" for m in MEALPY), "scipy:de")
+
+
+@dataclass(frozen=True)
+class _Run:
+    """What every peer is given: the batch objective, the box as an array, the population, the
+    budgets and the seed."""
+
+    fun: Objective
+    bounds: np.ndarray
+    pop: int
+    max_iter: int | None
+    max_evals: int | None
+    seed: np.random.SeedSequence
+
+    def epochs(self, per_epoch: int) -> int:
+        """`max_iter`, else the epochs of `per_epoch` evaluations that `max_evals` pays for after
+        the initial population (at least one)."""
+        if self.max_iter is not None:
+            return self.max_iter
+        return max(1, (int(self.max_evals or 0) - self.pop) // per_epoch)
 
 
 def _result(
@@ -45,22 +66,15 @@ def _result(
     )
 
 
-def _mealpy(
-    method: str,
-    fun: Objective,
-    bounds: np.ndarray,
-    pop: int,
-    max_iter: int | None,
-    max_evals: int | None,
-    seed: np.random.SeedSequence,
-) -> OptimizeResult:
+def _mealpy(method: str, run: _Run) -> OptimizeResult:
     from mealpy import FloatVar
     from mealpy.evolutionary_based import DE, GA
     from mealpy.swarm_based import ABC, AO, GWO, MFO, POA, PSO
 
+    fun, bounds, pop, max_evals = run.fun, run.bounds, run.pop, run.max_evals
     d = bounds.shape[0]
     per_epoch = 2 * pop if method in ("abc", "poa") else pop
-    epochs = max_iter if max_iter is not None else max(1, (int(max_evals or 0) - pop) // per_epoch)
+    epochs = run.epochs(per_epoch)
     classes: dict[str, Callable[[], Any]] = {
         "ao": lambda: AO.OriginalAO(epoch=epochs, pop_size=pop),
         "gwo": lambda: GWO.OriginalGWO(epoch=epochs, pop_size=pop),
@@ -86,7 +100,7 @@ def _mealpy(
     model = classes[method]()
     t0 = time.perf_counter()
     best = model.solve(
-        problem, termination={"max_fe": max_evals} if max_evals else None, seed=int_seed(seed)
+        problem, termination={"max_fe": max_evals} if max_evals else None, seed=int_seed(run.seed)
     )
     wall = time.perf_counter() - t0
     history = [float(v) for v in model.history.list_global_best_fit]
@@ -96,20 +110,13 @@ def _mealpy(
     )
 
 
-def _scipy_de(
-    fun: Objective,
-    bounds: np.ndarray,
-    pop: int,
-    max_iter: int | None,
-    max_evals: int | None,
-    seed: np.random.SeedSequence,
-) -> OptimizeResult:
+def _scipy_de(run: _Run) -> OptimizeResult:
     """rand1bin, F 0.5, CR 0.9, `pop` uniform initial points, no polishing, no early stop."""
     from scipy.optimize import differential_evolution
 
-    rng = make_rng(seed)
-    init = bounds[:, 0] + rng.random((pop, bounds.shape[0])) * (bounds[:, 1] - bounds[:, 0])
-    maxiter = max_iter if max_iter is not None else max(1, (int(max_evals or 0) - pop) // pop)
+    fun, bounds = run.fun, run.bounds
+    rng = make_rng(run.seed)
+    init = bounds[:, 0] + rng.random((run.pop, bounds.shape[0])) * (bounds[:, 1] - bounds[:, 0])
     rows = [0]
     history: list[float] = []
     spent: list[int] = []
@@ -131,7 +138,7 @@ def _scipy_de(
         batch,
         bounds,
         strategy="rand1bin",
-        maxiter=maxiter,
+        maxiter=run.epochs(run.pop),
         mutation=0.5,
         recombination=0.9,
         rng=rng,
@@ -156,7 +163,7 @@ def run_peer(
     seed: np.random.SeedSequence,
 ) -> OptimizeResult:
     """Run peer `name` (one of PEERS) on the batch objective `fun` over `bounds`."""
-    b = np.asarray(bounds, dtype=float)
+    run = _Run(fun, np.asarray(bounds, dtype=float), pop_size, max_iter, max_evals, seed)
     if name == "scipy:de":
-        return _scipy_de(fun, b, pop_size, max_iter, max_evals, seed)
-    return _mealpy(name.split(":", 1)[1], fun, b, pop_size, max_iter, max_evals, seed)
+        return _scipy_de(run)
+    return _mealpy(name.split(":", 1)[1], run)

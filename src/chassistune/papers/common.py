@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
@@ -18,6 +19,9 @@ from chassistune import stats
 from chassistune.reports.tables import StudyData
 from chassistune.studies.spec import StudyConfig
 from chassistune.studies.store import RunRecord
+
+if TYPE_CHECKING:
+    from chassistune.scenarios.base import Trace
 
 HOLDS = "holds"
 RANKING_ONLY = "holds in ranking only"
@@ -211,13 +215,13 @@ def order_verdict(values: Mapping[str, np.ndarray], claimed_best: str) -> tuple[
     return RANKING_ONLY, f"medians: {text}"
 
 
-def settle_time_s(
-    time_s: np.ndarray, slip: np.ndarray, target: np.ndarray | float, speed_m_s: np.ndarray
-) -> float:
-    """First time after which |slip - target| <= SLIP_BAND at every sample with speed above
-    SETTLE_MIN_SPEED_M_S (NaN if it never settles)."""
-    live = speed_m_s > SETTLE_MIN_SPEED_M_S
-    off = (np.abs(slip - target) > SLIP_BAND) & live
+def settle_time_s(trace: Trace) -> float:
+    """First time after which |slip - target_slip| <= SLIP_BAND at every sample of an ABS trace
+    with vehicle speed above SETTLE_MIN_SPEED_M_S (NaN if it never settles)."""
+    s = trace.signals
+    time_s = s["time_s"]
+    live = s["vehicle_speed_m_s"] > SETTLE_MIN_SPEED_M_S
+    off = (np.abs(s["slip"] - s["target_slip"]) > SLIP_BAND) & live
     if not live.any():
         return float("nan")
     last_live = int(np.nonzero(live)[0][-1])
@@ -230,6 +234,12 @@ def settle_time_s(
 def percent(a: float, b: float) -> float:
     """Reduction from a to b in percent of a."""
     return 100.0 * (a - b) / a
+
+
+def claim(paper: str, text: str, parts: Sequence[tuple[str, str]]) -> Verdict:
+    """The verdict on a claim checked in parts (a verdict word and its evidence per road or
+    function): the weakest word, the evidence joined."""
+    return Verdict(paper, text, combine([w for w, _ in parts]), "; ".join(e for _, e in parts))
 
 
 def combine(verdicts: Sequence[str]) -> str:

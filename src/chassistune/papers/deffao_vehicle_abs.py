@@ -24,7 +24,7 @@ from chassistune.papers.common import (
     bound_row,
     bound_verdict,
     budget_tables,
-    combine,
+    claim,
     median_run,
     order_verdict,
 )
@@ -129,14 +129,7 @@ def build(ctx: Context) -> PaperSection:
             quoted=("paper best",),
         )
     )
-    sec.verdicts.append(
-        Verdict(
-            KEY,
-            "DEFFAO is best on Table 4's five functions",
-            combine([w for w, _ in parts]),
-            "; ".join(e for _, e in parts),
-        )
-    )
+    sec.verdicts.append(claim(KEY, "DEFFAO is best on Table 4's five functions", parts))
     checks = _adhesion_checks()
     if vehicle_available() and VEHICLE_STUDY in ctx.studies:
         sec.verdicts.append(_table5(ctx, sec, checks))
@@ -223,12 +216,7 @@ def _table5(ctx: Context, sec: PaperSection, checks: list[BoundCheck]) -> Verdic
             quoted=("paper stop time (s)", "paper distance (m)"),
         )
     )
-    return Verdict(
-        KEY,
-        "DEFFAO-fuzzy PID stops shortest on each of its three roads",
-        combine([w for w, _ in parts]),
-        "; ".join(e for _, e in parts),
-    )
+    return claim(KEY, "DEFFAO-fuzzy PID stops shortest on each of its three roads", parts)
 
 
 def _t5_row(

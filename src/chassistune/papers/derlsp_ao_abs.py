@@ -23,7 +23,7 @@ from chassistune.papers.common import (
     bound_row,
     bound_verdict,
     budget_tables,
-    combine,
+    claim,
     median_run,
     order_verdict,
     settle_time_s,
@@ -157,7 +157,7 @@ def build(ctx: Context) -> PaperSection:
                     "bound (m)": bound,
                     "paper / bound": d_pub[label] / bound,
                     "ours / bound": m["stop_distance_m"] / bound,
-                    "ours settle (s)": _settle(traces[label][1]),
+                    "ours settle (s)": settle_time_s(traces[label][1]),
                 }
             )
             bounds_ok.append(bound_row(KEY, road, label, d_pub[label], bound))
@@ -192,17 +192,19 @@ def build(ctx: Context) -> PaperSection:
                 f"{road}: longest to shortest {' > '.join(ours)}",
             )
         )
-        s = _settle(traces["DERLSP-AO-PID"][1])
+        s = settle_time_s(traces["DERLSP-AO-PID"][1])
         settle.append((HOLDS if s <= SETTLE_S else FAILS, f"{road}: {s:.3g} s"))
     sec.figures.insert(0, _fig4(ctx))
     sec.figures += _function_figures(ctx)
     sec.verdicts += [
-        _claim("DERLSP-AO-PID stops shortest on each of its three roads", shortest),
-        _claim(
+        claim(KEY, "DERLSP-AO-PID stops shortest on each of its three roads", shortest),
+        claim(
+            KEY,
             "ranking PID > fuzzy PID > GA-PID > AO-PID > DERLSP-AO-PID in distance on each road",
             ranking,
         ),
-        _claim(
+        claim(
+            KEY,
             f"the slip settles near 0.2 within {SETTLE_S:g} s (DERLSP-AO-PID; settled: "
             "within 0.05 of the target above 2 m/s)",
             settle,
@@ -221,15 +223,6 @@ def build(ctx: Context) -> PaperSection:
     sec.tables.append(_function_table(ctx))
     sec.bounds = bounds_ok
     return sec
-
-
-def _settle(tr: Trace) -> float:
-    s = tr.signals
-    return settle_time_s(s["time_s"], s["slip"], s["target_slip"], s["vehicle_speed_m_s"])
-
-
-def _claim(text: str, parts: list[tuple[str, str]]) -> Verdict:
-    return Verdict(KEY, text, combine([w for w, _ in parts]), "; ".join(e for _, e in parts))
 
 
 def _fig4(ctx: Context) -> Figure:
@@ -258,7 +251,7 @@ def _function_claim(ctx: Context, text: str, best: str, others: tuple[str, ...])
         finals = _finals(ctx, f)
         word, evidence = order_verdict({k: finals[k] for k in (best, *others)}, best)
         parts.append((word, f"{f}: {evidence}"))
-    return _claim(text, parts)
+    return claim(KEY, text, parts)
 
 
 def _function_table(ctx: Context) -> Table:

@@ -17,11 +17,10 @@ from chassistune.papers.common import (
     Figure,
     PaperSection,
     Table,
-    Verdict,
     bound_row,
     bound_verdict,
     budget_tables,
-    combine,
+    claim,
     median_run,
     order_verdict,
     settle_time_s,
@@ -71,11 +70,6 @@ SETTING = [
 def studies() -> tuple[str, ...]:
     """The shipped study configs this paper runs."""
     return (STUDY,)
-
-
-def _settle(tr: Trace) -> float:
-    s = tr.signals
-    return settle_time_s(s["time_s"], s["slip"], s["target_slip"], s["vehicle_speed_m_s"])
 
 
 def build(ctx: Context) -> PaperSection:
@@ -135,7 +129,7 @@ def build(ctx: Context) -> PaperSection:
             title=f"{fig} redrawn: {road}",
         )
         sec.figures.append(Figure(path.stem, f"{fig} redrawn ({road})", path))
-        settles = {k: _settle(t) for k, (_, t) in traces.items()}
+        settles = {k: settle_time_s(t) for k, (_, t) in traces.items()}
         mine = settles[CLAIMED]
         others = {k: v for k, v in settles.items() if k != CLAIMED}
         faster = all(not np.isfinite(v) or mine < v for v in others.values())
@@ -151,19 +145,13 @@ def build(ctx: Context) -> PaperSection:
         word, evidence = order_verdict(dist, CLAIMED)
         shortest_parts.append((word, f"{road}: {evidence}"))
     sec.verdicts += [
-        Verdict(
+        claim(
             KEY,
             "the fuzzy immune PID settles the slip within 1.5 s on asphalt and 1 s on "
             "dirt, faster than the others",
-            combine([w for w, _ in settle_parts]),
-            "; ".join(e for _, e in settle_parts),
+            settle_parts,
         ),
-        Verdict(
-            KEY,
-            "the fuzzy immune PID stops shortest on both roads",
-            combine([w for w, _ in shortest_parts]),
-            "; ".join(e for _, e in shortest_parts),
-        ),
+        claim(KEY, "the fuzzy immune PID stops shortest on both roads", shortest_parts),
         bound_verdict(KEY, checks),
     ]
     sec.bounds = checks
@@ -176,7 +164,7 @@ def _row(label: str, tr: Trace, settle_pub: dict[str, float]) -> dict[str, objec
     return {
         "controller": label,
         "paper settle (s)": paper_settle,
-        "ours settle (s)": _settle(tr),
+        "ours settle (s)": settle_time_s(tr),
         "ours stop time (s)": m["stop_time_s"],
         "ours distance (m)": m["stop_distance_m"],
         "paper stop time (s)": None,
