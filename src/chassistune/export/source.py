@@ -105,41 +105,47 @@ class ExportedController:
         The fuzzy laws give the base (fuzzy-pid) or nominal (fuzzy-immune-pid) gains and say
         which gain the table schedules."""
         p = self.param_dict()
-        if self.controller == "pid":
-            return {
-                "P": p["kp"],
-                "I": p["ki"],
-                "D": p["kd"],
-                "N": p["n_filter"],
-                "Form": "Parallel",
-                "IntegratorMethod": "Forward Euler",
-                "FilterMethod": "Backward Euler",
-                "Scheduled": "none",
-            }
-        if self.controller == "fuzzy-pid":
-            return {
-                "P": p["kp0"],
-                "I": p["ki0"],
-                "D": p["kd0"],
-                "N": p["n_filter"],
-                "Form": "Parallel",
-                "IntegratorMethod": "Forward Euler",
-                "FilterMethod": "Backward Euler",
-                "Scheduled": "P = kp0 + ku_p*kp(ke*e, kec*d), I = ki0 + ku_i*ki(...), "
-                "D = kd0 + ku_d*kd(...), d the filtered derivative",
-            }
-        if self.controller == "fuzzy-immune-pid":
-            return {
-                "P": p["k_immune"],
-                "I": p["ki"],
-                "D": p["kd"],
-                "N": None,
-                "Form": "Parallel, incremental (velocity) implementation",
-                "IntegratorMethod": "Backward Euler",
-                "FilterMethod": "none (backward difference, no filter)",
-                "Scheduled": "P = k_immune*(1 - eta*f(ke*e, kec*(e - e_prev)/Ts))",
-            }
-        return None
+        form = _PID_FORMS.get(self.controller)
+        if form is None:
+            return None
+        gains = {k: None if n is None else p[n] for k, n in zip("PIDN", form.gains, strict=True)}
+        return {
+            **gains,
+            "Form": form.form,
+            "IntegratorMethod": form.integrator,
+            "FilterMethod": form.filter,
+            "Scheduled": form.scheduled,
+        }
+
+
+@dataclass(frozen=True)
+class _PidForm:
+    """A law as Simulink's Discrete PID Controller: the parameters giving P, I, D and N (None:
+    no filter), the form and methods, and what its table schedules."""
+
+    gains: tuple[str, str, str, str | None]
+    scheduled: str
+    form: str = "Parallel"
+    integrator: str = "Forward Euler"
+    filter: str = "Backward Euler"
+
+
+_PID_FORMS = {
+    "pid": _PidForm(("kp", "ki", "kd", "n_filter"), "none"),
+    "fuzzy-pid": _PidForm(
+        ("kp0", "ki0", "kd0", "n_filter"),
+        "P = kp0 + ku_p*kp(ke*e, kec*d), I = ki0 + ku_i*ki(...), "
+        "D = kd0 + ku_d*kd(...), d the filtered derivative",
+    ),
+    "fuzzy-immune-pid": _PidForm(
+        ("k_immune", "ki", "kd", None),
+        "P = k_immune*(1 - eta*f(ke*e, kec*(e - e_prev)/Ts))",
+        form="Parallel, incremental (velocity) implementation",
+        integrator="Backward Euler",
+        filter="none (backward difference, no filter)",
+    ),
+}
+"""The laws with a Discrete PID Controller form, by controller name."""
 
 
 @dataclass(frozen=True)

@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from chassistune.plants.presets import PresetInfo
+from chassistune.plants.presets import Preset, PresetInfo
 
 
 def _pos(lo: float, hi: float, **extra: object) -> dict[str, object]:
@@ -85,14 +85,8 @@ class SteeringParams:
 STEERING_MODES = ("fixed", "driver")
 
 
-@dataclass(frozen=True)
-class _Preset:
-    info: PresetInfo
-    params: VehicleParams
-
-
-PRESETS: dict[str, _Preset] = {
-    "paper-deffao": _Preset(
+PRESETS: dict[str, Preset[VehicleParams]] = {
+    "paper-deffao": Preset(
         PresetInfo(
             "paper-deffao",
             "Tian 2025 Table 2: m = 1110 kg total, Iz = 1440 kg m^2 (printed 1.44), J = 0.6 kg "

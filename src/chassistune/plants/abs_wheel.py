@@ -7,11 +7,11 @@ The equations of motion (DESIGN 3.1) are integrated by the compiled kernel
 
 from __future__ import annotations
 
-from collections.abc import Collection, Mapping
+from collections.abc import Collection
 from dataclasses import dataclass, field
 
 from chassistune.errors import InputError
-from chassistune.plants.presets import PresetInfo
+from chassistune.plants.presets import Preset, PresetInfo
 
 
 def _pos(lo: float, hi: float, **extra: object) -> dict[str, object]:
@@ -89,16 +89,7 @@ def _sldemo_params() -> AbsWheelParams:
     )
 
 
-@dataclass(frozen=True)
-class Preset:
-    """A named parameter set, with controller parameter defaults that belong to it."""
-
-    info: PresetInfo
-    params: AbsWheelParams
-    controller_defaults: Mapping[str, float] = field(default_factory=dict)
-
-
-PRESETS: dict[str, Preset] = {
+PRESETS: dict[str, Preset[AbsWheelParams]] = {
     "paper-derlsp-ao": Preset(
         PresetInfo(
             "paper-derlsp-ao",

@@ -1,8 +1,13 @@
-"""What a plant's preset says about itself: its name, a description and the roads of its paper."""
+"""A plant's presets: what one says about itself (its name, a description and the roads of its
+paper) and the parameter set it names."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Generic, TypeVar
+
+P = TypeVar("P")
 
 
 @dataclass(frozen=True)
@@ -12,3 +17,12 @@ class PresetInfo:
     name: str
     description: str
     roads: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Preset(Generic[P]):
+    """A named parameter set of a plant, with controller parameter defaults that belong to it."""
+
+    info: PresetInfo
+    params: P
+    controller_defaults: Mapping[str, float] = field(default_factory=dict)

@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from chassistune.plants.presets import PresetInfo
+from chassistune.plants.presets import Preset, PresetInfo
 
 G_M_S2 = 9.80665
 _POS = {"positive": True}
@@ -34,15 +34,7 @@ class QuarterCarParams:
         return (self.sprung_mass_kg + self.unsprung_mass_kg) * G_M_S2
 
 
-@dataclass(frozen=True)
-class Preset:
-    """A named vehicle parameter set."""
-
-    info: PresetInfo
-    vehicle: QuarterCarParams
-
-
-PRESETS: dict[str, Preset] = {
+PRESETS: dict[str, Preset[QuarterCarParams]] = {
     "paper-iabc": Preset(
         PresetInfo(
             "paper-iabc",

@@ -23,7 +23,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from chassistune.errors import InputError
-from chassistune.params import override
+from chassistune.params import as_dict, override
 from chassistune.plants.roads import BILINEAR_ROADS
 from chassistune.plants.tires import BilinearTire
 
@@ -114,68 +114,34 @@ def make_road(
     """The road `name` with its parameter overrides; returns (road, names used, params echo)."""
     if name == "mu-jump":
         jump, used = override(MuJumpParams(), values)
-        pair = (
-            surface(jump.first_surface, "params.first_surface", jump.mu_scale),
-            surface(jump.second_surface, "params.second_surface", jump.mu_scale),
-        )
-        road = VehicleRoad(
-            name,
-            ROAD_MU_JUMP,
-            (jump.first_surface, jump.second_surface),
-            pair,
-            x_jump_m=jump.x_jump_m,
-        )
-        return (
-            road,
-            used,
-            {
-                "first_surface": jump.first_surface,
-                "second_surface": jump.second_surface,
-                "x_jump_m": jump.x_jump_m,
-                "mu_scale": jump.mu_scale,
-            },
-        )
+        names, pair = _surfaces(jump, "first_surface", "second_surface")
+        road = VehicleRoad(name, ROAD_MU_JUMP, names, pair, x_jump_m=jump.x_jump_m)
+        return road, used, as_dict(jump)
     if name == "split-mu":
         split, used = override(SplitMuParams(), values)
         if split.split_by not in SPLIT_BY:
             raise InputError("params.split_by", f"must be body or road, got {split.split_by!r}")
-        pair = (
-            surface(split.left_surface, "params.left_surface", split.mu_scale),
-            surface(split.right_surface, "params.right_surface", split.mu_scale),
-        )
+        names, pair = _surfaces(split, "left_surface", "right_surface")
         road = VehicleRoad(
-            name,
-            ROAD_SPLIT,
-            (split.left_surface, split.right_surface),
-            pair,
-            split_by=split.split_by,
-            split_y_m=split.split_y_m,
+            name, ROAD_SPLIT, names, pair, split_by=split.split_by, split_y_m=split.split_y_m
         )
-        return (
-            road,
-            used,
-            {
-                "left_surface": split.left_surface,
-                "right_surface": split.right_surface,
-                "split_by": split.split_by,
-                "split_y_m": split.split_y_m,
-                "mu_scale": split.mu_scale,
-            },
-        )
+        return road, used, as_dict(split)
     if name not in BILINEAR_ROADS:
         raise InputError(
             "road", f"unknown road {name!r} for abs-vehicle (known: {', '.join(road_names())})"
         )
     tire, used = override(surface(name, "road"), values)
     curve = scaled(tire, 1.0)
-    road = VehicleRoad(name, ROAD_UNIFORM, (name, name), (curve, curve))
-    return (
-        road,
-        used,
-        {
-            "slip_opt": tire.slip_opt,
-            "mu_peak": tire.mu_peak,
-            "mu_lock": tire.mu_lock,
-            "mu_scale": tire.mu_scale,
-        },
+    return VehicleRoad(name, ROAD_UNIFORM, (name, name), (curve, curve)), used, as_dict(tire)
+
+
+def _surfaces(
+    params: MuJumpParams | SplitMuParams, first: str, second: str
+) -> tuple[tuple[str, str], tuple[BilinearTire, BilinearTire]]:
+    """A two-surface road's surface names (fields `first`, `second` of params) and its surfaces
+    scaled by params.mu_scale."""
+    names = (getattr(params, first), getattr(params, second))
+    return names, (
+        surface(names[0], f"params.{first}", params.mu_scale),
+        surface(names[1], f"params.{second}", params.mu_scale),
     )

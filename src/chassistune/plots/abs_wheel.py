@@ -8,6 +8,9 @@ from typing import Any
 from chassistune.plots.style import pyplot, save
 from chassistune.scenarios.base import Scenario, Trace
 
+_MARK = {"color": "k", "ls": ":", "lw": 1}
+"""The style of the reference lines (target slip, physical bounds)."""
+
 
 def plot_trace(scenario: Scenario, trace: Trace, path: str) -> None:
     """One run: vehicle and wheel speed, slip with its target, brake torque, distance vs bound."""
@@ -39,21 +42,10 @@ def plot_comparison(
             else f"did not stop ({m.get('status')})"
         )
         ax_x.plot(t, sig["distance_m"], color=col, label=f"{label}: {stop}")
-    ax_s.axhline(scenario.target_slip, color="k", ls=":", lw=1, label="target slip")
-    ax_x.axhline(
-        scenario.bound_distance_m,
-        color="k",
-        ls=":",
-        lw=1,
-        label=f"physical bound {scenario.bound_distance_m:.1f} m",
-    )
-    ax_v.axvline(
-        scenario.bound_time_s,
-        color="k",
-        ls=":",
-        lw=1,
-        label=f"bound time {scenario.bound_time_s:.2f} s",
-    )
+    ax_s.axhline(scenario.target_slip, **_MARK, label="target slip")
+    bound_m, bound_s = scenario.bound_distance_m, scenario.bound_time_s
+    ax_x.axhline(bound_m, **_MARK, label=f"physical bound {bound_m:.1f} m")
+    ax_v.axvline(bound_s, **_MARK, label=f"bound time {bound_s:.2f} s")
     ax_v.set_ylabel("speed [m/s]")
     ax_s.set_ylabel("slip S = (v - w R)/v [-]")
     _zoom_slip(ax_s, scenario.target_slip, [tr.signals["slip"] for _, tr in runs])

@@ -68,12 +68,18 @@ class Download:
 
 
 @dataclass(frozen=True)
-class TableView:
-    """A table on the page; `sources` are the CSVs it shows (or a part of), `groups` an
-    optional header row above the columns as (title, span) pairs."""
+class _View:
+    """An item on the page: its anchor id and its title (what every kind of item has first)."""
 
     id: str
     title: str
+
+
+@dataclass(frozen=True)
+class TableView(_View):
+    """A table on the page; `sources` are the CSVs it shows (or a part of), `groups` an
+    optional header row above the columns as (title, span) pairs."""
+
     columns: list[str]
     rows: list[list[str]]
     caption: str = ""
@@ -111,11 +117,9 @@ class TableView:
 
 
 @dataclass(frozen=True)
-class FigureView:
+class FigureView(_View):
     """A figure on the page, embedded from its PNG file (`file` names the copy beside it)."""
 
-    id: str
-    title: str
     png_base64: str
     caption: str = ""
     file: str = ""
@@ -130,22 +134,18 @@ class FigureView:
 
 
 @dataclass(frozen=True)
-class CodeView:
+class CodeView(_View):
     """Preformatted text on the page (the study config)."""
 
-    id: str
-    title: str
     text: str
     caption: str = ""
     kind: str = "code"
 
 
 @dataclass(frozen=True)
-class PlotView:
+class PlotView(_View):
     """A plotly figure on the interactive page: its JSON (data, layout) and trace count."""
 
-    id: str
-    title: str
     figure_json: str
     traces: int
     caption: str = ""

@@ -95,6 +95,24 @@ def _metric_columns(r: RunRecord) -> dict[str, Any]:
     return out
 
 
+_SPEC_COLUMNS = (
+    "scenario",
+    "plant",
+    "preset",
+    "road",
+    "controller",
+    "objective",
+    "aggregate",
+    "optimizer",
+    "optimizer_name",
+    "seed",
+    "root_seed",
+)
+"""The first columns of the run export: attributes of each run's spec, by name."""
+_RECORD_COLUMNS = ("status", "best_cost", "nfev", "nit", "wall_time_s", "error")
+"""The run export's columns after _SPEC_COLUMNS: attributes of each run's record, by name."""
+
+
 def runs_table(records: Sequence[RunRecord]) -> pd.DataFrame:
     """One row per run: identity, status, cost, budget spent, one column per best gain
     (`gain_<name>`), metrics (`metric_<name>`; `metric_<name>@<road>` for multi-road runs),
@@ -102,25 +120,8 @@ def runs_table(records: Sequence[RunRecord]) -> pd.DataFrame:
     rows = []
     for r in records:
         s = r.spec
-        row: dict[str, Any] = {
-            "scenario": s.scenario,
-            "plant": s.plant,
-            "preset": s.preset,
-            "road": s.road,
-            "controller": s.controller,
-            "objective": s.objective,
-            "aggregate": s.aggregate,
-            "optimizer": s.optimizer,
-            "optimizer_name": s.optimizer_name,
-            "seed": s.seed,
-            "root_seed": s.root_seed,
-            "status": r.status,
-            "best_cost": r.best_cost,
-            "nfev": r.nfev,
-            "nit": r.nit,
-            "wall_time_s": r.wall_time_s,
-            "error": r.error,
-        }
+        row: dict[str, Any] = {c: getattr(s, c) for c in _SPEC_COLUMNS}
+        row.update({c: getattr(r, c) for c in _RECORD_COLUMNS})
         for name in s.bounds:
             row[f"gain_{name}"] = r.best_gains.get(name, math.nan)
         row.update({f"cost@{road}": c for road, c in r.test_costs.items()})

@@ -10,7 +10,6 @@ from __future__ import annotations
 import dataclasses
 import math
 import warnings
-from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -37,7 +36,7 @@ from chassistune.plants.abs_vehicle_params import (
     SteeringParams,
     VehicleParams,
 )
-from chassistune.plants.presets import PresetInfo
+from chassistune.plants.presets import Preset
 from chassistune.plants.vehicle_roads import (
     ROAD_MU_JUMP,
     ROAD_SPLIT,
@@ -45,17 +44,9 @@ from chassistune.plants.vehicle_roads import (
     SplitMuParams,
     VehicleRoad,
     make_road,
-    road_names,
 )
 from chassistune.scenarios.abs_wheel import FUZZY_OUTPUTS, _no_surface, fuzzy_table
-from chassistune.scenarios.base import (
-    PENALTY,
-    Plant,
-    Scenario,
-    Trace,
-    json_scalar,
-    pick_preset,
-)
+from chassistune.scenarios.base import PENALTY, Plant, Scenario, Trace, json_scalar, pick_preset
 from chassistune.scenarios.controller_params import kernel_gains, resolve_controller_params
 from chassistune.scenarios.registry import ABS_VEHICLE
 from chassistune.sim import abs_vehicle_kernel as K
@@ -165,17 +156,13 @@ class AbsVehicleScenario(Scenario):
         scoring: VehicleScoring,
         seed: int,
     ) -> None:
-        self.plant = PLANT_NAME
-        self.preset = preset
-        self.road = road.name
+        super().__init__(PLANT_NAME, preset, road.name, controller, seed)
         self.road_spec = road
         self.road_params = road_params
-        self.controller = controller
         self.plant_params = plant_params
         self.steering = steering
         self.controller_params = controller_params
         self.scoring = scoring
-        self.seed = seed
         bound = road_bound(plant_params, road)
         self.bound_distance_m = bound.distance_m
         self.bound_time_s = bound.time_s
@@ -316,12 +303,6 @@ class AbsVehiclePlant(Plant):
 
     spec = ABS_VEHICLE
 
-    def presets(self) -> dict[str, PresetInfo]:
-        return {n: p.info for n, p in PRESETS.items()}
-
-    def roads(self) -> dict[str, str]:
-        return road_names()
-
     def controllers(self) -> list[ControllerSpec]:
         return [vehicle_specs.get(n) for n in vehicle_specs.names()]
 
@@ -342,19 +323,16 @@ class AbsVehiclePlant(Plant):
             names += [f.name for f in dataclasses.fields(cls)]
         return sorted({*names, "slip_opt", "mu_peak", "mu_lock", "mu_scale"})
 
-    def scenario(
+    def build(
         self,
-        preset: str | None = None,
-        road: str | None = None,
-        controller: str = "none",
-        params: Mapping[str, object] | None = None,
-        seed: int = 0,
+        preset: str,
+        pre: Preset[VehicleParams],
+        road_name: str,
+        controller: str,
+        values: dict[str, object],
+        seed: int,
     ) -> AbsVehicleScenario:
-        preset = pick_preset(PLANT_NAME, preset, self.default_preset, PRESETS)
-        pre = PRESETS[preset]
-        road_name = road or pre.info.roads[0]
         spec = vehicle_specs.get(controller)
-        values = dict(params or {})
         plant_params, used = override(pre.params, values)
         steering, used_steering = override(SteeringParams(), values)
         if steering.steering not in STEERING_MODES:
@@ -383,7 +361,7 @@ class AbsVehiclePlant(Plant):
             preset, road_spec, road_params, spec, plant_params, steering, ctrl_values, scoring, seed
         )
         for warning in implausible(plant_params) + implausible(steering) + implausible(scoring):
-            warnings.warn(warning, stacklevel=2)  # valid input only
+            warnings.warn(warning, stacklevel=3)  # valid input only
         return scenario
 
 

@@ -21,11 +21,11 @@ from chassistune.params import as_dict, implausible, override, to_float, validat
 from chassistune.plants.abs_wheel import (
     PRESETS,
     AbsWheelParams,
-    Preset,
     bound_time_s,
     check_consistency,
     default_t_max_s,
 )
+from chassistune.plants.presets import Preset
 from chassistune.plants.roads import tire_for_road
 from chassistune.plants.tires import TireCurve
 from chassistune.scenarios.abs_wheel_ecu import (
@@ -35,14 +35,7 @@ from chassistune.scenarios.abs_wheel_ecu import (
     ecu_setup,
     law_params,
 )
-from chassistune.scenarios.base import (
-    PENALTY,
-    Plant,
-    Scenario,
-    Trace,
-    json_scalar,
-    pick_preset,
-)
+from chassistune.scenarios.base import PENALTY, Plant, Scenario, Trace, json_scalar, pick_preset
 from chassistune.scenarios.controller_params import kernel_gains, resolve_controller_params
 from chassistune.scenarios.registry import ABS_WHEEL
 from chassistune.sim import abs_wheel_ecu_layout as EL
@@ -150,15 +143,11 @@ class AbsWheelScenario(Scenario):
         seed: int,
         ecu: EcuSetup | None = None,
     ) -> None:
-        self.plant = "abs-wheel"
-        self.preset = preset
-        self.road = road
-        self.controller = controller
+        super().__init__("abs-wheel", preset, road, controller, seed)
         self.plant_params = plant_params
         self.tire = tire
         self.controller_params = controller_params
         self.scoring = scoring
-        self.seed = seed
         self.ecu = ecu
         """None: the ideal kernel; else the realistic ECU (`--ecu realistic`, issue 15)."""
         self.mu_peak, self.slip_at_peak, _ = tire.peak()
@@ -318,7 +307,7 @@ class AbsWheelPlant(Plant[AbsWheelScenario]):
     def build(
         self,
         preset: str,
-        pre: Preset,
+        pre: Preset[AbsWheelParams],
         road: str,
         controller: str,
         values: dict[str, object],

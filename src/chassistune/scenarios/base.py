@@ -104,6 +104,15 @@ class Scenario(ABC):
     status_reasons: Mapping[str, str] = {}
     """Why a run with metric `status` did not reach its goal, by status (text output)."""
 
+    def __init__(
+        self, plant: str, preset: str, road: str, controller: ControllerSpec, seed: int
+    ) -> None:
+        self.plant = plant
+        self.preset = preset
+        self.road = road
+        self.controller = controller
+        self.seed = seed
+
     @property
     def gain_names(self) -> tuple[str, ...]:
         return self.controller.gain_names

@@ -21,15 +21,10 @@ from chassistune.errors import InputError
 from chassistune.params import as_dict, override, validate
 from chassistune.plants import iso_roads
 from chassistune.plants import quarter_car as model
-from chassistune.plants.quarter_car_params import Preset, QuarterCarParams
+from chassistune.plants.presets import Preset
+from chassistune.plants.quarter_car_params import QuarterCarParams
 from chassistune.plants.roads import roughness_class
-from chassistune.scenarios.base import (
-    PENALTY,
-    Plant,
-    Scenario,
-    Trace,
-    json_scalar,
-)
+from chassistune.scenarios.base import PENALTY, Plant, Scenario, Trace, json_scalar
 from chassistune.scenarios.registry import QUARTER_CAR
 from chassistune.sim import lyapunov
 from chassistune.sim import quarter_car_kernel as kernel
@@ -90,15 +85,11 @@ class QuarterCarScenario(Scenario):
         controller_params: ControllerParams,
         seed: int,
     ) -> None:
-        self.plant = "quarter-car"
-        self.preset = preset
-        self.road = road
-        self.controller = controller
+        super().__init__("quarter-car", preset, road, controller, seed)
         self.vehicle = vehicle
         self.road_params = road_params
         self.solver = solver
         self.controller_params = controller_params
-        self.seed = seed
         self.plant_vector = kernel.PLANT.pack(
             {
                 **as_dict(vehicle),
@@ -327,7 +318,7 @@ class QuarterCarPlant(Plant[QuarterCarScenario]):
     def build(
         self,
         preset: str,
-        pre: Preset,
+        pre: Preset[QuarterCarParams],
         road: str,
         controller: str,
         values: dict[str, object],
@@ -337,7 +328,7 @@ class QuarterCarPlant(Plant[QuarterCarScenario]):
         spec = catalogue.get(QUARTER_CAR.name, "passive" if controller == "none" else controller)
         if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
             raise InputError("seed", f"must be a non-negative integer, got {seed!r}")
-        vehicle, used = override(pre.vehicle, values)
+        vehicle, used = override(pre.params, values)
         road_params, used_road = override(iso_roads.RoadParams(gq_m3=gq), values)
         solver, used_solver = override(SolverParams(), values)
         ctrl_values = {k: v for k, v in values.items() if k in spec.param_names}
