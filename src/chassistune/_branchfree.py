@@ -10,6 +10,12 @@ for bit (NaN and signed-zero cases included): max(a, b) is `b if b > a else a`, 
 every CPU and in vector and scalar code alike); the kernels never let the compiler contract on
 its own (no fastmath), so a fused operation appears only where it is written.
 
+`add`, `mul` and `fmadd` are a + b, a b and a b + c on floats or, element by element, on tuples
+of floats, nested or not (a float operand is used for every element): the state of a compiled
+plant can then be one tuple and an integration stage one call, emitting the very `fadd`/`fmul`/
+`llvm.fma` that the scalar expressions give (no reassociation: every number is what the scalar
+code computes).
+
 `stack_copy(t)` copies a tuple of floats to the stack and returns a pointer: `p[i]` with a
 data-dependent i is then one load (a gather in a vector loop) from memory that the compiler knows
 nothing else writes, where indexing the tuple itself compiles to a switch and indexing an
@@ -87,9 +93,7 @@ def _llvm_fma(typingctx, a, b, c):
     sig = types.float64(types.float64, types.float64, types.float64)
 
     def codegen(context, builder, signature, args):
-        d = ir.DoubleType()
-        fn = builder.module.declare_intrinsic("llvm.fma", [d], ir.FunctionType(d, [d, d, d]))
-        return builder.call(fn, args)
+        return _emit_fma(builder, *args)
 
     return sig, codegen
 
@@ -98,3 +102,89 @@ def _llvm_fma(typingctx, a, b, c):
 def fma(a: float, b: float, c: float) -> float:  # pragma: no cover - compiled
     """a b + c with one rounding (IEEE fusedMultiplyAdd)."""
     return _llvm_fma(a, b, c)  # type: ignore[call-arg]
+
+
+def _elementwise_type(args):
+    """The result type of an element-by-element operation on these argument types (floats, or
+    tuples, nested or not, of one structure with floats at the leaves), or None."""
+    tuples = [a for a in args if isinstance(a, types.BaseTuple)]
+    if not tuples:
+        return types.float64 if all(a == types.float64 for a in args) else None
+    n = len(tuples[0])
+    if any(len(a) != n for a in tuples) or any(
+        a != types.float64 for a in args if not isinstance(a, types.BaseTuple)
+    ):
+        return None
+    parts = [_elementwise_type([_part(a, i) for a in args]) for i in range(n)]
+    return None if None in parts else types.Tuple(parts)
+
+
+def _part(ty, i):
+    """Element i of a tuple type; a float stands for every element."""
+    return ty[i] if isinstance(ty, types.BaseTuple) else ty
+
+
+def _elementwise_codegen(emit):
+    """Codegen applying emit(builder, *floats) to floats or to each leaf of the tuples."""
+
+    def apply(context, builder, ret, tys, vals):
+        if not isinstance(ret, types.BaseTuple):
+            return emit(builder, *vals)
+        out = ir.Constant(context.get_value_type(ret), ir.Undefined)
+        for i in range(len(ret)):
+            parts = [
+                builder.extract_value(v, i) if isinstance(t, types.BaseTuple) else v
+                for t, v in zip(tys, vals, strict=True)
+            ]
+            leaf = apply(context, builder, _part(ret, i), [_part(t, i) for t in tys], parts)
+            out = builder.insert_value(out, leaf, i)
+        return out
+
+    def codegen(context, builder, signature, args):
+        return apply(context, builder, signature.return_type, signature.args, args)
+
+    return codegen
+
+
+def _emit_fma(builder, a, b, c):
+    d = ir.DoubleType()
+    fn = builder.module.declare_intrinsic("llvm.fma", [d], ir.FunctionType(d, [d, d, d]))
+    return builder.call(fn, [a, b, c])
+
+
+def _binary_intrinsic(emit):
+    """An intrinsic applying emit(builder, x, y) to two floats or, leaf by leaf, tuples."""
+
+    def typer(typingctx, a, b):
+        ret = _elementwise_type((a, b))
+        return None if ret is None else (ret(a, b), _elementwise_codegen(emit))
+
+    return intrinsic(typer)
+
+
+_llvm_add = _binary_intrinsic(lambda builder, x, y: builder.fadd(x, y))
+_llvm_mul = _binary_intrinsic(lambda builder, x, y: builder.fmul(x, y))
+
+
+@intrinsic
+def _llvm_fma_elementwise(typingctx, a, b, c):
+    ret = _elementwise_type((a, b, c))
+    return None if ret is None else (ret(a, b, c), _elementwise_codegen(_emit_fma))
+
+
+@njit(cache=True, nogil=True, inline="always")
+def add(a, b):  # pragma: no cover - compiled
+    """a + b, on floats or element by element on (nested) tuples of floats."""
+    return _llvm_add(a, b)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def mul(a, b):  # pragma: no cover - compiled
+    """a b, on floats or element by element on (nested) tuples of floats."""
+    return _llvm_mul(a, b)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def fmadd(a, b, c):  # pragma: no cover - compiled
+    """`fma` on floats or element by element on (nested) tuples of floats."""
+    return _llvm_fma_elementwise(a, b, c)  # type: ignore[call-arg]

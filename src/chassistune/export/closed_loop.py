@@ -92,35 +92,16 @@ STOPPED, HOPELESS, TIMEOUT, DIVERGED = (
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
-def plant_rates(v, w, q, r, u, lc, xc, xs, ys):
-    """(dv, dw, dq, dr) of the wheel under the held command u (DESIGN 3.1)."""
-    fx = (
-        tire_law_mu(
-            int(lc[L_LAW]),
-            wheel_slip(v, w, lc[L_RADIUS]),
-            lc[L_C0],
-            lc[L_C1],
-            lc[L_C2],
-            lc[L_C3],
-            xc,
-            xs,
-            ys,
-        )
-        * lc[L_FZ]
-    )
+def plant_rates(x, u, lc, xc, xs, ys):
+    """(dv, dw, dq, dr) of the wheel in state x = (v, w, q, r) under the held command u
+    (DESIGN 3.1)."""
+    v, w, q, r = x
+    r_w = lc[L_RADIUS]
+    c0, c1, c2, c3 = lc[L_C0], lc[L_C1], lc[L_C2], lc[L_C3]
+    fx = tire_law_mu(int(lc[L_LAW]), wheel_slip(v, w, r_w), c0, c1, c2, c3, xc, xs, ys) * lc[L_FZ]
+    inv_m, inv_i, kq, gain = lc[L_INV_M], lc[L_INV_I], lc[L_KQ], lc[L_GAIN]
     dv, dw, dq, dr, _, _ = wheel_rates(
-        w,
-        q,
-        r,
-        fx,
-        u,
-        lc[L_RADIUS],
-        lc[L_INV_M],
-        lc[L_INV_I],
-        lc[L_KQ],
-        lc[L_GAIN],
-        lc[L_INV_TAU],
-        lc[L_QMAX],
+        w, q, r, fx, u, r_w, inv_m, inv_i, kq, gain, lc[L_INV_TAU], lc[L_QMAX]
     )
     return dv, dw, dq, dr
 
@@ -141,45 +122,15 @@ def advance(x, acc, u, n, lc, xc, xs, ys):
             acc[A_TIME] = lc[L_STEPS] * dt
             return True
         t = k * dt
-        v, w, q, r = x[X_V], x[X_W], x[X_Q], x[X_R]
-        k1v, k1w, k1q, k1r = plant_rates(v, w, q, r, u, lc, xc, xs, ys)
-        k2v, k2w, k2q, k2r = plant_rates(
-            rk4_point(v, hs, k1v),
-            rk4_point(w, hs, k1w),
-            rk4_point(q, hs, k1q),
-            rk4_point(r, hs, k1r),
-            u,
-            lc,
-            xc,
-            xs,
-            ys,
-        )
-        k3v, k3w, k3q, k3r = plant_rates(
-            rk4_point(v, hs, k2v),
-            rk4_point(w, hs, k2w),
-            rk4_point(q, hs, k2q),
-            rk4_point(r, hs, k2r),
-            u,
-            lc,
-            xc,
-            xs,
-            ys,
-        )
-        k4v, k4w, k4q, k4r = plant_rates(
-            rk4_point(v, dt, k3v),
-            rk4_point(w, dt, k3w),
-            rk4_point(q, dt, k3q),
-            rk4_point(r, dt, k3r),
-            u,
-            lc,
-            xc,
-            xs,
-            ys,
-        )
-        vn = rk4_update(v, h6, k1v, k2v, k3v, k4v)
-        wn = fmax(rk4_update(w, h6, k1w, k2w, k3w, k4w), 0.0)
-        qn = clip(rk4_update(q, h6, k1q, k2q, k3q, k4q), 0.0, lc[L_QMAX])
-        rn = rk4_update(r, h6, k1r, k2r, k3r, k4r)
+        x0 = (x[X_V], x[X_W], x[X_Q], x[X_R])
+        k1 = plant_rates(x0, u, lc, xc, xs, ys)
+        k2 = plant_rates(rk4_point(x0, hs, k1), u, lc, xc, xs, ys)
+        k3 = plant_rates(rk4_point(x0, hs, k2), u, lc, xc, xs, ys)
+        k4 = plant_rates(rk4_point(x0, dt, k3), u, lc, xc, xs, ys)
+        vn, wn, qn, rn = rk4_update(x0, h6, k1, k2, k3, k4)
+        wn = fmax(wn, 0.0)
+        qn = clip(qn, 0.0, lc[L_QMAX])
+        v = x0[0]
         stop = vn <= v_stop
         h = crossing_fraction(v, vn, v_stop, stop) * dt
         acc[A_DIST] += trapezoid(v, select(stop, v_stop, vn), h)

@@ -80,6 +80,7 @@ from chassistune.sim.integrate import (
     rk4_update,
     trapezoid,
 )
+from chassistune.sim.lanes import close_lane
 from chassistune.sim.layout import Layout, Slot
 
 WHEELS = ("fl", "fr", "rl", "rr")
@@ -663,11 +664,15 @@ def _lane_wheel_rates(wt, e, fx, g, kc):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _straight_stage(b, w0, w1, w2, w3, g0, g1, g2, g3, s0, s1, s2, s3, kc):
-    """Derivatives at body state b = (vx, vy, r, X, Y, psi, delta) and wheel states wj in the
-    straight-line case (no yaw, lateral velocity, heading or steering; loads in closed form):
-    (body rates, four wheel rates, ok), ok false where the case does not hold (`_rhs` then
-    applies). The same formulas in the same order as `_rhs` and `solve_loads`."""
+def _straight_stage(x, g, s, kc):
+    """Derivatives at state x = (b, w0, w1, w2, w3), body b = (vx, vy, r, X, Y, psi, delta) and
+    wheels wj = (w, q, qr, z, xf), with laws g and surfaces s (per wheel) in the straight-line
+    case (no yaw, lateral velocity, heading or steering; loads in closed form): ((body rates,
+    four wheel rates), ok), ok false where the case does not hold (`_rhs` then applies). The
+    same formulas in the same order as `_rhs` and `solve_loads`."""
+    b, w0, w1, w2, w3 = x
+    g0, g1, g2, g3 = g
+    s0, s1, s2, s3 = s
     vx = b[0]
     vy = b[1]
     r = b[2]
@@ -744,59 +749,19 @@ def _straight_stage(b, w0, w1, w2, w3, g0, g1, g2, g3, s0, s1, s2, s3, kc):
         _lane_wheel_rates(w1, e1, fx1, g1, kc),
         _lane_wheel_rates(w2, select(sel & low, e3, e2), fx2, g2, kc),
         _lane_wheel_rates(w3, select(sel & high, e2, e3), fx3, g3, kc),
-        ok,
-    )
+    ), ok
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _pt7(b, c, k):
-    """Stage point b + c k of the body state."""
+def _held(x, q_max):
+    """The state x after the step-end limits: each wheel's w held >= 0 and q in [0, q_max]."""
+    b, w0, w1, w2, w3 = x
     return (
-        rk4_point(b[0], c, k[0]),
-        rk4_point(b[1], c, k[1]),
-        rk4_point(b[2], c, k[2]),
-        rk4_point(b[3], c, k[3]),
-        rk4_point(b[4], c, k[4]),
-        rk4_point(b[5], c, k[5]),
-        rk4_point(b[6], c, k[6]),
-    )
-
-
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _pt5(w, c, k):
-    """Stage point w + c k of a wheel state."""
-    return (
-        rk4_point(w[0], c, k[0]),
-        rk4_point(w[1], c, k[1]),
-        rk4_point(w[2], c, k[2]),
-        rk4_point(w[3], c, k[3]),
-        rk4_point(w[4], c, k[4]),
-    )
-
-
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _up7(b, h6, k1, k2, k3, k4):
-    """RK4 update of the body state."""
-    return (
-        rk4_update(b[0], h6, k1[0], k2[0], k3[0], k4[0]),
-        rk4_update(b[1], h6, k1[1], k2[1], k3[1], k4[1]),
-        rk4_update(b[2], h6, k1[2], k2[2], k3[2], k4[2]),
-        rk4_update(b[3], h6, k1[3], k2[3], k3[3], k4[3]),
-        rk4_update(b[4], h6, k1[4], k2[4], k3[4], k4[4]),
-        rk4_update(b[5], h6, k1[5], k2[5], k3[5], k4[5]),
-        rk4_update(b[6], h6, k1[6], k2[6], k3[6], k4[6]),
-    )
-
-
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _up5(w, h6, k1, k2, k3, k4, q_max):
-    """RK4 update of a wheel state, w held >= 0 and q in [0, q_max]."""
-    return (
-        fmax(rk4_update(w[0], h6, k1[0], k2[0], k3[0], k4[0]), 0.0),
-        clip(rk4_update(w[1], h6, k1[1], k2[1], k3[1], k4[1]), 0.0, q_max),
-        rk4_update(w[2], h6, k1[2], k2[2], k3[2], k4[2]),
-        rk4_update(w[3], h6, k1[3], k2[3], k3[3], k4[3]),
-        rk4_update(w[4], h6, k1[4], k2[4], k3[4], k4[4]),
+        b,
+        (fmax(w0[0], 0.0), clip(w0[1], 0.0, q_max), w0[2], w0[3], w0[4]),
+        (fmax(w1[0], 0.0), clip(w1[1], 0.0, q_max), w1[2], w1[3], w1[4]),
+        (fmax(w2[0], 0.0), clip(w2[1], 0.0, q_max), w2[2], w2[3], w2[4]),
+        (fmax(w3[0], 0.0), clip(w3[1], 0.0, q_max), w3[2], w3[3], w3[4]),
     )
 
 
@@ -812,26 +777,35 @@ def _put(st, row, l, commit, value):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _body(st, row0, l):
+def _state(a, row0, stride, l):
+    """The state as tuples (body, wheel fl, fr, rl, rr), state row s at a[(row0 + s) stride + l]:
+    the rows of lane l in `st` (stride LANES) or a state vector (stride 1, l = 0)."""
     return (
-        _get(st, row0 + S_VX, l),
-        _get(st, row0 + S_VY, l),
-        _get(st, row0 + S_YR, l),
-        _get(st, row0 + S_X, l),
-        _get(st, row0 + S_Y, l),
-        _get(st, row0 + S_PSI, l),
-        _get(st, row0 + S_DELTA, l),
+        (
+            a[(row0 + S_VX) * stride + l],
+            a[(row0 + S_VY) * stride + l],
+            a[(row0 + S_YR) * stride + l],
+            a[(row0 + S_X) * stride + l],
+            a[(row0 + S_Y) * stride + l],
+            a[(row0 + S_PSI) * stride + l],
+            a[(row0 + S_DELTA) * stride + l],
+        ),
+        _wheel(a, row0, stride, 0, l),
+        _wheel(a, row0, stride, 1, l),
+        _wheel(a, row0, stride, 2, l),
+        _wheel(a, row0, stride, 3, l),
     )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _wheel(st, row0, j, l):
+def _wheel(a, row0, stride, j, l):
+    """Wheel j's (w, q, qr, z, xf) in the rows of `_state`."""
     return (
-        _get(st, row0 + S_W + j, l),
-        _get(st, row0 + S_Q + j, l),
-        _get(st, row0 + S_QR + j, l),
-        _get(st, row0 + S_Z + j, l),
-        _get(st, row0 + S_XF + j, l),
+        a[(row0 + S_W + j) * stride + l],
+        a[(row0 + S_Q + j) * stride + l],
+        a[(row0 + S_QR + j) * stride + l],
+        a[(row0 + S_Z + j) * stride + l],
+        a[(row0 + S_XF + j) * stride + l],
     )
 
 
@@ -846,7 +820,9 @@ def _law(st, j, l):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _put_body(st, row0, l, commit, b):
+def _put_state(st, row0, l, commit, x):
+    """`_state` rows of lane l become x = (body, wheels) where `commit`."""
+    b = x[0]
     _put(st, row0 + S_VX, l, commit, b[0])
     _put(st, row0 + S_VY, l, commit, b[1])
     _put(st, row0 + S_YR, l, commit, b[2])
@@ -854,6 +830,10 @@ def _put_body(st, row0, l, commit, b):
     _put(st, row0 + S_Y, l, commit, b[4])
     _put(st, row0 + S_PSI, l, commit, b[5])
     _put(st, row0 + S_DELTA, l, commit, b[6])
+    _put_wheel(st, row0, 0, l, commit, x[1])
+    _put_wheel(st, row0, 1, l, commit, x[2])
+    _put_wheel(st, row0, 2, l, commit, x[3])
+    _put_wheel(st, row0, 3, l, commit, x[4])
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -863,6 +843,20 @@ def _put_wheel(st, row0, j, l, commit, w):
     _put(st, row0 + S_QR + j, l, commit, w[2])
     _put(st, row0 + S_Z + j, l, commit, w[3])
     _put(st, row0 + S_XF + j, l, commit, w[4])
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _laws_surfaces(st, l, srf):
+    """Lane l's wheel laws ((kp, ki, kd, u0) per wheel) and the surfaces under its wheels."""
+    return (
+        (_law(st, 0, l), _law(st, 1, l), _law(st, 2, l), _law(st, 3, l)),
+        (
+            _surface_of(_get(st, R_SURF, l), srf),
+            _surface_of(_get(st, R_SURF + 1, l), srf),
+            _surface_of(_get(st, R_SURF + 2, l), srf),
+            _surface_of(_get(st, R_SURF + 3, l), srf),
+        ),
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -890,6 +884,14 @@ def _surface_flag(b_old, x, y, cp, sp, j, kc):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _put_surface(st, l, commit, j, b, cp, sp, kc):
+    """The surface flag of wheel j of lane l at the body state b (`_surface_flag`)."""
+    _put(
+        st, R_SURF + j, l, commit, _surface_flag(_get(st, R_SURF + j, l), b[3], b[4], cp, sp, j, kc)
+    )
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _wheel_end(st, l, commit, j, s_new, vabs, w, acc, frac, h, t, moving, kc, srf):
     """Step-end integrals of wheel j (slip, its error to the target, locking); acc = (iae,
     itae, ise, locked, all still) so far, returned updated."""
@@ -912,11 +914,11 @@ def _wheel_end(st, l, commit, j, s_new, vabs, w, acc, frac, h, t, moving, kc, sr
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _end_step(
-    st, l, commit, b, w0, w1, w2, w3, slips, vabs, cp, sp, k4b, k4w0, k4w1, k4w2, k4w3, kc, srf
-):
-    """Commit the step to state (b, wj) and k4 of lane l where `commit`: distance, integrals,
-    locking, surfaces, yaw metrics, status. Returns whether the run ended."""
+def _end_step(st, l, commit, x, slips, vabs, cp, sp, k4, kc, srf):
+    """Commit the step to state x = (b, w0, w1, w2, w3) and k4 of lane l where `commit`:
+    distance, integrals, locking, surfaces, yaw metrics, status. Returns whether the run
+    ended."""
+    b, w0, w1, w2, w3 = x
     dt = kc[KC_DT]
     v_stop = kc[KC_VSTOP]
     k = _get(st, R_STEP, l)
@@ -941,18 +943,10 @@ def _end_step(
     _put(st, R_ALL_T, l, commit, select(first, t + dt, all_t))
     _put(st, R_ALL_V, l, commit, select(first, sp_new, _get(st, R_ALL_V, l)))
     _put(st, R_ALL_D, l, commit, select(first, dist, _get(st, R_ALL_D, l)))
-    _put(
-        st, R_SURF + 0, l, commit, _surface_flag(_get(st, R_SURF + 0, l), b[3], b[4], cp, sp, 0, kc)
-    )
-    _put(
-        st, R_SURF + 1, l, commit, _surface_flag(_get(st, R_SURF + 1, l), b[3], b[4], cp, sp, 1, kc)
-    )
-    _put(
-        st, R_SURF + 2, l, commit, _surface_flag(_get(st, R_SURF + 2, l), b[3], b[4], cp, sp, 2, kc)
-    )
-    _put(
-        st, R_SURF + 3, l, commit, _surface_flag(_get(st, R_SURF + 3, l), b[3], b[4], cp, sp, 3, kc)
-    )
+    _put_surface(st, l, commit, 0, b, cp, sp, kc)
+    _put_surface(st, l, commit, 1, b, cp, sp, kc)
+    _put_surface(st, l, commit, 2, b, cp, sp, kc)
+    _put_surface(st, l, commit, 3, b, cp, sp, kc)
     r_now = b[2]
     psi_now = b[5]
     in_window = t + 0.5 * dt < kc[KC_WINDOW]
@@ -997,17 +991,20 @@ def _end_step(
     _put(st, R_ISE, l, commit, ise)
     _put(st, R_LOCKED, l, commit, locked)
     _put(st, R_STEP, l, commit, k + 1.0)
-    _put_body(st, 0, l, commit, b)
-    _put_wheel(st, 0, 0, l, commit, w0)
-    _put_wheel(st, 0, 1, l, commit, w1)
-    _put_wheel(st, 0, 2, l, commit, w2)
-    _put_wheel(st, 0, 3, l, commit, w3)
-    _put_body(st, R_K4, l, commit, k4b)
-    _put_wheel(st, R_K4, 0, l, commit, k4w0)
-    _put_wheel(st, R_K4, 1, l, commit, k4w1)
-    _put_wheel(st, R_K4, 2, l, commit, k4w2)
-    _put_wheel(st, R_K4, 3, l, commit, k4w3)
+    _put_state(st, 0, l, commit, x)
+    _put_state(st, R_K4, l, commit, k4)
     return ended
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _unsteered(b, wt, j, kc):
+    """(|V|, clipped slip) of wheel j (state wt) unsteered, body b: `_kinematics` with delta 0."""
+    vx = b[0]
+    vy = b[1]
+    r = b[2]
+    u = vx - r * kc[KC_GY + j]
+    _, _, vabs, slip = _wheel_kinematics(u, vy + r * kc[KC_GX + j], wt[0], kc[KC_RW], kc[KC_VMIN])
+    return vabs, slip
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -1015,136 +1012,26 @@ def _lane_step(st, l, kc, srf, live):
     """One RK4 step of lane l in the straight-line case, committed (R_DONE 1) only if every
     stage and the step's end are straight; returns 1 if a live lane ended. Straight-line code:
     the body of the vector loop."""
-    x = _body(st, 0, l)
-    x0 = _wheel(st, 0, 0, l)
-    x1 = _wheel(st, 0, 1, l)
-    x2 = _wheel(st, 0, 2, l)
-    x3 = _wheel(st, 0, 3, l)
-    g0 = _law(st, 0, l)
-    g1 = _law(st, 1, l)
-    g2 = _law(st, 2, l)
-    g3 = _law(st, 3, l)
-    s0 = _surface_of(_get(st, R_SURF, l), srf)
-    s1 = _surface_of(_get(st, R_SURF + 1, l), srf)
-    s2 = _surface_of(_get(st, R_SURF + 2, l), srf)
-    s3 = _surface_of(_get(st, R_SURF + 3, l), srf)
+    x = _state(st, 0, LANES, l)
+    g, s = _laws_surfaces(st, l, srf)
     hs = kc[KC_HS]
     dt = kc[KC_DT]
-    kb = _body(st, R_K4, l)
-    kw0 = _wheel(st, R_K4, 0, l)
-    kw1 = _wheel(st, R_K4, 1, l)
-    kw2 = _wheel(st, R_K4, 2, l)
-    kw3 = _wheel(st, R_K4, 3, l)
-    ab, a0, a1, a2, a3, ok1 = _straight_stage(
-        _pt7(x, 0.0, kb),
-        _pt5(x0, 0.0, kw0),
-        _pt5(x1, 0.0, kw1),
-        _pt5(x2, 0.0, kw2),
-        _pt5(x3, 0.0, kw3),
-        g0,
-        g1,
-        g2,
-        g3,
-        s0,
-        s1,
-        s2,
-        s3,
-        kc,
-    )
-    bb, b0, b1, b2, b3, ok2 = _straight_stage(
-        _pt7(x, hs, ab),
-        _pt5(x0, hs, a0),
-        _pt5(x1, hs, a1),
-        _pt5(x2, hs, a2),
-        _pt5(x3, hs, a3),
-        g0,
-        g1,
-        g2,
-        g3,
-        s0,
-        s1,
-        s2,
-        s3,
-        kc,
-    )
-    cb, c0, c1, c2, c3, ok3 = _straight_stage(
-        _pt7(x, hs, bb),
-        _pt5(x0, hs, b0),
-        _pt5(x1, hs, b1),
-        _pt5(x2, hs, b2),
-        _pt5(x3, hs, b3),
-        g0,
-        g1,
-        g2,
-        g3,
-        s0,
-        s1,
-        s2,
-        s3,
-        kc,
-    )
-    db, d0, d1, d2, d3, ok4 = _straight_stage(
-        _pt7(x, dt, cb),
-        _pt5(x0, dt, c0),
-        _pt5(x1, dt, c1),
-        _pt5(x2, dt, c2),
-        _pt5(x3, dt, c3),
-        g0,
-        g1,
-        g2,
-        g3,
-        s0,
-        s1,
-        s2,
-        s3,
-        kc,
-    )
-    h6 = kc[KC_H6]
-    q_max = kc[KC_QMAX]
-    nb = _up7(x, h6, ab, bb, cb, db)
-    n0 = _up5(x0, h6, a0, b0, c0, d0, q_max)
-    n1 = _up5(x1, h6, a1, b1, c1, d1, q_max)
-    n2 = _up5(x2, h6, a2, b2, c2, d2, q_max)
-    n3 = _up5(x3, h6, a3, b3, c3, d3, q_max)
+    ka, ok1 = _straight_stage(rk4_point(x, 0.0, _state(st, R_K4, LANES, l)), g, s, kc)
+    kb, ok2 = _straight_stage(rk4_point(x, hs, ka), g, s, kc)
+    kc3, ok3 = _straight_stage(rk4_point(x, hs, kb), g, s, kc)
+    kd, ok4 = _straight_stage(rk4_point(x, dt, kc3), g, s, kc)
+    xn = _held(rk4_update(x, kc[KC_H6], ka, kb, kc3, kd), kc[KC_QMAX])
+    nb, n0, n1, n2, n3 = xn
     commit = (
         ok1 & ok2 & ok3 & ok4 & (nb[1] == 0.0) & (nb[2] == 0.0) & (nb[5] == 0.0) & (nb[6] == 0.0)
     )
     # the step end's kinematics with delta = 0 (`_kinematics`, unsteered)
-    vx = nb[0]
-    vy = nb[1]
-    r = nb[2]
-    r_w = kc[KC_RW]
-    vmin = kc[KC_VMIN]
-    _, _, va0, sl0 = _wheel_kinematics(vx - r * kc[KC_GY], vy + r * kc[KC_GX], n0[0], r_w, vmin)
-    _, _, va1, sl1 = _wheel_kinematics(
-        vx - r * kc[KC_GY + 1], vy + r * kc[KC_GX + 1], n1[0], r_w, vmin
-    )
-    _, _, va2, sl2 = _wheel_kinematics(
-        vx - r * kc[KC_GY + 2], vy + r * kc[KC_GX + 2], n2[0], r_w, vmin
-    )
-    _, _, va3, sl3 = _wheel_kinematics(
-        vx - r * kc[KC_GY + 3], vy + r * kc[KC_GX + 3], n3[0], r_w, vmin
-    )
+    va0, sl0 = _unsteered(nb, n0, 0, kc)
+    va1, sl1 = _unsteered(nb, n1, 1, kc)
+    va2, sl2 = _unsteered(nb, n2, 2, kc)
+    va3, sl3 = _unsteered(nb, n3, 3, kc)
     ended = _end_step(
-        st,
-        l,
-        commit,
-        nb,
-        n0,
-        n1,
-        n2,
-        n3,
-        (sl0, sl1, sl2, sl3),
-        (va0, va1, va2, va3),
-        1.0,
-        0.0,
-        db,
-        d0,
-        d1,
-        d2,
-        d3,
-        kc,
-        srf,
+        st, l, commit, xn, (sl0, sl1, sl2, sl3), (va0, va1, va2, va3), 1.0, 0.0, kd, kc, srf
     )
     st[R_DONE * LANES + l] = select(commit, 1.0, 0.0)
     return ended & commit & (l < live)
@@ -1177,30 +1064,6 @@ def _lane_arrays(st, l, law, sidx, guess):
     guess[1, 0] = _get(st, R_AY, l)
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _tup7(y, row0):
-    return (
-        y[row0 + S_VX],
-        y[row0 + S_VY],
-        y[row0 + S_YR],
-        y[row0 + S_X],
-        y[row0 + S_Y],
-        y[row0 + S_PSI],
-        y[row0 + S_DELTA],
-    )
-
-
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _tup5(y, row0, j):
-    return (
-        y[row0 + S_W + j],
-        y[row0 + S_Q + j],
-        y[row0 + S_QR + j],
-        y[row0 + S_Z + j],
-        y[row0 + S_XF + j],
-    )
-
-
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def _general_step(
     st, l, kc, srf, p, geo, surfs, x, ks, y, dy, law, sidx, guess, sc, wbuf, tgt, inv
@@ -1212,36 +1075,14 @@ def _general_step(
         x[s] = _get(st, s, l)
         ks[3, s] = _get(st, R_K4 + s, l)  # stage 1 reads the last step's k4
     _lane_arrays(st, l, law, sidx, guess)
-    g0 = _law(st, 0, l)
-    g1 = _law(st, 1, l)
-    g2 = _law(st, 2, l)
-    g3 = _law(st, 3, l)
-    s0 = _surface_of(_get(st, R_SURF, l), srf)
-    s1 = _surface_of(_get(st, R_SURF + 1, l), srf)
-    s2 = _surface_of(_get(st, R_SURF + 2, l), srf)
-    s3 = _surface_of(_get(st, R_SURF + 3, l), srf)
+    g, srfs = _laws_surfaces(st, l, srf)
     iters = _get(st, R_ITER, l)
     for stage in range(4):
         c = 0.0 if stage == 0 else (kc[KC_DT] if stage == 3 else kc[KC_HS])
         prev = 3 if stage == 0 else stage - 1
         for s in range(N_STATE):
             y[s] = rk4_point(x[s], c, ks[prev, s])
-        kb, k0, k1, k2, k3, ok = _straight_stage(
-            _tup7(y, 0),
-            _tup5(y, 0, 0),
-            _tup5(y, 0, 1),
-            _tup5(y, 0, 2),
-            _tup5(y, 0, 3),
-            g0,
-            g1,
-            g2,
-            g3,
-            s0,
-            s1,
-            s2,
-            s3,
-            kc,
-        )
+        (kb, k0, k1, k2, k3), ok = _straight_stage(_state(y, 0, 1, 0), g, srfs, kc)
         if ok:
             for s in range(7):
                 ks[stage, s] = kb[s]
@@ -1271,20 +1112,12 @@ def _general_step(
         st,
         l,
         True,
-        _tup7(y, 0),
-        _tup5(y, 0, 0),
-        _tup5(y, 0, 1),
-        _tup5(y, 0, 2),
-        _tup5(y, 0, 3),
+        _state(y, 0, 1, 0),
         (sc[W_SLIP, 0], sc[W_SLIP, 1], sc[W_SLIP, 2], sc[W_SLIP, 3]),
         (sc[W_VABS, 0], sc[W_VABS, 1], sc[W_VABS, 2], sc[W_VABS, 3]),
         cp,
         sp,
-        _tup7(ks[3], 0),
-        _tup5(ks[3], 0, 0),
-        _tup5(ks[3], 0, 1),
-        _tup5(ks[3], 0, 2),
-        _tup5(ks[3], 0, 3),
+        _state(ks[3], 0, 1, 0),
         kc,
         srf,
     )
@@ -1559,11 +1392,7 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out):
                     lane_of[l] = queued
                     queued += 1
                 else:
-                    live -= 1
-                    if l < live:  # keep the live lanes packed at the front
-                        for row in range(N_ROWS):
-                            st[row * LANES + l] = st[row * LANES + live]
-                        lane_of[l] = lane_of[live]
+                    live = close_lane(st, l, live, lane_of, N_ROWS, LANES)
     if n_trace > 0 and n > 0:
         out[0, M_NTRACE] = rows
 

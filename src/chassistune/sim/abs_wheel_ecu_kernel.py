@@ -34,7 +34,9 @@ from chassistune.controllers import discrete as D
 from chassistune.controllers import ecu as E
 from chassistune.controllers.switching import bang_bang_command
 from chassistune.sim import abs_wheel_ecu_layout as EL
+from chassistune.sim import abs_wheel_layout as KL
 from chassistune.sim.abs_wheel_kernel import (
+    M_NTRACE,
     P_DT,
     P_G,
     P_HOPELESS_M,
@@ -55,9 +57,15 @@ from chassistune.sim.abs_wheel_kernel import (
     STATUS_HOPELESS,
     STATUS_STOPPED,
     STATUS_TIMEOUT,
+    T_TARGET,
+    T_V,
+    T_WHEEL_V,
+    tire_mu,
+    write_metrics,
+    write_trace_row,
 )
 from chassistune.sim.abs_wheel_model import wheel_rates, wheel_slip
-from chassistune.sim.abs_wheel_tires import KIND_TABLE, table_tuples, tire_law_mu
+from chassistune.sim.abs_wheel_tires import KIND_TABLE, table_tuples
 from chassistune.sim.integrate import (
     crossing_fraction,
     error_integrals,
@@ -96,72 +104,13 @@ LAW_NONE, LAW_PID, LAW_FUZZY_PID, LAW_IMMUNE, LAW_THRESHOLD, LAW_BANGBANG = (
     EL.LAW_KINDS.index(n) for n in EL.LAW_KINDS
 )
 
-(
-    M_STATUS,
-    M_TIME,
-    M_DIST,
-    M_LOCK_T,
-    M_IAE,
-    M_ITAE,
-    M_ISE,
-    M_MEAN_SLIP,
-    M_PEAK_SLIP,
-    M_LOCKED_S,
-    M_CLIP,
-    M_NTRACE,
-    M_MIN_SLIP,
-    M_ECU_IAE,
-    M_CUT_T,
-    M_SWITCHES,
-    M_MIN_INTERVAL,
-    M_GAP,
-    M_QMIN,
-    M_QMAX,
-    M_LOW_ERR,
-) = (
-    EL.METRICS[n]
-    for n in (
-        "status",
-        "stop_time_s",
-        "stop_distance_m",
-        "wheel_lock_time_s",
-        "slip_iae",
-        "slip_itae",
-        "slip_ise",
-        "mean_slip",
-        "peak_slip",
-        "locked_time_s",
-        "slip_clip_max",
-        "trace_rows",
-        "min_slip_unclipped",
-        "ecu_slip_iae",
-        "cutout_time_s",
-        "valve_switches",
-        "valve_min_interval_s",
-        "vref_gap_max_m_s",
-        "pressure_min",
-        "pressure_max",
-        "low_speed_slip_error",
-    )
+# the ideal kernel's metric and trace slots come first, at the same columns (ECU layouts)
+M_ECU_IAE = EL.METRICS["ecu_slip_iae"]
+if len(KL.METRICS) != M_ECU_IAE:  # pragma: no cover
+    raise RuntimeError("the ECU metrics must follow the ideal kernel's")
+T_VREF, T_WEST, T_ECU_SLIP, T_VALVE, T_EDGE_PREV, T_EDGE_LAST = (
+    EL.TRACE[n] for n in EL.TRACE.names[len(KL.TRACE) :]
 )
-(
-    T_TIME,
-    T_V,
-    T_WHEEL_V,
-    T_SLIP,
-    T_TARGET,
-    T_Q,
-    T_TB,
-    T_U,
-    T_X,
-    T_MU,
-    T_VREF,
-    T_WEST,
-    T_ECU_SLIP,
-    T_VALVE,
-    T_EDGE_PREV,
-    T_EDGE_LAST,
-) = (EL.TRACE[n] for n in EL.TRACE.names)
 
 LOW_SPEED_BAND_M_S = (1.0, 9.0)
 """Speed band of `low_speed_slip_error` (issue 15: fixed gains fail below about 9 m/s)."""
@@ -170,13 +119,20 @@ _jit = njit(cache=True, nogil=True, error_model="numpy")
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _rates(
-    law, v, w, q, r, u, r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max, c0, c1, c2, c3, xc, xs, ys
-):
-    """Derivatives of (v, w, q, r) of the wheel under the held command u."""
-    fx = tire_law_mu(law, wheel_slip(v, w, r_w), c0, c1, c2, c3, xc, xs, ys) * fz
+def _rates(law, x, u, p, tire):
+    """Derivatives of x = (v, w, q, r) of the wheel under the held command u, with the plant
+    p = (r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max) and the tire (c0 .. c3, xc, xs, ys)."""
+    v, w, q, r = x
+    r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max = p
+    fx = tire_mu(law, wheel_slip(v, w, r_w), tire) * fz
     dv, dw, dq, dr, _, _ = wheel_rates(w, q, r, fx, u, r_w, inv_m, inv_i, kq, gain, inv_tau, q_max)
     return dv, dw, dq, dr
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _stage(y, three_state, q):
+    """The stage point y = (v, w, q, r), with three-state valves at the exact pressure q."""
+    return (y[0], y[1], q if three_state else y[2], y[3])
 
 
 @_jit
@@ -223,10 +179,9 @@ def _retire_pulse(mode, start, on, ts, t_lim, cur, last_t, n_sw, min_iv):
 
 
 @_jit
-def _run(
-    tire, lp, p, x, c0, c1, c2, c3, xc, xs, ys, table, grid, spacing, jitter, acc_noise, trace, out
-):
-    """One stop of one candidate (law parameters `lp`, plant row `p`, ECU vector `x`)."""
+def _run(tire, lp, p, x, tc, table, grid, spacing, jitter, acc_noise, trace, out):
+    """One stop of one candidate (law parameters `lp`, plant row `p`, ECU vector `x`) on the
+    tire of law `tire` with coefficients and nodes tc = (c0, c1, c2, c3, xc, xs, ys)."""
     kind = int(x[X_LAW])
     m = int(x[X_M])
     delay = int(x[X_DELAY])
@@ -248,6 +203,7 @@ def _run(
     n_steps = math.ceil(p[P_TMAX] / dt - 1e-9)
     t_timeout = n_steps * dt
     v_lo, v_hi = LOW_SPEED_BAND_M_S
+    pr = (r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max)
 
     state = np.zeros(D.N_STATE)
     params = lp.copy()
@@ -293,11 +249,7 @@ def _run(
             elif vref_mode == 1:
                 vref = E.vref_slew(vref, vw, x[X_AMAX], ts)
             elif tick > 0:
-                a_true = (
-                    -tire_law_mu(tire, wheel_slip(v, w, r_w), c0, c1, c2, c3, xc, xs, ys)
-                    * fz
-                    * inv_m
-                )
+                a_true = -tire_mu(tire, wheel_slip(v, w, r_w), tc) * fz * inv_m
                 a_meas = E.accelerometer(a_true, x[X_BIAS], acc_noise[tick % acc_noise.shape[0]])
                 vref, held = E.vref_accel(
                     vref,
@@ -366,111 +318,23 @@ def _run(
             qb = E.modulator_advance(q, t, dt, pm0, ps0, po0, pm1, ps1, po1, kb, kdv, q_max, 0.0)
         else:
             qa = qb = q
-        k1v, k1w, k1q, k1r = _rates(
-            tire,
-            v,
-            w,
-            q,
-            r,
-            u0,
-            r_w,
-            fz,
-            inv_m,
-            inv_i,
-            kq,
-            gain,
-            inv_tau,
-            q_max,
-            c0,
-            c1,
-            c2,
-            c3,
-            xc,
-            xs,
-            ys,
-        )
-        w2 = rk4_point(w, hs, k1w)
-        k2v, k2w, k2q, k2r = _rates(
-            tire,
-            rk4_point(v, hs, k1v),
-            w2,
-            qa if three_state else rk4_point(q, hs, k1q),
-            rk4_point(r, hs, k1r),
-            u0,
-            r_w,
-            fz,
-            inv_m,
-            inv_i,
-            kq,
-            gain,
-            inv_tau,
-            q_max,
-            c0,
-            c1,
-            c2,
-            c3,
-            xc,
-            xs,
-            ys,
-        )
-        w3 = rk4_point(w, hs, k2w)
-        k3v, k3w, k3q, k3r = _rates(
-            tire,
-            rk4_point(v, hs, k2v),
-            w3,
-            qa if three_state else rk4_point(q, hs, k2q),
-            rk4_point(r, hs, k2r),
-            u0,
-            r_w,
-            fz,
-            inv_m,
-            inv_i,
-            kq,
-            gain,
-            inv_tau,
-            q_max,
-            c0,
-            c1,
-            c2,
-            c3,
-            xc,
-            xs,
-            ys,
-        )
-        w4 = rk4_point(w, dt, k3w)
-        k4v, k4w, k4q, k4r = _rates(
-            tire,
-            rk4_point(v, dt, k3v),
-            w4,
-            qb if three_state else rk4_point(q, dt, k3q),
-            rk4_point(r, dt, k3r),
-            u0,
-            r_w,
-            fz,
-            inv_m,
-            inv_i,
-            kq,
-            gain,
-            inv_tau,
-            q_max,
-            c0,
-            c1,
-            c2,
-            c3,
-            xc,
-            xs,
-            ys,
-        )
-        vn = rk4_update(v, h6, k1v, k2v, k3v, k4v)
-        wn = max(rk4_update(w, h6, k1w, k2w, k3w, k4w), 0.0)
+        x0 = (v, w, q, r)
+        k1 = _rates(tire, x0, u0, pr, tc)
+        x2 = _stage(rk4_point(x0, hs, k1), three_state, qa)
+        k2 = _rates(tire, x2, u0, pr, tc)
+        x3 = _stage(rk4_point(x0, hs, k2), three_state, qa)
+        k3 = _rates(tire, x3, u0, pr, tc)
+        x4 = _stage(rk4_point(x0, dt, k3), three_state, qb)
+        k4 = _rates(tire, x4, u0, pr, tc)
+        vn, wn, qn, rn = rk4_update(x0, h6, k1, k2, k3, k4)
+        wn = max(wn, 0.0)
         if three_state:
             qn = qb
             rn = r
         else:
-            qn = clip(rk4_update(q, h6, k1q, k2q, k3q, k4q), 0.0, q_max)
-            rn = rk4_update(r, h6, k1r, k2r, k3r, k4r)
+            qn = clip(qn, 0.0, q_max)
         if toothed:
-            theta_n = rk4_update(theta, h6, w, w2, w3, w4)
+            theta_n = rk4_update(theta, h6, w, x2[1], x3[1], x4[1])
             k_next, t_last, t_prev, w_est = E.sensor_step(
                 theta,
                 theta_n,
@@ -518,16 +382,19 @@ def _run(
                 lock_t = t + dt
         check = vn + wn + qn + rn + itae + cmd
         if n_trace > 0 and rows < n_trace:
-            trace[rows, T_TIME] = t + h
-            trace[rows, T_V] = max(vn, v_stop) if stop else vn
-            trace[rows, T_WHEEL_V] = wn * r_w
-            trace[rows, T_SLIP] = s_new
-            trace[rows, T_TARGET] = target
-            trace[rows, T_Q] = qn
-            trace[rows, T_TB] = kq * qn
-            trace[rows, T_U] = cmd
-            trace[rows, T_X] = dist
-            trace[rows, T_MU] = tire_law_mu(tire, s_new, c0, c1, c2, c3, xc, xs, ys)
+            write_trace_row(
+                trace[rows],
+                t + h,
+                max(vn, v_stop) if stop else vn,
+                wn * r_w,
+                s_new,
+                target,
+                qn,
+                kq * qn,
+                cmd,
+                dist,
+                tire_mu(tire, s_new, tc),
+            )
             trace[rows, T_VREF] = vref
             trace[rows, T_WEST] = vw
             trace[rows, T_ECU_SLIP] = slip_ecu
@@ -551,28 +418,16 @@ def _run(
         valve, last_change, n_sw, min_iv = _retire_pulse(
             pm1, ps1, po1, ts, t_end, valve, last_change, n_sw, min_iv
         )
-    out[:] = 0.0
-    out[M_STATUS] = status
-    out[M_TIME] = t_end
-    out[M_DIST] = dist
-    out[M_LOCK_T] = lock_t
-    out[M_IAE] = iae
-    out[M_ITAE] = itae
-    out[M_ISE] = ise
-    out[M_MEAN_SLIP] = sint / t_end if t_end > 0.0 else 0.0
-    out[M_PEAK_SLIP] = peak
-    out[M_LOCKED_S] = locked_s
-    out[M_CLIP] = clip_max
+    write_metrics(
+        out,
+        (status, t_end, dist, lock_t),
+        (iae, itae, ise, sint),
+        (peak, locked_s, clip_max, min_slip),
+    )
     out[M_NTRACE] = rows if n_trace > 0 else 0.0
-    out[M_MIN_SLIP] = min_slip
-    out[M_ECU_IAE] = ecu_iae
-    out[M_CUT_T] = cut_t
-    out[M_SWITCHES] = n_sw
-    out[M_MIN_INTERVAL] = min_iv
-    out[M_GAP] = gap
-    out[M_QMIN] = q_lo
-    out[M_QMAX] = q_hi
-    out[M_LOW_ERR] = low_err
+    ecu = (ecu_iae, cut_t, n_sw, min_iv, gap, q_lo, q_hi, low_err)  # the ECU's, in METRICS order
+    for j in range(len(ecu)):
+        out[M_ECU_IAE + j] = ecu[j]
 
 
 @_jit
@@ -586,13 +441,7 @@ def _simulate(
             lp[i],
             plant[min(i, plant.shape[0] - 1)],
             x,
-            coef[0],
-            coef[1],
-            coef[2],
-            coef[3],
-            xc,
-            xs,
-            ys,
+            (coef[0], coef[1], coef[2], coef[3], xc, xs, ys),
             table,
             grid,
             spacing,

@@ -77,6 +77,7 @@ from chassistune.sim.integrate import (
     rk4_update,
     trapezoid,
 )
+from chassistune.sim.lanes import close_lane
 
 # slots of the declared layouts (numba freezes these module integers as constants)
 P_MASS, P_INERTIA, P_RADIUS, P_V0 = (
@@ -220,271 +221,83 @@ N_ROWS = 43
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _rates(
-    law,
-    v,
-    w,
-    q,
-    r,
-    z,
-    xf,
-    u0,
-    kp,
-    ki,
-    kd,
-    target,
-    r_w,
-    fz,
-    inv_m,
-    inv_i,
-    kq,
-    gain,
-    inv_tau,
-    q_max,
-    nf,
-    c0,
-    c1,
-    c2,
-    c3,
-    xc,
-    xs,
-    ys,
-):
-    """Derivatives of (v, w, q, r, z, xf) and the command u of the wheel under the PID."""
-    s = wheel_slip(v, w, r_w)
-    e = target - s
-    fx = tire_law_mu(law, s, c0, c1, c2, c3, xc, xs, ys) * fz
-    u, dz, dxf = pid_step(e, z, xf, u0, kp, ki, kd, nf, q >= q_max, q <= 0.0)
-    dv, dw, dq, dr, _, _ = wheel_rates(w, q, r, fx, u, r_w, inv_m, inv_i, kq, gain, inv_tau, q_max)
-    return dv, dw, dq, dr, dz, dxf, u
+def tire_mu(law, s, tire):
+    """`tire_law_mu` at slip s of the tire tire = (c0, c1, c2, c3, xc, xs, ys)."""
+    c0, c1, c2, c3, xc, xs, ys = tire
+    return tire_law_mu(law, s, c0, c1, c2, c3, xc, xs, ys)
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _lane_step(
-    st, l, law, method, dt, hs, h6, target, n_steps, t_timeout, live, c0, c1, c2, c3, xc, xs, ys
-):
+def _rates(law, x, p, tire):
+    """Derivatives of the state x = (v, w, q, r, z, xf) and the command u of the wheel under the
+    PID, with the lane's parameters p (`_lane_params`) and the tire (c0, c1, c2, c3, xc, xs, ys)."""
+    v, w, q, r, z, xf = x
+    u0, kp, ki, kd, target, r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max, nf = p
+    s = wheel_slip(v, w, r_w)
+    e = target - s
+    fx = tire_mu(law, s, tire) * fz
+    u, dz, dxf = pid_step(e, z, xf, u0, kp, ki, kd, nf, q >= q_max, q <= 0.0)
+    dv, dw, dq, dr, _, _ = wheel_rates(w, q, r, fx, u, r_w, inv_m, inv_i, kq, gain, inv_tau, q_max)
+    return (dv, dw, dq, dr, dz, dxf), u
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _get(st, row, l):
+    """Row `row` of lane l."""
+    return st[row * LANES + l]
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _lane_params(st, l, target):
+    """The parameters of `_rates` in lane l: its held command, gains and plant row."""
+    return (
+        _get(st, R_U0, l),
+        _get(st, R_KP, l),
+        _get(st, R_KI, l),
+        _get(st, R_KD, l),
+        target,
+        _get(st, R_RW, l),
+        _get(st, R_FZ, l),
+        _get(st, R_INV_M, l),
+        _get(st, R_INV_I, l),
+        _get(st, R_KQ, l),
+        _get(st, R_GAIN, l),
+        _get(st, R_INV_TAU, l),
+        _get(st, R_QMAX, l),
+        _get(st, R_NF, l),
+    )
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _rk_step(law, method, x, dt, hs, h6, p, tire):
+    """One RK step (`method` RK3 or RK4, a constant at each call site) of the state tuple x:
+    (the new state, the command u at its start). Each stage is one tuple operation."""
+    k1, u1 = _rates(law, x, p, tire)
+    if method == RK4:
+        k2, _ = _rates(law, rk4_point(x, hs, k1), p, tire)
+        k3, _ = _rates(law, rk4_point(x, hs, k2), p, tire)
+        k4, _ = _rates(law, rk4_point(x, dt, k3), p, tire)
+        return rk4_update(x, h6, k1, k2, k3, k4), u1
+    k2, _ = _rates(law, rk3_point2(x, hs, k1), p, tire)
+    k3, _ = _rates(law, rk3_point3(x, -dt, dt + dt, k1, k2), p, tire)
+    return rk3_update(x, h6, k1, k2, k3), u1
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _lane_step(st, l, law, method, dt, hs, h6, target, n_steps, t_timeout, live, tire):
     """One fused step (`method` RK3 or RK4, a constant at each call site) of lane l with its
     metrics and end flags; returns 1 if a live lane ended. Straight-line code: the body of the
     vector loop."""
-    v = st[R_V * LANES + l]
-    w = st[R_W * LANES + l]
-    q = st[R_Q * LANES + l]
-    r = st[R_R * LANES + l]
-    z = st[R_Z * LANES + l]
-    xf = st[R_XF * LANES + l]
-    u0 = st[R_U0 * LANES + l]
-    kp = st[R_KP * LANES + l]
-    ki = st[R_KI * LANES + l]
-    kd = st[R_KD * LANES + l]
-    r_w = st[R_RW * LANES + l]
-    fz = st[R_FZ * LANES + l]
-    inv_m = st[R_INV_M * LANES + l]
-    inv_i = st[R_INV_I * LANES + l]
-    kq = st[R_KQ * LANES + l]
-    gain = st[R_GAIN * LANES + l]
-    inv_tau = st[R_INV_TAU * LANES + l]
-    q_max = st[R_QMAX * LANES + l]
-    nf = st[R_NF * LANES + l]
-    v_stop = st[R_VSTOP * LANES + l]
-    k = st[R_STEP * LANES + l]
+    v, w, q, r = _get(st, R_V, l), _get(st, R_W, l), _get(st, R_Q, l), _get(st, R_R, l)
+    x = (v, w, q, r, _get(st, R_Z, l), _get(st, R_XF, l))
+    p = _lane_params(st, l, target)
+    r_w = p[5]
+    q_max = p[12]
+    v_stop = _get(st, R_VSTOP, l)
+    k = _get(st, R_STEP, l)
     t = k * dt
 
-    k1v, k1w, k1q, k1r, k1z, k1x, u1 = _rates(
-        law,
-        v,
-        w,
-        q,
-        r,
-        z,
-        xf,
-        u0,
-        kp,
-        ki,
-        kd,
-        target,
-        r_w,
-        fz,
-        inv_m,
-        inv_i,
-        kq,
-        gain,
-        inv_tau,
-        q_max,
-        nf,
-        c0,
-        c1,
-        c2,
-        c3,
-        xc,
-        xs,
-        ys,
-    )
-    if method == RK4:
-        k2v, k2w, k2q, k2r, k2z, k2x, _ = _rates(
-            law,
-            rk4_point(v, hs, k1v),
-            rk4_point(w, hs, k1w),
-            rk4_point(q, hs, k1q),
-            rk4_point(r, hs, k1r),
-            rk4_point(z, hs, k1z),
-            rk4_point(xf, hs, k1x),
-            u0,
-            kp,
-            ki,
-            kd,
-            target,
-            r_w,
-            fz,
-            inv_m,
-            inv_i,
-            kq,
-            gain,
-            inv_tau,
-            q_max,
-            nf,
-            c0,
-            c1,
-            c2,
-            c3,
-            xc,
-            xs,
-            ys,
-        )
-        k3v, k3w, k3q, k3r, k3z, k3x, _ = _rates(
-            law,
-            rk4_point(v, hs, k2v),
-            rk4_point(w, hs, k2w),
-            rk4_point(q, hs, k2q),
-            rk4_point(r, hs, k2r),
-            rk4_point(z, hs, k2z),
-            rk4_point(xf, hs, k2x),
-            u0,
-            kp,
-            ki,
-            kd,
-            target,
-            r_w,
-            fz,
-            inv_m,
-            inv_i,
-            kq,
-            gain,
-            inv_tau,
-            q_max,
-            nf,
-            c0,
-            c1,
-            c2,
-            c3,
-            xc,
-            xs,
-            ys,
-        )
-        k4v, k4w, k4q, k4r, k4z, k4x, _ = _rates(
-            law,
-            rk4_point(v, dt, k3v),
-            rk4_point(w, dt, k3w),
-            rk4_point(q, dt, k3q),
-            rk4_point(r, dt, k3r),
-            rk4_point(z, dt, k3z),
-            rk4_point(xf, dt, k3x),
-            u0,
-            kp,
-            ki,
-            kd,
-            target,
-            r_w,
-            fz,
-            inv_m,
-            inv_i,
-            kq,
-            gain,
-            inv_tau,
-            q_max,
-            nf,
-            c0,
-            c1,
-            c2,
-            c3,
-            xc,
-            xs,
-            ys,
-        )
-        vn = rk4_update(v, h6, k1v, k2v, k3v, k4v)
-        wn = rk4_update(w, h6, k1w, k2w, k3w, k4w)
-        qn = rk4_update(q, h6, k1q, k2q, k3q, k4q)
-        rn = rk4_update(r, h6, k1r, k2r, k3r, k4r)
-        zn = rk4_update(z, h6, k1z, k2z, k3z, k4z)
-        xfn = rk4_update(xf, h6, k1x, k2x, k3x, k4x)
-    else:
-        k2v, k2w, k2q, k2r, k2z, k2x, _ = _rates(
-            law,
-            rk3_point2(v, hs, k1v),
-            rk3_point2(w, hs, k1w),
-            rk3_point2(q, hs, k1q),
-            rk3_point2(r, hs, k1r),
-            rk3_point2(z, hs, k1z),
-            rk3_point2(xf, hs, k1x),
-            u0,
-            kp,
-            ki,
-            kd,
-            target,
-            r_w,
-            fz,
-            inv_m,
-            inv_i,
-            kq,
-            gain,
-            inv_tau,
-            q_max,
-            nf,
-            c0,
-            c1,
-            c2,
-            c3,
-            xc,
-            xs,
-            ys,
-        )
-        neg_h = -dt
-        h2 = dt + dt
-        k3v, k3w, k3q, k3r, k3z, k3x, _ = _rates(
-            law,
-            rk3_point3(v, neg_h, h2, k1v, k2v),
-            rk3_point3(w, neg_h, h2, k1w, k2w),
-            rk3_point3(q, neg_h, h2, k1q, k2q),
-            rk3_point3(r, neg_h, h2, k1r, k2r),
-            rk3_point3(z, neg_h, h2, k1z, k2z),
-            rk3_point3(xf, neg_h, h2, k1x, k2x),
-            u0,
-            kp,
-            ki,
-            kd,
-            target,
-            r_w,
-            fz,
-            inv_m,
-            inv_i,
-            kq,
-            gain,
-            inv_tau,
-            q_max,
-            nf,
-            c0,
-            c1,
-            c2,
-            c3,
-            xc,
-            xs,
-            ys,
-        )
-        vn = rk3_update(v, h6, k1v, k2v, k3v)
-        wn = rk3_update(w, h6, k1w, k2w, k3w)
-        qn = rk3_update(q, h6, k1q, k2q, k3q)
-        rn = rk3_update(r, h6, k1r, k2r, k3r)
-        zn = rk3_update(z, h6, k1z, k2z, k3z)
-        xfn = rk3_update(xf, h6, k1x, k2x, k3x)
+    (vn, wn, qn, rn, zn, xfn), u1 = _rk_step(law, method, x, dt, hs, h6, p, tire)
     wn = fmax(wn, 0.0)
     qn = clip(qn, 0.0, q_max)
 
@@ -538,32 +351,13 @@ def _lane_step(
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _lane_steps(
-    st, width, law, method, dt, hs, h6, target, n_steps, t_timeout, live, c0, c1, c2, c3, xc, xs, ys
-):
+def _lane_steps(st, width, law, method, dt, hs, h6, target, n_steps, t_timeout, live, tire):
     """One step of lanes 0 .. width - 1 (a whole number of vectors); 1 if a live lane ended."""
     any_end = 0
     for b in range(width // VECTOR):
         for j in range(VECTOR):
             any_end |= _lane_step(
-                st,
-                b * VECTOR + j,
-                law,
-                method,
-                dt,
-                hs,
-                h6,
-                target,
-                n_steps,
-                t_timeout,
-                live,
-                c0,
-                c1,
-                c2,
-                c3,
-                xc,
-                xs,
-                ys,
+                st, b * VECTOR + j, law, method, dt, hs, h6, target, n_steps, t_timeout, live, tire
             )
     return any_end
 
@@ -601,22 +395,53 @@ def _fill_lane(st, l, i, gains, plant, ctrl_kind, target):
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def write_metrics(out_row, end, integrals, extremes):
+    """A run's METRICS row (trace rows 0) from end = (status, stop time, distance, lock time),
+    integrals = (IAE, ITAE, ISE, integral of the slip) and extremes = (peak slip, locked time,
+    largest clip, smallest unclipped slip)."""
+    status, t_end, dist, lock_t = end
+    iae, itae, ise, sint = integrals
+    peak, locked, clip_max, min_slip = extremes
+    out_row[:] = 0.0
+    out_row[M_STATUS] = status
+    out_row[M_TIME] = t_end
+    out_row[M_DIST] = dist
+    out_row[M_LOCK_T] = lock_t
+    out_row[M_IAE] = iae
+    out_row[M_ITAE] = itae
+    out_row[M_ISE] = ise
+    out_row[M_MEAN_SLIP] = sint / t_end if t_end > 0.0 else 0.0
+    out_row[M_PEAK_SLIP] = peak
+    out_row[M_LOCKED_S] = locked
+    out_row[M_CLIP] = clip_max
+    out_row[M_MIN_SLIP] = min_slip
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def write_trace_row(row, t, v, wheel_v, slip, target, q, tb, u, x, mu):
+    """The TRACE columns of one trace row."""
+    row[T_TIME] = t
+    row[T_V] = v
+    row[T_WHEEL_V] = wheel_v
+    row[T_SLIP] = slip
+    row[T_TARGET] = target
+    row[T_Q] = q
+    row[T_TB] = tb
+    row[T_U] = u
+    row[T_X] = x
+    row[T_MU] = mu
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _finish_lane(st, l, out_row):
     """Write the metrics row of the run that ended in lane l."""
-    t_end = st[R_TEND * LANES + l]
-    out_row[:] = 0.0
-    out_row[M_STATUS] = st[R_STATUS * LANES + l]
-    out_row[M_TIME] = t_end
-    out_row[M_DIST] = st[R_DIST * LANES + l]
-    out_row[M_LOCK_T] = st[R_LOCK_T * LANES + l]
-    out_row[M_IAE] = st[R_IAE * LANES + l]
-    out_row[M_ITAE] = st[R_ITAE * LANES + l]
-    out_row[M_ISE] = st[R_ISE * LANES + l]
-    out_row[M_MEAN_SLIP] = st[R_SINT * LANES + l] / t_end if t_end > 0.0 else 0.0
-    out_row[M_PEAK_SLIP] = st[R_PEAK * LANES + l]
-    out_row[M_LOCKED_S] = st[R_LOCKED * LANES + l]
-    out_row[M_CLIP] = st[R_CLIP * LANES + l]
-    out_row[M_MIN_SLIP] = st[R_MINSLIP * LANES + l]
+    r = st[l::LANES]  # lane l's rows
+    write_metrics(
+        out_row,
+        (r[R_STATUS], r[R_TEND], r[R_DIST], r[R_LOCK_T]),
+        (r[R_IAE], r[R_ITAE], r[R_ISE], r[R_SINT]),
+        (r[R_PEAK], r[R_LOCKED], r[R_CLIP], r[R_MINSLIP]),
+    )
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -626,39 +451,18 @@ def _tick(st, l, gains, i, ctrl_kind, c, table, target, ts, first):
     e = target - slip
     if ctrl_kind == C_FUZZY_PID:
         ec = st[R_NF * LANES + l] * (e - st[R_XF * LANES + l])  # filtered de/dt
-        kp, ki, kd = fuzzy_pid_gains(
-            table,
-            e,
-            ec,
-            gains[i, 0],
-            gains[i, 1],
-            gains[i, 2],
-            gains[i, 3],
-            gains[i, 4],
-            gains[i, 5],
-            gains[i, 6],
-            gains[i, 7],
-        )
+        g = gains[i]
+        kp, ki, kd = fuzzy_pid_gains(table, e, ec, g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7])
         st[R_KP * LANES + l] = kp
         st[R_KI * LANES + l] = ki
         st[R_KD * LANES + l] = kd
     elif ctrl_kind == C_IMMUNE:
         e1 = st[R_E1 * LANES + l]
-        st[R_U0 * LANES + l] = immune_pid_step(
-            table,
-            e,
-            e1,
-            st[R_E2 * LANES + l],
-            st[R_U0 * LANES + l],
-            ts,
-            first,
-            gains[i, 0],
-            gains[i, 1],
-            gains[i, 2],
-            gains[i, 3],
-            gains[i, 4],
-            gains[i, 5],
-        )
+        e2 = st[R_E2 * LANES + l]
+        u0 = st[R_U0 * LANES + l]
+        g = gains[i]
+        u0 = immune_pid_step(table, e, e1, e2, u0, ts, first, g[0], g[1], g[2], g[3], g[4], g[5])
+        st[R_U0 * LANES + l] = u0
         st[R_E2 * LANES + l] = e1
         st[R_E1 * LANES + l] = e
     elif ctrl_kind == C_BANGBANG:
@@ -705,7 +509,7 @@ def _simulate(
     t_timeout = n_steps * dt
     steps_per_sample = max(1, round(c[Q_TS] / dt))
     ts = steps_per_sample * dt
-    c0, c1, c2, c3 = coef[0], coef[1], coef[2], coef[3]
+    tire = (coef[0], coef[1], coef[2], coef[3], xc, xs, ys)
     rk3 = (ctrl_kind == C_PID) | (ctrl_kind == C_NONE)
     st = np.zeros(N_ROWS * LANES)
     lane_of = np.full(LANES, -1)  # candidate in each lane
@@ -732,45 +536,11 @@ def _simulate(
         width = -(-live // VECTOR) * VECTOR
         if rk3:  # two copies of the vector loop, each with its method
             ended = _lane_steps(
-                st,
-                width,
-                law,
-                RK3,
-                dt,
-                hs,
-                h6,
-                target,
-                n_steps,
-                t_timeout,
-                live,
-                c0,
-                c1,
-                c2,
-                c3,
-                xc,
-                xs,
-                ys,
+                st, width, law, RK3, dt, hs, h6, target, n_steps, t_timeout, live, tire
             )
         else:
             ended = _lane_steps(
-                st,
-                width,
-                law,
-                RK4,
-                dt,
-                hs,
-                h6,
-                target,
-                n_steps,
-                t_timeout,
-                live,
-                c0,
-                c1,
-                c2,
-                c3,
-                xc,
-                xs,
-                ys,
+                st, width, law, RK4, dt, hs, h6, target, n_steps, t_timeout, live, tire
             )
         if ended:
             for l in range(live - 1, -1, -1):  # high to low: lanes moved down are done
@@ -786,24 +556,24 @@ def _simulate(
                     lane_of[l] = queued
                     queued += 1
                 else:
-                    live -= 1
-                    if l < live:  # keep the live lanes packed at the front
-                        for row in range(N_ROWS):
-                            st[row * LANES + l] = st[row * LANES + live]
-                        lane_of[l] = lane_of[live]
+                    live = close_lane(st, l, live, lane_of, N_ROWS, LANES)
         if n_trace > 0 and rows < n_trace:  # one candidate, in lane 0
             t = (st[R_STEP * LANES] - 1.0) * dt
-            trace[rows, T_TIME] = min(t + dt, trace_t_end)
-            v = st[R_V * LANES]
-            trace[rows, T_V] = max(v, p0[P_VSTOP]) if trace_status == STATUS_STOPPED else v
-            trace[rows, T_WHEEL_V] = st[R_W * LANES] * st[R_RW * LANES]
-            trace[rows, T_SLIP] = st[R_SLIP * LANES]
-            trace[rows, T_Q] = st[R_Q * LANES]
-            trace[rows, T_TB] = st[R_KQ * LANES] * st[R_Q * LANES]
-            trace[rows, T_U] = st[R_U1 * LANES]
-            trace[rows, T_X] = st[R_DIST * LANES]
-            trace[rows, T_MU] = tire_law_mu(law, st[R_SLIP * LANES], c0, c1, c2, c3, xc, xs, ys)
-            trace[rows, T_TARGET] = target
+            r = st[0::LANES]  # lane 0's rows
+            v = r[R_V]
+            write_trace_row(
+                trace[rows],
+                min(t + dt, trace_t_end),
+                max(v, p0[P_VSTOP]) if trace_status == STATUS_STOPPED else v,
+                r[R_W] * r[R_RW],
+                r[R_SLIP],
+                target,
+                r[R_Q],
+                r[R_KQ] * r[R_Q],
+                r[R_U1],
+                r[R_DIST],
+                tire_mu(law, r[R_SLIP], tire),
+            )
             rows += 1
     if n_trace > 0:
         out[0, M_NTRACE] = rows

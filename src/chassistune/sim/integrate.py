@@ -5,6 +5,8 @@ branch-free: callable in a vectorized loop body).
   x + h/6 (k1 + 2 k2 + 2 k3 + k4).
 - Kutta's third-order method (RK3): k1 = f(x), k2 = f(x + h/2 k1), k3 = f(x - h k1 + 2 h k2),
   x + h/6 (k1 + 4 k2 + k3), written with explicit fused multiply-adds (`_branchfree.fma`).
+- The stage points and updates take floats or, element by element, tuples of floats (a whole
+  state in one call, `_branchfree.add`/`mul`/`fmadd`: the same operations in the same order).
 - Exact quadrature over one step of length h of a signal linear between its step-end values
   a and b: the trapezoid h (a + b) / 2, and the error integrals IAE, ITAE and ISE of e linear
   from a (at time t) to b (at t + h), exact also when e changes sign inside the step.
@@ -15,7 +17,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from chassistune._branchfree import fma, select
+from chassistune._branchfree import add, fma, fmadd, mul, select
 
 SIXTH = 1.0 / 6.0
 THIRD = 1.0 / 3.0
@@ -24,31 +26,31 @@ THIRD = 1.0 / 3.0
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def rk4_point(x, c, k):
     """Stage point x + c k."""
-    return x + c * k
+    return add(x, mul(c, k))
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def rk4_update(x, h6, k1, k2, k3, k4):
     """RK4 update x + h/6 (k1 + 2 k2 + 2 k3 + k4), with h6 = h / 6."""
-    return x + h6 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+    return add(x, mul(h6, add(add(add(k1, mul(2.0, k2)), mul(2.0, k3)), k4)))
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def rk3_point2(x, hs, k1):
     """Second stage point x + h/2 k1 (hs = h / 2), fused."""
-    return fma(hs, k1, x)
+    return fmadd(hs, k1, x)
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def rk3_point3(x, neg_h, h2, k1, k2):
     """Third stage point x - h k1 + 2 h k2 (neg_h = -h, h2 = 2 h), fused."""
-    return fma(h2, k2, fma(neg_h, k1, x))
+    return fmadd(h2, k2, fmadd(neg_h, k1, x))
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def rk3_update(x, h6, k1, k2, k3):
     """RK3 update x + h/6 (k1 + 4 k2 + k3), fused (h6 = h / 6)."""
-    return fma(h6, fma(4.0, k2, k1 + k3), x)
+    return fmadd(h6, fmadd(4.0, k2, add(k1, k3)), x)
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")

@@ -68,31 +68,18 @@ def simulate_batch(
     no_trace = np.zeros((N_OUT, 0))
     for lo in range(0, gains.shape[0], BLOCK):
         hi = min(lo + BLOCK, gains.shape[0])
-        _simulate_block(
-            plant,
-            feedback,
-            n_filter,
-            gains[lo:hi],
-            noise,
-            dt,
-            trace if lo == 0 else no_trace,
-            stride,
-            out[lo:hi],
+        phi, gam, cm, diverged = _discretize(plant, feedback, n_filter, gains[lo:hi], dt)
+        _run_block(
+            phi, gam, cm, diverged, noise, trace if lo == 0 else no_trace, stride, out[lo:hi]
         )
 
 
 @njit(cache=True, nogil=True)
-def _simulate_block(
-    plant: np.ndarray,
-    feedback: int,
-    n_filter: float,
-    gains: np.ndarray,
-    noise: np.ndarray,
-    dt: float,
-    trace: np.ndarray,
-    stride: int,
-    out: np.ndarray,
-) -> None:
+def _discretize(
+    plant: np.ndarray, feedback: int, n_filter: float, gains: np.ndarray, dt: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(Phi, gamma, C, diverged) of each candidate's closed loop, candidates last; a candidate
+    without a closed loop is marked diverged (zero matrices)."""
     n = gains.shape[0]
     ms = MAX_STATES
     phi = np.zeros((ms, ms, n))
@@ -115,7 +102,23 @@ def _simulate_block(
         phi[:m, :m, i] = phi1[:m, :m]
         gam[:m, i] = gam1[:m]
         cm[:, :m, i] = c[:, :m]
+    return phi, gam, cm, diverged
 
+
+@njit(cache=True, nogil=True)
+def _run_block(
+    phi: np.ndarray,
+    gam: np.ndarray,
+    cm: np.ndarray,
+    diverged: np.ndarray,
+    noise: np.ndarray,
+    trace: np.ndarray,
+    stride: int,
+    out: np.ndarray,
+) -> None:
+    """The time loop of a block of candidates (`simulate_batch`'s noise, trace and results)."""
+    n = diverged.shape[0]
+    ms = MAX_STATES
     x = np.zeros((ms, n))
     xn = np.zeros((ms, n))
     y = np.zeros(n)
