@@ -5,9 +5,11 @@ roads), draws the run's training set once (common random numbers) and builds its
 scenarios before any evaluation, so a bad draw is refused before work starts. The cost of a
 population is the (n, K, R) matrix of per-scenario costs, aggregated per candidate.
 
-Evaluation today is one kernel call of n rows per scenario (K R calls): the compiled kernels take
-the plant parameters as one vector hoisted for the whole batch. With per-row plant parameters it
-would be one call of n K R rows (see `perf.robust` for what that saves).
+Evaluation is one kernel call of n rows per scenario (K R calls). The ABS kernel accepts per-row
+plant parameters, but the tire curve, the controller vector and the scoring stay per call, so a
+draw of `mu_scale` (or any curve parameter) splits the batch anyway; one call of n K rows would
+save 1.27-1.28x where it applies (`perf.robust`; docs/robust.md, "Cost: n candidates x K
+scenarios").
 
 A `RobustProblem` is a `TuningProblem` (its `scenarios` are the nominal ones, one per road, used
 for the tuned controller's metrics), so the optimizer loop drives it unchanged.
