@@ -1,8 +1,6 @@
 """A reproduction killed in the middle (SIGKILL, during its second study) and run again writes
 the same report numbers as an uninterrupted one, which itself ran on the process executor: the
-numbers depend neither on interruptions nor on where the runs executed. Tiny budget, one paper
-with two studies (derlsp-ao-abs: the ABS tuning and the benchmark functions); `reproduce all`
-composes the same per-paper stores."""
+numbers depend neither on interruptions nor on where the runs executed. Tiny budget."""
 
 from __future__ import annotations
 
@@ -14,14 +12,13 @@ import time
 from pathlib import Path
 
 SCRIPT = Path(__file__).with_name("tiny_reproduce.py")
-PAPER = "derlsp-ao-abs"
 SECOND_STORE = Path("studies") / "derlsp-ao-abs-functions-quick" / "study.sqlite"
 
 
 def _run(out: Path, *args: str) -> subprocess.Popen[bytes]:
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
     return subprocess.Popen(
-        [sys.executable, str(SCRIPT), PAPER, str(out), *args],
+        [sys.executable, str(SCRIPT), str(out), *args],
         env=env,
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
@@ -50,5 +47,5 @@ def test_killed_and_rerun_gives_the_report_of_an_uninterrupted_run(tmp_path: Pat
         assert proc.returncode == 0, err.decode()
     assert b"done before" in err  # the rerun kept the first study's runs
     whole_tables = _tables(tmp_path / "whole")
-    assert len(whole_tables) >= 10  # the paper's tables, bounds and verdicts
+    assert len(whole_tables) > 20
     assert _tables(tmp_path / "killed") == whole_tables

@@ -1,6 +1,5 @@
-"""`chassistune reproduce PAPER --quick --out DIR [ARGS...]` with every config's [quick] table
-shrunk to 2 seeds, population 6 and 2 iterations: the kill test's tiny budget (run as a script
-with the arguments PAPER DIR [ARGS...])."""
+"""`chassistune reproduce all --quick --out DIR [ARGS...]` with every config's [quick] table
+shrunk to 2 seeds, population 6 and 2 iterations: the kill test's tiny budget (run as a script)."""
 
 from __future__ import annotations
 
@@ -21,5 +20,4 @@ def tiny_config(name: str) -> StudyConfig:
 
 if __name__ == "__main__":
     reproduce.shipped_config = tiny_config
-    paper, *rest = sys.argv[1:]
-    main(["reproduce", paper, "--quick", "--out", *rest])
+    main(["reproduce", "all", "--quick", "--out", *sys.argv[1:]])
