@@ -117,7 +117,9 @@ def _has_avx() -> bool:
 def test_entry_points_vectorize(law: int) -> None:
     """Packed double arithmetic on ymm/zmm registers in the compiled entry point: a call or a
     branch chain added to the lane step would silently fall back to scalar code."""
-    fresh = numba.njit(nogil=True, error_model="numpy")(K.ENTRY_POINTS[law].py_func)
+    entry = K.ENTRY_POINTS[law]
+    options = {k: v for k, v in entry.targetoptions.items() if k not in ("cache", "nopython")}
+    fresh = numba.njit(**options)(entry.py_func)
     sc = PLANT.scenario(*ROADS[law], "pid")
     p, _kind, coef, xs, ys, ck, c, table = sc._kernel_args
     c4 = np.zeros(4)
@@ -136,6 +138,8 @@ def test_entry_points_vectorize(law: int) -> None:
         table,
         np.zeros((0, len(KL.TRACE))),
         out,
+        np.empty(K.N_ROWS * K.LANES),
+        np.empty(K.LANES, dtype=np.int64),
     )
     asm = fresh.inspect_asm(fresh.signatures[0])
     packed = re.findall(r"\bv(?:mul|add|sub|div|fmadd\w*)pd\s[^\n]*%[yz]mm", asm)
