@@ -19,6 +19,21 @@ from chassistune.errors import InputError
 T = TypeVar("T")
 
 
+def positive(lo: float, hi: float, **extra: object) -> dict[str, object]:
+    """Field metadata: valid if positive, plausible in [lo, hi] (outside: a warning)."""
+    return {"positive": True, "plausible": (lo, hi), **extra}
+
+
+def nonnegative(lo: float, hi: float) -> dict[str, object]:
+    """Field metadata: valid if non-negative, plausible in [lo, hi] (outside: a warning)."""
+    return {"nonnegative": True, "plausible": (lo, hi)}
+
+
+def unit_interval(lo: float, hi: float) -> dict[str, object]:
+    """Field metadata: valid in [0, 1], plausible in [lo, hi] (outside: a warning)."""
+    return {"unit_interval": True, "plausible": (lo, hi)}
+
+
 def parse_assignments(items: list[str] | tuple[str, ...], field: str) -> dict[str, str]:
     """Parse ["a=1", "b=x"] into {"a": "1", "b": "x"}; `field` ("params" or "gains") names the
     values for errors; gains may be comma-separated and "@FILE.json" reads a gains file."""

@@ -236,6 +236,12 @@ def percent(a: float, b: float) -> float:
     return 100.0 * (a - b) / a
 
 
+def graded(ranks: bool, matches: bool) -> str:
+    """HOLDS when the claimed order holds and so do the paper's figures, RANKING_ONLY when only
+    the order holds, else FAILS."""
+    return HOLDS if ranks and matches else RANKING_ONLY if ranks else FAILS
+
+
 def claim(paper: str, text: str, parts: Sequence[tuple[str, str]]) -> Verdict:
     """The verdict on a claim checked in parts (a verdict word and its evidence per road or
     function): the weakest word, the evidence joined."""

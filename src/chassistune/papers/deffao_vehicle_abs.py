@@ -12,22 +12,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from chassistune.papers import published
-from chassistune.papers.common import (
-    UNCHECKED,
-    BoundCheck,
-    Context,
-    Figure,
-    PaperSection,
-    Table,
-    Verdict,
-    bound_row,
-    bound_verdict,
-    budget_tables,
-    claim,
-    median_run,
-    order_verdict,
-)
+from chassistune.papers import common, published
 from chassistune.plants.roads import BILINEAR_ROADS
 from chassistune.reports.figures import convergence_figure
 from chassistune.scenarios.registry import get_plant, plant_names
@@ -91,10 +76,10 @@ def studies() -> tuple[str, ...]:
     return (FUNCTIONS_STUDY, VEHICLE_STUDY) if vehicle_available() else (FUNCTIONS_STUDY,)
 
 
-def build(ctx: Context) -> PaperSection:
+def build(ctx: common.Context) -> common.PaperSection:
     """The section of paper 003."""
-    sec = PaperSection(KEY, published.paper(KEY).citation, SETTING)
-    sec.tables += budget_tables(ctx, studies())
+    sec = common.PaperSection(KEY, published.paper(KEY).citation, SETTING)
+    sec.tables += common.budget_tables(ctx, studies())
     data = ctx.studies[FUNCTIONS_STUDY]
     rows, parts = [], []
     for f, name, title in TABLE4:
@@ -111,7 +96,7 @@ def build(ctx: Context) -> PaperSection:
                     "runs": len(finals[m]),
                 }
             )
-        word, evidence = order_verdict(finals, "DEFFAO")
+        word, evidence = common.order_verdict(finals, "DEFFAO")
         parts.append((word, f"{f}: {evidence}"))
         path = ctx.figure(KEY, f"table4_convergence_{f}")
         convergence_figure(
@@ -119,9 +104,9 @@ def build(ctx: Context) -> PaperSection:
             str(path),
             f"Table 4 functions: {f} ({title})",
         )
-        sec.figures.append(Figure(path.stem, f"Convergence on {f} ({title})", path))
+        sec.figures.append(common.Figure(path.stem, f"Convergence on {f} ({title})", path))
     sec.tables.append(
-        Table(
+        common.Table(
             "table4",
             "Table 4: best fitness, paper beside ours",
             pd.DataFrame(rows),
@@ -129,25 +114,25 @@ def build(ctx: Context) -> PaperSection:
             quoted=("paper best",),
         )
     )
-    sec.verdicts.append(claim(KEY, "DEFFAO is best on Table 4's five functions", parts))
+    sec.verdicts.append(common.claim(KEY, "DEFFAO is best on Table 4's five functions", parts))
     checks = _adhesion_checks()
     if vehicle_available() and VEHICLE_STUDY in ctx.studies:
         sec.verdicts.append(_table5(ctx, sec, checks))
     else:
         sec.verdicts.append(
-            Verdict(
+            common.Verdict(
                 KEY,
                 "DEFFAO-fuzzy PID stops shortest on each of its three roads",
-                UNCHECKED,
+                common.UNCHECKED,
                 NOT_MERGED,
             )
         )
-    sec.verdicts.append(bound_verdict(KEY, checks))
+    sec.verdicts.append(common.bound_verdict(KEY, checks))
     sec.bounds = checks
     return sec
 
 
-def _adhesion_checks() -> list[BoundCheck]:
+def _adhesion_checks() -> list[common.BoundCheck]:
     """Table 5's distances against the adhesion bound from 120 km/h to standstill: uniform
     v0^2/(2 mu_peak g), split-mu v0^2/((mu_L + mu_R) g) (mu-jump needs the vehicle model)."""
     mu = {r: BILINEAR_ROADS[r][1] for r in ("dry-concrete", "ice")}
@@ -158,7 +143,7 @@ def _adhesion_checks() -> list[BoundCheck]:
     checks = []
     for road, bound in bounds.items():
         for label, d in published.lookup(KEY, "stop_distance_m", road).as_dict().items():
-            checks.append(bound_row(KEY, road, label, d, bound))
+            checks.append(common.bound_row(KEY, road, label, d, bound))
     return checks
 
 
@@ -169,7 +154,9 @@ def _vehicle_trace(
     return sc, sc.trace(sc.gains_array(None) if gains is None else gains)
 
 
-def _table5(ctx: Context, sec: PaperSection, checks: list[BoundCheck]) -> Verdict:
+def _table5(
+    ctx: common.Context, sec: common.PaperSection, checks: list[common.BoundCheck]
+) -> common.Verdict:
     from chassistune.plots.registry import plot_trace
 
     data = ctx.studies[VEHICLE_STUDY]
@@ -187,7 +174,7 @@ def _table5(ctx: Context, sec: PaperSection, checks: list[BoundCheck]) -> Verdic
             rows.append(_t5_row(road, label, tr.metrics, t_pub, d_pub, sc.bound_distance_m))
         for label, rs in runs.items():
             dist[label] = np.array([r.metrics[road]["stop_distance_m"] for r in rs])
-            rec = median_run(rs)
+            rec = common.median_run(rs)
             sc, tr = _vehicle_trace(
                 road,
                 rec.spec.controller,
@@ -199,15 +186,15 @@ def _table5(ctx: Context, sec: PaperSection, checks: list[BoundCheck]) -> Verdic
                 path = ctx.figure(KEY, f"fig{fig.split()[1]}_{road}")
                 plot_trace(sc, tr, str(path))
                 sec.figures.append(
-                    Figure(path.stem, f"{fig} redrawn ({road}): DEFFAO-fuzzy PID", path)
+                    common.Figure(path.stem, f"{fig} redrawn ({road}): DEFFAO-fuzzy PID", path)
                 )
         if road == "mu-jump":
             for label, d in d_pub.items():
-                checks.append(bound_row(KEY, road, label, d, sc.bound_distance_m))
-        word, evidence = order_verdict(dist, "DEFFAO-fuzzy PID")
+                checks.append(common.bound_row(KEY, road, label, d, sc.bound_distance_m))
+        word, evidence = common.order_verdict(dist, "DEFFAO-fuzzy PID")
         parts.append((word, f"{road}: {evidence}"))
     sec.tables.append(
-        Table(
+        common.Table(
             "table5",
             "Table 5: braking time and distance, paper beside ours",
             pd.DataFrame(rows),
@@ -216,7 +203,7 @@ def _table5(ctx: Context, sec: PaperSection, checks: list[BoundCheck]) -> Verdic
             quoted=("paper stop time (s)", "paper distance (m)"),
         )
     )
-    return claim(KEY, "DEFFAO-fuzzy PID stops shortest on each of its three roads", parts)
+    return common.claim(KEY, "DEFFAO-fuzzy PID stops shortest on each of its three roads", parts)
 
 
 def _t5_row(

@@ -11,23 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from chassistune.papers import published
-from chassistune.papers.common import (
-    FAILS,
-    HOLDS,
-    Context,
-    Figure,
-    PaperSection,
-    Table,
-    Verdict,
-    bound_row,
-    bound_verdict,
-    budget_tables,
-    claim,
-    median_run,
-    order_verdict,
-    settle_time_s,
-)
+from chassistune.papers import common, published
 from chassistune.reports.figures import convergence_figure
 from chassistune.scenarios.abs_wheel import AbsWheelScenario
 from chassistune.scenarios.base import Trace
@@ -112,7 +96,7 @@ def run_gains(rec: RunRecord) -> np.ndarray:
 
 
 def _road_results(
-    ctx: Context, road: str, mass: str, mass_kg: float
+    ctx: common.Context, road: str, mass: str, mass_kg: float
 ) -> tuple[dict[str, np.ndarray], dict[str, tuple[AbsWheelScenario, Trace]]]:
     """Stop distances by controller (the tuned ones: every seed) and the representative traces
     (defaults; each optimizer's median run)."""
@@ -125,14 +109,14 @@ def _road_results(
     for label in TUNED:
         runs = data.runs(f"pid-{mass}/{road}", label)
         dist[label] = np.array([r.metrics[road]["stop_distance_m"] for r in runs])
-        traces[label] = _trace(road, "pid", run_gains(median_run(runs)), mass_kg)
+        traces[label] = _trace(road, "pid", run_gains(common.median_run(runs)), mass_kg)
     return dist, traces
 
 
-def build(ctx: Context) -> PaperSection:
+def build(ctx: common.Context) -> common.PaperSection:
     """The section of paper 000."""
-    sec = PaperSection(KEY, published.paper(KEY).citation, SETTING)
-    sec.tables += budget_tables(ctx, STUDIES)
+    sec = common.PaperSection(KEY, published.paper(KEY).citation, SETTING)
+    sec.tables += common.budget_tables(ctx, STUDIES)
     shortest, ranking, settle, bounds_ok = [], [], [], []
     for road, table, fig in ROADS:
         t_pub = published.lookup(KEY, "stop_time_s", road).as_dict()
@@ -157,12 +141,12 @@ def build(ctx: Context) -> PaperSection:
                     "bound (m)": bound,
                     "paper / bound": d_pub[label] / bound,
                     "ours / bound": m["stop_distance_m"] / bound,
-                    "ours settle (s)": settle_time_s(traces[label][1]),
+                    "ours settle (s)": common.settle_time_s(traces[label][1]),
                 }
             )
-            bounds_ok.append(bound_row(KEY, road, label, d_pub[label], bound))
+            bounds_ok.append(common.bound_row(KEY, road, label, d_pub[label], bound))
         sec.tables.append(
-            Table(
+            common.Table(
                 f"table{table.split()[1]}_{road}",
                 f"{table} ({road}): paper beside ours",
                 pd.DataFrame(rows),
@@ -181,29 +165,29 @@ def build(ctx: Context) -> PaperSection:
             str(path),
             title=f"{fig} redrawn: {road}, five controllers (100 kg)",
         )
-        sec.figures.append(Figure(path.stem, f"{fig} redrawn ({road})", path))
-        word, evidence = order_verdict(dist, "DERLSP-AO-PID")
+        sec.figures.append(common.Figure(path.stem, f"{fig} redrawn ({road})", path))
+        word, evidence = common.order_verdict(dist, "DERLSP-AO-PID")
         shortest.append((word, f"{road}: {evidence}"))
         medians = {k: float(np.median(v)) for k, v in dist.items()}
         ours = sorted(medians, key=lambda k: -medians[k])
         ranking.append(
             (
-                HOLDS if tuple(ours) == ORDER else FAILS,
+                common.HOLDS if tuple(ours) == ORDER else common.FAILS,
                 f"{road}: longest to shortest {' > '.join(ours)}",
             )
         )
-        s = settle_time_s(traces["DERLSP-AO-PID"][1])
-        settle.append((HOLDS if s <= SETTLE_S else FAILS, f"{road}: {s:.3g} s"))
+        s = common.settle_time_s(traces["DERLSP-AO-PID"][1])
+        settle.append((common.HOLDS if s <= SETTLE_S else common.FAILS, f"{road}: {s:.3g} s"))
     sec.figures.insert(0, _fig4(ctx))
     sec.figures += _function_figures(ctx)
     sec.verdicts += [
-        claim(KEY, "DERLSP-AO-PID stops shortest on each of its three roads", shortest),
-        claim(
+        common.claim(KEY, "DERLSP-AO-PID stops shortest on each of its three roads", shortest),
+        common.claim(
             KEY,
             "ranking PID > fuzzy PID > GA-PID > AO-PID > DERLSP-AO-PID in distance on each road",
             ranking,
         ),
-        claim(
+        common.claim(
             KEY,
             f"the slip settles near 0.2 within {SETTLE_S:g} s (DERLSP-AO-PID; settled: "
             "within 0.05 of the target above 2 m/s)",
@@ -219,13 +203,13 @@ def build(ctx: Context) -> PaperSection:
             ("AO", "MFO", "GWO"),
         ),
     ]
-    sec.verdicts.append(bound_verdict(KEY, bounds_ok))
+    sec.verdicts.append(common.bound_verdict(KEY, bounds_ok))
     sec.tables.append(_function_table(ctx))
     sec.bounds = bounds_ok
     return sec
 
 
-def _fig4(ctx: Context) -> Figure:
+def _fig4(ctx: common.Context) -> common.Figure:
     from chassistune.plots.abs_wheel import plot_comparison
 
     sc, none = _trace("dry-concrete", "none", None, 100.0)
@@ -237,24 +221,26 @@ def _fig4(ctx: Context) -> Figure:
         str(path),
         title="Fig. 4 redrawn: no ABS against the PID, dry concrete",
     )
-    return Figure(path.stem, "Fig. 4 redrawn: no ABS against PID (dry concrete)", path)
+    return common.Figure(path.stem, "Fig. 4 redrawn: no ABS against PID (dry concrete)", path)
 
 
-def _finals(ctx: Context, function: str) -> dict[str, np.ndarray]:
+def _finals(ctx: common.Context, function: str) -> dict[str, np.ndarray]:
     data = ctx.studies["derlsp-ao-abs-functions"]
     return {o: data.costs(f"fig67/{function}", o) for o in data.optimizers}
 
 
-def _function_claim(ctx: Context, text: str, best: str, others: tuple[str, ...]) -> Verdict:
+def _function_claim(
+    ctx: common.Context, text: str, best: str, others: tuple[str, ...]
+) -> common.Verdict:
     parts = []
     for f in FUNCTIONS:
         finals = _finals(ctx, f)
-        word, evidence = order_verdict({k: finals[k] for k in (best, *others)}, best)
+        word, evidence = common.order_verdict({k: finals[k] for k in (best, *others)}, best)
         parts.append((word, f"{f}: {evidence}"))
-    return claim(KEY, text, parts)
+    return common.claim(KEY, text, parts)
 
 
-def _function_table(ctx: Context) -> Table:
+def _function_table(ctx: common.Context) -> common.Table:
     rows = []
     for f in FUNCTIONS:
         for opt, v in _finals(ctx, f).items():
@@ -269,7 +255,7 @@ def _function_table(ctx: Context) -> Table:
                     "worst": v.max(),
                 }
             )
-    return Table(
+    return common.Table(
         "figs6_7_functions",
         "Figs. 6-7: final best value per optimizer (ours only; "
         "the paper prints curves, no numbers)",
@@ -279,7 +265,7 @@ def _function_table(ctx: Context) -> Table:
     )
 
 
-def _function_figures(ctx: Context) -> list[Figure]:
+def _function_figures(ctx: common.Context) -> list[common.Figure]:
     data = ctx.studies["derlsp-ao-abs-functions"]
     out = []
     for fig, labels in (
@@ -293,7 +279,7 @@ def _function_figures(ctx: Context) -> list[Figure]:
                 str(path),
                 f"Fig. {fig} redrawn: {f}",
             )
-            out.append(Figure(path.stem, f"Fig. {fig} redrawn: convergence on {f}", path))
+            out.append(common.Figure(path.stem, f"Fig. {fig} redrawn: convergence on {f}", path))
     return out
 
 

@@ -8,23 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from chassistune.papers import published
-from chassistune.papers.common import (
-    FAILS,
-    HOLDS,
-    RANKING_ONLY,
-    Context,
-    Figure,
-    PaperSection,
-    Table,
-    bound_row,
-    bound_verdict,
-    budget_tables,
-    claim,
-    median_run,
-    order_verdict,
-    settle_time_s,
-)
+from chassistune.papers import common, published
 from chassistune.papers.derlsp_ao_abs import abs_trace, run_gains
 from chassistune.scenarios.abs_wheel import AbsWheelScenario
 from chassistune.scenarios.base import Trace
@@ -72,13 +56,13 @@ def studies() -> tuple[str, ...]:
     return (STUDY,)
 
 
-def build(ctx: Context) -> PaperSection:
+def build(ctx: common.Context) -> common.PaperSection:
     """The section of paper 004."""
     from chassistune.plots.abs_wheel import plot_comparison
 
     data = ctx.studies[STUDY]
-    sec = PaperSection(KEY, published.paper(KEY).citation, SETTING)
-    sec.tables += budget_tables(ctx, (STUDY,))
+    sec = common.PaperSection(KEY, published.paper(KEY).citation, SETTING)
+    sec.tables += common.budget_tables(ctx, (STUDY,))
     settle_parts, shortest_parts, checks = [], [], []
     for road, fig in ROADS:
         settle_pub = published.lookup(KEY, "slip_settles_at_s", road).as_dict()
@@ -92,7 +76,7 @@ def build(ctx: Context) -> PaperSection:
         for label, ctrl in TUNED:
             runs = data.runs(f"{ctrl}/{road}", "DERLSP-AO")
             dist[label] = np.array([r.metrics[road]["stop_distance_m"] for r in runs])
-            traces[label] = abs_trace(PRESET, road, ctrl, run_gains(median_run(runs)), {})
+            traces[label] = abs_trace(PRESET, road, ctrl, run_gains(common.median_run(runs)), {})
             default = abs_trace(PRESET, road, ctrl, None, {})[1]
             rows.append(_row(f"{label} (defaults)", default, settle_pub))
         for label, (_, tr) in traces.items():
@@ -110,9 +94,9 @@ def build(ctx: Context) -> PaperSection:
                 if r["controller"] == f"{CLAIMED} (tuned)":
                     r["paper distance (m)"], r["paper stop time (s)"] = d_pub, t_pub
                     r["paper / bound"] = d_pub / bound
-            checks.append(bound_row(KEY, road, CLAIMED, d_pub, bound))
+            checks.append(common.bound_row(KEY, road, CLAIMED, d_pub, bound))
         sec.tables.append(
-            Table(
+            common.Table(
                 f"{fig.replace('. ', '')}_{road}",
                 f"{fig} ({road}): settling, stop time and distance, paper beside ours",
                 pd.DataFrame(rows),
@@ -128,31 +112,31 @@ def build(ctx: Context) -> PaperSection:
             str(path),
             title=f"{fig} redrawn: {road}",
         )
-        sec.figures.append(Figure(path.stem, f"{fig} redrawn ({road})", path))
-        settles = {k: settle_time_s(t) for k, (_, t) in traces.items()}
+        sec.figures.append(common.Figure(path.stem, f"{fig} redrawn ({road})", path))
+        settles = {k: common.settle_time_s(t) for k, (_, t) in traces.items()}
         mine = settles[CLAIMED]
         others = {k: v for k, v in settles.items() if k != CLAIMED}
         faster = all(not np.isfinite(v) or mine < v for v in others.values())
         within = mine <= settle_pub[CLAIMED]
         settle_parts.append(
             (
-                HOLDS if within and faster else RANKING_ONLY if faster else FAILS,
+                common.graded(faster, within),
                 f"{road}: fuzzy immune PID {mine:.3g} s (paper "
                 f"{settle_pub[CLAIMED]:g} s); others "
                 + ", ".join(f"{k} {v:.3g} s" for k, v in others.items()),
             )
         )
-        word, evidence = order_verdict(dist, CLAIMED)
+        word, evidence = common.order_verdict(dist, CLAIMED)
         shortest_parts.append((word, f"{road}: {evidence}"))
     sec.verdicts += [
-        claim(
+        common.claim(
             KEY,
             "the fuzzy immune PID settles the slip within 1.5 s on asphalt and 1 s on "
             "dirt, faster than the others",
             settle_parts,
         ),
-        claim(KEY, "the fuzzy immune PID stops shortest on both roads", shortest_parts),
-        bound_verdict(KEY, checks),
+        common.claim(KEY, "the fuzzy immune PID stops shortest on both roads", shortest_parts),
+        common.bound_verdict(KEY, checks),
     ]
     sec.bounds = checks
     return sec
@@ -164,7 +148,7 @@ def _row(label: str, tr: Trace, settle_pub: dict[str, float]) -> dict[str, objec
     return {
         "controller": label,
         "paper settle (s)": paper_settle,
-        "ours settle (s)": settle_time_s(tr),
+        "ours settle (s)": common.settle_time_s(tr),
         "ours stop time (s)": m["stop_time_s"],
         "ours distance (m)": m["stop_distance_m"],
         "paper stop time (s)": None,

@@ -16,21 +16,7 @@ import pandas as pd
 from scipy.optimize import minimize
 
 from chassistune import stats
-from chassistune.papers import published
-from chassistune.papers.common import (
-    FAILS,
-    HOLDS,
-    RANKING_ONLY,
-    Context,
-    Figure,
-    PaperSection,
-    Table,
-    Verdict,
-    budget_tables,
-    final_costs,
-    median_run,
-    percent,
-)
+from chassistune.papers import common, published
 from chassistune.reports.figures import convergence_figure
 from chassistune.scenarios.quarter_car import QuarterCarScenario
 from chassistune.scenarios.registry import get_plant
@@ -150,11 +136,11 @@ def _polished_optimum(preset: str, start: np.ndarray, box: list[tuple[float, flo
     return min(float(res.fun), q(start))
 
 
-def build(ctx: Context) -> PaperSection:
+def build(ctx: common.Context) -> common.PaperSection:
     """The section of paper 001."""
     data = ctx.studies[STUDY]
-    sec = PaperSection(KEY, published.paper(KEY).citation, SETTING)
-    sec.tables += budget_tables(ctx, (STUDY,))
+    sec = common.PaperSection(KEY, published.paper(KEY).citation, SETTING)
+    sec.tables += common.budget_tables(ctx, (STUDY,))
     roads = 5 if ctx.quick else 30
     pub = {m: published.lookup(KEY, m, "iso-b").as_dict() for m in METRICS}
     paper_gains = np.array(published.lookup(KEY, "iabc_gains").values)
@@ -165,8 +151,8 @@ def build(ctx: Context) -> PaperSection:
         "passive": np.zeros(3),
         "traditional PID": np.array(TRADITIONAL),
         "paper's IABC gains": paper_gains,
-        "ABC-PID": _gains(median_run(runs["ABC"])),
-        "IABC-PID": _gains(median_run(runs["IABC"])),
+        "ABC-PID": _gains(common.median_run(runs["ABC"])),
+        "IABC-PID": _gains(common.median_run(runs["IABC"])),
     }
     g = np.vstack(list(rows_gains.values()))
     ex = exact_table("paper-iabc", g)
@@ -184,7 +170,7 @@ def build(ctx: Context) -> PaperSection:
         row["ours Q exact"], row["ours Q 10 s"] = ex[i, 3], sim[:, i, 3].mean()
         rows.append(row)
     sec.tables.append(
-        Table(
+        common.Table(
             "table2",
             "Table 2 (paper-iabc, paper's box [0, 500]^3): paper beside ours",
             pd.DataFrame(rows),
@@ -198,27 +184,27 @@ def build(ctx: Context) -> PaperSection:
         {"source": "paper (claimed, section 4.3)", **dict(zip(METRICS, claimed, strict=True))},
         {
             "source": "paper (from its Table 2)",
-            **{m: percent(pub[m]["ABC-PID"], pub[m]["IABC-PID"]) for m in METRICS},
+            **{m: common.percent(pub[m]["ABC-PID"], pub[m]["IABC-PID"]) for m in METRICS},
         },
     ]
     summary, conv = [], []
     q_star: dict[str, float] = {}
     for preset, cell in EXACT_CELLS:
         cell_runs = {a: data.runs(cell, a) for a in ALGORITHMS}
-        pair = np.vstack([_gains(median_run(cell_runs[a])) for a in ALGORITHMS])
+        pair = np.vstack([_gains(common.median_run(cell_runs[a])) for a in ALGORITHMS])
         e = exact_table(preset, pair)
         imp_rows.append(
             {
                 "source": f"ours exact, {cell}",
-                **{m: percent(e[0, j], e[1, j]) for j, m in enumerate(METRICS)},
+                **{m: common.percent(e[0, j], e[1, j]) for j, m in enumerate(METRICS)},
             }
         )
         pool = [r for a in ALGORITHMS for r in cell_runs[a]]
-        best = pool[int(np.argmin(final_costs(pool)))]
+        best = pool[int(np.argmin(common.final_costs(pool)))]
         box = list(best.spec.bounds.values())
         q_star[cell] = _polished_optimum(preset, _gains(best), box)
         for a in ALGORITHMS:
-            finals = final_costs(cell_runs[a])
+            finals = common.final_costs(cell_runs[a])
             scouts = [int(r.diagnostics.get("scouts", 0)) for r in cell_runs[a]]
             summary.append(
                 {
@@ -246,7 +232,7 @@ def build(ctx: Context) -> PaperSection:
     for ra, rb in zip(ten["ABC"], ten["IABC"], strict=True):
         sc = _scenario("paper-iabc", ra.spec.scenario_seed)
         s = sc.simulate(np.vstack([_gains(ra), _gains(rb)]))[:, : kernel.R_FORCE]
-        ten_imp.append([percent(s[0, j], s[1, j]) for j in range(3)])
+        ten_imp.append([common.percent(s[0, j], s[1, j]) for j in range(3)])
     imp_rows.append(
         {
             "source": f"ours, paper's protocol (10 s road), median of {len(ten_imp)}",
@@ -254,15 +240,15 @@ def build(ctx: Context) -> PaperSection:
         }
     )
     sec.tables += [
-        Table(
+        common.Table(
             "improvement", "IABC-PID against ABC-PID: reduction in percent", pd.DataFrame(imp_rows)
         ),
-        Table(
+        common.Table(
             "final_q",
             "Final Q per cell and optimizer (with IABC's and ABC's scout counts)",
             pd.DataFrame(summary),
         ),
-        Table(
+        common.Table(
             "convergence",
             "Iterations to come within 1e-3 of the box optimum Q*",
             pd.DataFrame(conv),
@@ -272,16 +258,16 @@ def build(ctx: Context) -> PaperSection:
     sec.figures += _figures(ctx, data.runs(PAPER_CELL), rows_gains)
     # verdicts
     e_pair = exact_table("paper-iabc", np.vstack([rows_gains["ABC-PID"], rows_gains["IABC-PID"]]))
-    ours_imp = [percent(e_pair[0, j], e_pair[1, j]) for j in range(3)]
-    rs = stats.rank_sum(final_costs(runs["IABC"]), final_costs(runs["ABC"]))
+    ours_imp = [common.percent(e_pair[0, j], e_pair[1, j]) for j in range(3)]
+    rs = stats.rank_sum(common.final_costs(runs["IABC"]), common.final_costs(runs["ABC"]))
     if all(o >= c for o, c in zip(ours_imp, claimed, strict=True)):
-        word = HOLDS
+        word = common.HOLDS
     elif all(o > 0 for o in ours_imp) and rs.sign == "+":
-        word = RANKING_ONLY
+        word = common.RANKING_ONLY
     else:
-        word = FAILS
+        word = common.FAILS
     sec.verdicts.append(
-        Verdict(
+        common.Verdict(
             KEY,
             "IABC-PID beats ABC-PID by 15.1 / 26.3 / 15.4 % (body acc., travel, tire)",
             word,
@@ -291,13 +277,13 @@ def build(ctx: Context) -> PaperSection:
             f"{len(runs['IABC'])} runs each)",
         )
     )
-    q_ten = final_costs(ten["IABC"])
+    q_ten = common.final_costs(ten["IABC"])
     q_opt = q_star[PAPER_CELL]
     sec.verdicts.append(
-        Verdict(
+        common.Verdict(
             KEY,
             f"Q = {q_paper} (IABC-PID)",
-            FAILS if q_paper < q_opt - 1e-6 else HOLDS,
+            common.FAILS if q_paper < q_opt - 1e-6 else common.HOLDS,
             f"exact optimum of the paper's box Q* = {q_opt:.7g}: no gains in the box reach "
             f"{q_paper} on average; the paper's gains give exact Q = {ex[2, 3]:.5g}; tuned on one "
             f"10 s road (the paper's protocol) {int(np.sum(q_ten <= q_paper))} of {q_ten.size} "
@@ -309,10 +295,10 @@ def build(ctx: Context) -> PaperSection:
     abc_conv = next(c for c in conv if c["cell"] == PAPER_CELL and c["optimizer"] == "ABC")
     med = float(iabc_conv["median iterations to Q* + 1e-3"])  # type: ignore[arg-type]
     sec.verdicts.append(
-        Verdict(
+        common.Verdict(
             KEY,
             f"IABC converges within {CONVERGE_ITERATIONS} iterations",
-            HOLDS if med <= CONVERGE_ITERATIONS else FAILS,
+            common.HOLDS if med <= CONVERGE_ITERATIONS else common.FAILS,
             f"median iterations to within 1e-3 of Q*: IABC {med:g}, ABC "
             f"{abc_conv['median iterations to Q* + 1e-3']:g} (ABC is no slower)",
         )
@@ -320,15 +306,16 @@ def build(ctx: Context) -> PaperSection:
     tr, ia = ex[1], ex[4]
     lower = [ia[j] < tr[j] for j in range(3)]
     sec.verdicts.append(
-        Verdict(
+        common.Verdict(
             KEY,
             "IABC-PID beats the traditional PID",
-            HOLDS if all(lower) and ia[3] < tr[3] else RANKING_ONLY if ia[3] < tr[3] else FAILS,
+            common.graded(ia[3] < tr[3], all(lower)),
             f"exact Q {ia[3]:.5g} against {tr[3]:.5g} (our hand-set PID 250/250/250); per metric "
-            + " / ".join(f"{percent(tr[j], ia[j]):.3g} %" for j in range(3))
+            + " / ".join(f"{common.percent(tr[j], ia[j]):.3g} %" for j in range(3))
             + " reduction (paper: "
             + " / ".join(
-                f"{percent(pub[m]['traditional PID'], pub[m]['IABC-PID']):.3g} %" for m in METRICS
+                f"{common.percent(pub[m]['traditional PID'], pub[m]['IABC-PID']):.3g} %"
+                for m in METRICS
             )
             + ")",
         )
@@ -337,8 +324,8 @@ def build(ctx: Context) -> PaperSection:
 
 
 def _figures(
-    ctx: Context, paper_runs: list[RunRecord], rows_gains: dict[str, np.ndarray]
-) -> list[Figure]:
+    ctx: common.Context, paper_runs: list[RunRecord], rows_gains: dict[str, np.ndarray]
+) -> list[common.Figure]:
     from chassistune.plots.overlay import Line, plot_overlay
 
     path = ctx.figure(KEY, "fig6_convergence")
@@ -347,7 +334,7 @@ def _figures(
         str(path),
         "Fig. 6 redrawn: Q (eq. 10), paper-iabc, paper's box",
     )
-    figs = [Figure(path.stem, "Fig. 6 redrawn: ABC and IABC convergence", path)]
+    figs = [common.Figure(path.stem, "Fig. 6 redrawn: ABC and IABC convergence", path)]
     sc = _scenario("paper-iabc", 0)
     lines = []
     for name in ("passive", "traditional PID", "IABC-PID"):
@@ -372,7 +359,7 @@ def _figures(
         "Fig. 7 redrawn: class B road (realization 0), 20 m/s",
     )
     figs.append(
-        Figure(
+        common.Figure(
             path.stem, "Fig. 7 redrawn: time responses, passive / traditional PID / IABC-PID", path
         )
     )

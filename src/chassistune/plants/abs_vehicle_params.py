@@ -7,18 +7,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from chassistune.params import nonnegative, positive, unit_interval
 from chassistune.plants.presets import Preset, PresetInfo
-
-
-def _pos(lo: float, hi: float, **extra: object) -> dict[str, object]:
-    """Metadata: valid if positive, plausible in [lo, hi] (outside: a warning)."""
-    return {"positive": True, "plausible": (lo, hi), **extra}
-
-
-def _nonneg(lo: float, hi: float) -> dict[str, object]:
-    """Metadata: valid if non-negative, plausible in [lo, hi] (outside: a warning)."""
-    return {"nonnegative": True, "plausible": (lo, hi)}
-
 
 MAX_STEER_LIMIT_RAD = 0.5 * math.pi
 """max_steer_rad must stay below 90 degrees (refused at or above it: the wheel would turn
@@ -29,39 +19,39 @@ sideways)."""
 class VehicleParams:
     """Vehicle, brake and solver parameters, SI (q in the preset's pressure unit, Tb = kq q)."""
 
-    mass_kg: float = field(default=1110.0, metadata=_pos(300.0, 5000.0))
+    mass_kg: float = field(default=1110.0, metadata=positive(300.0, 5000.0))
     """Total mass, used in every equation (deffao-vehicle-abs Table 2)."""
-    front_unsprung_kg: float = field(default=60.0, metadata=_nonneg(0.0, 500.0))
+    front_unsprung_kg: float = field(default=60.0, metadata=nonnegative(0.0, 500.0))
     """Paper deffao-vehicle-abs's m1: recorded, unused by the planar model."""
-    rear_unsprung_kg: float = field(default=60.0, metadata=_nonneg(0.0, 500.0))
+    rear_unsprung_kg: float = field(default=60.0, metadata=nonnegative(0.0, 500.0))
     """Paper deffao-vehicle-abs's m2: recorded, unused by the planar model."""
-    yaw_inertia_kg_m2: float = field(default=1440.0, metadata=_pos(100.0, 20_000.0))
+    yaw_inertia_kg_m2: float = field(default=1440.0, metadata=positive(100.0, 20_000.0))
     """Printed 1.44 kg m^2 in deffao-vehicle-abs Table 2, read as 1440."""
-    wheel_inertia_kg_m2: float = field(default=0.6, metadata=_pos(0.1, 50.0))
-    wheel_radius_m: float = field(default=0.4, metadata=_pos(0.15, 1.0))
-    cg_to_front_m: float = field(default=1.04, metadata=_pos(0.3, 4.0))
-    cg_to_rear_m: float = field(default=1.56, metadata=_pos(0.3, 4.0))
-    cg_height_m: float = field(default=0.5, metadata=_nonneg(0.0, 2.0))
-    track_front_m: float = field(default=1.5, metadata=_pos(0.8, 2.6))
-    track_rear_m: float = field(default=1.5, metadata=_pos(0.8, 2.6))
+    wheel_inertia_kg_m2: float = field(default=0.6, metadata=positive(0.1, 50.0))
+    wheel_radius_m: float = field(default=0.4, metadata=positive(0.15, 1.0))
+    cg_to_front_m: float = field(default=1.04, metadata=positive(0.3, 4.0))
+    cg_to_rear_m: float = field(default=1.56, metadata=positive(0.3, 4.0))
+    cg_height_m: float = field(default=0.5, metadata=nonnegative(0.0, 2.0))
+    track_front_m: float = field(default=1.5, metadata=positive(0.8, 2.6))
+    track_rear_m: float = field(default=1.5, metadata=positive(0.8, 2.6))
     cornering_stiffness_n_rad: float = field(
-        default=60_000.0, metadata=_pos(5e3, 5e5, unit="N/rad")
+        default=60_000.0, metadata=positive(5e3, 5e5, unit="N/rad")
     )
-    v0_m_s: float = field(default=120.0 / 3.6, metadata=_pos(1.0, 70.0))
-    g_m_s2: float = field(default=9.8, metadata=_pos(9.7, 9.9))
-    actuator_gain: float = field(default=100.0, metadata=_pos(1.0, 1e4, unit="1/s"))
-    actuator_tau_s: float = field(default=0.01, metadata=_pos(1e-3, 0.5))
-    brake_gain: float = field(default=1.0, metadata=_pos(0.1, 1000.0, unit="N m per pressure unit"))
+    v0_m_s: float = field(default=120.0 / 3.6, metadata=positive(1.0, 70.0))
+    g_m_s2: float = field(default=9.8, metadata=positive(9.7, 9.9))
+    actuator_gain: float = field(default=100.0, metadata=positive(1.0, 1e4, unit="1/s"))
+    actuator_tau_s: float = field(default=0.01, metadata=positive(1e-3, 0.5))
+    brake_gain: float = field(
+        default=1.0, metadata=positive(0.1, 1000.0, unit="N m per pressure unit")
+    )
     """kq in N m per pressure unit, the same on all four wheels (no brake balance)."""
-    q_max: float = field(default=2500.0, metadata=_pos(10.0, 1e5, unit="pressure unit"))
-    v_stop_m_s: float = field(default=2.0, metadata=_pos(0.01, 10.0))
-    t_max_s: float = field(default=60.0, metadata=_pos(0.1, 600.0))
-    dt_s: float = field(default=1e-3, metadata=_pos(1e-5, 0.01))
-    lock_ratio: float = field(
-        default=0.01, metadata={"unit_interval": True, "plausible": (0.001, 0.2)}
-    )
+    q_max: float = field(default=2500.0, metadata=positive(10.0, 1e5, unit="pressure unit"))
+    v_stop_m_s: float = field(default=2.0, metadata=positive(0.01, 10.0))
+    t_max_s: float = field(default=60.0, metadata=positive(0.1, 600.0))
+    dt_s: float = field(default=1e-3, metadata=positive(1e-5, 0.01))
+    lock_ratio: float = field(default=0.01, metadata=unit_interval(0.001, 0.2))
     """A wheel counts as locked while w R < lock_ratio |V|."""
-    min_speed_m_s: float = field(default=0.1, metadata=_pos(0.01, 1.0))
+    min_speed_m_s: float = field(default=0.1, metadata=positive(0.01, 1.0))
     """Floor of |V| in the slip definitions."""
 
     @property
@@ -75,11 +65,11 @@ class SteeringParams:
     d(delta)/dt = (clip(-k_psi psi - k_r r, +-delta_max) - delta) / tau."""
 
     steering: str = "fixed"
-    heading_gain: float = field(default=1.0, metadata=_nonneg(0.0, 10.0))
-    yaw_rate_gain_s: float = field(default=0.2, metadata=_nonneg(0.0, 2.0))
-    max_steer_rad: float = field(default=0.1, metadata=_nonneg(0.0, 0.7))
+    heading_gain: float = field(default=1.0, metadata=nonnegative(0.0, 10.0))
+    yaw_rate_gain_s: float = field(default=0.2, metadata=nonnegative(0.0, 2.0))
+    max_steer_rad: float = field(default=0.1, metadata=nonnegative(0.0, 0.7))
     """Refused at or above pi/2 (MAX_STEER_LIMIT_RAD)."""
-    steer_tau_s: float = field(default=0.15, metadata=_pos(0.02, 2.0))
+    steer_tau_s: float = field(default=0.15, metadata=positive(0.02, 2.0))
 
 
 STEERING_MODES = ("fixed", "driver")

@@ -11,13 +11,8 @@ from collections.abc import Collection
 from dataclasses import dataclass, field
 
 from chassistune.errors import InputError
+from chassistune.params import positive, unit_interval
 from chassistune.plants.presets import Preset, PresetInfo
-
-
-def _pos(lo: float, hi: float, **extra: object) -> dict[str, object]:
-    """Metadata: positive, plausible in [lo, hi]."""
-    return {"positive": True, "plausible": (lo, hi), **extra}
-
 
 FT = 0.3048
 SLUG = 14.593902937
@@ -35,24 +30,24 @@ class AbsWheelParams:
     a car wheel (about 1 kg m^2) to the papers' 12 and 25 kg m^2, road speeds up to 70 m/s.
     """
 
-    mass_kg: float = field(default=100.0, metadata=_pos(20.0, 5000.0))
-    wheel_inertia_kg_m2: float = field(default=12.0, metadata=_pos(0.1, 50.0))
-    wheel_radius_m: float = field(default=0.5, metadata=_pos(0.15, 1.0))
-    v0_m_s: float = field(default=30.0, metadata=_pos(1.0, 70.0))
-    g_m_s2: float = field(default=9.81, metadata=_pos(9.7, 9.9))
-    actuator_gain: float = field(default=100.0, metadata=_pos(1.0, 1e4, unit="1/s"))
-    actuator_tau_s: float = field(default=0.01, metadata=_pos(1e-3, 0.5))
-    brake_gain: float = field(default=1.0, metadata=_pos(0.1, 1000.0, unit="N m per pressure unit"))
-    q_max: float = field(default=1500.0, metadata=_pos(10.0, 1e5, unit="pressure unit"))
-    v_stop_m_s: float = field(default=0.5, metadata=_pos(0.01, 10.0))
-    t_max_s: float = field(default=60.0, metadata=_pos(1.0, 600.0))
-    """Default: the larger of 60 s and 3 bound times of the road (`default_t_max_s`)."""
-    dt_s: float = field(default=1e-3, metadata=_pos(1e-5, 0.01))
-    load_fraction: float = field(default=1.0, metadata=_pos(0.2, 1.0))
-    """Wheel load as a fraction of M g: 1 here; 0.25 only in `sldemo` (MathWorks' quirk)."""
-    lock_ratio: float = field(
-        default=0.01, metadata={"unit_interval": True, "plausible": (0.001, 0.2)}
+    mass_kg: float = field(default=100.0, metadata=positive(20.0, 5000.0))
+    wheel_inertia_kg_m2: float = field(default=12.0, metadata=positive(0.1, 50.0))
+    wheel_radius_m: float = field(default=0.5, metadata=positive(0.15, 1.0))
+    v0_m_s: float = field(default=30.0, metadata=positive(1.0, 70.0))
+    g_m_s2: float = field(default=9.81, metadata=positive(9.7, 9.9))
+    actuator_gain: float = field(default=100.0, metadata=positive(1.0, 1e4, unit="1/s"))
+    actuator_tau_s: float = field(default=0.01, metadata=positive(1e-3, 0.5))
+    brake_gain: float = field(
+        default=1.0, metadata=positive(0.1, 1000.0, unit="N m per pressure unit")
     )
+    q_max: float = field(default=1500.0, metadata=positive(10.0, 1e5, unit="pressure unit"))
+    v_stop_m_s: float = field(default=0.5, metadata=positive(0.01, 10.0))
+    t_max_s: float = field(default=60.0, metadata=positive(1.0, 600.0))
+    """Default: the larger of 60 s and 3 bound times of the road (`default_t_max_s`)."""
+    dt_s: float = field(default=1e-3, metadata=positive(1e-5, 0.01))
+    load_fraction: float = field(default=1.0, metadata=positive(0.2, 1.0))
+    """Wheel load as a fraction of M g: 1 here; 0.25 only in `sldemo` (MathWorks' quirk)."""
+    lock_ratio: float = field(default=0.01, metadata=unit_interval(0.001, 0.2))
     """The wheel counts as locked while w R < lock_ratio v."""
 
 

@@ -40,11 +40,24 @@ PLANT_SLOTS: tuple[tuple[str, str, str], ...] = (
     ("road_gain", "m/s^0.5", "b of the road filter"),
 )
 """The plant vector read by `closed_loop`: (name, unit, meaning), in order (the kernels' Layout)."""
-_P = {name: i for i, (name, _, _) in enumerate(PLANT_SLOTS)}
-P_MS, P_MU, P_KS, P_CS = (
-    _P[n] for n in ("sprung_mass_kg", "unsprung_mass_kg", "spring_n_m", "damper_n_s_m")
+
+
+def _positions(slots: tuple[tuple[str, str, str], ...], *names: str) -> tuple[int, ...]:
+    """The positions of `names` among the slots' names."""
+    order = [name for name, _, _ in slots]
+    return tuple(order.index(n) for n in names)
+
+
+P_MS, P_MU, P_KS, P_CS, P_KT, P_LAM, P_B = _positions(
+    PLANT_SLOTS,
+    "sprung_mass_kg",
+    "unsprung_mass_kg",
+    "spring_n_m",
+    "damper_n_s_m",
+    "tire_stiffness_n_m",
+    "road_pole_rad_s",
+    "road_gain",
 )
-P_KT, P_LAM, P_B = (_P[n] for n in ("tire_stiffness_n_m", "road_pole_rad_s", "road_gain"))
 N_PLANT = len(PLANT_SLOTS)
 
 # feedback signal codes
@@ -70,10 +83,8 @@ OUTPUT_SLOTS: tuple[tuple[str, str, str], ...] = (
     ("body_disp", "m", "body displacement zs"),
 )
 """The rows of C (outputs y = C x): (name, unit, meaning), in order (the kernels' Layout)."""
-OUTPUT_NAMES = tuple(name for name, _, _ in OUTPUT_SLOTS)
-OUT_ACC, OUT_TRAVEL, OUT_TIRE, OUT_FORCE, OUT_ROAD, OUT_ZS = (
-    OUTPUT_NAMES.index(n)
-    for n in ("body_acc", "susp_travel", "tire_defl", "force", "road", "body_disp")
+OUT_ACC, OUT_TRAVEL, OUT_TIRE, OUT_FORCE, OUT_ROAD, OUT_ZS = _positions(
+    OUTPUT_SLOTS, "body_acc", "susp_travel", "tire_defl", "force", "road", "body_disp"
 )
 N_OUT = len(OUTPUT_SLOTS)
 

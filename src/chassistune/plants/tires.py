@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from chassistune.errors import InputError
+from chassistune.params import nonnegative, positive
 
 KIND_TABLE = 0
 KIND_BURCKHARDT = 1
@@ -88,9 +89,9 @@ class TireCurve:
 class BilinearTire(TireCurve):
     """Tian et al. (derlsp-ao-abs) eq. 5 with Table 1's (S_T, mu_h, mu_g)."""
 
-    slip_opt: float = field(metadata={"positive": True, "plausible": (0.03, 0.5)})
-    mu_peak: float = field(metadata={"positive": True, "plausible": (0.05, 1.5)})
-    mu_lock: float = field(metadata={"nonnegative": True, "plausible": (0.03, 1.5)})
+    slip_opt: float = field(metadata=positive(0.03, 0.5))
+    mu_peak: float = field(metadata=positive(0.05, 1.5))
+    mu_lock: float = field(metadata=nonnegative(0.03, 1.5))
     mu_scale: float = field(default=1.0, metadata=_MU_SCALE)
 
     def __post_init__(self) -> None:
@@ -115,9 +116,9 @@ class BilinearTire(TireCurve):
 class BurckhardtTire(TireCurve):
     """Burckhardt's curve mu = c1 (1 - exp(-c2 S)) - c3 S."""
 
-    c1: float = field(metadata={"positive": True, "plausible": (0.02, 2.0)})
-    c2: float = field(metadata={"positive": True, "plausible": (1.0, 500.0)})
-    c3: float = field(metadata={"nonnegative": True, "plausible": (0.0, 1.0)})
+    c1: float = field(metadata=positive(0.02, 2.0))
+    c2: float = field(metadata=positive(1.0, 500.0))
+    c3: float = field(metadata=nonnegative(0.0, 1.0))
     mu_scale: float = field(default=1.0, metadata=_MU_SCALE)
 
     def kernel_data(self) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:

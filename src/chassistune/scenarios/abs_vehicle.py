@@ -18,7 +18,7 @@ import numpy as np
 from chassistune.controllers import vehicle_specs
 from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
-from chassistune.params import as_dict, implausible, override, validate
+from chassistune.params import as_dict, implausible, override, positive, validate
 from chassistune.plants.abs_vehicle import (
     RK4_REAL_LIMIT,
     Bound,
@@ -60,9 +60,7 @@ class VehicleScoring:
     """How runs become costs and yaw metrics (DESIGN 3.3, 5)."""
 
     lock_penalty_per_s: float = field(default=100.0, metadata={"nonnegative": True})
-    hopeless_factor: float = field(
-        default=3.0, metadata={"positive": True, "plausible": (1.5, 20.0)}
-    )
+    hopeless_factor: float = field(default=3.0, metadata=positive(1.5, 20.0))
     """Stop a candidate early once its path exceeds this many times the bound (must exceed 1:
     every run is at least as long as the bound)."""
     yaw_window_s: float = field(default=1.0, metadata={"positive": True})

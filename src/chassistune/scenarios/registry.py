@@ -11,12 +11,15 @@ from chassistune._registry import Registry
 from chassistune.plants.presets import PresetInfo
 from chassistune.scenarios.base import Plant, PlantSpec
 
+ABS_KEY_METRICS = ("stop_distance_m", "distance_ratio", "stop_time_s", "slip_itae", "locked_time_s")
+"""The metrics reported for both ABS plants (the single wheel and the 7-DOF vehicle)."""
+
 ABS_WHEEL = PlantSpec(
     name="abs-wheel",
     version=1,
     description="single-wheel (quarter-car) ABS: bilinear/Burckhardt tire, K/(s(Ts+1)) brake",
     default_preset="paper-derlsp-ao",
-    key_metrics=("stop_distance_m", "distance_ratio", "stop_time_s", "slip_itae", "locked_time_s"),
+    key_metrics=ABS_KEY_METRICS,
     plot="chassistune.plots.abs_wheel:plot_trace",
     presets="chassistune.plants.abs_wheel:PRESETS",
     roads="chassistune.plants.roads:friction_roads",
@@ -27,7 +30,7 @@ ABS_VEHICLE = PlantSpec(
     description="7-DOF vehicle ABS (deffao-vehicle-abs): four braked wheels, load transfer, "
     "combined-slip tires, uniform, mu-jump and split-mu roads, optional driver",
     default_preset="paper-deffao",
-    key_metrics=("stop_distance_m", "distance_ratio", "stop_time_s", "slip_itae", "locked_time_s"),
+    key_metrics=ABS_KEY_METRICS,
     plot="chassistune.plots.abs_vehicle:plot_trace",
     presets="chassistune.plants.abs_vehicle_params:PRESETS",
     roads="chassistune.plants.vehicle_roads:road_names",
