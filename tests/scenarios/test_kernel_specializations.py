@@ -16,12 +16,12 @@ _PROBE = """
 import json
 from chassistune.tuning.tune import tune
 from chassistune.sim import abs_vehicle_kernel as V
-from chassistune.sim.abs_wheel_kernel import simulate_bilinear
+from chassistune.sim.abs_wheel_kernel import ENTRY_POINTS, KIND_BILINEAR
 
 tune("abs-wheel", "pid", "pso", pop_size=6, max_iter=1, seed=1)
 tune("abs-vehicle", "pid", "pso", pop_size=6, max_iter=1, seed=1)
 print(json.dumps({
-    "wheel": [str(s[0]) for s in simulate_bilinear.signatures],
+    "wheel": [str(s[0]) for s in ENTRY_POINTS[KIND_BILINEAR].signatures],
     "vehicle": [str(s[0]) for s in V.simulate_abs_vehicle.signatures],
 }))
 """

@@ -64,10 +64,9 @@ from chassistune.sim.abs_wheel_kernel import (
     write_metrics,
     write_trace_row,
 )
-from chassistune.sim.abs_wheel_model import wheel_rates, wheel_slip
+from chassistune.sim.abs_wheel_model import step_end, wheel_rates, wheel_slip
 from chassistune.sim.abs_wheel_tires import KIND_TABLE, table_tuples
 from chassistune.sim.integrate import (
-    crossing_fraction,
     error_integrals,
     rk4_point,
     rk4_update,
@@ -355,12 +354,7 @@ def _run(tire, lp, p, x, tc, table, grid, spacing, jitter, acc_noise, trace, out
 
         # metrics (the ideal kernel's quadrature); slip objectives and lock end at the cut-out
         active = 0.0 if cut else 1.0
-        s_raw = (vn - wn * r_w) / vn
-        s_new = clip(s_raw, 0.0, 1.0)
-        stop = vn <= v_stop
-        frac = crossing_fraction(v, vn, v_stop, stop)
-        h = frac * dt
-        s_end = slip + frac * (s_new - slip)
+        s_raw, s_new, stop, _, h, s_end = step_end(v, vn, wn, r_w, v_stop, slip, dt)
         dist += trapezoid(v, v_stop if stop else vn, h)
         d_iae, d_itae, d_ise = error_integrals(target - slip, target - s_end, t, h)
         iae += active * d_iae

@@ -49,8 +49,8 @@ row per candidate (robust tuning): a lane takes its row when it is filled, and t
 reads only lane rows (`R_RW` ... `R_HOPELESS`). dt, t_max, the target slip and the tire are
 shared. Per-row plant parameters cost nothing extra in the vector loop.
 
-Entry points: one cached module-level function per tire law (`simulate_bilinear`,
-`simulate_burckhardt`, `simulate_table`); `simulate_abs_wheel` picks one and allocates the
+Entry points: one cached compiled function per tire law (`ENTRY_POINTS`); `simulate_abs_wheel`
+picks one and allocates the
 scratch. The controller kind is a runtime integer.
 """
 
@@ -72,7 +72,7 @@ from chassistune.controllers.switching import (
     wheel_deceleration_sample,
 )
 from chassistune.sim import abs_wheel_layout as L
-from chassistune.sim.abs_wheel_model import wheel_rates, wheel_slip
+from chassistune.sim.abs_wheel_model import step_end, wheel_rates, wheel_slip
 from chassistune.sim.abs_wheel_tires import (
     KIND_BILINEAR,
     KIND_BURCKHARDT,
@@ -82,7 +82,6 @@ from chassistune.sim.abs_wheel_tires import (
     tire_law_mu,
 )
 from chassistune.sim.integrate import (
-    crossing_fraction,
     error_integrals,
     rk3_point2,
     rk3_point3,
@@ -344,12 +343,7 @@ def _lane_step(st, l, law, method, dt, hs, h6, target, n_steps, t_timeout, live,
     qn = clip(qn, 0.0, q_max)
 
     slip = st[R_SLIP * LANES + l]
-    s_raw = (vn - wn * r_w) / vn
-    s_new = clip(s_raw, 0.0, 1.0)
-    stop = vn <= v_stop
-    frac = crossing_fraction(v, vn, v_stop, stop)
-    h = frac * dt
-    s_end = slip + frac * (s_new - slip)
+    s_raw, s_new, stop, _, h, s_end = step_end(v, vn, wn, r_w, v_stop, slip, dt)
     dist = st[R_DIST * LANES + l] + trapezoid(v, select(stop, v_stop, vn), h)
     _add_pending_integrals(st, l)  # the last step's, off this step's dependency chain
     st[R_EA * LANES + l] = target - slip
@@ -637,50 +631,24 @@ def _simulate(
         out[0, M_NTRACE] = rows
 
 
-@njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
-def simulate_bilinear(gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out, st, lane_of):
-    """`simulate_abs_wheel` for a bilinear tire (derlsp-ao-abs eq. 5)."""
-    _simulate(
-        KIND_BILINEAR, gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out, st, lane_of
-    )
+def _entry_point(law, doc):
+    """The cached entry point of tire law `law`, a constant inside (numba freezes a closure's
+    variables and keys its disk cache on them: one index file holds the three laws)."""
 
+    @njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
+    def simulate(gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out, st, lane_of):
+        _simulate(law, gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out, st, lane_of)
 
-@njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
-def simulate_burckhardt(
-    gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out, st, lane_of
-):
-    """`simulate_abs_wheel` for a Burckhardt tire."""
-    _simulate(
-        KIND_BURCKHARDT,
-        gains,
-        plant,
-        coef,
-        xc,
-        xs,
-        ys,
-        ctrl_kind,
-        c,
-        table,
-        trace,
-        out,
-        st,
-        lane_of,
-    )
-
-
-@njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
-def simulate_table(gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out, st, lane_of):
-    """`simulate_abs_wheel` for a piecewise-linear table tire (sldemo)."""
-    _simulate(
-        KIND_TABLE, gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out, st, lane_of
-    )
+    simulate.__doc__ = doc
+    return simulate
 
 
 ENTRY_POINTS = {
-    KIND_BILINEAR: simulate_bilinear,
-    KIND_BURCKHARDT: simulate_burckhardt,
-    KIND_TABLE: simulate_table,
+    KIND_BILINEAR: _entry_point(KIND_BILINEAR, "A bilinear tire (derlsp-ao-abs eq. 5)."),
+    KIND_BURCKHARDT: _entry_point(KIND_BURCKHARDT, "A Burckhardt tire."),
+    KIND_TABLE: _entry_point(KIND_TABLE, "A piecewise-linear table tire (sldemo)."),
 }
+"""`simulate_abs_wheel`'s compiled loop for each tire law."""
 _NO_TABLE = table_tuples(np.array([0.0, 1.0]), np.array([0.0, 0.0]))
 
 
