@@ -57,6 +57,7 @@ scratch. The controller kind is a runtime integer.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numba import njit
@@ -631,11 +632,19 @@ def _simulate(
         out[0, M_NTRACE] = rows
 
 
+_ENTRY_OPTIONS: dict[str, Any] = {
+    "cache": True,
+    "nogil": True,
+    "error_model": "numpy",
+    "_nrt": False,  # no reference counting (module docstring); numba's stubs omit the flag
+}
+
+
 def _entry_point(law, doc):
     """The cached entry point of tire law `law`, a constant inside (numba freezes a closure's
     variables and keys its disk cache on them: one index file holds the three laws)."""
 
-    @njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
+    @njit(**_ENTRY_OPTIONS)
     def simulate(gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out, st, lane_of):
         _simulate(law, gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out, st, lane_of)
 
