@@ -433,6 +433,30 @@ def _fill_lane(st, l, i, gains, plant, ctrl_kind, target):
     st[R_S1 * LANES + l] = wheel_slip(p[P_V0], p[P_V0] / r_w, r_w)
 
 
+METRIC_SLOTS = (
+    M_STATUS,
+    M_TIME,
+    M_DIST,
+    M_LOCK_T,
+    M_IAE,
+    M_ITAE,
+    M_ISE,
+    M_MEAN_SLIP,
+    M_PEAK_SLIP,
+    M_LOCKED_S,
+    M_CLIP,
+    M_MIN_SLIP,
+)
+TRACE_SLOTS = (T_TIME, T_V, T_WHEEL_V, T_SLIP, T_TARGET, T_Q, T_TB, T_U, T_X, T_MU)
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _put(row, slots, values):
+    """row[slots[j]] = values[j] for a tuple of slots and a tuple of as many floats."""
+    for j in range(len(slots)):
+        row[slots[j]] = values[j]
+
+
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def write_metrics(out_row, end, integrals, extremes):
     """A run's METRICS row (trace rows 0) from end = (status, stop time, distance, lock time),
@@ -441,34 +465,16 @@ def write_metrics(out_row, end, integrals, extremes):
     status, t_end, dist, lock_t = end
     iae, itae, ise, sint = integrals
     peak, locked, clip_max, min_slip = extremes
+    mean_slip = sint / t_end if t_end > 0.0 else 0.0
+    values = (float(status), t_end, dist, lock_t, iae, itae, ise, mean_slip, peak, locked)
     out_row[:] = 0.0
-    out_row[M_STATUS] = status
-    out_row[M_TIME] = t_end
-    out_row[M_DIST] = dist
-    out_row[M_LOCK_T] = lock_t
-    out_row[M_IAE] = iae
-    out_row[M_ITAE] = itae
-    out_row[M_ISE] = ise
-    out_row[M_MEAN_SLIP] = sint / t_end if t_end > 0.0 else 0.0
-    out_row[M_PEAK_SLIP] = peak
-    out_row[M_LOCKED_S] = locked
-    out_row[M_CLIP] = clip_max
-    out_row[M_MIN_SLIP] = min_slip
+    _put(out_row, METRIC_SLOTS, (*values, clip_max, min_slip))
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def write_trace_row(row, t, v, wheel_v, slip, target, q, tb, u, x, mu):
     """The TRACE columns of one trace row."""
-    row[T_TIME] = t
-    row[T_V] = v
-    row[T_WHEEL_V] = wheel_v
-    row[T_SLIP] = slip
-    row[T_TARGET] = target
-    row[T_Q] = q
-    row[T_TB] = tb
-    row[T_U] = u
-    row[T_X] = x
-    row[T_MU] = mu
+    _put(row, TRACE_SLOTS, (t, v, wheel_v, slip, target, q, tb, u, x, mu))
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
