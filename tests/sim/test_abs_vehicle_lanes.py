@@ -76,7 +76,9 @@ def test_lane_step_vectorizes():
     from chassistune.scenarios.abs_vehicle import PLANT
     from chassistune.sim import abs_vehicle_kernel as K
 
-    fresh = numba.njit(nogil=True, error_model="numpy")(K.simulate_abs_vehicle.py_func)
+    entry = K.simulate_abs_vehicle
+    options = {k: v for k, v in entry.targetoptions.items() if k not in ("cache", "nopython")}
+    fresh = numba.njit(**options)(entry.py_func)
     sc = PLANT.scenario(None, "dry-concrete", "pid")
     p, geo, surfs, ckind, c, table = sc._kernel_args
     out = np.zeros((1, K.N_METRICS))
@@ -90,6 +92,7 @@ def test_lane_step_vectorizes():
         table,
         np.zeros((0, K.N_TRACE)),
         out,
+        K.scratch(),
     )
     asm = fresh.inspect_asm(fresh.signatures[0])
     packed = re.findall(r"\bv(?:mul|add|sub|div|fmadd\w*)pd\s[^\n]*%[yz]mm", asm)

@@ -247,7 +247,7 @@ class AbsVehicleScenario(Scenario):
         empty = np.zeros((0, K.N_TRACE))
 
         def call(g: np.ndarray, out: np.ndarray) -> None:
-            K.simulate_abs_vehicle(g, p, geo, surfs, ckind, c, table, empty, out)
+            K.simulate_abs_vehicle(g, p, geo, surfs, ckind, c, table, empty, out, K.scratch())
 
         return run_chunked(call, self._kernel_gains(gains), K.N_METRICS, workers)
 
@@ -289,7 +289,7 @@ class AbsVehicleScenario(Scenario):
         n_rows = math.ceil(self.plant_params.t_max_s / self.plant_params.dt_s) + 2
         tr = np.zeros((n_rows, K.N_TRACE))
         out = np.zeros((1, K.N_METRICS))
-        K.simulate_abs_vehicle(g, p, geo, surfs, ckind, c, table, tr, out)
+        K.simulate_abs_vehicle(g, p, geo, surfs, ckind, c, table, tr, out, K.scratch())
         rows = int(out[0, K.M_NTRACE])
         signals = K.TRACE_LAYOUT.decode(tr[:rows])
         metrics = {k: json_scalar(v[0]) for k, v in self.metrics_from_raw(out).items()}
