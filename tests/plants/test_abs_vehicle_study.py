@@ -1,4 +1,5 @@
-"""Paper 003's Table 5 study configs: valid, planned on the vehicle, and the quick one runs."""
+"""The Table 5 study configs of deffao-vehicle-abs: valid, planned on the vehicle, and the quick
+one runs."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""`chassistune demo`: the README's main job until the paper reproduction replaces it.
+"""`chassistune demo` (`make demo`): a quick look at the single-wheel ABS on three roads.
 
 Simulates the three roads of Tian et al. (derlsp-ao-abs: dry concrete, wet asphalt, ice)
 without ABS and with a well-set PID, prints a table (stop time, distance, bound, ratio to

@@ -1,9 +1,8 @@
-"""Paper 003 (Tian, Huang et al. 2025): DEFFAO against MFO, POA, DBO and AO on five benchmark
-functions (Table 4), and the fuzzy PID of the 7-DOF vehicle ABS tuned by AO and DEFFAO on dry
-concrete, the mu-jump road and split-mu (Table 5, Figs. 7-9), from the shipped studies
-`deffao-vehicle-abs-functions` and `deffao-vehicle-abs` (the latter needs the `abs-vehicle`
-plant; without it, Table 5's claims are reported as cannot be checked).
-"""
+"""deffao-vehicle-abs (Tian, Huang et al. 2025): DEFFAO against MFO, POA, DBO and AO on five
+benchmark functions (Table 4), and the fuzzy PID of the 7-DOF vehicle ABS tuned by AO and DEFFAO on
+dry concrete, the mu-jump road and split-mu (Table 5, Figs. 7-9), from the shipped studies
+`deffao-vehicle-abs-functions` and `deffao-vehicle-abs` (the latter needs the `abs-vehicle` plant;
+without it, Table 5's claims are reported as cannot be checked)."""
 
 from __future__ import annotations
 
@@ -67,7 +66,7 @@ SETTING = [
 
 
 def vehicle_available() -> bool:
-    """Is the abs-vehicle plant (paper 003's plant) in this build?"""
+    """Is the abs-vehicle plant (deffao-vehicle-abs's plant) in this build?"""
     return VEHICLE in plant_names()
 
 
@@ -77,7 +76,7 @@ def studies() -> tuple[str, ...]:
 
 
 def build(ctx: common.Context) -> common.PaperSection:
-    """The section of paper 003."""
+    """The section of deffao-vehicle-abs."""
     sec = common.PaperSection(KEY, published.paper(KEY).citation, SETTING)
     sec.tables += common.budget_tables(ctx, studies())
     data = ctx.studies[FUNCTIONS_STUDY]

@@ -1,6 +1,6 @@
-"""Paper 000 (Tian et al., DERLSP-AO-PID): the single-wheel ABS PID tuned by GA, AO and DERLSP-AO
-(Tables 2-4, Figs. 10-12), no ABS against PID (Fig. 4), the AO ablation (Fig. 6) and DERLSP-AO
-against AO, MFO and GWO on the benchmark functions (Fig. 7).
+"""derlsp-ao-abs (Tian et al., DERLSP-AO-PID): the single-wheel ABS PID tuned by GA, AO and
+DERLSP-AO (Tables 2-4, Figs. 10-12), no ABS against PID (Fig. 4), the AO ablation (Fig. 6) and
+DERLSP-AO against AO, MFO and GWO on the benchmark functions (Fig. 7).
 
 Our Levy step uses Mantegna's sigma with the 1/beta power, as the AO authors' code does, where
 the paper's eq. 17 as printed has none: steps about 20 % larger.
@@ -114,7 +114,7 @@ def _road_results(
 
 
 def build(ctx: common.Context) -> common.PaperSection:
-    """The section of paper 000."""
+    """The section of derlsp-ao-abs."""
     sec = common.PaperSection(KEY, published.paper(KEY).citation, SETTING)
     sec.tables += common.budget_tables(ctx, STUDIES)
     shortest, ranking, settle, bounds_ok = [], [], [], []

@@ -1,7 +1,6 @@
-"""Paper 004 (Ding 2023): the fuzzy immune PID of the single-wheel ABS against PID, fuzzy PID and
-the threshold ABS on asphalt (mu 0.8) and dirt (mu 0.2), Figs. 4-5, from the shipped study
-`fuzzy-immune-abs` (each PID structure tuned alike by DERLSP-AO; the threshold ABS untuned).
-"""
+"""fuzzy-immune-abs (Ding 2023): the fuzzy immune PID of the single-wheel ABS against PID, fuzzy PID
+and the threshold ABS on asphalt (mu 0.8) and dirt (mu 0.2), Figs. 4-5, from the shipped study
+`fuzzy-immune-abs` (each PID structure tuned alike by DERLSP-AO; the threshold ABS untuned)."""
 
 from __future__ import annotations
 
@@ -57,7 +56,7 @@ def studies() -> tuple[str, ...]:
 
 
 def build(ctx: common.Context) -> common.PaperSection:
-    """The section of paper 004."""
+    """The section of fuzzy-immune-abs."""
     from chassistune.plots.abs_wheel import plot_comparison
 
     data = ctx.studies[STUDY]

@@ -1,4 +1,4 @@
-"""Paper 001 (Jing and Xu 2023): the quarter-car active-suspension PID tuned by ABC and by the
+"""iabc-suspension (Jing and Xu 2023): the quarter-car active-suspension PID tuned by ABC and by the
 improved ABC (IABC); Table 2 and Figs. 6-7, from the shipped study `iabc-suspension`.
 
 Table 2's ABC-PID and IABC-PID rows are each algorithm's median run (by final Q). "Traditional
@@ -137,7 +137,7 @@ def _polished_optimum(preset: str, start: np.ndarray, box: list[tuple[float, flo
 
 
 def build(ctx: common.Context) -> common.PaperSection:
-    """The section of paper 001."""
+    """The section of iabc-suspension."""
     data = ctx.studies[STUDY]
     sec = common.PaperSection(KEY, published.paper(KEY).citation, SETTING)
     sec.tables += common.budget_tables(ctx, (STUDY,))

@@ -64,8 +64,8 @@ def paper_keys(which: str) -> list[str]:
 
 
 def study_names(keys: Sequence[str]) -> list[str]:
-    """The studies the papers `keys` need, in order (available ones only: paper 003's vehicle
-    study needs the abs-vehicle plant)."""
+    """The studies the papers `keys` need, in order (available ones only: the vehicle study of
+    deffao-vehicle-abs needs the abs-vehicle plant)."""
     return [n for k in keys for n in PAPERS[k].studies()]
 
 

@@ -123,38 +123,10 @@ Q_TS, Q_AMPLITUDE, Q_DECEL, Q_ACCEL, Q_SLIP_HIGH, Q_SLOW = (
     )
 )
 
-(
-    M_STATUS,
-    M_TIME,
-    M_DIST,
-    M_LOCK_T,
-    M_IAE,
-    M_ITAE,
-    M_ISE,
-    M_MEAN_SLIP,
-    M_PEAK_SLIP,
-    M_LOCKED_S,
-    M_CLIP,
-    M_NTRACE,
-    M_MIN_SLIP,
-) = (
-    L.METRICS[n]
-    for n in (
-        "status",
-        "stop_time_s",
-        "stop_distance_m",
-        "wheel_lock_time_s",
-        "slip_iae",
-        "slip_itae",
-        "slip_ise",
-        "mean_slip",
-        "peak_slip",
-        "locked_time_s",
-        "slip_clip_max",
-        "trace_rows",
-        "min_slip_unclipped",
-    )
-)
+M_NTRACE = L.METRICS["trace_rows"]
+METRIC_SLOTS = tuple(L.METRICS[n] for n in L.METRICS.names if n != "trace_rows")
+"""The slots `write_metrics` fills, in the layout's order (status, stop time, distance, lock time,
+IAE, ITAE, ISE, mean slip, peak slip, locked time, largest clip, smallest unclipped slip)."""
 N_METRICS = len(L.METRICS)
 STATUS_STOPPED, STATUS_HOPELESS, STATUS_TIMEOUT, STATUS_DIVERGED = (
     L.STATUS_NAMES.index(n) for n in ("stopped", "hopeless", "timeout", "diverged")
@@ -433,20 +405,6 @@ def _fill_lane(st, l, i, gains, plant, ctrl_kind, target):
     st[R_S1 * LANES + l] = wheel_slip(p[P_V0], p[P_V0] / r_w, r_w)
 
 
-METRIC_SLOTS = (
-    M_STATUS,
-    M_TIME,
-    M_DIST,
-    M_LOCK_T,
-    M_IAE,
-    M_ITAE,
-    M_ISE,
-    M_MEAN_SLIP,
-    M_PEAK_SLIP,
-    M_LOCKED_S,
-    M_CLIP,
-    M_MIN_SLIP,
-)
 TRACE_SLOTS = (T_TIME, T_V, T_WHEEL_V, T_SLIP, T_TARGET, T_Q, T_TB, T_U, T_X, T_MU)
 
 
