@@ -39,6 +39,7 @@ from chassistune.params import ImplausibleValue
 from chassistune.perf.timing import best_cpu_time, best_time
 from chassistune.plants.abs_wheel import PRESETS
 from chassistune.scenarios.abs_wheel import PLANT, AbsWheelScenario
+from chassistune.scenarios.refine import refined_scenario
 from chassistune.sim import abs_wheel_layout as KL
 
 ERROR_COLUMNS = ("stop_distance_m", "slip_itae")
@@ -77,28 +78,16 @@ def rel_errors(
     """Per candidate, the larger relative error of ERROR_COLUMNS against dt / refine (NaN where
     a run does not stop at both steps) and whether it is ill-conditioned (`conditioning`: the
     reference moves by more than COND_TOL when the gains are scaled by 1 + PERTURBATION or the
-    step is doubled)."""
+    step is doubled: dt / (refine / 2))."""
     with warnings.catch_warnings():  # dt / 100 may lie below the plausible range
         warnings.simplefilter("ignore", ImplausibleValue)
-        fine = PLANT.scenario(
-            scenario.preset,
-            scenario.road,
-            scenario.controller.name,
-            {"dt_s": scenario.plant_params.dt_s / refine},
-        )
+        fine = refined_scenario(scenario, refine, {})
+        half = refined_scenario(scenario, refine // 2, {})
     ours, ref = scenario.raw(gains), fine.raw(gains)
     stopped = KL.STATUS_NAMES.index("stopped")
     both = (ours[:, KL.METRICS["status"]] == stopped) & (ref[:, KL.METRICS["status"]] == stopped)
     ill = np.zeros(len(gains), dtype=bool)
     if conditioning:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", ImplausibleValue)
-            half = PLANT.scenario(
-                scenario.preset,
-                scenario.road,
-                scenario.controller.name,
-                {"dt_s": 2.0 * scenario.plant_params.dt_s / refine},
-            )
         moved = np.maximum(
             _rel_change(fine.raw(gains * (1.0 + PERTURBATION)), ref),
             _rel_change(half.raw(gains), ref),

@@ -16,11 +16,13 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, TypeVar, cast
 
 import numpy as np
 
 from chassistune.scenarios.base import Scenario
+
+S = TypeVar("S", bound=Scenario)
 
 THRESHOLD = 1e-3
 REFINABLE_PLANTS = ("abs-wheel", "abs-vehicle")
@@ -84,18 +86,22 @@ def _rel_change(coarse: float, fine: float) -> float:
     return float(abs(coarse - fine) / abs(fine)) if fine != 0.0 else float("inf")
 
 
-def refined_scenario(scenario: Scenario, factor: int, base: Mapping[str, object]) -> Scenario:
+def refined_scenario(scenario: S, factor: int, base: Mapping[str, object]) -> S:
     """The scenario built again from the parameter overrides `base` it was built from, at
-    dt_s / factor (sample periods such as ts_s do not follow dt_s: the controller is unchanged)."""
+    dt_s / factor (sample periods such as ts_s do not follow dt_s: the controller is unchanged),
+    by the same plant, hence of the same type."""
     from chassistune.scenarios.registry import get_plant
 
     dt_s = float(scenario.params()["dt_s"]) / factor
-    return get_plant(scenario.plant).scenario(
-        scenario.preset,
-        scenario.road,
-        scenario.controller.name,
-        {**base, "dt_s": dt_s},
-        scenario.seed,
+    return cast(
+        S,
+        get_plant(scenario.plant).scenario(
+            scenario.preset,
+            scenario.road,
+            scenario.controller.name,
+            {**base, "dt_s": dt_s},
+            scenario.seed,
+        ),
     )
 
 

@@ -354,7 +354,7 @@ def _run(tire, lp, p, x, tc, table, grid, spacing, jitter, acc_noise, trace, out
 
         # metrics (the ideal kernel's quadrature); slip objectives and lock end at the cut-out
         active = 0.0 if cut else 1.0
-        s_raw, s_new, stop, _, h, s_end = step_end(v, vn, wn, r_w, v_stop, slip, dt)
+        s_raw, s_new, stop, h, s_end = step_end(v, vn, wn, r_w, v_stop, slip, dt)
         dist += trapezoid(v, v_stop if stop else vn, h)
         d_iae, d_itae, d_ise = error_integrals(target - slip, target - s_end, t, h)
         iae += active * d_iae

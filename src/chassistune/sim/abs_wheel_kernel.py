@@ -316,7 +316,7 @@ def _lane_step(st, l, law, method, dt, hs, h6, target, n_steps, t_timeout, live,
     qn = clip(qn, 0.0, q_max)
 
     slip = st[R_SLIP * LANES + l]
-    s_raw, s_new, stop, _, h, s_end = step_end(v, vn, wn, r_w, v_stop, slip, dt)
+    s_raw, s_new, stop, h, s_end = step_end(v, vn, wn, r_w, v_stop, slip, dt)
     dist = st[R_DIST * LANES + l] + trapezoid(v, select(stop, v_stop, vn), h)
     _add_pending_integrals(st, l)  # the last step's, off this step's dependency chain
     st[R_EA * LANES + l] = target - slip

@@ -9,7 +9,7 @@ and branch-free for the compiled kernels (numba, inline="always").
         -> (dv, dw, dq, dr, sat_hi, sat_lo)    (fx = mu(S) Fz; sat_*: q at a limit, for the
                                                  controller's conditional integration)
     step_end(v, vn, wn, r_w, v_stop, slip, dt)
-        -> (s_raw, s_new, stop, frac, h, s_end) the slip at a step's end and the stop inside it
+        -> (s_raw, s_new, stop, h, s_end)  the slip at a step's end and the stop inside it
 """
 
 from __future__ import annotations
@@ -43,10 +43,10 @@ def wheel_rates(w, q, r, fx, u, r_w, inv_m, inv_i, kq, gain, inv_tau, q_max):
 def step_end(v, vn, wn, r_w, v_stop, slip, dt):
     """A step of length dt from vehicle speed v to (vn, wheel speed wn), whose slip was `slip`
     at its start: the slip at its end unclipped (s_raw) and clipped (s_new), whether the speed
-    crossed v_stop, the fraction frac of the step and its length h up to there, and the slip
-    s_end at that point (linear in the step)."""
+    crossed v_stop, the length h of the step up to there, and the slip s_end at that point
+    (linear in the step)."""
     s_raw = (vn - wn * r_w) / vn
     s_new = clip(s_raw, 0.0, 1.0)
     stop = vn <= v_stop
     frac = crossing_fraction(v, vn, v_stop, stop)
-    return s_raw, s_new, stop, frac, frac * dt, slip + frac * (s_new - slip)
+    return s_raw, s_new, stop, frac * dt, slip + frac * (s_new - slip)
