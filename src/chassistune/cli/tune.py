@@ -43,17 +43,17 @@ if TYPE_CHECKING:
 )
 @click.option(
     "--controller",
-    required=True,
+    default="pid",
+    show_default=True,
     cls=ChoicesOption,
     choices_of="controllers",
     help="Controller whose gains are tuned.",
 )
 @click.option(
     "--optimizer",
-    required=True,
     cls=ChoicesOption,
     choices_of="optimizers",
-    help="Optimizer (`chassistune list optimizers`).",
+    help="Optimizer (`chassistune list optimizers`); required.",
 )
 @click.option("--pop", "pop_size", default=30, show_default=True, type=int, help="Population size.")
 @click.option(
@@ -90,7 +90,7 @@ def tune_command(
     roads: tuple[str, ...],
     aggregate: str,
     controller: str,
-    optimizer: str,
+    optimizer: str | None,
     pop_size: int,
     iters: int | None,
     evals: int | None,
@@ -118,7 +118,8 @@ def tune_command(
     from chassistune.tuning.problem import build_problem
     from chassistune.tuning.tune import Incumbent, run_optimizer
 
-    get_optimizer(optimizer)
+    if optimizer is not None:
+        get_optimizer(optimizer)
     for name, value in (("--iters", iters), ("--evals", evals), ("--pop", pop_size)):
         if value is not None and value < 1:
             raise InputError(name, f"must be a positive whole number, got {value}")
@@ -133,6 +134,8 @@ def tune_command(
     )
     problem = robust_or_nominal(problem, aggregate, robust, values, seed)
     _check_test_roads(plant, preset, controller, values, seed, test_roads)
+    if optimizer is None:  # reported once every given option has been checked
+        raise InputError("--optimizer", "missing (chassistune list optimizers)")
     make(optimizer, problem.bounds, pop_size, seed, max_iter=iters, max_evals=evals)  # checks
     check_covers_population(pop_size, evals)
     announce_compile(plant)
