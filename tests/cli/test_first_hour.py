@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import json
 
+import pytest
+
 
 def test_tune_defaults_to_pid(cli):
     r = cli("tune", "abs-wheel", "--optimizer", "pso", "--pop", "4", "--iters", "1", "--json")
@@ -18,3 +20,48 @@ def test_tune_checks_every_given_option_before_a_missing_one(cli):
     r = cli("tune", "abs-wheel", "--controller", "pid")
     assert r.code == 2, r.err
     assert r.err.strip() == "chassistune: error: --optimizer: missing (chassistune list optimizers)"
+
+
+def test_list_params_prints_a_table_road_as_plain_numbers(cli):
+    r = cli("list", "params", "abs-wheel", "--preset", "sldemo")
+    assert r.code == 0, r.err
+    assert "np.float64" not in r.out
+    assert "(0, 0.05, 0.1," in r.out
+
+
+def _listed(cli, plant: str) -> dict[str, list[str]]:
+    """`list params PLANT --json`: group -> names of its parameters."""
+    r = cli("list", "params", plant, "--json")
+    assert r.code == 0, r.err
+    return {g: [f["name"] for f in fields] for g, fields in json.loads(r.out)["params"].items()}
+
+
+def test_list_params_names_the_controller_parameters_param_sets(cli):
+    from chassistune.cli.list_cmd import CONTROLLER_GROUP
+
+    names = _listed(cli, "abs-wheel")[CONTROLLER_GROUP]
+    for name in ("target_slip", "n_filter", "ts_s", "amplitude", "decel_threshold_m_s2"):
+        assert name in names
+    r = cli("list", "params", "abs-wheel", "--json")
+    rows = json.loads(r.out)["params"][CONTROLLER_GROUP]
+    assert {"name": "n_filter", "controllers": ["pid", "fuzzy-pid"]}.items() <= {
+        k: v for row in rows if row["name"] == "n_filter" for k, v in row.items()
+    }.items()
+    assert "n_filter" in _listed(cli, "abs-vehicle")[CONTROLLER_GROUP]
+
+
+def test_list_params_of_the_quarter_car_lists_its_parameters(cli):
+    groups = _listed(cli, "quarter-car")
+    names = [n for fields in groups.values() for n in fields]
+    for name in ("sprung_mass_kg", "damper_n_s_m", "speed_m_s", "dt_s", "n_filter", "feedback"):
+        assert name in names
+
+
+def test_the_quarter_car_warns_about_an_implausible_value():
+    from chassistune.params import ImplausibleValue
+    from chassistune.scenarios.registry import get_plant
+
+    with pytest.warns(ImplausibleValue, match="sprung_mass_kg: 5 kg is outside"):
+        get_plant("quarter-car").scenario(None, None, "pid", {"sprung_mass_kg": "5"})
+    with pytest.warns(ImplausibleValue, match="speed_m_s: 200 m/s"):
+        get_plant("quarter-car").scenario(None, None, "pid", {"speed_m_s": "200"})

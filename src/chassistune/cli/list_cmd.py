@@ -78,13 +78,65 @@ def _print_human(kind: str, data: object) -> None:
             click.echo(f"{item['name']:<14} {item.get('description', '')}")
 
 
+CONTROLLER_GROUP = "controller (each applies to the controllers named)"
+"""The `list params` group of the controllers' fixed parameters."""
+
+
 def parameters(plant: str, preset: str | None) -> dict[str, list[dict[str, object]]]:
     """`list params PLANT`: each parameter group's fields with unit, default (the preset's
-    value), valid range and plausible range."""
+    value), valid range and plausible range; the controllers' fixed parameters last."""
     from chassistune.params import describe
     from chassistune.scenarios.registry import get_plant
 
-    return {group: describe(obj) for group, obj in get_plant(plant).parameter_sets(preset).items()}
+    groups = get_plant(plant).parameter_sets(preset)
+    out = {group: describe(obj) for group, obj in groups.items()}
+    controller = controller_parameters(plant, preset)
+    if controller:
+        out[CONTROLLER_GROUP] = controller
+    return out
+
+
+def controller_parameters(plant: str, preset: str | None) -> list[dict[str, object]]:
+    """The fixed parameters `--param` sets on the controllers of `plant` (and abs-wheel's
+    `target_slip`), each with unit, default (as resolved on the preset's first road; one row
+    per distinct default), valid range and the controllers that read it."""
+    from chassistune.scenarios.registry import get_plant
+
+    rows: dict[str, dict[str, object]] = {}
+    for spec in get_plant(plant).controllers():
+        values = get_plant(plant).scenario(preset, None, spec.name).params()
+        fields = [(ps.name, ps.unit, _valid_text(ps.positive, ps.choices)) for ps in spec.params]
+        if "target_slip" in values:
+            fields.append(("target_slip", "-", "(0, 1)"))
+        for name, unit, valid in fields:
+            row = rows.setdefault(
+                f"{name}={values.get(name)!r}",
+                {
+                    "name": name,
+                    "unit": unit,
+                    "default": values.get(name),
+                    "valid": valid,
+                    "plausible": None,
+                    "controllers": [],
+                },
+            )
+            row["controllers"].append(spec.name)  # type: ignore[attr-defined]
+    return list(rows.values())
+
+
+def _valid_text(positive: bool, choices: tuple[str, ...]) -> str:
+    if choices:
+        return " | ".join(choices)
+    return "> 0" if positive else "text"
+
+
+def _shown_default(value: object) -> str:
+    """A default as text: numbers in %g, a tuple of numbers as one (a table road's slips)."""
+    if isinstance(value, tuple):
+        return "(" + ", ".join(_shown_default(v) for v in value) + ")"
+    if isinstance(value, float):
+        return f"{value:g}"
+    return str(value)
 
 
 def _print_params(data: dict[str, list[dict[str, object]]]) -> None:
@@ -93,11 +145,11 @@ def _print_params(data: dict[str, list[dict[str, object]]]) -> None:
         for f in fields:
             span = f["plausible"]
             plausible = f"plausible [{span[0]:g}, {span[1]:g}]" if span else ""  # type: ignore[index]
-            default = f["default"]
-            shown = f"{default:g}" if isinstance(default, float) else str(default)
+            used_by = ", ".join(f.get("controllers", []))  # type: ignore[arg-type]
+            used_by = f"used by {used_by}" if used_by else ""
             click.echo(
-                f"  {f['name']:<22} {shown:>12} {f['unit']:<22} valid {f['valid']:<7} "
-                f"{plausible}".rstrip()
+                f"  {f['name']:<22} {_shown_default(f['default']):>12} {f['unit']:<22} "
+                f"valid {f['valid']:<7} {plausible}{used_by}".rstrip()
             )
 
 

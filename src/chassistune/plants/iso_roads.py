@@ -24,6 +24,7 @@ import numpy as np
 
 from chassistune._rng import make_rng
 from chassistune.errors import InputError
+from chassistune.params import positive
 
 N0_CYCLES_PER_M = 0.1
 NOISE_INTENSITY = 0.5
@@ -37,8 +38,8 @@ class RoadParams:
     """Road and travel: class coefficient Gq = Gd(n0), speed, cut-off of the road filter."""
 
     gq_m3: float = field(default=64e-6, metadata=_POS)
-    speed_m_s: float = field(default=20.0, metadata=_POS)
-    cutoff_hz: float = field(default=0.1, metadata=_POS)
+    speed_m_s: float = field(default=20.0, metadata=positive(1.0, 70.0))
+    cutoff_hz: float = field(default=0.1, metadata=positive(0.001, 10.0))
     n0_cycles_per_m: float = field(default=N0_CYCLES_PER_M, metadata=_POS)
 
     @property

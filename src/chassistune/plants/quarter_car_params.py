@@ -7,21 +7,22 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from chassistune.params import positive
 from chassistune.plants.presets import Preset, PresetInfo
 
 G_M_S2 = 9.80665
-_POS = {"positive": True}
 
 
 @dataclass(frozen=True)
 class QuarterCarParams:
-    """Vehicle: 2-DOF quarter car of `iabc-suspension` Table 1 (SI)."""
+    """Vehicle: 2-DOF quarter car of `iabc-suspension` Table 1 (SI). The plausible ranges span
+    a quarter of a small car to a loaded truck's axle end, and the paper's stiff damper."""
 
-    sprung_mass_kg: float = field(default=320.0, metadata=_POS)
-    unsprung_mass_kg: float = field(default=45.0, metadata=_POS)
-    spring_n_m: float = field(default=17000.0, metadata=_POS)
-    damper_n_s_m: float = field(default=12000.0, metadata=_POS)
-    tire_stiffness_n_m: float = field(default=200000.0, metadata=_POS)
+    sprung_mass_kg: float = field(default=320.0, metadata=positive(50.0, 3000.0))
+    unsprung_mass_kg: float = field(default=45.0, metadata=positive(5.0, 500.0))
+    spring_n_m: float = field(default=17000.0, metadata=positive(1e3, 1e6))
+    damper_n_s_m: float = field(default=12000.0, metadata=positive(100.0, 5e4))
+    tire_stiffness_n_m: float = field(default=200000.0, metadata=positive(5e4, 5e6))
 
     @property
     def damping_ratio(self) -> float:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
@@ -18,13 +19,13 @@ import numpy as np
 from chassistune.controllers import catalogue
 from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
-from chassistune.params import as_dict, override, validate
+from chassistune.params import as_dict, implausible, override, positive, validate
 from chassistune.plants import iso_roads
 from chassistune.plants import quarter_car as model
 from chassistune.plants.presets import Preset
 from chassistune.plants.quarter_car_params import QuarterCarParams
 from chassistune.plants.roads import roughness_class
-from chassistune.scenarios.base import PENALTY, Plant, Scenario, Trace, json_scalar
+from chassistune.scenarios.base import PENALTY, Plant, Scenario, Trace, json_scalar, pick_preset
 from chassistune.scenarios.registry import QUARTER_CAR
 from chassistune.sim import lyapunov
 from chassistune.sim import quarter_car_kernel as kernel
@@ -35,15 +36,13 @@ MAX_STEPS = 20_000_000
 MAX_TRACE_SAMPLES = 1_000_001
 """Longer traces are recorded every stride-th step."""
 
-_POS = {"positive": True}
-
 
 @dataclass(frozen=True)
 class SolverParams:
     """Simulated time and step of the exact discretization (noise held over the step)."""
 
-    duration_s: float = field(default=10.0, metadata=_POS)
-    dt_s: float = field(default=1e-3, metadata=_POS)
+    duration_s: float = field(default=10.0, metadata=positive(1.0, 600.0))
+    dt_s: float = field(default=1e-3, metadata=positive(1e-5, 0.01))
 
     @property
     def n_steps(self) -> int:
@@ -55,7 +54,7 @@ class ControllerParams:
     """Fixed parameters of the linear controllers (only `pid` exposes them)."""
 
     feedback: str = "body_velocity"
-    n_filter: float = field(default=100.0, metadata=_POS)
+    n_filter: float = field(default=100.0, metadata=positive(1.0, 1e4))
 
 
 OBJECTIVES = ("rms-ratio-exact", "rms-ratio")
@@ -315,6 +314,18 @@ class QuarterCarPlant(Plant[QuarterCarScenario]):
     def controllers(self) -> list[ControllerSpec]:
         return catalogue.for_plant(QUARTER_CAR.name)
 
+    def parameter_sets(self, preset: str | None = None) -> dict[str, Any]:
+        presets = self.spec.preset_table()
+        pre = presets[pick_preset(self.name, preset, self.default_preset, presets)]
+        road = pre.info.roads[0]
+        return {
+            "plant": pre.params,
+            f"road ({road}; others have their own gq_m3)": iso_roads.RoadParams(
+                gq_m3=roughness_class(road)
+            ),
+            "solver": SolverParams(),
+        }
+
     def build(
         self,
         preset: str,
@@ -353,9 +364,13 @@ class QuarterCarPlant(Plant[QuarterCarScenario]):
             )
         iso_roads.validate_road(road_params)
         _check_solver(solver)
-        return QuarterCarScenario(
+        scenario = QuarterCarScenario(
             preset, road, spec, validate(vehicle, "params."), road_params, solver, ctrl, int(seed)
         )
+        for obj in (vehicle, road_params, solver, ctrl):
+            for warning in implausible(obj):  # valid input only
+                warnings.warn(warning, stacklevel=2)
+        return scenario
 
 
 def _check_solver(solver: SolverParams) -> None:
