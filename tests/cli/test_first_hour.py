@@ -4,6 +4,7 @@ output checks, units and `simulate --r13h`; one test (or more) per fault."""
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import pytest
 
@@ -65,3 +66,38 @@ def test_the_quarter_car_warns_about_an_implausible_value():
         get_plant("quarter-car").scenario(None, None, "pid", {"sprung_mass_kg": "5"})
     with pytest.warns(ImplausibleValue, match="speed_m_s: 200 m/s"):
         get_plant("quarter-car").scenario(None, None, "pid", {"speed_m_s": "200"})
+
+
+def _read_only(tmp_path):
+    """A folder this process cannot write in: mode 0o555, or for root the read-only /sys."""
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    folder.chmod(0o555)
+    for candidate in (folder, Path("/sys")):
+        try:
+            (candidate / ".chassistune-probe").write_text("")
+        except OSError:
+            return candidate
+        (candidate / ".chassistune-probe").unlink()
+    pytest.skip("no read-only folder here")
+
+
+@pytest.mark.parametrize(
+    ("args", "option"),
+    [(("reproduce", "all", "--quick", "--out"), "--out"), (("study", "report"), "DIR")],
+)
+def test_an_unwritable_output_is_refused_before_any_work(cli, tmp_path, monkeypatch, args, option):
+    import chassistune.papers.reproduce
+    import chassistune.reports.build
+
+    def no_work(*a: object, **k: object) -> None:
+        raise AssertionError("work started before the output was checked")
+
+    monkeypatch.setattr(chassistune.papers.reproduce, "plan_reproduction", no_work)
+    monkeypatch.setattr(chassistune.reports.build, "build_report", no_work)
+    folder = _read_only(tmp_path)
+    target = folder if option == "DIR" else folder / "rep"
+    r = cli(*args, str(target))
+    assert r.code == 2, r.err
+    assert r.err.startswith(f"chassistune: error: {option}: cannot write in"), r.err
+    assert r.err.count("\n") == 1

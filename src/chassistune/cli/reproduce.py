@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import click
 
+from chassistune.cli.common import check_output_dir
 from chassistune.cli.options import executor_options
 
 PAPER_CHOICES = [
@@ -51,6 +52,7 @@ def reproduce_command(
     kill), then one report with the papers' numbers beside ours and a verdict per claim.
     Example: chassistune reproduce all --quick --out reproduce-output
     """
+    check_output_dir(out_dir, "--out")
     from chassistune.papers.report import counts_text
     from chassistune.papers.reproduce import check_reproduction, reproduce
     from chassistune.studies.executors import check_dask, make_executor

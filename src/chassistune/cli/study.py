@@ -120,6 +120,7 @@ def _warn_unequal_budgets(study_dir: str) -> None:
 )
 def report_command(study_dir: str, reference: str | None, interactive: bool) -> None:
     """Statistics, tables and figures of a study: DIR/report.html, CSV and PNG files."""
+    check_output_dir(study_dir, "DIR")
     from chassistune.reports.build import build_report
 
     if interactive:
