@@ -101,3 +101,104 @@ def test_an_unwritable_output_is_refused_before_any_work(cli, tmp_path, monkeypa
     assert r.code == 2, r.err
     assert r.err.startswith(f"chassistune: error: {option}: cannot write in"), r.err
     assert r.err.count("\n") == 1
+
+
+@pytest.fixture(scope="module")
+def small_tune():
+    """One small PID tune of abs-wheel on dry concrete (shared)."""
+    from chassistune.tuning.tune import tune
+
+    return tune("abs-wheel", "pid", "pso", pop_size=6, max_iter=2, seed=0)
+
+
+def _at(result, gains: dict[str, float]):
+    """`result` as if the optimizer had ended at `gains` (its cost scored on the problem)."""
+    import dataclasses
+
+    import numpy as np
+
+    x = np.array([[gains[n] for n in result.problem.gain_names]])
+    return dataclasses.replace(result, best_gains=gains, fun=float(result.problem(x)[0]))
+
+
+def test_tune_json_gives_the_default_gains_and_their_cost(cli, small_tune):
+    from chassistune.scenarios.registry import get_plant
+
+    r = cli("tune", "abs-wheel", "--optimizer", "pso", "--pop", "4", "--iters", "1", "--json")
+    assert r.code == 0, r.err
+    doc = json.loads(r.out)
+    assert doc["default_gains"] == {"kp": 5000.0, "ki": 0.0, "kd": 230.0}
+    sc = get_plant("abs-wheel").scenario(None, None, "pid")
+    assert doc["default_cost"] == float(sc.cost(sc.gains_array(None)[None, :])[0])
+    assert small_tune.default_cost == doc["default_cost"]
+    worse = doc["best_cost"] > doc["default_cost"]
+    assert worse  # four random candidates do not beat the registry's defaults
+    lines = [x for x in r.err.splitlines() if "worse than the default gains'" in x]
+    assert len(lines) == 1 and f"budget ({doc['nfev']} evaluations)" in lines[0], r.err
+
+
+def test_the_text_output_shows_the_default_cost_beside_the_tuned(cli):
+    r = cli("tune", "abs-wheel", "--optimizer", "pso", "--pop", "4", "--iters", "1")
+    assert r.code == 0, r.err
+    assert "default gains: cost 0.0007346 with kp=5000, ki=0, kd=230" in r.out
+    assert "--gains" not in r.err  # never passed: no warning names it
+
+
+def test_a_gain_at_its_floor_of_zero_is_no_cut_off_optimum(small_tune):
+    at_floor = _at(small_tune, {"kp": 5000.0, "ki": 0.0, "kd": 230.0})
+    assert at_floor.gains_cut_off() == []
+
+
+def test_a_gain_at_a_bound_the_cost_falls_past_is_a_cut_off_optimum(small_tune):
+    at_top = _at(small_tune, {"kp": 3498.3319284180607, "ki": 10000.0, "kd": 137.98294966885962})
+    hits = at_top.gains_cut_off()
+    assert [(h.gain, h.bound, h.probe) for h in hits] == [("ki", 1e4, 11000.0)]
+    assert hits[0].probe_cost < at_top.best_cost
+
+
+def test_the_quarter_cars_small_integral_gain_is_not_called_cut_off():
+    from chassistune.tuning.tune import tune
+
+    result = tune("quarter-car", "pid", "pso", pop_size=4, max_iter=1, seed=0)
+    tuned = _at(result, {"kp": 356.48, "ki": 452.98, "kd": 210.61})  # iabc 100 x 100's result
+    assert tuned.gains_cut_off() == []
+
+
+def test_the_step_check_warning_names_the_step_to_tune_at(small_tune):
+    import dataclasses
+
+    from chassistune.scenarios.refine import StepCheck
+
+    failed = dataclasses.replace(small_tune, step_checks={"ice": StepCheck(4, 1e-3, 1.0, 0.5, 1.0)})
+    (line,) = failed.step_warnings()
+    assert "ranking of candidates on ice is not meaningful at dt_s = 0.001" in line
+    assert line.endswith("tune again with --param dt_s=0.00025")
+
+
+def _readme_tune_lines() -> list[list[str]]:
+    """The README tour's `chassistune tune ...` commands (continuation lines joined), as
+    argument lists without `--out`."""
+    import shlex
+
+    text = (Path(__file__).parents[2] / "README.md").read_text(encoding="utf-8")
+    text = text.replace("\\\n", " ")
+    out = []
+    for line in text.splitlines():
+        if line.startswith("chassistune tune "):
+            args = shlex.split(line.partition("#")[0])[1:]
+            if "--out" in args:
+                i = args.index("--out")
+                del args[i : i + 2]
+            out.append(args)
+    return out
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("args", _readme_tune_lines(), ids=lambda a: " ".join(a[1:6]))
+def test_the_readmes_tune_examples_improve_on_the_default_gains(cli, args):
+    assert len(_readme_tune_lines()) == 4
+    r = cli(*args, "--json")
+    assert r.code == 0, r.err
+    doc = json.loads(r.out)
+    assert doc["best_cost"] <= doc["default_cost"], (doc["best_cost"], doc["default_cost"])
+    assert "worse than the default gains'" not in r.err

@@ -258,12 +258,14 @@ def test_tune_reports_test_roads_and_warns_of_gains_at_their_bounds(cli):
     assert r.code == 2 and r.err.startswith("chassistune: error: --test-road: unknown road")
 
 
-def test_gains_near_their_bounds_are_found():
+def test_gains_the_box_cuts_off_are_found():
     from chassistune.tuning.tune import tune
 
     result = tune("abs-wheel", "pid", "pso", pop_size=6, max_iter=1, seed=3)
     lo_hi = dict(zip(result.problem.gain_names, result.problem.bounds, strict=True))
-    near = {name for name, _, _ in result.gains_near_bounds(tolerance=1.0)}
-    assert near == set(lo_hi)  # a tolerance of the whole box flags every gain
-    for name, value, bound in result.gains_near_bounds():
-        assert abs(value - bound) <= 0.01 * (lo_hi[name][1] - lo_hi[name][0])
+    for tolerance in (1.0, 0.01):
+        for hit in result.gains_cut_off(tolerance=tolerance):
+            lo, hi = lo_hi[hit.gain]
+            assert hit.bound in (lo, hi) and hit.bound != 0.0
+            assert abs(hit.value - hit.bound) <= tolerance * (hi - lo)
+            assert not lo <= hit.probe <= hi and hit.probe_cost < result.best_cost

@@ -164,14 +164,8 @@ def tune_command(
         _print_result(result, plant, controller, optimizer, written, extra)
         for road, m in tested.items():
             click.echo(f"  test on {road}: " + _metric_line(m))
-    for line in result.step_warnings():
+    for line in _warnings(result, controller):
         click.echo(f"chassistune: warning: {line}", err=True)
-    for name, gain, bound in result.gains_near_bounds():
-        click.echo(
-            f"chassistune: warning: --gains {name}: tuned to {gain:.6g}, within 1 % of "
-            f"its bound {bound:g}: the best gains may lie outside the box",
-            err=True,
-        )
     if result.best_cost >= PENALTY:
         raise click.ClickException(
             f"no candidate of {result.nfev} could be scored (every one got the penalty "
@@ -200,6 +194,20 @@ def _finished_before_interrupt(nfev: int, out_dir: str | None) -> str:
     return f"the tune had finished ({nfev} evaluations) and was being written out{where}"
 
 
+def _warnings(result: TuneResult, controller: str) -> list[str]:
+    """The tune's warnings: worse than the defaults, not converged in the step, an optimum
+    the box plausibly cuts off."""
+    lines = [result.worse_than_default(), *result.step_warnings()]
+    for hit in result.gains_cut_off():
+        lines.append(
+            f"{controller} gain {hit.gain}: tuned to {hit.value:.6g}, at its bound "
+            f"{hit.bound:g} of the registry's box (chassistune list controllers), and the cost "
+            f"is lower past it ({hit.probe_cost:.6g} at {hit.gain}={hit.probe:g}): the best "
+            "gains lie outside the box (a study's `bounds` table can widen it)"
+        )
+    return [line for line in lines if line]
+
+
 def _why_penalized(result: TuneResult) -> str:
     status = {road: m.get("status") for road, m in result.metrics.items()}
     return ", ".join(f"{road}: {s}" for road, s in status.items() if s) or "unscored"
@@ -220,6 +228,10 @@ def _print_result(
         f"{result.nfev} evaluations, {result.nit} iterations, {result.wall_time_s:.2f} s"
     )
     click.echo("best gains: " + ", ".join(f"{k}={v!r}" for k, v in result.best_gains.items()))
+    click.echo(
+        f"default gains: cost {fmt(result.default_cost)} with "
+        + ", ".join(f"{k}={v:g}" for k, v in result.default_gains.items())
+    )
     for road, m in result.metrics.items():
         click.echo(f"  {road}: " + _metric_line(m))
     echo_validation(extra)

@@ -22,16 +22,32 @@ if TYPE_CHECKING:
     from chassistune.tuning.robust.spec import UncertaintySpec
 
 
+@dataclass(frozen=True)
+class BoundHit:
+    """A tuned gain at a bound of the box past which the cost still falls: an optimum the box
+    plausibly cuts off (`TuneResult.gains_cut_off`)."""
+
+    gain: str
+    value: float
+    bound: float
+    probe: float
+    """The gain's value past the bound that was scored (the other gains as tuned)."""
+    probe_cost: float
+
+
 @dataclass(frozen=True, kw_only=True)
 class TuneResult(OptimizeResult):
     """An optimizer run on a tuning problem: the gains by name, the tuned controller's metrics
-    on each road and, by road, how they move at a quarter of the integration step (`step_checks`,
-    issue 11; `x` and `fun` are `best_gains` and `best_cost` in the box's order)."""
+    on each road, by road how they move at a quarter of the integration step (`step_checks`),
+    and the registry's default gains with their cost on the same problem, the baseline a tune
+    must beat (`x` and `fun` are `best_gains` and `best_cost` in the box's order)."""
 
     problem: TuningProblem
     best_gains: dict[str, float]
     metrics: dict[str, dict[str, Any]] = field(default_factory=dict)
     step_checks: dict[str, StepCheck] = field(default_factory=dict)
+    default_gains: dict[str, float] = field(default_factory=dict)
+    default_cost: float = math.nan
 
     @property
     def best_cost(self) -> float:
@@ -41,15 +57,55 @@ class TuneResult(OptimizeResult):
     def optimizer(self) -> str:
         return self.method
 
-    def gains_near_bounds(self, tolerance: float = 0.01) -> list[tuple[str, float, float]]:
-        """(gain, value, bound) of each tuned gain within `tolerance` of the box's width from a
-        bound: the optimum may lie outside the box."""
-        out = []
-        for name, (lo, hi) in zip(self.problem.gain_names, self.problem.bounds, strict=True):
-            value, margin = self.best_gains[name], tolerance * (hi - lo)
-            if value - lo <= margin or hi - value <= margin:
-                out.append((name, value, lo if value - lo <= margin else hi))
-        return out
+    def gains_cut_off(self, tolerance: float = 0.01, beyond: float = 0.1) -> list[BoundHit]:
+        """Each tuned gain within `tolerance` of the box's width from a bound, where the cost
+        with that gain `beyond` widths past the bound (other gains as tuned; a positive lower
+        bound is not crossed below half its value) is lower than the best cost: the optimum
+        plausibly lies outside the box. A lower bound at 0 is a gain's natural floor (the term
+        switched off), never a cut-off optimum; one batch of at most k extra evaluations."""
+        names, bounds = self.problem.gain_names, self.problem.bounds
+        best = np.array([self.best_gains[n] for n in names])
+        hits: list[tuple[int, float, float]] = []
+        for i, (lo, hi) in enumerate(bounds):
+            margin, step = tolerance * (hi - lo), beyond * (hi - lo)
+            if hi - best[i] <= margin:
+                hits.append((i, hi, hi + step))
+            elif best[i] - lo <= margin and lo != 0.0:
+                hits.append((i, lo, max(lo - step, lo / 2) if lo > 0 else lo - step))
+        if not hits:
+            return []
+        probes = np.repeat(best[None, :], len(hits), axis=0)
+        for row, (i, _, probe) in enumerate(hits):
+            probes[row, i] = probe
+        try:
+            costs = np.asarray(self.problem(probes), dtype=float)
+        except InputError:  # a value past the bound the controller refuses: nothing beyond
+            return []
+        return [
+            BoundHit(names[i], float(best[i]), bound, probe, float(cost))
+            for (i, bound, probe), cost in zip(hits, costs, strict=True)
+            if cost < self.best_cost
+        ]
+
+    def worse_than_default(self) -> str | None:
+        """One line when the tuned cost is above the default gains' cost, saying why it can
+        be (the budget, or defaults outside the box), else None."""
+        if not self.best_cost > self.default_cost:
+            return None
+        inside = all(
+            lo <= self.default_gains[n] <= hi
+            for n, (lo, hi) in zip(self.problem.gain_names, self.problem.bounds, strict=True)
+        )
+        why = (
+            f"the budget ({self.nfev} evaluations) did not reach the defaults, which lie in "
+            "the box: give more --iters, --evals or --pop, or another --optimizer"
+            if inside
+            else "the default gains lie outside the box the optimizer searched"
+        )
+        return (
+            f"the tuned gains cost {self.best_cost:.6g}, worse than the default gains' "
+            f"{self.default_cost:.6g}: {why}"
+        )
 
     def test_on(
         self, roads: Sequence[str], params: Mapping[str, object] | None = None
@@ -87,6 +143,8 @@ class TuneResult(OptimizeResult):
             "hyperparameters": self.hyperparameters,
             "best_gains": self.best_gains,
             "best_cost": self.best_cost,
+            "default_gains": self.default_gains,
+            "default_cost": self.default_cost,
             "nfev": self.nfev,
             "nit": self.nit,
             "wall_time_s": self.wall_time_s,
@@ -98,9 +156,13 @@ class TuneResult(OptimizeResult):
         }
 
     def step_warnings(self) -> list[str]:
-        """One line per road whose figures move by more than the tolerance at the finer step."""
+        """One line per road whose figures move by more than the tolerance at the finer step:
+        the winner's figures there are not converged, so the tune's ranking of candidates on
+        that road is not meaningful; the line names the finer step to tune at."""
         return [
-            f"step check on {road}: {c.warning}"
+            f"step check on {road}: {c.warning}; the tune's ranking of candidates on {road} "
+            f"is not meaningful at dt_s = {c.dt_s:g}: tune again with "
+            f"--param dt_s={c.dt_s / c.factor:g}"
             for road, c in self.step_checks.items()
             if c.warning
         ]
@@ -155,12 +217,15 @@ def run_optimizer(
         None if progress is None else lambda r: progress(r.nit, r.nfev, r.fun),
     )
     best = np.asarray(run.x, dtype=float)
+    defaults = problem.scenarios[0].gains_array(None)
     return TuneResult(
         **vars(run),
         problem=problem,
         best_gains=dict(zip(problem.gain_names, best.tolist(), strict=True)),
         metrics={sc.road: sc.trace(best).metrics for sc in problem.scenarios},
         step_checks=step_checks(problem, best),
+        default_gains=dict(zip(problem.gain_names, defaults.tolist(), strict=True)),
+        default_cost=float(problem(defaults[None, :])[0]),
     )
 
 
