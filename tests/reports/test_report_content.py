@@ -19,7 +19,7 @@ from chassistune.reports.gains import bound_flag
 from chassistune.reports.responses import response_sets
 from chassistune.reports.sections import Assets, comparison_section
 from chassistune.reports.tables import StudyData
-from chassistune.reports.versus import BETTER, SAME, WORSE
+from chassistune.reports.versus import BETTER, BOTH_WORSE, SAME, WORSE
 
 
 def _csv(reported: Any, name: str) -> pd.DataFrame:
@@ -135,14 +135,17 @@ def test_verdicts_are_symbols_from_the_compared_side(reported) -> None:
         row = key[(key.scenario == sc) & (key.quantity == "final cost")].iloc[0]
         res = stats.rank_sum(reported.data.costs(sc, ref), reported.data.costs(sc, other))
         want = {"+": WORSE, "-": BETTER, "=": SAME}[res.sign]
+        medians = (row[f"{ref} (reference)"], row[other])
+        if want == BETTER and min(medians) > row["default gains"]:
+            want = BOTH_WORSE  # no "better" between two optimizers that lost to the defaults
         assert row[f"{other} vs reference"] == want
         assert row[f"{ref} (reference)"] == pytest.approx(np.median(reported.data.costs(sc, ref)))
         seen |= set(key[key.scenario == sc][f"{other} vs reference"])
-    assert seen <= {BETTER, SAME, WORSE}  # never a blank or a bare sign
+    assert seen <= {BETTER, SAME, WORSE, BOTH_WORSE}  # never a blank or a bare sign
     html = reported.static.read_text(encoding="utf-8")
     shown = sum(
         html.count(f'<td class="{c}">{v}</td>')
-        for c, v in (("same", SAME), ("better", BETTER), ("worse", WORSE))
+        for c, v in (("same", SAME), ("better", BETTER), ("worse", WORSE), ("worse", BOTH_WORSE))
     )
     assert shown >= len(key)  # each verdict cell styled by its meaning
 

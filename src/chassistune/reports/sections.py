@@ -16,6 +16,8 @@ import numpy as np
 import pandas as pd
 
 from chassistune.reports import study_setup, tables
+from chassistune.reports.baseline import LABEL as BASELINE_LABEL
+from chassistune.reports.baseline import Baseline, default_baseline
 from chassistune.reports.gains import gains_table
 from chassistune.reports.generalization import generalization_table, matrix, robustness_table
 from chassistune.reports.html import FLAG, CodeView, Download, Item, Section, TableView
@@ -186,12 +188,14 @@ def scenario_section(
     cost = cost.merge(rs.rename(columns={"p_value": "rank-sum p"}), on="optimizer", how="left")
     cost.insert(len(cost.columns) - 1, "vs reference", cost.pop("sign").map(verdict_of_sign))
     cost.loc[cost["optimizer"] == reference, "vs reference"] = "reference"
+    cost = _with_baseline(cost, default_baseline(data, sc))
     section.items.append(
         a.table(
             cost,
             f"Final cost, {sc}",
-            f"Best cost found per run over the completed runs; reference {reference}. "
-            f"{VERDICT_NOTE}",
+            f"Best cost found per run over the completed runs; reference {reference}; "
+            f"the row {BASELINE_LABEL}: the registry's default gains on the same problem, the "
+            f"cost a tune must beat. {VERDICT_NOTE}",
             sources["summary"],
             sources["rank_sum"],
         )
@@ -214,6 +218,19 @@ def scenario_section(
         )
     section.items += cost_figures(data, sc, name, figures)
     return section
+
+
+def _with_baseline(cost: pd.DataFrame, base: Baseline | None) -> pd.DataFrame:
+    """The final-cost table with the default gains' row first (its cost in each statistic's
+    column; no run counts, no verdict)."""
+    if base is None:
+        return cost
+    value = base.values["best_cost"]
+    row: dict[str, object] = {
+        c: value for c in ("mean", "best", "worst", "median") if c in cost.columns
+    }
+    row.update({"optimizer": BASELINE_LABEL, "vs reference": "baseline"})
+    return pd.concat([pd.DataFrame([row]), cost], ignore_index=True)[list(cost.columns)]
 
 
 def response_items(data: tables.StudyData, sc: str, name: str, figures: Figures) -> list[Item]:

@@ -1,7 +1,9 @@
 """Better / same / worse than the reference, as symbols a reader cannot take for a blank.
 
 A verdict is read from the compared optimizer's side (lower is better): Wilcoxon rank-sum
-(`stats.rank_sum`, alpha 0.05) of the reference's sample against the optimizer's.
+(`stats.rank_sum`, alpha 0.05) of the reference's sample against the optimizer's. "Better" is
+not claimed where both medians are worse than the default gains' value (`reports.baseline`):
+beating a reference that lost to the untuned controller is no result.
 """
 
 from __future__ import annotations
@@ -12,14 +14,16 @@ import numpy as np
 import pandas as pd
 
 from chassistune import stats
+from chassistune.reports.baseline import LABEL, default_baseline
 from chassistune.reports.tables import StudyData, quantities, values
 
 BETTER = "✔ better"
 SAME = "≈ same"
 WORSE = "✘ worse"
+BOTH_WORSE = "✘ both worse than the default gains"
 REFERENCE = "reference"
 _FROM_REFERENCE_SIGN = {"-": BETTER, "=": SAME, "+": WORSE}
-VERDICTS = (BETTER, SAME, WORSE)
+VERDICTS = (BETTER, SAME, WORSE, BOTH_WORSE)
 
 
 def verdict(reference: np.ndarray, other: np.ndarray) -> str:
@@ -35,19 +39,29 @@ def verdict_of_sign(sign: str) -> str:
 
 
 def metrics_by_optimizer(data: StudyData, scenario: str, reference: str) -> pd.DataFrame:
-    """Rows: final cost and the key metrics; columns: the reference's median
-    (`<reference> (reference)`), then per other optimizer its median and its verdict
-    (`<optimizer> vs reference`)."""
+    """Rows: final cost and the key metrics; columns: the default gains' value (`default
+    gains`, where the scenario has a controller), the reference's median (`<reference>
+    (reference)`), then per other optimizer its median and its verdict (`<optimizer> vs
+    reference`; BOTH_WORSE instead of BETTER where both medians are above the default gains')."""
+    base = default_baseline(data, scenario)
     rows = []
     for q in quantities(data, scenario):
         ref = values(data.runs(scenario, reference), q)
         label = {"best_cost": "final cost", "nfev": "evaluations (nfev)"}.get(q, q)
         row: dict[str, object] = {"quantity": label}
-        row[f"{reference} ({REFERENCE})"] = float(np.median(ref)) if ref.size else math.nan
+        default = base.values[q] if base is not None else math.nan
+        if base is not None:
+            row[LABEL] = default
+        ref_median = float(np.median(ref)) if ref.size else math.nan
+        row[f"{reference} ({REFERENCE})"] = ref_median
         for opt in data.optimizers:
             if opt != reference:
                 v = values(data.runs(scenario, opt), q)
-                row[opt] = float(np.median(v)) if v.size else math.nan
-                row[f"{opt} vs {REFERENCE}"] = verdict(ref, v)
+                median = float(np.median(v)) if v.size else math.nan
+                row[opt] = median
+                word = verdict(ref, v)
+                if word == BETTER and ref_median > default and median > default:
+                    word = BOTH_WORSE
+                row[f"{opt} vs {REFERENCE}"] = word
         rows.append(row)
     return pd.DataFrame(rows)
