@@ -108,30 +108,13 @@ class ImplausibleValue(UserWarning):
         super().__init__(f"{field}: {problem}")
 
 
-_SUFFIX_UNITS = {
-    "_per_s": "1/s",
-    "_kg_m2": "kg m^2",
-    "_m_s2": "m/s^2",
-    "_m_s": "m/s",
-    "_kg": "kg",
-    "_n_m": "N m",
-    "_m": "m",
-    "_s": "s",
-    "_n": "N",
-    "_hz": "Hz",
-    "_rad": "rad",
-}
-"""Name suffix -> unit, most specific first (the first match wins)."""
-
-
 def unit_of(f: dataclasses.Field[Any]) -> str:
-    """A field's unit: its metadata `unit`, else read from the SI suffix of its name."""
+    """A field's unit: its metadata `unit`, else read from its name (`units.si_unit`)."""
+    from chassistune.units import si_unit
+
     if "unit" in f.metadata:
         return str(f.metadata["unit"])
-    for suffix, unit in _SUFFIX_UNITS.items():
-        if f.name.endswith(suffix):
-            return unit
-    return "-"
+    return si_unit(f.name) or "-"
 
 
 def valid_range(f: dataclasses.Field[Any]) -> str:

@@ -72,11 +72,11 @@ def test_simulate_text_states_units_and_keeps_the_json_si(cli):
     [
         ("body_acc_rms", "m/s^2", ("m/s^2", 1.0)),
         ("passive_tire_defl_rms", "m", ("mm", 1e3)),
-        ("travel_3sigma_m", "m", ("mm", 1e3)),
+        ("travel_3sigma_m", "m", ("m", 1.0)),
         ("brake_torque_n_m", "N m", ("N m", 1.0)),
         ("vehicle_speed_m_s", "m/s", ("m/s", 1.0)),
         ("slip_itae", "s^2", ("s^2", 1.0)),
-        ("stopped", "", ("", 1.0)),
+        ("stopped", "-", ("-", 1.0)),
     ],
 )
 def test_metric_units(name, si, shown):

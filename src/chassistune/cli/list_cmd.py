@@ -83,13 +83,19 @@ CONTROLLER_GROUP = "controller (each applies to the controllers named)"
 
 
 def parameters(plant: str, preset: str | None) -> dict[str, list[dict[str, object]]]:
-    """`list params PLANT`: each parameter group's fields with unit, default (the preset's
-    value), valid range and plausible range; the controllers' fixed parameters last."""
+    """`list params PLANT`: each parameter group's fields with unit (a pressure in the
+    preset's unit), default (the preset's value), valid range and plausible range; the
+    controllers' fixed parameters last."""
     from chassistune.params import describe
     from chassistune.scenarios.registry import get_plant
+    from chassistune.units import with_pressure
 
     groups = get_plant(plant).parameter_sets(preset)
-    out = {group: describe(obj) for group, obj in groups.items()}
+    pressure = get_plant(plant).scenario(preset).pressure_unit
+    out = {
+        group: [{**f, "unit": with_pressure(f["unit"], pressure)} for f in describe(obj)]
+        for group, obj in groups.items()
+    }
     controller = controller_parameters(plant, preset)
     if controller:
         out[CONTROLLER_GROUP] = controller

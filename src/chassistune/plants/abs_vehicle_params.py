@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 
 from chassistune.params import nonnegative, positive, unit_interval
 from chassistune.plants.presets import Preset, PresetInfo
+from chassistune.units import PRESSURE
 
 MAX_STEER_LIMIT_RAD = 0.5 * math.pi
 """max_steer_rad must stay below 90 degrees (refused at or above it: the wheel would turn
@@ -41,11 +42,9 @@ class VehicleParams:
     g_m_s2: float = field(default=9.8, metadata=positive(9.7, 9.9))
     actuator_gain: float = field(default=100.0, metadata=positive(1.0, 1e4, unit="1/s"))
     actuator_tau_s: float = field(default=0.01, metadata=positive(1e-3, 0.5))
-    brake_gain: float = field(
-        default=1.0, metadata=positive(0.1, 1000.0, unit="N m per pressure unit")
-    )
+    brake_gain: float = field(default=1.0, metadata=positive(0.1, 1000.0, unit=f"N m/{PRESSURE}"))
     """kq in N m per pressure unit, the same on all four wheels (no brake balance)."""
-    q_max: float = field(default=2500.0, metadata=positive(10.0, 1e5, unit="pressure unit"))
+    q_max: float = field(default=2500.0, metadata=positive(10.0, 1e5, unit=PRESSURE))
     v_stop_m_s: float = field(default=2.0, metadata=positive(0.01, 10.0))
     t_max_s: float = field(default=60.0, metadata=positive(0.1, 600.0))
     dt_s: float = field(default=1e-3, metadata=positive(1e-5, 0.01))
@@ -83,6 +82,7 @@ PRESETS: dict[str, Preset[VehicleParams]] = {
             "m^2, R = 0.4 m, lf/lr = 1.04/1.56 m, v0 = 120 km/h, g = 9.8; ours: h = 0.5 m, "
             "tracks 1.5 m, C = 60 kN/rad, kq = 1, q_max = 2500 on all wheels, K = 100, T = 0.01 s",
             ("dry-concrete", "mu-jump", "split-mu", "ice"),
+            "deffao-vehicle-abs unit",
         ),
         VehicleParams(),
     ),

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from chassistune.errors import InputError
 from chassistune.params import positive, unit_interval
 from chassistune.plants.presets import Preset, PresetInfo
+from chassistune.units import PRESSURE
 
 FT = 0.3048
 SLUG = 14.593902937
@@ -37,10 +38,8 @@ class AbsWheelParams:
     g_m_s2: float = field(default=9.81, metadata=positive(9.7, 9.9))
     actuator_gain: float = field(default=100.0, metadata=positive(1.0, 1e4, unit="1/s"))
     actuator_tau_s: float = field(default=0.01, metadata=positive(1e-3, 0.5))
-    brake_gain: float = field(
-        default=1.0, metadata=positive(0.1, 1000.0, unit="N m per pressure unit")
-    )
-    q_max: float = field(default=1500.0, metadata=positive(10.0, 1e5, unit="pressure unit"))
+    brake_gain: float = field(default=1.0, metadata=positive(0.1, 1000.0, unit=f"N m/{PRESSURE}"))
+    q_max: float = field(default=1500.0, metadata=positive(10.0, 1e5, unit=PRESSURE))
     v_stop_m_s: float = field(default=0.5, metadata=positive(0.01, 10.0))
     t_max_s: float = field(default=60.0, metadata=positive(1.0, 600.0))
     """Default: the larger of 60 s and 3 bound times of the road (`default_t_max_s`)."""
@@ -91,6 +90,7 @@ PRESETS: dict[str, Preset[AbsWheelParams]] = {
             "Tian et al. (derlsp-ao-abs): M = 100 kg quarter mass, I = 12 kg m^2, R = 0.5 m, "
             "v0 = 30 m/s, K/(s(Ts+1))",
             ("dry-concrete", "wet-asphalt", "ice"),
+            "derlsp-ao-abs unit",
         ),
         AbsWheelParams(),
     ),
@@ -100,6 +100,7 @@ PRESETS: dict[str, Preset[AbsWheelParams]] = {
             "Ding 2023 (fuzzy-immune-abs): R = 0.28 m, J = 25 kg m^2 (as printed), "
             "q in kPa, kq = 25 N m/kPa, M = 300 kg (our assumption)",
             ("asphalt-0.8", "dirt-0.2"),
+            "kPa",
         ),
         AbsWheelParams(
             mass_kg=300.0,
@@ -115,6 +116,7 @@ PRESETS: dict[str, Preset[AbsWheelParams]] = {
             "sldemo",
             "MathWorks sldemo_absbrake in SI, with its quarter-load-on-whole-mass quirk",
             ("sldemo-table",),
+            "sldemo unit",
         ),
         _sldemo_params(),
         {"amplitude": 1.0},

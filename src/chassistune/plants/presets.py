@@ -12,11 +12,13 @@ P = TypeVar("P")
 
 @dataclass(frozen=True)
 class PresetInfo:
-    """A named parameter set of a plant, with the roads of its paper (first = default)."""
+    """A named parameter set of a plant, with the roads of its paper (first = default) and,
+    for a braking plant, the unit its brake pressures are in (kPa, or its source's unit)."""
 
     name: str
     description: str
     roads: tuple[str, ...]
+    pressure_unit: str = ""
 
 
 @dataclass(frozen=True)

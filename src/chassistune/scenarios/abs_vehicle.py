@@ -228,6 +228,10 @@ class AbsVehicleScenario(Scenario):
         table: tuple[Any, ...] = self._kernel_args[5]
         return table
 
+    @property
+    def pressure_unit(self) -> str:
+        return PRESETS[self.preset].info.pressure_unit
+
     def params(self) -> dict[str, Any]:
         out: dict[str, Any] = as_dict(self.plant_params)
         out.update(as_dict(self.steering))
@@ -293,7 +297,7 @@ class AbsVehicleScenario(Scenario):
         rows = int(out[0, K.M_NTRACE])
         signals = K.TRACE_LAYOUT.decode(tr[:rows])
         metrics = {k: json_scalar(v[0]) for k, v in self.metrics_from_raw(out).items()}
-        return Trace(signals, metrics, K.TRACE_LAYOUT.units)
+        return Trace(signals, metrics, self.units(K.TRACE_LAYOUT.units))
 
 
 class AbsVehiclePlant(Plant):

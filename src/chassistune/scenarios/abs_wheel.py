@@ -178,6 +178,10 @@ class AbsWheelScenario(Scenario):
         )
         return p, kind, coef, xs, ys, KERNEL_KIND[name], c, table
 
+    @property
+    def pressure_unit(self) -> str:
+        return PRESETS[self.preset].info.pressure_unit
+
     def params(self) -> dict[str, Any]:
         out: dict[str, Any] = as_dict(self.plant_params)
         out.update(as_dict(self.tire) if dataclasses.is_dataclass(self.tire) else {})
@@ -279,12 +283,12 @@ class AbsWheelScenario(Scenario):
             out = np.zeros((1, len(EL.METRICS)))
             self._ecu_call(np.asarray(gains, dtype=np.float64).reshape(1, -1), tr, out)
             metrics = {k: json_scalar(v[0]) for k, v in self.metrics_from_raw(out).items()}
-            return Trace(EL.decode_trace(tr, out[0]), metrics, EL.TRACE.units)
+            return Trace(EL.decode_trace(tr, out[0]), metrics, self.units(EL.TRACE.units))
         tr = np.zeros((n_rows, len(KL.TRACE)))
         out = np.zeros((1, len(KL.METRICS)))
         K.simulate_abs_wheel(g, p, kind, coef, xs, ys, ckind, c, table, tr, out)
         metrics = {k: json_scalar(v[0]) for k, v in self.metrics_from_raw(out).items()}
-        return Trace(KL.decode_trace(tr, out[0]), metrics, KL.TRACE.units)
+        return Trace(KL.decode_trace(tr, out[0]), metrics, self.units(KL.TRACE.units))
 
 
 class AbsWheelPlant(Plant[AbsWheelScenario]):

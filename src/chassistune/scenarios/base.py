@@ -21,6 +21,7 @@ from chassistune._registry import resolve
 from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
 from chassistune.plants.presets import PresetInfo
+from chassistune.units import with_pressure
 
 PENALTY = 1e9
 """Cost of a run that cannot be scored (diverged, NaN, unstable, hopeless, not stopped)."""
@@ -116,6 +117,16 @@ class Scenario(ABC):
     @property
     def gain_names(self) -> tuple[str, ...]:
         return self.controller.gain_names
+
+    @property
+    def pressure_unit(self) -> str:
+        """The unit of the brake pressures ('' for a plant without brakes; braking plants
+        answer their preset's `PresetInfo.pressure_unit`)."""
+        return ""
+
+    def units(self, declared: Mapping[str, str]) -> dict[str, str]:
+        """Trace units as a kernel layout declares them, the pressure's in this preset's unit."""
+        return {name: with_pressure(unit, self.pressure_unit) for name, unit in declared.items()}
 
     def pick_objective(self, objective: str | None) -> str:
         """The objective to use (the default when None), or InputError listing the known ones."""
