@@ -202,3 +202,22 @@ def test_the_readmes_tune_examples_improve_on_the_default_gains(cli, args):
     doc = json.loads(r.out)
     assert doc["best_cost"] <= doc["default_cost"], (doc["best_cost"], doc["default_cost"])
     assert "worse than the default gains'" not in r.err
+
+
+@pytest.mark.parametrize("ecu", ["ideal", "realistic"])
+def test_simulate_r13h_adds_the_adhesion_utilisation(cli, ecu):
+    from chassistune.scenarios.r13h import r13h_epsilon
+
+    r = cli("simulate", "abs-wheel", "--ecu", ecu, "--r13h", "--json")
+    assert r.code == 0, r.err
+    m = json.loads(r.out)["metrics"]
+    want = r13h_epsilon("pid", None, None, None, {"ecu": ecu})
+    assert m["r13h_epsilon"] == want.epsilon
+    assert m["r13h_z_al"] == want.z_al and m["r13h_k_adhesion"] == want.adhesion.k_m
+    text = cli("simulate", "abs-wheel", "--ecu", ecu, "--r13h").out
+    assert "r13h_epsilon [-]" in text
+
+
+def test_r13h_is_refused_on_another_plant(cli):
+    r = cli("simulate", "quarter-car", "--r13h")
+    assert r.code == 2 and r.err.startswith("chassistune: error: --r13h:"), r.err

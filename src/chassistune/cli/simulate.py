@@ -11,7 +11,7 @@ from chassistune.cli.choices import ChoicesCommand, ChoicesOption
 from chassistune.cli.common import announce_compile, check_output_file, echo_json, fmt
 from chassistune.cli.options import ecu_option, param_option, preset_option
 from chassistune.errors import InputError
-from chassistune.units import shown_unit
+from chassistune.units import shown_unit, with_pressure
 
 if TYPE_CHECKING:
     from chassistune.simulate import Comparison, SimulationResult
@@ -41,13 +41,14 @@ def _shown(name: str, value: object) -> object:
     return value * factor if isinstance(value, float) and factor != 1.0 else value
 
 
-def _label(name: str) -> str:
-    """A metric's name with the unit its value is shown in: `susp_travel_rms [mm]`."""
-    unit = shown_unit(name)[0]
+def _label(name: str, pressure_unit: str) -> str:
+    """A metric's name with the unit its value is shown in: `susp_travel_rms [mm]`, a pressure
+    in the preset's unit (`pressure_max [kPa]`)."""
+    unit = with_pressure(shown_unit(name)[0], pressure_unit)
     return f"{name} [{unit}]" if unit else name
 
 
-def _print_metrics(metrics: dict[str, object]) -> None:
+def _print_metrics(metrics: dict[str, object], pressure_unit: str) -> None:
     """Metrics with their units as a list; those with a `passive_` twin as an active / passive /
     ratio table."""
     metrics = {k: v for k, v in metrics.items() if k not in DIAGNOSTICS}
@@ -57,18 +58,18 @@ def _print_metrics(metrics: dict[str, object]) -> None:
         for k in metrics
         if k not in paired and not (k.startswith("passive_") and k[len("passive_") :] in paired)
     ]
-    width = max(len(_label(k)) for k in metrics)
+    width = max(len(_label(k, pressure_unit)) for k in metrics)
     if paired:
         click.echo(f"  {'':<{width}}  {'active':>10}  {'passive':>10}  {'ratio':>7}")
         for k in paired:
             a, b = metrics[k], metrics[f"passive_{k}"]
             ratio = a / b if isinstance(a, float) and isinstance(b, float) and b else None
             click.echo(
-                f"  {_label(k):<{width}}  {fmt(_shown(k, a)):>10}  "
+                f"  {_label(k, pressure_unit):<{width}}  {fmt(_shown(k, a)):>10}  "
                 f"{fmt(_shown(k, b)):>10}  {fmt(ratio):>7}"
             )
     for k in alone:
-        click.echo(f"  {_label(k):<{width}}  {fmt(_shown(k, metrics[k]))}")
+        click.echo(f"  {_label(k, pressure_unit):<{width}}  {fmt(_shown(k, metrics[k]))}")
 
 
 def _why_not(result: SimulationResult) -> str | None:
@@ -120,6 +121,12 @@ def _why_not(result: SimulationResult) -> str | None:
 )
 @click.option("--seed", type=int, help="Seed of any random draw (road realizations; default 0).")
 @ecu_option
+@click.option(
+    "--r13h",
+    is_flag=True,
+    help="abs-wheel: add the UN R13-H adhesion utilisation to the metrics (r13h_epsilon = "
+    "r13h_z_al / r13h_k_adhesion; docs/ecu.md), in ideal and realistic ECU mode.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
 @click.option("--plot", "plot_path", metavar="FILE.png", help="Draw the response into FILE.png.")
 @click.option("--csv", "csv_path", metavar="FILE.csv", help="Write the time series to FILE.csv.")
@@ -134,6 +141,7 @@ def simulate_command(
     compare: str | None,
     seed: int | None,
     ecu: str | None,
+    r13h: bool,
     as_json: bool,
     plot_path: str | None,
     csv_path: str | None,
@@ -162,6 +170,8 @@ def simulate_command(
     check_output_file(csv_path, "--csv", (".csv",))
     if compare is not None and csv_path is not None:
         raise InputError("--csv", "one time series per file: not with --compare")
+    if r13h and (plant != "abs-wheel" or compare is not None):
+        raise InputError("--r13h", "takes one abs-wheel run: not with another plant or --compare")
     values: dict[str, object] = dict(overrides(doc)) if doc else {}
     values.update(parse_assignments(params, "params"))
     if ecu:
@@ -200,7 +210,22 @@ def simulate_command(
         as_json,
         plot_path,
         csv_path,
+        r13h,
     )
+
+
+def r13h_metrics(result: SimulationResult, values: dict[str, object]) -> dict[str, float]:
+    """The UN R13-H figures of a run's controller and gains on its preset and road
+    (`scenarios.r13h`, with the run's parameters, the ECU mode included): epsilon, z_AL, k_M."""
+    from chassistune.scenarios.r13h import r13h_epsilon
+
+    sc = result.scenario
+    out = r13h_epsilon(sc.controller.name, sc.preset, sc.road, result.gains, values, seed=sc.seed)
+    return {
+        "r13h_epsilon": out.epsilon,
+        "r13h_z_al": out.z_al,
+        "r13h_k_adhesion": out.adhesion.k_m,
+    }
 
 
 def _one_run(
@@ -214,12 +239,15 @@ def _one_run(
     as_json: bool,
     plot_path: str | None,
     csv_path: str | None,
+    r13h: bool,
 ) -> None:
     from chassistune.simulate import prepare, run
 
     scenario, vector = prepare(plant, preset, road, controller, values, gains, seed)
     announce_compile(plant)
     result = run(scenario, vector)
+    if r13h:
+        result.metrics.update(r13h_metrics(result, values))
     if plot_path:
         result.plot(plot_path)
     if csv_path:
@@ -231,7 +259,7 @@ def _one_run(
     click.echo(f"{plant}  preset {sc.preset}  road {sc.road}  controller {sc.controller.name}")
     if result.gains:
         click.echo("gains: " + ", ".join(f"{k}={v!r}" for k, v in result.gains.items()))
-    _print_metrics(result.metrics)
+    _print_metrics(result.metrics, sc.pressure_unit)
     why = _why_not(result)
     if why:
         click.echo(why)
@@ -278,12 +306,12 @@ def _print_comparison(cmp: Comparison) -> None:
     click.echo(f"{first.plant}  preset {first.preset}  road {first.road}")
     labels = list(cmp.results)
     keys = [k for k in next(iter(cmp.results.values())).metrics if k not in DIAGNOSTICS]
-    width = max(len(_label(k)) for k in keys)
+    width = max(len(_label(k, first.pressure_unit)) for k in keys)
     col = max(10, *(len(x) for x in labels))
     click.echo(f"  {'':<{width}}  " + "  ".join(f"{x:>{col}}" for x in labels))
     for k in keys:
         click.echo(
-            f"  {_label(k):<{width}}  "
+            f"  {_label(k, first.pressure_unit):<{width}}  "
             + "  ".join(f"{fmt(_shown(k, cmp.results[x].metrics.get(k))):>{col}}" for x in labels)
         )
     for label, r in cmp.results.items():
