@@ -221,3 +221,43 @@ def test_simulate_r13h_adds_the_adhesion_utilisation(cli, ecu):
 def test_r13h_is_refused_on_another_plant(cli):
     r = cli("simulate", "quarter-car", "--r13h")
     assert r.code == 2 and r.err.startswith("chassistune: error: --r13h:"), r.err
+
+
+def test_the_comparison_draws_the_distance_not_a_constant_target_and_tuned_on_top(monkeypatch):
+    import chassistune.plots.overlay as overlay
+    from chassistune.plots.overlay import plot_results
+    from chassistune.simulate import simulate
+
+    seen = {}
+
+    def keep(fig, path):
+        seen["labels"] = [ax.get_ylabel() for ax in fig.axes if ax.get_visible()]
+        seen["z"] = {line.get_label(): line.get_zorder() for line in fig.axes[0].get_lines()}
+
+    monkeypatch.setattr(overlay, "save", keep)
+    pid = simulate("abs-wheel", controller="pid")
+    plot_results({"tuned": pid, "pid": pid, "none": simulate("abs-wheel", controller="none")}, "x")
+    assert "distance_m [m]" in seen["labels"]
+    assert not any(label.startswith("target_slip") for label in seen["labels"])
+    z = {label.split(" (")[0]: order for label, order in seen["z"].items()}
+    assert z["tuned"] > z["pid"] > z["none"]  # the same curve as pid, drawn over it
+
+
+def test_export_says_which_sample_time_it_took_and_how_to_change_it(cli, tmp_path):
+    r = cli("export", "--controller", "pid", "--format", "json", "--out", str(tmp_path / "e"))
+    assert r.code == 0, r.err
+    assert "sample time 0.005 s (the realistic ECU's default" in r.out
+    assert "--param ecu_ts_s=SECONDS sets another" in r.out
+
+
+def test_the_docs_say_what_a_new_user_needs():
+    import re
+
+    root = Path(__file__).parents[2]
+    studies = (root / "docs" / "studies.md").read_text(encoding="utf-8")
+    assert "required" in next(x for x in studies.splitlines() if x.startswith("seeds ="))
+    for path in (root / "examples").rglob("*"):
+        if path.is_file():
+            assert not re.search(r"issue \d", path.read_text(encoding="utf-8"), re.I), path
+    readme = (root / "README.md").read_text(encoding="utf-8")
+    assert "skips with one line where `octave` is\nnot installed" in readme

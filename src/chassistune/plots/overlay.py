@@ -14,12 +14,14 @@ from chassistune.plots.style import pyplot, save
 @dataclass(frozen=True)
 class Line:
     """One controller on every panel: `values[signal]` against `time_s`; the baseline is drawn
-    grey and dashed under the others."""
+    grey and dashed under the others, an emphasized line (the tuned controller) thicker and over
+    them, so a default controller with a similar response cannot hide it."""
 
     label: str
     time_s: np.ndarray
     values: Mapping[str, np.ndarray]
     baseline: bool = False
+    emphasized: bool = False
 
 
 def plot_overlay(
@@ -42,7 +44,11 @@ def plot_overlay(
         if line.baseline:
             style = {"color": "0.45", "ls": "--", "lw": 1.2, "zorder": 1}
         else:
-            style = {"color": colors[k % len(colors)], "lw": 1.0, "zorder": 2}
+            style = {
+                "color": colors[k % len(colors)],
+                "lw": 2.0 if line.emphasized else 1.0,
+                "zorder": 3 if line.emphasized else 2,
+            }
             k += 1
         for ax, (signal, _) in zip(axes, panels, strict=True):
             ax.plot(line.time_s, line.values[signal], label=line.label, **style)
@@ -59,13 +65,31 @@ def plot_overlay(
     save(fig, path)
 
 
+DISTANCE = "distance_m"
+"""The signal a braking comparison is decided on: always a panel where the trace has it."""
+
+
+def compared_signals(results: Mapping[str, Any], max_panels: int) -> list[str]:
+    """The panels of a comparison: the trace's signals in its order, without time and without
+    any signal constant in every run (a fixed target slip says nothing), the distance last."""
+    traces = [r.trace.signals for r in results.values()]
+    varying = [
+        n
+        for n in traces[0]
+        if n not in ("time_s", DISTANCE)
+        and any(np.ptp(np.asarray(t[n], dtype=float)) > 0 for t in traces)
+    ]
+    if DISTANCE in traces[0]:
+        return [*varying[: max_panels - 1], DISTANCE]
+    return varying[:max_panels]
+
+
 def plot_results(results: Mapping[str, Any], path: str, max_panels: int = 6) -> None:
-    """`simulate --compare`: SimulationResults by label on one figure, one panel per signal
-    (the first `max_panels` signals of the plant's trace, with units), gains in the legend."""
+    """`simulate --compare`: SimulationResults by label on one figure, one panel per compared
+    signal (`compared_signals`, with units), gains in the legend; `tuned` drawn over the rest."""
     first = next(iter(results.values()))
     units = first.trace.units
-    signals = [n for n in first.trace.signals if n != "time_s"][:max_panels]
-    panels = [(n, f"{n} [{units.get(n, '-')}]") for n in signals]
+    panels = [(n, f"{n} [{units.get(n, '-')}]") for n in compared_signals(results, max_panels)]
     lines = []
     for label, r in results.items():
         gains = ", ".join(f"{k}={v:.4g}" for k, v in r.gains.items())
@@ -75,6 +99,7 @@ def plot_results(results: Mapping[str, Any], path: str, max_panels: int = 6) -> 
                 r.trace.signals["time_s"],
                 r.trace.signals,
                 baseline=label == "none",
+                emphasized=label == "tuned",
             )
         )
     sc = first.scenario
