@@ -82,6 +82,7 @@ class ExportedController:
     table_outputs: tuple[str, ...]  # rule base output names
     rulebase: str | None
     source: str  # where the gains came from, one line
+    ts_origin: str = ""  # where the sample time came from (`_sample_time`)
 
     @property
     def controller(self) -> str:
@@ -286,7 +287,9 @@ def resolve(
     if not isinstance(plain, AbsWheelScenario):  # pragma: no cover - PLANTS holds abs-wheel
         raise InputError("plant", f"cannot export from plant {origin.plant!r}")
     dt = plain.plant_params.dt_s
-    ts = _sample_time(export_values, values, plain.controller_params, dt, source is not None)
+    ts, ts_origin = _sample_time(
+        export_values, values, plain.controller_params, dt, source is not None
+    )
     rulebase = str(plain.controller_params["rulebase"]) if law.table_outputs else None
     if rulebase is None and "fuzzy_table_points" in export_values:
         raise InputError("params.fuzzy_table_points", f"{law.controller} reads no lookup table")
@@ -332,6 +335,7 @@ def resolve(
         table_outputs=table_outputs,
         rulebase=rulebase,
         source=origin.label,
+        ts_origin=ts_origin,
     )
 
 
@@ -341,15 +345,16 @@ def _sample_time(
     ctrl: Mapping[str, Any],
     dt: float,
     has_source: bool,
-) -> float:
-    """The sample time (module docstring), in whole steps of dt."""
+) -> tuple[float, str]:
+    """The sample time (module docstring), in whole steps of dt, and where it came from."""
     if "ecu_ts_s" in export_values or "ecu_ts_s" in source_values:
         given = export_values.get("ecu_ts_s", source_values.get("ecu_ts_s"))
         ts = to_float(given, "params.ecu_ts_s")
         if not ts > 0:
             raise InputError("params.ecu_ts_s", f"must be positive, got {ts:g}")
+        origin = "--param ecu_ts_s" if "ecu_ts_s" in export_values else "the source's ecu_ts_s"
     elif has_source and "ts_s" in ctrl:
-        ts = float(ctrl["ts_s"])
+        ts, origin = float(ctrl["ts_s"]), "the source's controller ts_s"
     else:
-        ts = DEFAULT_ECU_TS_S
-    return max(1, round(ts / dt)) * dt
+        ts, origin = DEFAULT_ECU_TS_S, "the realistic ECU's default"
+    return max(1, round(ts / dt)) * dt, origin
