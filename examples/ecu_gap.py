@@ -1,4 +1,4 @@
-"""The ECU gap, small version (issue 15 item 8; the full grid: examples/studies/ecu-gap.toml).
+"""The ECU gap, small version (docs/ecu.md; the full grid: examples/studies/ecu-gap.toml).
 
 Every ABS controller of the papers (PID, fuzzy PID, fuzzy immune PID) tuned per road with the
 ideal controller, evaluated with the realistic ECU, and tuned with the realistic ECU; the threshold

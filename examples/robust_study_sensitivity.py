@@ -1,4 +1,4 @@
-"""Sobol indices of every tuned controller of a robust study (issue 17), from its store.
+"""Sobol indices of every tuned controller of a robust study (docs/robust.md), from its store.
 
 For each completed run with an `[uncertainty]` table: first-order and total Sobol indices of the
 winner's distance ratio (abs-wheel) or exact RMS objective (quarter car) with respect to each

@@ -1,4 +1,4 @@
-"""Nominal against robust tuning (issue 17), through the Python API.
+"""Nominal against robust tuning (docs/robust.md), through the Python API.
 
 Nominal: tuned on the preset's one scenario (abs-wheel: dry concrete, M = 100 kg, v0 = 30 m/s,
 tau = 10 ms). Robust: the same optimizer, budget and seed on K Sobol scenarios (abs-wheel
