@@ -137,10 +137,13 @@ def test_tune_json_gives_the_default_gains_and_their_cost(cli, small_tune):
     assert len(lines) == 1 and f"budget ({doc['nfev']} evaluations)" in lines[0], r.err
 
 
-def test_the_text_output_shows_the_default_cost_beside_the_tuned(cli):
+def test_the_text_output_shows_the_default_cost_beside_the_tuned(cli, small_tune):
+    from chassistune.cli.common import fmt
+
     r = cli("tune", "abs-wheel", "--optimizer", "pso", "--pop", "4", "--iters", "1")
     assert r.code == 0, r.err
-    assert "default gains: cost 0.0007346 with kp=5000, ki=0, kd=230" in r.out
+    cost = fmt(small_tune.default_cost)
+    assert f"default gains: cost {cost} with kp=5000, ki=0, kd=230" in r.out
     assert "--gains" not in r.err  # never passed: no warning names it
 
 
