@@ -54,3 +54,37 @@ def test_better_is_never_claimed_when_both_medians_lose_to_the_defaults(
     row = versus.metrics_by_optimizer(reported.data, sc, ref).iloc[0]
     want = versus.BOTH_WORSE if default_cost == 0.0 else versus.BETTER
     assert row[f"{other} vs reference"] == want
+
+
+class _NoFigures:
+    """Figures as placeholders: the tables are what is checked."""
+
+    def __getattr__(self, name):
+        from chassistune.reports.html import CodeView
+
+        return lambda *args, **kwargs: CodeView(name, name, "")
+
+
+@pytest.mark.parametrize("default_cost", [0.0, math.inf])
+def test_the_final_cost_table_claims_no_better_when_both_lose_to_the_defaults(
+    reported, monkeypatch, tmp_path, default_cost
+):
+    from chassistune.reports import sections, tables
+
+    data = reported.data
+    sc = data.scenarios[0]
+    base = default_baseline(data, sc)
+    values = {q: default_cost for q in base.values}
+    monkeypatch.setattr(sections, "default_baseline", lambda d, s: Baseline(base.gains, values))
+    monkeypatch.setattr(sections, "verdict_of_sign", lambda sign: versus.BETTER)
+    ref, other = data.optimizers
+    summary, ranks = tables.summary_table(data), tables.rank_sum_table(data, ref)
+    assets = sections.Assets(tmp_path)
+    sources = {"summary": assets.csv(summary, "summary"), "rank_sum": assets.csv(ranks, "r")}
+    section = sections.scenario_section(
+        data, sc, 1, ref, summary, ranks, sources, assets, _NoFigures()
+    )
+    table = next(t for t in section.items if t.title.startswith("Final cost"))
+    rows = {row[0]: row[-1] for row in table.rows}
+    assert rows[LABEL] == "baseline"
+    assert rows[other] == (versus.BOTH_WORSE if default_cost == 0.0 else versus.BETTER)

@@ -23,7 +23,14 @@ from chassistune.reports.generalization import generalization_table, matrix, rob
 from chassistune.reports.html import FLAG, CodeView, Download, Item, Section, TableView
 from chassistune.reports.plant_view import plant_view
 from chassistune.reports.responses import ResponseSet, response_sets
-from chassistune.reports.versus import BETTER, SAME, WORSE, metrics_by_optimizer, verdict_of_sign
+from chassistune.reports.versus import (
+    BETTER,
+    SAME,
+    WORSE,
+    claimed,
+    metrics_by_optimizer,
+    verdict_of_sign,
+)
 from chassistune.studies.store import RunRecord
 from chassistune.tuning.functions import FUNCTION_KIND
 
@@ -188,7 +195,14 @@ def scenario_section(
     cost = cost.merge(rs.rename(columns={"p_value": "rank-sum p"}), on="optimizer", how="left")
     cost.insert(len(cost.columns) - 1, "vs reference", cost.pop("sign").map(verdict_of_sign))
     cost.loc[cost["optimizer"] == reference, "vs reference"] = "reference"
-    cost = _with_baseline(cost, default_baseline(data, sc))
+    base = default_baseline(data, sc)
+    if base is not None:
+        default, ref_median = base.values["best_cost"], cost.set_index("optimizer")["median"]
+        cost["vs reference"] = [
+            claimed(word, ref_median[reference], median, default)
+            for word, median in zip(cost["vs reference"], cost["median"], strict=True)
+        ]
+    cost = _with_baseline(cost, base)
     section.items.append(
         a.table(
             cost,

@@ -38,6 +38,14 @@ def verdict_of_sign(sign: str) -> str:
     return _FROM_REFERENCE_SIGN.get(sign, "")
 
 
+def claimed(word: str, reference_median: float, median: float, default: float) -> str:
+    """`word`, except that BETTER becomes BOTH_WORSE where both medians are above the default
+    gains' value (NaN `default`: no baseline, `word` unchanged)."""
+    if word == BETTER and reference_median > default and median > default:
+        return BOTH_WORSE
+    return word
+
+
 def metrics_by_optimizer(data: StudyData, scenario: str, reference: str) -> pd.DataFrame:
     """Rows: final cost and the key metrics; columns: the default gains' value (`default
     gains`, where the scenario has a controller), the reference's median (`<reference>
@@ -59,9 +67,6 @@ def metrics_by_optimizer(data: StudyData, scenario: str, reference: str) -> pd.D
                 v = values(data.runs(scenario, opt), q)
                 median = float(np.median(v)) if v.size else math.nan
                 row[opt] = median
-                word = verdict(ref, v)
-                if word == BETTER and ref_median > default and median > default:
-                    word = BOTH_WORSE
-                row[f"{opt} vs {REFERENCE}"] = word
+                row[f"{opt} vs {REFERENCE}"] = claimed(verdict(ref, v), ref_median, median, default)
         rows.append(row)
     return pd.DataFrame(rows)
