@@ -224,7 +224,8 @@ def scenario_section(
                 f"Tuned gains, {sc}",
                 f"Each optimizer's best run, the median of each gain over its runs (median cost), "
                 f"and every run. {FLAG} lower / {FLAG} upper: the gain ended within 1 % of the "
-                f"bound's range from that bound (the box may cut the optimum off). Bounds: "
+                f"bound's range from that bound (at an upper bound, or a lower bound other than "
+                f"0, the box may cut the optimum off; a gain at 0 has its term off). Bounds: "
                 + ", ".join(f"{g} [{lo:g}, {hi:g}]" for g, (lo, hi) in spec.bounds.items())
                 + ".",
                 a.csv(gains.assign(scenario=sc), f"gains-{name}"),
