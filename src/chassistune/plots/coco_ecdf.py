@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import tempfile
+import warnings
 from pathlib import Path
 
 from chassistune.studies.coco_data import move_in
@@ -18,7 +19,8 @@ def postprocess(data_folders: list[Path], out: Path) -> Path:
     os.environ.setdefault("MPLBACKEND", "Agg")
     import cocopp
 
-    with tempfile.TemporaryDirectory(prefix="chassistune-cocopp-") as tmp:
+    with tempfile.TemporaryDirectory(prefix="chassistune-cocopp-") as tmp, warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # cocopp's notes on partial data ("less than 15 instances")
         cocopp.main(["--no-interactive", "-o", tmp, *(str(p) for p in data_folders)])
         move_in(Path(tmp), out)
     return out / "index.html"
