@@ -89,7 +89,7 @@ def bbob_command(
     """Run optimizers on BBOB through cocoex; write COCO's data folder and cocopp's ECDFs.
 
     Runs are recorded one by one in DIR/study.sqlite: kill the command at any moment and run
-    it again to finish. Example (a quick look, about a minute):
+    it again to finish. Example (a quick look):
     chassistune bbob --optimizer cma-es --optimizer ao --dim 2 --dim 5 --budget 100
     --instances 1-3 --out bbob-quick
     """
