@@ -19,7 +19,10 @@ def postprocess(data_folders: list[Path], out: Path) -> Path:
     os.environ.setdefault("MPLBACKEND", "Agg")
     import cocopp
 
-    with tempfile.TemporaryDirectory(prefix="chassistune-cocopp-") as tmp, warnings.catch_warnings():
+    with (
+        tempfile.TemporaryDirectory(prefix="chassistune-cocopp-") as tmp,
+        warnings.catch_warnings(),
+    ):
         warnings.simplefilter("ignore")  # cocopp's notes on partial data ("less than 15 instances")
         cocopp.main(["--no-interactive", "-o", tmp, *(str(p) for p in data_folders)])
         move_in(Path(tmp), out)
