@@ -3,7 +3,12 @@ by cocopp, and the numbers equal to cocoex's own evaluation."""
 
 from __future__ import annotations
 
+import os
+import signal
 import sqlite3
+import subprocess
+import sys
+import time
 import warnings
 from pathlib import Path
 
@@ -11,7 +16,13 @@ import numpy as np
 import pytest
 
 from chassistune.errors import InputError
-from chassistune.studies.bbob import get_problem, parse_instances, parse_problem_id
+from chassistune.studies.bbob import (
+    BBOBPlan,
+    execute_bbob_run,
+    get_problem,
+    parse_instances,
+    parse_problem_id,
+)
 from chassistune.studies.store import open_study
 
 ARGS = [
@@ -162,3 +173,54 @@ def test_cocopp_postprocessing_writes_its_ecdf_pages(tiny: Path, cli) -> None:
     index = tiny / "ppdata" / "index.html"
     assert index.is_file()
     assert list((tiny / "ppdata").rglob("pprldmany*"))  # the ECDF figures
+
+
+def test_killed_run_resumes_to_the_uninterrupted_numbers(tmp_path: Path, cli) -> None:
+    """SIGKILL the command once a run is stored, rerun it: every run once, each with the numbers
+    a run of its spec gives on its own."""
+    out = tmp_path / "killed"
+    args = [
+        "bbob",
+        "--optimizer",
+        "cma-es",
+        "--dim",
+        "2",
+        "--function",
+        "3",
+        "--budget",
+        "1500",
+        "--pop",
+        "6",
+        "--instances",
+        "1-4",
+        "--no-postprocess",
+        "--out",
+        str(out),
+    ]
+    code = "import sys; from chassistune.cli import main; main(sys.argv[1:])"
+    proc = subprocess.Popen([sys.executable, "-c", code, *args], env=os.environ.copy())
+    store = out / "study.sqlite"
+    deadline = time.monotonic() + 120
+    stored = 0
+    while time.monotonic() < deadline and proc.poll() is None:
+        if store.exists():
+            with sqlite3.connect(f"{store.as_uri()}?mode=ro", uri=True, timeout=0.05) as conn:
+                try:
+                    stored = conn.execute("SELECT COUNT(*) FROM runs").fetchone()[0]
+                except sqlite3.Error:
+                    stored = 0
+            if stored:
+                break
+        time.sleep(0.02)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    assert 1 <= stored < 4, stored
+    res = cli(*args)
+    assert res.code == 0 and "were stored already" in res.out, res.err
+    records = {r.spec.key: r for r in _records(out)}
+    plan = BBOBPlan("bbob", ("cma-es",), (3,), (2,), (1, 2, 3, 4), 1500, 6, 0)
+    assert sorted(records) == sorted(s.key for s in plan.runs())
+    for spec in plan.runs():
+        alone = execute_bbob_run(spec)
+        assert records[spec.key].history == alone.history
+        assert records[spec.key].history_nfev == alone.history_nfev
