@@ -22,6 +22,7 @@ COMMANDS = {
     "demo",
     "reproduce",
     "warmup",
+    "bbob",
 }
 
 PROBE = """

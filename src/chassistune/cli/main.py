@@ -13,6 +13,7 @@ import warnings
 
 import click
 
+from chassistune.cli.bbob import bbob_command
 from chassistune.cli.bench import bench_command
 from chassistune.cli.demo import demo_command
 from chassistune.cli.export import export_command
@@ -49,6 +50,7 @@ for _command in (
     demo_command,
     reproduce_command,
     warmup_command,
+    bbob_command,
 ):
     cli.add_command(_command)
 

@@ -1,5 +1,5 @@
 """`chassistune optimize FUNCTION [--dim D] --optimizer O [--pop N] [--iters N | --evals N]
-[--seed S] [--json]`: minimize one benchmark function with one optimizer."""
+[--seed S] [--shift] [--json]`: minimize one benchmark function with one optimizer."""
 
 from __future__ import annotations
 
@@ -20,11 +20,14 @@ def run_optimize(
     iters: int | None,
     evals: int | None,
     seed: int,
+    shift: bool = False,
 ) -> dict[str, Any]:
-    """Run one optimizer on one benchmark function; the `optimize --json` object (DESIGN 7)."""
+    """Run one optimizer on one benchmark function (with `shift`, its optimum moved to a point
+    of the box drawn from the seed: `benchmarks.shifted`); the `optimize --json` object."""
     from chassistune._io import jsonable
     from chassistune._rng import child_seed, make_rng
     from chassistune.benchmarks.functions import get as get_function
+    from chassistune.benchmarks.shifted import shifted
     from chassistune.optimizers.base import check_covers_population
     from chassistune.optimizers.minimize import minimize
 
@@ -33,8 +36,9 @@ def run_optimize(
     if iters is None and evals is None:
         iters = 100
     check_covers_population(pop, evals)
-    fn = get_function(function)
-    bounds = fn.bounds(dim)
+    base = get_function(function)
+    fn = shifted(function, dim, child_seed(seed, 1)) if shift else base
+    bounds = base.bounds(dim)
     # F7's noise has its own stream, derived from the seed
     noise = make_rng(child_seed(seed, 0)) if fn.noisy else None
 
@@ -50,7 +54,7 @@ def run_optimize(
         max_evals=evals,
         seed=seed,
     )
-    return {
+    out = {
         "function": fn.name,
         "dim": int(bounds.shape[0]),
         "optimizer": optimizer.lower(),
@@ -61,6 +65,9 @@ def run_optimize(
         "history": jsonable(res.history),
         "history_nfev": jsonable(res.history_nfev),
     }
+    if shift:
+        out["optimum"] = jsonable(fn.minimizer())
+    return out
 
 
 @click.command("optimize")
@@ -79,9 +86,15 @@ def run_optimize(
 @click.option("--iters", type=int, default=None, help="Iterations (default 100 unless --evals).")
 @click.option("--evals", type=int, default=None, help="Exact evaluation budget.")
 @click.option("--seed", type=int, default=0, show_default=True, help="Random seed.")
+@click.option(
+    "--shift",
+    is_flag=True,
+    help="Move the optimum to a random point of the box, drawn from --seed (docs/bbob.md).",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
 def optimize_command(as_json: bool, **run: Any) -> None:
-    """Minimize a benchmark function F1..F23 with one optimizer."""
+    """Minimize a benchmark function F1..F23 (or, with --shift, its moved-optimum version)
+    with one optimizer."""
     out = run_optimize(**run)
     if as_json:
         click.echo(json.dumps(out))

@@ -26,6 +26,8 @@ for _name, _path in (
     ("mfo", "mfo:MFO"),
     ("poa", "poa:POA"),
     ("dbo", "dbo:DBO"),
+    ("cma-es", "cma_es:CMAES"),
+    ("random-search", "random_search:RandomSearch"),
 ):
     OPTIMIZERS.register(_name, f"chassistune.optimizers.{_path}")
 
