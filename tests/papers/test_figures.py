@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import html
 import re
+from dataclasses import replace
 from html.parser import HTMLParser
 
 import numpy as np
@@ -23,7 +24,7 @@ from chassistune.papers.common import (
     Verdict,
     median_run,
 )
-from chassistune.papers.param_tables import PARAMETER_TABLES, SAME
+from chassistune.papers.param_tables import PARAMETER_TABLES, SAME, Printed
 from chassistune.papers.report import counts_text
 from chassistune.papers.supplement import CONTROLLER_STUDIES
 from chassistune.papers.tuned import default_parameters
@@ -170,6 +171,16 @@ def test_parameter_tables_give_a_reason_wherever_ours_differs(reproduced, key) -
                 printed = np.nan
             same = bool(np.isclose(printed, float(row["ours"]), rtol=1e-9, atol=0.0))
             assert (row["why they differ"] == SAME) == same, row.to_dict()
+
+
+def test_a_printed_value_ours_differs_from_needs_a_reason() -> None:
+    entry = Printed(
+        "p", "Table 1", "yaw inertia", "Iz", "kg m2", "1.44", "paper-deffao.yaw_inertia_kg_m2"
+    )
+    with pytest.raises(ValueError, match="no reason"):
+        entry.row()
+    assert replace(entry, why="read as 1440").row()["why they differ"] == "read as 1440"
+    assert replace(entry, printed="1440").row()["why they differ"] == SAME
 
 
 def test_the_yaw_inertia_is_shown_as_printed_beside_ours(reproduced) -> None:
