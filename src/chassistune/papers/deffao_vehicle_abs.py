@@ -171,7 +171,7 @@ def _table5(
         t_pub = published.lookup(KEY, "stop_time_s", road).as_dict()
         d_pub = published.lookup(KEY, "stop_distance_m", road).as_dict()
         dist: dict[str, np.ndarray] = {}
-        shown = []
+        shown, detail = [], []
         for label, ctrl in (("PID", "pid"), ("fuzzy PID", "fuzzy-pid")):
             sc, tr = _vehicle_trace(road, ctrl, None, params)
             dist[label] = np.array([tr.metrics["stop_distance_m"]])
@@ -191,13 +191,16 @@ def _table5(
             if label.startswith("DEFFAO"):
                 path = ctx.figure(KEY, f"fig{fig.split()[1]}_{road}_deffao_detail")
                 plot_trace(sc, tr, str(path))
-                detail = common.Figure(
-                    path.stem,
-                    f"{fig} ({road}): DEFFAO-fuzzy PID in detail",
-                    path,
-                    "Tuned: DEFFAO's median run; loads, torques, yaw and the path seen from above.",
+                detail.append(
+                    common.Figure(
+                        path.stem,
+                        f"{fig} ({road}): DEFFAO-fuzzy PID in detail",
+                        path,
+                        "Tuned: DEFFAO's median run; loads, torques, yaw and the path seen from "
+                        "above.",
+                    )
                 )
-        sec.figures += [figures.vehicle_comparison(ctx, KEY, road, fig.split()[1], shown), detail]
+        sec.figures += [figures.vehicle_comparison(ctx, KEY, road, fig.split()[1], shown), *detail]
         if road == "mu-jump":
             for label, d in d_pub.items():
                 checks.append(common.bound_row(KEY, road, label, d, sc.bound_distance_m))

@@ -142,8 +142,11 @@ def tuning_convergence(ctx: Context, key: str, data: StudyData) -> Figure:
     """The convergence of every controller tuning of a study: one panel per cell (scenario and
     road), every optimizer in it."""
     panels = {
-        cell: {o: data.runs(cell, o) for o in data.optimizers if data.runs(cell, o)}
+        f"{cell} (objective {data.runs(cell)[0].spec.objective})": {
+            o: data.runs(cell, o) for o in data.optimizers if data.runs(cell, o)
+        }
         for cell in data.scenarios
+        if data.runs(cell)
     }
     path = ctx.figure(key, "tuning_convergence")
     convergence_panels_figure(panels, str(path), f"Controller tunings of {data.name}")
