@@ -1,6 +1,7 @@
 """The reproduction's reports (the session's quick `reproduce all --interactive`) in headless
 chromium. The static page: loads with no request outside file:, no page or console error, every
-embedded figure decoded, a first section holding the verdict table. The interactive page (opened
+embedded figure decoded, a first section holding the verdict table, every table within the
+page's width. The interactive page (opened
 once for this module: 60-odd plots take seconds to draw): the same offline and error checks,
 plotly inlined once, the static page's sections and tables, one section per paper with its
 studies' plots, every trace drawn, a legend click, a sortable table, a screenshot."""
@@ -30,6 +31,17 @@ def test_reproduction_report_renders_without_errors(page, reproduced, screenshot
     assert page.title() == "Reproduction of 4 paper(s): chassistune report"
     pixels = screenshot(page, "reproduce_report")
     assert pixels.std() > 10
+
+
+def test_every_reproduction_table_fits_the_page_width(page, reproduced) -> None:
+    page.set_viewport_size({"width": WIDTH, "height": 900})
+    page.goto((reproduced.out / "report.html").as_uri(), wait_until="load")
+    wide = page.evaluate(
+        "Array.from(document.querySelectorAll('div.wrap'))"
+        ".filter(d => d.scrollWidth > d.clientWidth + 1).map(d => d.firstElementChild.id)"
+    )
+    assert wide == []
+    assert page.evaluate("document.documentElement.scrollWidth") <= WIDTH
 
 
 @pytest.fixture(scope="module")

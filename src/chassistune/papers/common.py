@@ -34,6 +34,8 @@ same / worse), so a verdict cannot be taken for a blank or misread."""
 BOUND_RATIOS = ("paper / bound", "published / bound")
 """Columns of a published distance over its adhesion bound: below 1 is flagged on the page."""
 
+NEVER_SETTLES = "never settles"
+"""Stands for a settling time `settle_time_s` did not find (NaN), in tables and evidence."""
 SLIP_BAND = 0.05
 """A slip has settled once it stays within this of its target (absolute slip)."""
 SETTLE_MIN_SPEED_M_S = 2.0
@@ -65,6 +67,8 @@ class Table:
     frame: pd.DataFrame
     caption: str = ""
     quoted: tuple[str, ...] = ()
+    missing: Mapping[str, str] = field(default_factory=dict)
+    """Column -> why its empty cells are empty (shown on the page in place of a blank)."""
 
 
 @dataclass(frozen=True)
@@ -179,6 +183,7 @@ def spent_table(ctx: Context, names: Sequence[str]) -> Table:
         "Objective evaluations and iterations over the completed runs (min / median / "
         "max); the last column: median evaluations spent over population x iterations "
         "asked, so optimizers given the same iterations can be compared at equal cost.",
+        missing={"spent / (population x iterations)": "no iteration budget"},
     )
 
 
@@ -229,6 +234,12 @@ def settle_time_s(trace: Trace) -> float:
         return float("nan")
     bad = np.nonzero(off)[0]
     return float(time_s[bad[-1] + 1]) if bad.size else float(time_s[0])
+
+
+def settle_text(time_s: float) -> str:
+    """A settling time for the evidence: '1.23 s', or 'never settles' where `settle_time_s`
+    found none (NaN)."""
+    return f"{time_s:.3g} s" if np.isfinite(time_s) else NEVER_SETTLES
 
 
 def percent(a: float, b: float) -> float:

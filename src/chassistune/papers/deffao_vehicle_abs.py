@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from chassistune.papers import common, published
+from chassistune.papers import common, figures, published
 from chassistune.plants.roads import BILINEAR_ROADS
 from chassistune.reports.figures import convergence_figure
 from chassistune.scenarios.registry import get_plant, plant_names
@@ -103,7 +103,11 @@ def build(ctx: common.Context) -> common.PaperSection:
             str(path),
             f"Table 4 functions: {f} ({title})",
         )
-        sec.figures.append(common.Figure(path.stem, f"Convergence on {f} ({title})", path))
+        sec.figures.append(
+            common.Figure(
+                path.stem, f"Convergence on {f} ({title})", path, figures.BENCHMARK_CAPTION
+            )
+        )
     sec.tables.append(
         common.Table(
             "table4",
@@ -167,10 +171,12 @@ def _table5(
         t_pub = published.lookup(KEY, "stop_time_s", road).as_dict()
         d_pub = published.lookup(KEY, "stop_distance_m", road).as_dict()
         dist: dict[str, np.ndarray] = {}
+        shown, detail = [], []
         for label, ctrl in (("PID", "pid"), ("fuzzy PID", "fuzzy-pid")):
             sc, tr = _vehicle_trace(road, ctrl, None, params)
             dist[label] = np.array([tr.metrics["stop_distance_m"]])
             rows.append(_t5_row(road, label, tr.metrics, t_pub, d_pub, sc.bound_distance_m))
+            shown.append((label, tr))
         for label, rs in runs.items():
             dist[label] = np.array([r.metrics[road]["stop_distance_m"] for r in rs])
             rec = common.median_run(rs)
@@ -181,12 +187,20 @@ def _table5(
                 params,
             )
             rows.append(_t5_row(road, label, tr.metrics, t_pub, d_pub, sc.bound_distance_m))
+            shown.append((label, tr))
             if label.startswith("DEFFAO"):
-                path = ctx.figure(KEY, f"fig{fig.split()[1]}_{road}")
+                path = ctx.figure(KEY, f"fig{fig.split()[1]}_{road}_deffao_detail")
                 plot_trace(sc, tr, str(path))
-                sec.figures.append(
-                    common.Figure(path.stem, f"{fig} redrawn ({road}): DEFFAO-fuzzy PID", path)
+                detail.append(
+                    common.Figure(
+                        path.stem,
+                        f"{fig} ({road}): DEFFAO-fuzzy PID in detail",
+                        path,
+                        "Tuned: DEFFAO's median run; loads, torques, yaw and the path seen from "
+                        "above.",
+                    )
                 )
+        sec.figures += [figures.vehicle_comparison(ctx, KEY, road, fig.split()[1], shown), *detail]
         if road == "mu-jump":
             for label, d in d_pub.items():
                 checks.append(common.bound_row(KEY, road, label, d, sc.bound_distance_m))

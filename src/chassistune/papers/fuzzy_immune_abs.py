@@ -9,6 +9,7 @@ import pandas as pd
 
 from chassistune.papers import common, published
 from chassistune.papers.derlsp_ao_abs import abs_trace, run_gains
+from chassistune.papers.notation import NOT_PRINTED
 from chassistune.scenarios.abs_wheel import AbsWheelScenario
 from chassistune.scenarios.base import Trace
 
@@ -102,6 +103,7 @@ def build(ctx: common.Context) -> common.PaperSection:
                 "Tuned rows: the median run of the tuning seeds; the paper "
                 f"reads its settling times off its figures (section 4.2, {fig}).",
                 quoted=("paper settle (s)", "paper stop time (s)", "paper distance (m)"),
+                missing={"ours settle (s)": common.NEVER_SETTLES, "paper / bound": NOT_PRINTED},
             )
         )
         path = ctx.figure(KEY, f"{fig.replace('. ', '').lower()}_{road}")
@@ -111,7 +113,15 @@ def build(ctx: common.Context) -> common.PaperSection:
             str(path),
             title=f"{fig} redrawn: {road}",
         )
-        sec.figures.append(common.Figure(path.stem, f"{fig} redrawn ({road})", path))
+        sec.figures.append(
+            common.Figure(
+                path.stem,
+                f"{fig} redrawn ({road})",
+                path,
+                "Threshold ABS: untuned; PID, fuzzy PID and fuzzy immune PID: tuned alike by "
+                "DERLSP-AO, each its median run (the defaults' numbers are in the table above).",
+            )
+        )
         settles = {k: common.settle_time_s(t) for k, (_, t) in traces.items()}
         mine = settles[CLAIMED]
         others = {k: v for k, v in settles.items() if k != CLAIMED}
@@ -120,9 +130,9 @@ def build(ctx: common.Context) -> common.PaperSection:
         settle_parts.append(
             (
                 common.graded(faster, within),
-                f"{road}: fuzzy immune PID {mine:.3g} s (paper "
+                f"{road}: fuzzy immune PID {common.settle_text(mine)} (paper "
                 f"{settle_pub[CLAIMED]:g} s); others "
-                + ", ".join(f"{k} {v:.3g} s" for k, v in others.items()),
+                + ", ".join(f"{k} {common.settle_text(v)}" for k, v in others.items()),
             )
         )
         word, evidence = common.order_verdict(dist, CLAIMED)

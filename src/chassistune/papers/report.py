@@ -31,6 +31,7 @@ from chassistune.papers.common import (
     Table,
     Verdict,
 )
+from chassistune.papers.notation import NO_VALUE, NOT_PRINTED, notation_table
 from chassistune.reports.html import FLAG, Download, FigureView, Item, Section, TableView, render
 from chassistune.reports.tables import StudyData, write_table
 
@@ -76,11 +77,19 @@ def verdict_counts(sections: Sequence[PaperSection]) -> pd.DataFrame:
 
 
 def counts_text(verdicts: Sequence[Verdict]) -> str:
-    """'16 claims: 2 holds, 1 holds in ranking only, 13 does not hold' (verdicts present)."""
+    """'16 claims: 2 hold, 1 holds in ranking only, 13 do not hold' (verdicts present)."""
     words = [v.verdict for v in verdicts]
     return f"{len(words)} claims: " + ", ".join(
-        f"{words.count(w)} {w}" for w in VERDICTS if w in words
+        f"{words.count(w)} {agree(w, words.count(w))}" for w in VERDICTS if w in words
     )
+
+
+def agree(verdict: str, count: int) -> str:
+    """The verdict's verb in agreement with `count` claims: 'holds' -> 'hold', 'does not hold'
+    -> 'do not hold' for any count but one."""
+    if count == 1:
+        return verdict
+    return verdict.replace("does not", "do not", 1).replace("holds", "hold", 1)
 
 
 def quote(value: object) -> str:
@@ -121,6 +130,7 @@ class _Writer:
     """Writes each table's CSV once and turns tables and figures into page items."""
 
     def __init__(self, out: Path) -> None:
+        self.out = out
         self.tables_dir = out / "tables"
         self.tables_dir.mkdir(parents=True, exist_ok=True)
         self.written: list[Path] = []
@@ -138,17 +148,18 @@ class _Writer:
             self.written.append(path)
         self.count += 1
         view = TableView.from_frame(
-            t.frame, f"t{self.count}", t.title, t.caption, (Download.from_csv(path),)
+            t.frame, f"t{self.count}", t.title, t.caption, (Download.from_csv(path, self.out),)
         )
         return replace(view, rows=_shown(t, view.rows))
 
 
 def _shown(t: Table, rows: list[list[str]]) -> list[list[str]]:
     """The page's cells: quoted columns in full, a verdict with its mark, a published distance
-    below its adhesion bound flagged."""
+    below its adhesion bound flagged, an empty cell saying why it is empty."""
     out = [list(r) for r in rows]
     for j, col in enumerate(t.frame.columns):
         values = t.frame.iloc[:, j].tolist()
+        blank = t.missing.get(col, NOT_PRINTED if col in t.quoted else NO_VALUE)
         for i, v in enumerate(values):
             if col in t.quoted:
                 out[i][j] = quote(v)
@@ -156,6 +167,7 @@ def _shown(t: Table, rows: list[list[str]]) -> list[list[str]]:
                 out[i][j] = f"{VERDICT_MARKS[v]} {v}"
             elif col in BOUND_RATIOS and isinstance(v, float) and v < 1.0:
                 out[i][j] = f"{out[i][j]} {FLAG} below the bound"
+            out[i][j] = out[i][j] or blank
     return out
 
 
@@ -206,6 +218,7 @@ def _first_section(w: _Writer, sections: Sequence[PaperSection]) -> Section:
                 "",
             )
         )
+    items.append(w.table(notation_table(), ""))
     return Section("Verdicts and physical bounds", intro, items, id="verdicts")
 
 

@@ -31,6 +31,7 @@ from chassistune.papers.report import (
     write_interactive,
     write_report,
 )
+from chassistune.papers.supplement import supplement
 from chassistune.reports.tables import StudyData, load_study
 from chassistune.studies.executors import Executor
 from chassistune.studies.runner import check_out_dir, pending_runs, run_study
@@ -148,7 +149,7 @@ def reproduce(
     data = run_studies(runs, out, executor, progress)
     ctx = Context(out / "figures", data, {r.name: r.configs for r in runs}, quick)
     keys = paper_keys(which)
-    sections = [PAPERS[k].build(ctx) for k in keys]
+    sections = [supplement(PAPERS[k].build(ctx), ctx) for k in keys]
     wall = time.perf_counter() - t0
     timing = timing_text(wall, data)
     files = write_report(out, sections, quick, timing)

@@ -76,6 +76,30 @@ def _drop_clipped(fig: Any) -> None:
                 t.remove()
 
 
+def plot_memberships(rb: RuleBase, path: str | Path, title: str) -> Path:
+    """The membership functions of every input and output of `rb`, one panel each, in one row."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    variables = [("input", v) for v in rb.inputs] + [("output", v) for v in rb.outputs]
+    fig = Figure(figsize=(3.0 * len(variables), 2.6), layout="constrained")
+    FigureCanvasAgg(fig)
+    for ax, (role, var) in zip(
+        np.atleast_1d(fig.subplots(1, len(variables))), variables, strict=True
+    ):
+        _plot_sets(ax, var, role)
+    fig.suptitle(title, fontsize=10)
+    return _save(fig, path)
+
+
+def _save(fig: Any, path: str | Path) -> Path:
+    """Write a figure atomically (never a half-written file); its format from the suffix."""
+    out = Path(path)
+    with atomic_path(out) as tmp:
+        fig.savefig(tmp, dpi=110, format=out.suffix.lstrip(".").lower() or "png")
+    return out
+
+
 def plot_rulebase(rb: RuleBase, path: str | Path) -> Path:
     """Draw the sets of every variable and the control surface of every output; save to `path`."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -110,7 +134,4 @@ def plot_rulebase(rb: RuleBase, path: str | Path) -> Path:
             ax.grid(alpha=0.3)
     if bottom is not None and len(rb.inputs) == 2:
         _drop_clipped(fig)
-    out = Path(path)
-    with atomic_path(out) as tmp:  # never leave a half-written figure behind
-        fig.savefig(tmp, dpi=110, format=out.suffix.lstrip(".").lower() or "png")
-    return out
+    return _save(fig, path)

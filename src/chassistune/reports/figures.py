@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -22,6 +23,32 @@ def convergence_figure(runs: Mapping[str, Sequence[RunRecord]], path: str, title
     """Best cost so far against evaluations per optimizer: median line, interquartile band."""
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.2))
+    _convergence_axes(ax, runs)
+    ax.set_title(f"{title}\nmedian and interquartile band over seeds", fontsize=9)
+    fig.tight_layout()
+    save(fig, path)
+
+
+def convergence_panels_figure(
+    panels: Mapping[str, Mapping[str, Sequence[RunRecord]]], path: str, title: str
+) -> None:
+    """`convergence_figure` of several cells (a panel per cell, titled by its key), two columns."""
+    plt = pyplot()
+    cols = min(2, len(panels))
+    rows = -(-len(panels) // cols)
+    fig, grid = plt.subplots(rows, cols, figsize=(6 * cols, 3.6 * rows), squeeze=False)
+    for ax, (name, runs) in zip(grid.ravel(), panels.items(), strict=False):
+        _convergence_axes(ax, runs)
+        ax.set_title(name, fontsize=9)
+    for ax in grid.ravel()[len(panels) :]:
+        ax.set_visible(False)
+    fig.suptitle(f"{title}: median and interquartile band over seeds", fontsize=10)
+    fig.tight_layout()
+    save(fig, path)
+
+
+def _convergence_axes(ax: Any, runs: Mapping[str, Sequence[RunRecord]]) -> None:
+    """Median best-so-far cost and its interquartile band per label on `ax`."""
     drawn = []
     for label, (n, band) in convergence_bands(runs).items():
         line = ax.plot(
@@ -41,11 +68,8 @@ def convergence_figure(runs: Mapping[str, Sequence[RunRecord]], path: str, title
         ax.set_yscale("log")
     ax.set_xlabel("evaluations")
     ax.set_ylabel("best cost so far")
-    ax.set_title(f"{title}\nmedian and interquartile band over seeds", fontsize=9)
     if drawn:
         ax.legend()
-    fig.tight_layout()
-    save(fig, path)
 
 
 def boxplot_figure(costs: Mapping[str, np.ndarray], path: str, title: str) -> None:

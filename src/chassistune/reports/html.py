@@ -56,15 +56,19 @@ def td_class(numeric: bool, text: str) -> str:
 
 @dataclass(frozen=True)
 class Download:
-    """A CSV file embedded in the page (data URI) under its file name."""
+    """A CSV file embedded in the page (data URI) under its file name; `folder`: where the file
+    itself is, relative to the page."""
 
     name: str
     uri: str
+    folder: str = ""
 
     @classmethod
-    def from_csv(cls, path: Path) -> Download:
+    def from_csv(cls, path: Path, page_dir: Path) -> Download:
+        """`path`'s bytes, its folder named relative to `page_dir` (the page's folder)."""
         data = base64.b64encode(path.read_bytes()).decode("ascii")
-        return cls(path.name, f"data:text/csv;charset=utf-8;base64,{data}")
+        folder = path.parent.resolve().relative_to(page_dir.resolve()).as_posix()
+        return cls(path.name, f"data:text/csv;charset=utf-8;base64,{data}", f"{folder}/")
 
 
 @dataclass(frozen=True)
@@ -180,7 +184,7 @@ table { border-collapse: collapse; margin: 0.5em 0 0.3em; font-size: 0.85em; }
 caption { caption-side: bottom; text-align: left; color: #555; padding-top: 0.3em;
           max-width: 60em; }
 th, td { border: 1px solid #ddd; padding: 0.25em 0.6em; text-align: left; }
-th { background: #f2f2f2; }
+th { background: #f2f2f2; overflow-wrap: anywhere; }
 th.group { text-align: center; background: #e8eef5; }
 .num { text-align: right; font-variant-numeric: tabular-nums; }
 tbody tr:nth-child(even) { background: #fafafa; }
@@ -218,7 +222,8 @@ item.numeric[loop.index0], v) %}<td{% if cls %} class="{{ cls }}"{% endif %}>{{ 
 </div>
 {% if item.sources %}<p class="source">data: {% for s in item.sources %}<a
 download="{{ s.name }}" href="{{ s.uri }}">{{ s.name }}</a>{{ ", " if not loop.last }}
-{% endfor %} (embedded in this page; also in report/tables/)</p>{% endif %}
+{% endfor %} (embedded in this page; also in {{ item.sources | map(attribute="folder") | unique
+| join(", ") }} beside it)</p>{% endif %}
 {% endmacro %}
 {% macro code(item) %}
 <h3>{{ labels[item.id] }}: {{ item.title }}</h3>

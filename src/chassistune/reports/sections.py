@@ -62,7 +62,7 @@ class Assets:
         tables.write_table(df, str(path), "csv")
         if path not in self.tables:
             self.tables.append(path)
-        return Download.from_csv(path)
+        return Download.from_csv(path, self.root)
 
     def table(
         self, df: pd.DataFrame, title: str, caption: str = "", *sources: Download
