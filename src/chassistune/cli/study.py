@@ -44,13 +44,8 @@ def run_command(
     """
     from chassistune.studies.executors import check_dask, make_executor
     from chassistune.studies.lock import refuse_if_locked
-    from chassistune.studies.runner import (
-        Progress,
-        check_out_dir,
-        pending_runs,
-        rich_progress,
-        run_study,
-    )
+    from chassistune.studies.progress import with_progress
+    from chassistune.studies.runner import Progress, check_out_dir, pending_runs, run_study
     from chassistune.studies.spec import load_plan
 
     plan = load_plan(config)
@@ -76,9 +71,12 @@ def run_command(
         )
     )
     with make_executor(executor, workers, scheduler) as ex:
-        outcome = rich_progress(
-            lambda progress: run_study(plan, out_dir, ex, retry_failed, count(progress)),
+        outcome = with_progress(
+            lambda progress: run_study(
+                plan, out_dir, ex, retry_failed, count(progress), _stderr_line
+            ),
             f"study {plan.config.study.name}",
+            _stderr_line,
         )
     forget()
     click.echo(
@@ -93,6 +91,10 @@ def run_command(
             err=True,
         )
     _warn_unequal_budgets(out_dir)
+
+
+def _stderr_line(text: str) -> None:
+    click.echo(f"chassistune: {text}", err=True)
 
 
 def _warn_unequal_budgets(study_dir: str) -> None:
@@ -160,6 +162,8 @@ def status_command(study_dir: str, as_json: bool) -> None:
                 "seeds": len(st.config.study.seeds),
                 "budget": budget,
                 "running_pid": st.running_pid,
+                "damaged": [{"key": d.key, "problem": d.problem} for d in st.damaged],
+                "other_config_runs": st.others,
             }
         )
         return
@@ -171,6 +175,13 @@ def status_command(study_dir: str, as_json: bool) -> None:
     click.echo(f"  scenarios: {', '.join(st.scenarios)}")
     click.echo(f"  optimizers: {', '.join(st.optimizers)}; seeds: {len(st.config.study.seeds)}")
     click.echo("  budget: " + ", ".join(f"{k} {v}" for k, v in budget.items() if v is not None))
+    for d in st.damaged:
+        click.echo(f"  damaged: run {d.key!r} does not read back ({d.problem})")
+    if st.others:
+        click.echo(
+            f"  {st.others} stored runs of an earlier config (other scenarios, optimizers or "
+            "seeds) are not part of the study"
+        )
     if st.missing and not st.running_pid:
         click.echo(
             "  `chassistune study run CONFIG.toml --out DIR` with the same config finishes it"
