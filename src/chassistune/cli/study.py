@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import sys
 
 import click
 
@@ -84,6 +85,13 @@ def run_command(
         f"already done, {outcome.completed} completed and {outcome.failed} failed now "
         f"({executor}, {outcome.wall_time_s:.2f} s); store {outcome.store}"
     )
+    if not outcome.completed_in_study:
+        click.echo(
+            f"chassistune: every run of study {plan.config.study.name} failed: their errors "
+            "are in the store and in `chassistune study export`",
+            err=True,
+        )
+        sys.exit(1)
     if outcome.failed:
         click.echo(
             f"chassistune: {outcome.failed} runs failed: their errors are in the store "
