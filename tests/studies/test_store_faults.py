@@ -84,7 +84,7 @@ def _copy(done: Path, tmp_path: Path) -> tuple[Path, Path, StudyPlan]:
 
 
 def test_a_lock_held_for_a_while_is_waited_for_and_its_holder_named(done, tmp_path, monkeypatch):
-    monkeypatch.setattr(store_module, "LOCK_WAIT_S", 60.0)
+    monkeypatch.setattr(store_module, "LOCK_WAIT_S", 60.0, raising=False)
     out, _, plan = _copy(done, tmp_path)
     holders: list[subprocess.Popen[str]] = []
     said: list[str] = []
@@ -96,9 +96,7 @@ def test_a_lock_held_for_a_while_is_waited_for_and_its_holder_named(done, tmp_pa
 
 
 def test_a_lock_held_past_the_wait_keeps_the_finished_run(done, tmp_path, monkeypatch):
-    from chassistune.studies import unrecorded
-
-    monkeypatch.setattr(store_module, "LOCK_WAIT_S", 2.0)
+    monkeypatch.setattr(store_module, "LOCK_WAIT_S", 2.0, raising=False)
     out, _, plan = _copy(done, tmp_path)
     holders: list[subprocess.Popen[str]] = []
     ex = _Between(lambda: holders.append(_hold_lock(out / "study.sqlite", 120)))
@@ -111,6 +109,8 @@ def test_a_lock_held_past_the_wait_keeps_the_finished_run(done, tmp_path, monkey
     assert exc.value.field == "out"
     assert f"processes with it open: {holders[0].pid} (" in exc.value.problem
     assert "kept in" in exc.value.problem and _rows(out) == 2
+    from chassistune.studies import unrecorded
+
     (kept,) = unrecorded.kept(out)
     outcome = run_study(plan, out, SerialExecutor())  # the lock is free again
     assert (outcome.skipped, outcome.completed) == (3, 1)  # the kept run is stored, not redone
