@@ -214,7 +214,7 @@ def test_a_damaged_run_is_named_by_every_command_before_any_work(cli, done, tmp_
     r = cli("study", "status", str(out))
     assert r.code == 0, r.err
     assert f"damaged: run {key!r} does not read back ({column} is not" in r.out
-    assert "2 runs, 1 completed, 0 failed, 1 missing" in r.out
+    assert "2 runs, 1 completed, 0 failed, 1 missing" in r.out and "finishes it" not in r.out
     for args in (
         ("study", "export", str(out), "--output", str(tmp_path / "runs.csv")),
         ("study", "report", str(out)),
@@ -228,19 +228,41 @@ def test_a_damaged_run_is_named_by_every_command_before_any_work(cli, done, tmp_
     assert not (tmp_path / "runs.csv").exists() and not (out / "report.html").exists()
 
 
-def test_a_store_without_its_runs_table_is_refused_in_one_line(cli, done, tmp_path):
-    out, config, _ = _copy(done, tmp_path)
-    conn = sqlite3.connect(out / "study.sqlite")
+def _drop_runs(store: Path) -> None:
+    conn = sqlite3.connect(store)
     conn.execute("DROP TABLE runs")
     conn.close()
+
+
+def _smash_runs_page(store: Path) -> None:
+    conn = sqlite3.connect(store)
+    (root,) = conn.execute("SELECT rootpage FROM sqlite_master WHERE name = 'runs'").fetchone()
+    size = conn.execute("PRAGMA page_size").fetchone()[0]
+    conn.close()
+    data = bytearray(store.read_bytes())
+    data[(root - 1) * size : (root - 1) * size + 8] = b"\xff" * 8  # its b-tree page header
+    store.write_bytes(bytes(data))
+
+
+@pytest.mark.parametrize(
+    ("damage", "said"),
+    [
+        (_drop_runs, "is a damaged study store (no runs table)"),
+        (_smash_runs_page, "study.sqlite' is damaged ("),
+    ],
+)
+def test_a_store_damaged_below_its_rows_is_refused_in_one_line(cli, done, tmp_path, damage, said):
+    out, config, _ = _copy(done, tmp_path)
+    damage(out / "study.sqlite")
     for args in (
         ("study", "status", str(out)),
         ("study", "export", str(out), "--output", "-"),
+        ("study", "report", str(out)),
         ("study", "run", str(config), "--out", str(out)),
     ):
         r = cli(*args)
         assert r.code == 2, (args, r.err)
-        assert "is a damaged study store (no runs table)" in r.err, args
+        assert len(r.err.splitlines()) == 1 and said in r.err, args
 
 
 # -- a read-only store -----------------------------------------------------------------------------

@@ -190,7 +190,7 @@ def status_command(study_dir: str, as_json: bool) -> None:
             f"  {st.others} stored runs of an earlier config (other scenarios, optimizers or "
             "seeds) are not part of the study"
         )
-    if st.missing and not st.running_pid:
+    if st.missing and not st.running_pid and not st.damaged:
         click.echo(
             "  `chassistune study run CONFIG.toml --out DIR` with the same config finishes it"
         )

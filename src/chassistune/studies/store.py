@@ -390,7 +390,8 @@ class Store:
                 try:
                     record = _record(row)
                 except _Undecodable as exc:
-                    damaged.append(Damage(row[0].decode("utf-8", "replace"), str(exc)))
+                    key = row[0].decode("utf-8", "replace") if isinstance(row[0], bytes) else row[0]
+                    damaged.append(Damage(str(key), str(exc)))
                     continue
                 if member(record.spec):
                     records.append(record)
@@ -457,16 +458,18 @@ class _Undecodable(ValueError):
     """A stored row that does not read back (the message names the column)."""
 
 
-def _text(value: bytes | None, column: str) -> str | None:
+def _text(value: object, column: str) -> str | None:
     if value is None:
         return None
+    if not isinstance(value, bytes):
+        raise _Undecodable(f"{column} is not text but {type(value).__name__} {value!r}")
     try:
         return value.decode("utf-8")
-    except (UnicodeDecodeError, AttributeError) as exc:
+    except UnicodeDecodeError as exc:
         raise _Undecodable(f"{column} is not UTF-8 text: {exc}") from None
 
 
-def _json(value: bytes | None, column: str, empty: Any) -> Any:
+def _json(value: object, column: str, empty: Any) -> Any:
     text = _text(value, column)
     if text is None:
         return empty
