@@ -170,6 +170,18 @@ def test_a_disk_that_fills_mid_study_stops_it_in_one_line_keeping_what_is_stored
     assert sorted(p.name for p in out.iterdir()) == [".study.lock", "study.sqlite"]
 
 
+def test_a_full_disk_before_a_new_study_is_named_by_the_file_it_stops_at(cli, small_fs, tmp_path):
+    config, _ = write_plan(tmp_path, tiny_config(seeds=1))
+    _fill(small_fs)
+    r = cli("study", "run", str(config), "--out", str(small_fs / "new"))
+    assert r.code == 2, r.err
+    assert r.err == (
+        f"chassistune: error: --out: cannot write {str(small_fs / 'new' / '.study.lock')!r}: "
+        "No space left on device\n"
+    )
+    assert not (small_fs / "new" / "study.sqlite").exists()
+
+
 def test_a_store_that_cannot_grow_fails_the_run_naming_it(done, tmp_path, monkeypatch):
     """Fault injection where no file system can be mounted: SQLite's page limit is its full
     disk (SQLITE_FULL)."""
@@ -226,6 +238,24 @@ def test_a_damaged_run_is_named_by_every_command_before_any_work(cli, done, tmp_
         assert len(r.err.strip().splitlines()) == 1 and f"damaged run {key!r}" in r.err, args
     assert _rows(out) == 2  # `study run` did no run
     assert not (tmp_path / "runs.csv").exists() and not (out / "report.html").exists()
+
+
+def test_reproduce_refuses_a_damaged_study_store_before_any_work(cli, done, tmp_path):
+    from chassistune.papers.reproduce import plan_reproduction
+
+    out = tmp_path / "rep"
+    folder = plan_reproduction("derlsp-ao-abs", quick=True)[0].folder(out)
+    shutil.copytree(done, folder)
+    conn = sqlite3.connect(folder / "study.sqlite")
+    with conn:
+        conn.execute(DAMAGE["json"])
+    conn.close()
+    r = cli("reproduce", "derlsp-ao-abs", "--quick", "--out", str(out))
+    assert r.code == 2, r.err
+    assert len(r.err.splitlines()) == 1 and "holds a damaged run 'qc/iso-b|pso|0'" in r.err
+    assert sorted(p.name for p in out.rglob("*")) == sorted(
+        ["studies", folder.name, ".study.lock", "study.sqlite"]
+    )
 
 
 def _drop_runs(store: Path) -> None:
