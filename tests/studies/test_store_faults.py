@@ -95,7 +95,7 @@ def test_a_lock_held_for_a_while_is_waited_for_and_its_holder_named(done, tmp_pa
     assert len(said) == 1 and f"{holders[0].pid} (" in said[0] and "up to 60 s" in said[0]
 
 
-def test_a_lock_held_past_the_wait_keeps_the_finished_run(done, tmp_path, monkeypatch):
+def test_a_lock_held_past_the_wait_keeps_the_finished_run(cli, done, tmp_path, monkeypatch):
     monkeypatch.setattr(store_module, "LOCK_WAIT_S", 2.0, raising=False)
     out, _, plan = _copy(done, tmp_path)
     holders: list[subprocess.Popen[str]] = []
@@ -112,6 +112,8 @@ def test_a_lock_held_past_the_wait_keeps_the_finished_run(done, tmp_path, monkey
     from chassistune.studies import unrecorded
 
     (kept,) = unrecorded.kept(out)
+    status = cli("study", "status", str(out))
+    assert f"  1 finished run waits in {out / 'unrecorded'} (the store was locked)" in status.out
     outcome = run_study(plan, out, SerialExecutor())  # the lock is free again
     assert (outcome.skipped, outcome.completed) == (3, 1)  # the kept run is stored, not redone
     assert _rows(out) == 4 and unrecorded.kept(out) == []

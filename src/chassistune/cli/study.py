@@ -172,6 +172,7 @@ def status_command(study_dir: str, as_json: bool) -> None:
                 "running_pid": st.running_pid,
                 "damaged": [{"key": d.key, "problem": d.problem} for d in st.damaged],
                 "other_config_runs": st.others,
+                "kept_unrecorded": st.kept,
             }
         )
         return
@@ -185,6 +186,12 @@ def status_command(study_dir: str, as_json: bool) -> None:
     click.echo("  budget: " + ", ".join(f"{k} {v}" for k, v in budget.items() if v is not None))
     for d in st.damaged:
         click.echo(f"  damaged: run {d.key!r} does not read back ({d.problem})")
+    if st.kept:
+        runs = "1 finished run waits" if st.kept == 1 else f"{st.kept} finished runs wait"
+        click.echo(
+            f"  {runs} in {os.path.join(study_dir, 'unrecorded')} (the store was locked): the "
+            "next `study run` stores them"
+        )
     if st.others:
         click.echo(
             f"  {st.others} stored runs of an earlier config (other scenarios, optimizers or "

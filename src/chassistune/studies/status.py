@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from chassistune.errors import InputError
+from chassistune.studies import unrecorded
 from chassistune.studies.lock import holder
 from chassistune.studies.spec import StudyConfig, parse_config, plan_study
 from chassistune.studies.store import Damage, open_study
@@ -31,6 +32,9 @@ class StudyStatus:
     them)."""
     others: int
     """Stored runs of an earlier config (a scenario since renamed): not part of the study."""
+    kept: int
+    """Finished runs waiting in DIR/unrecorded/ (the store was locked): the next run stores
+    them."""
 
 
 def study_status(study_dir: str | Path) -> StudyStatus:
@@ -58,4 +62,5 @@ def study_status(study_dir: str | Path) -> StudyStatus:
         holder(study_dir),
         scan.damaged,
         scan.others,
+        len(unrecorded.kept(study_dir)),
     )
