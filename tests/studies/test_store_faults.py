@@ -282,6 +282,7 @@ def _smash_runs_page(store: Path) -> None:
         (_drop_runs, "is a damaged study store (no runs table)"),
         (_smash_runs_page, "study.sqlite' is damaged ("),
     ],
+    ids=["runs-table-dropped", "runs-page-smashed"],
 )
 def test_a_store_damaged_below_its_rows_is_refused_in_one_line(cli, done, tmp_path, damage, said):
     out, config, _ = _copy(done, tmp_path)
