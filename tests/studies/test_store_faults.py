@@ -93,6 +93,7 @@ def test_a_lock_held_for_a_while_is_waited_for_and_its_holder_named(done, tmp_pa
     holders[0].wait()
     assert outcome.completed == 2 and _rows(out) == 4
     assert len(said) == 1 and f"{holders[0].pid} (" in said[0] and "up to 60 s" in said[0]
+    assert "\n" not in said[0]  # the holder's command line (HOLD has several) on one line
 
 
 def test_a_lock_held_past_the_wait_keeps_the_finished_run(cli, done, tmp_path, monkeypatch):

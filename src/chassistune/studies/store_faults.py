@@ -91,5 +91,5 @@ def _command(pid: int) -> str:
             words = fh.read().split(b"\0")
     except OSError:
         return "unknown"
-    text = " ".join(w.decode("utf-8", "replace") for w in words if w)
+    text = " ".join(" ".join(w.decode("utf-8", "replace").split()) for w in words if w)
     return text[:80] or "unknown"
