@@ -115,7 +115,7 @@ class RunRecord:
     robust: dict[str, Any] | None = None
     """Robust runs (an `[uncertainty]` table): the training summary and the validation."""
     step_check: dict[str, Any] | None = None
-    """The winner at a quarter of the step, by road (`scenarios.refine`; issue 11)."""
+    """The winner at a quarter of the step, by road (`scenarios.refine`)."""
 
     @property
     def completed(self) -> bool:
@@ -146,7 +146,7 @@ class StoreBusy(InputError):
 
 def _init_schema(conn: sqlite3.Connection) -> None:
     conn.executescript(_SCHEMA)
-    for column in ("robust", "diagnostics", "step_check"):  # stores before issues 17, 14, 11
+    for column in ("robust", "diagnostics", "step_check"):  # added after schema 1
         if column not in _columns(conn):
             conn.execute(f"ALTER TABLE runs ADD COLUMN {column} TEXT")
     conn.execute("INSERT OR IGNORE INTO meta VALUES ('schema_version', ?)", (SCHEMA_VERSION,))
