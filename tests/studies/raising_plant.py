@@ -1,5 +1,6 @@
-"""A test-only plant: the quarter car with two more objectives: `raises`, whose cost raises, and
-`dies`, whose cost ends its (worker) process at once, like a crash in compiled code.
+"""A test-only plant: the quarter car with three more objectives: `raises`, whose cost raises,
+`dies`, whose cost ends its (worker) process at once, like a crash in compiled code, and
+`terminated`, whose cost sends SIGTERM to its own process (a worker killed from outside).
 
 Registered under the name `raising-quarter-car` by `register()`, which worker processes run as
 their initializer (this module is importable there: spawned workers inherit sys.path).
@@ -9,6 +10,8 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import signal
+import time
 from collections.abc import Mapping
 
 import numpy as np
@@ -21,7 +24,7 @@ MESSAGE = "test objective raised on purpose"
 
 
 class RaisingScenario(QuarterCarScenario):
-    objectives = (*QuarterCarScenario.objectives, "raises", "dies")
+    objectives = (*QuarterCarScenario.objectives, "raises", "dies", "terminated")
 
     def cost(
         self, gains: np.ndarray, objective: str | None = None, workers: int | None = None
@@ -33,6 +36,9 @@ class RaisingScenario(QuarterCarScenario):
             if deaths:  # one file per try, for tests counting how often the run was tried
                 open(os.path.join(deaths, f"death-{os.getpid()}"), "w").close()
             os._exit(3)
+        if objective == "terminated":
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(30)  # a process that survives SIGTERM would come back here
         return super().cost(gains, objective, workers)
 
 

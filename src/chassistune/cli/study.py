@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import sys
 
 import click
 
@@ -44,13 +45,8 @@ def run_command(
     """
     from chassistune.studies.executors import check_dask, make_executor
     from chassistune.studies.lock import refuse_if_locked
-    from chassistune.studies.runner import (
-        Progress,
-        check_out_dir,
-        pending_runs,
-        rich_progress,
-        run_study,
-    )
+    from chassistune.studies.progress import with_progress
+    from chassistune.studies.runner import Progress, check_out_dir, pending_runs, run_study
     from chassistune.studies.spec import load_plan
 
     plan = load_plan(config)
@@ -76,9 +72,12 @@ def run_command(
         )
     )
     with make_executor(executor, workers, scheduler) as ex:
-        outcome = rich_progress(
-            lambda progress: run_study(plan, out_dir, ex, retry_failed, count(progress)),
+        outcome = with_progress(
+            lambda progress: run_study(
+                plan, out_dir, ex, retry_failed, count(progress), _stderr_line
+            ),
             f"study {plan.config.study.name}",
+            _stderr_line,
         )
     forget()
     click.echo(
@@ -86,6 +85,13 @@ def run_command(
         f"already done, {outcome.completed} completed and {outcome.failed} failed now "
         f"({executor}, {outcome.wall_time_s:.2f} s); store {outcome.store}"
     )
+    if not outcome.completed_in_study:
+        click.echo(
+            f"chassistune: every run of study {plan.config.study.name} failed: their errors "
+            "are in the store and in `chassistune study export`",
+            err=True,
+        )
+        sys.exit(1)
     if outcome.failed:
         click.echo(
             f"chassistune: {outcome.failed} runs failed: their errors are in the store "
@@ -93,6 +99,10 @@ def run_command(
             err=True,
         )
     _warn_unequal_budgets(out_dir)
+
+
+def _stderr_line(text: str) -> None:
+    click.echo(f"chassistune: {text}", err=True)
 
 
 def _warn_unequal_budgets(study_dir: str) -> None:
@@ -161,6 +171,9 @@ def status_command(study_dir: str, as_json: bool) -> None:
                 "seeds": len(st.config.study.seeds),
                 "budget": budget,
                 "running_pid": st.running_pid,
+                "damaged": [{"key": d.key, "problem": d.problem} for d in st.damaged],
+                "other_config_runs": st.others,
+                "kept_unrecorded": st.kept,
             }
         )
         return
@@ -172,7 +185,20 @@ def status_command(study_dir: str, as_json: bool) -> None:
     click.echo(f"  scenarios: {', '.join(st.scenarios)}")
     click.echo(f"  optimizers: {', '.join(st.optimizers)}; seeds: {len(st.config.study.seeds)}")
     click.echo("  budget: " + ", ".join(f"{k} {v}" for k, v in budget.items() if v is not None))
-    if st.missing and not st.running_pid:
+    for d in st.damaged:
+        click.echo(f"  damaged: run {d.key!r} does not read back ({d.problem})")
+    if st.kept:
+        runs = "1 finished run waits" if st.kept == 1 else f"{st.kept} finished runs wait"
+        click.echo(
+            f"  {runs} in {os.path.join(study_dir, 'unrecorded')} (the store was locked): the "
+            "next `study run` stores them"
+        )
+    if st.others:
+        click.echo(
+            f"  {st.others} stored runs of an earlier config (other scenarios, optimizers or "
+            "seeds) are not part of the study"
+        )
+    if st.missing and not st.running_pid and not st.damaged:
         click.echo(
             "  `chassistune study run CONFIG.toml --out DIR` with the same config finishes it"
         )

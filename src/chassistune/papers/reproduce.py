@@ -34,7 +34,8 @@ from chassistune.papers.report import (
 from chassistune.papers.supplement import supplement
 from chassistune.reports.tables import StudyData, load_study
 from chassistune.studies.executors import Executor
-from chassistune.studies.runner import check_out_dir, pending_runs, run_study
+from chassistune.studies.progress import with_progress
+from chassistune.studies.runner import StudyOutcome, check_out_dir, pending_runs, run_study
 from chassistune.studies.spec import (
     StudyConfig,
     StudyPlan,
@@ -117,12 +118,16 @@ def check_reproduction(which: str, quick: bool, out: str | Path) -> list[StudyRu
 def run_studies(
     runs: Sequence[StudyRun], out: Path, executor: Executor, progress: Progress | None = None
 ) -> dict[str, StudyData]:
-    """Run (or resume) each study into OUT/studies/; the stores' data by study name."""
+    """Run (or resume) each study into OUT/studies/; the stores' data by study name. With
+    `progress`: a line per finished study, and the runs done so far every 30 s (off a terminal;
+    a bar on one)."""
     data: dict[str, StudyData] = {}
     (out / "studies").mkdir(parents=True, exist_ok=True)
     for r in runs:
-        outcome = run_study(r.plan, r.folder(out), executor)
-        if progress is not None:
+        if progress is None:
+            outcome = run_study(r.plan, r.folder(out), executor)
+        else:
+            outcome = _run_with_progress(r.plan, r.folder(out), executor, progress)
             progress(
                 f"{r.plan.config.study.name}: {outcome.completed} run(s) now, "
                 f"{outcome.skipped} done before, {outcome.failed} failed "
@@ -131,6 +136,16 @@ def run_studies(
         with open_study(r.folder(out)) as store:
             data[r.name] = load_study(store)
     return data
+
+
+def _run_with_progress(
+    plan: StudyPlan, folder: Path, executor: Executor, say: Progress
+) -> StudyOutcome:
+    return with_progress(
+        lambda bar: run_study(plan, folder, executor, progress=bar, notice=say),
+        plan.config.study.name,
+        say,
+    )
 
 
 def reproduce(

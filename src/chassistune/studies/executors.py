@@ -69,9 +69,16 @@ def _exit_with_parent(parent: int, period_s: float = 0.5) -> None:
 
 
 def _init_worker(parent: int, extra: Callable[[], None] | None) -> None:
-    """Worker set-up: one kernel thread, Ctrl-C left to the driver, exit with the driver."""
+    """Worker set-up: one kernel thread, Ctrl-C left to the driver, exit with the driver.
+
+    A spawned worker re-imports the driver's main module under the driver's argv, so under the
+    console script it has taken the command line's Ctrl-C policy (`_interrupt.install`); that
+    policy is the driver's: a worker ends on SIGTERM as any process does, saying nothing.
+    """
     os.environ["CHASSISTUNE_THREADS"] = "1"
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.set_wakeup_fd(-1)
     threading.Thread(target=_exit_with_parent, args=(parent,), daemon=True).start()
     if extra is not None:
         extra()

@@ -45,8 +45,11 @@ def study_lock(out_dir: str | Path) -> Iterator[None]:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
             raise _in_use(out_dir, os.pread(fd, 32, 0)) from None
-        os.ftruncate(fd, 0)
-        os.pwrite(fd, f"{os.getpid()}\n".encode("ascii"), 0)
+        try:
+            os.ftruncate(fd, 0)
+            os.pwrite(fd, f"{os.getpid()}\n".encode("ascii"), 0)
+        except OSError as exc:
+            raise InputError("out", f"cannot write {str(path)!r}: {exc.strerror}") from None
         yield
     finally:
         os.close(fd)  # closing the descriptor releases the lock
