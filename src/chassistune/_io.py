@@ -1,4 +1,9 @@
-"""File output and JSON: one atomic writer and one JSON normalizer for the whole package.
+"""File input and output and JSON: one reader of whole input files, one atomic writer and one
+JSON normalizer for the whole package.
+
+Input files read whole (road tables, configs, results) are read up to a stated size (`read_input`),
+so that a wrong path (`/dev/zero`, a log of gigabytes) is refused instead of filling memory; a
+UTF-8 byte-order mark, as spreadsheet programs write it, is dropped.
 
 Atomic: the data goes to a temporary file beside the target (same folder, so the final
 `os.replace` is a rename on one file system) and replaces the target only once complete; on any
@@ -19,6 +24,27 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from chassistune.errors import InputError
+
+
+def read_input(path: str | os.PathLike[str], field: str, max_bytes: int) -> str:
+    """The UTF-8 text of an input file (a leading byte-order mark dropped), at most `max_bytes`
+    long; InputError naming `field` when it cannot be read, is longer or is not UTF-8."""
+    name = os.fspath(path)
+    try:
+        with open(name, "rb") as fh:
+            data = fh.read(max_bytes + 1)
+    except OSError as exc:
+        raise InputError(field, f"cannot read {name!r}: {exc.strerror or exc}") from None
+    if len(data) > max_bytes:
+        raise InputError(
+            field, f"{name!r} is larger than {max_bytes:,} bytes, the most read for this input"
+        )
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        raise InputError(field, f"{name!r} is not UTF-8 text") from None
 
 
 def _create_beside(path: Path) -> Path:

@@ -1,0 +1,104 @@
+"""Bad inputs a careful tester tried: road tables that cannot brake or are malformed, numbers with
+digit separators, oversized input files, tampered tune results, budgets and sizes past what the
+machine holds. Each is refused in one line naming the field, before any work."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import pytest
+
+from chassistune.errors import InputError
+from chassistune.params import ImplausibleValue, to_float
+from chassistune.plants.roads import MAX_CSV_BYTES, read_mu_slip_csv, tire_for_road
+from chassistune.plants.tires import TableTire
+
+
+def _csv(path: Path, text: str) -> str:
+    path.write_text(text, encoding="utf-8")
+    return str(path)
+
+
+# -- road tables -----------------------------------------------------------------------------------
+
+
+def test_a_road_that_cannot_brake_is_refused_by_every_command(cli, tmp_path):
+    road = _csv(tmp_path / "zero.csv", "slip,mu\n0,0\n0.5,0\n1,0\n")
+    with pytest.raises(InputError, match=r"cannot brake: its peak mu is 0"):
+        tire_for_road(road, {})
+    for args in (
+        ("simulate", "abs-wheel", "--road", road),
+        ("tune", "abs-wheel", "--road", road, "--controller", "pid", "--optimizer", "pso"),
+        ("export", "--controller", "pid", "--road", road, "--format", "c", "--out", "x"),
+    ):
+        r = cli(*args)
+        assert (r.code, r.out) == (2, ""), args
+        assert (
+            r.err == f"chassistune: error: --road: {road} cannot brake: its peak mu is 0 "
+            "(must be > 0)\n"
+        ), args
+    assert not (tmp_path / "x").exists()
+
+
+@pytest.mark.parametrize("mu", ["50", "1e308"])
+def test_an_implausible_peak_mu_is_warned_about(tmp_path, mu):
+    road = _csv(tmp_path / "grippy.csv", f"slip,mu\n0,0\n0.2,{mu}\n1,0.5\n")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        tire_for_road(road, {})
+    said = [w.message for w in caught if isinstance(w.message, ImplausibleValue)]
+    assert [(w.field, w.problem) for w in said] == [
+        ("road", f"{road}: peak mu {float(mu):g} is outside the plausible range [0.05, 1.5]")
+    ]
+
+
+def test_a_plausible_table_is_not_warned_about(tmp_path):
+    road = _csv(tmp_path / "fine.csv", "slip,mu\n0,0\n0.2,0.9\n1,0.7\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        tire_for_road(road, {})
+
+
+def test_a_byte_order_mark_is_accepted(tmp_path):
+    path = tmp_path / "excel.csv"
+    path.write_bytes(b"\xef\xbb\xbfslip,mu\r\n0,0\r\n0.2,0.9\r\n1,0.7\r\n")
+    assert read_mu_slip_csv(str(path)) == TableTire((0.0, 0.2, 1.0), (0.0, 0.9, 0.7))
+
+
+@pytest.mark.parametrize(
+    ("text", "problem"),
+    [
+        ("slip,mu\n0,0\n0.2,0_9\n1,0.7\n", "row 3, column mu: expected a finite number, got '0_9'"),
+        ("slip,mu\n0,0\n0.2,0.9,5\n1,0.7\n", "row 3: 3 fields, more than the header's 2"),
+        ("slip,mu,mu\n0,0,0\n0.2,0.9,0.9\n1,0.7,0.7\n", "row 1: the column mu is named twice"),
+        ("Slip,slip,mu\n0,0,0\n0.2,0.2,0.9\n1,1,0.7\n", "row 1: the column slip is named twice"),
+    ],
+)
+def test_a_malformed_table_names_its_row(tmp_path, text, problem):
+    road = _csv(tmp_path / "bad.csv", text)
+    with pytest.raises(InputError) as exc:
+        read_mu_slip_csv(road)
+    assert (exc.value.field, exc.value.problem) == ("road", f"{road} {problem}")
+
+
+def test_a_road_file_past_the_size_cap_is_refused_without_reading_it_whole(tmp_path):
+    big = tmp_path / "big.csv"
+    big.write_text("slip,mu\n" + "0,0\n" * (MAX_CSV_BYTES // 4))
+    with pytest.raises(InputError, match=r"is larger than 65,536 bytes"):
+        read_mu_slip_csv(str(big))
+    zero = tmp_path / "zero-device.csv"
+    zero.symlink_to("/dev/zero")
+    with pytest.raises(InputError, match=r"is larger than 65,536 bytes"):
+        read_mu_slip_csv(str(zero))
+
+
+@pytest.mark.parametrize("text", ["1_0", "1_000.5", "_1"])
+def test_digit_separators_are_not_numbers(text):
+    with pytest.raises(InputError, match="not a number"):
+        to_float(text, "params.mass_kg")
+
+
+def test_a_param_with_a_digit_separator_is_refused_on_the_command_line(cli):
+    r = cli("simulate", "abs-wheel", "--param", "mass_kg=1_0")
+    assert (r.code, r.err) == (2, "chassistune: error: --param mass_kg: not a number: '1_0'\n")
