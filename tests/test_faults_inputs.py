@@ -4,6 +4,7 @@ machine holds. Each is refused in one line naming the field, before any work."""
 
 from __future__ import annotations
 
+import json
 import warnings
 from pathlib import Path
 
@@ -102,3 +103,66 @@ def test_digit_separators_are_not_numbers(text):
 def test_a_param_with_a_digit_separator_is_refused_on_the_command_line(cli):
     r = cli("simulate", "abs-wheel", "--param", "mass_kg=1_0")
     assert (r.code, r.err) == (2, "chassistune: error: --param mass_kg: not a number: '1_0'\n")
+
+
+# -- tampered tune results -------------------------------------------------------------------------
+
+TUNED = {
+    "plant": "abs-wheel",
+    "preset": "paper-derlsp-ao",
+    "roads": ["dry-concrete"],
+    "controller": "pid",
+    "best_gains": {"kp": 4000.0, "ki": 10.0, "kd": 200.0},
+    "params": {"seed": 0},
+}
+"""The keys of a tune.json that `simulate --from` and `export` read."""
+
+
+def _tune_json(tmp_path: Path, **changes: object) -> str:
+    doc = {**TUNED, **changes}
+    path = tmp_path / "tune.json"
+    path.write_text(json.dumps(doc))
+    return str(path)
+
+
+def test_an_untampered_tune_result_simulates_and_exports(cli, tmp_path):
+    source = _tune_json(tmp_path)
+    r = cli("simulate", "--from", source, "--json")
+    assert r.code == 0, r.err
+    assert json.loads(r.out)["gains"] == TUNED["best_gains"]
+    r = cli("export", source, "--format", "json", "--out", str(tmp_path / "ok"))
+    assert r.code == 0, r.err
+
+
+@pytest.mark.parametrize(
+    ("changes", "problem"),
+    [
+        ({"roads": []}, "roads: expected a non-empty list of road names, got []"),
+        ({"roads": "ice"}, "roads: expected a non-empty list of road names, got 'ice'"),
+        (
+            {"best_gains": [1, 2, 3]},
+            "best_gains: expected an object of name -> value, got [1, 2, 3]",
+        ),
+        (
+            {"best_gains": {"kp": 4000.0, "ki": 10.0}},
+            "best_gains.kd: missing (a tuned pid has kp, ki, kd)",
+        ),
+        (
+            {"best_gains": {"kp": True, "ki": 10.0, "kd": 200.0}},
+            "best_gains.kp: expected a number, got True",
+        ),
+        (
+            {"best_gains": {"kp": "4000", "ki": 10.0, "kd": 200.0}},
+            "best_gains.kp: expected a number, got '4000'",
+        ),
+        ({"params": None}, "params: expected an object of name -> value, got None"),
+        ({"controller": 3}, "controller: expected a name, got 3"),
+    ],
+)
+def test_a_tampered_tune_result_is_refused_naming_its_key(cli, tmp_path, changes, problem):
+    source = _tune_json(tmp_path, **changes)
+    r = cli("simulate", "--from", source)
+    assert (r.code, r.out, r.err) == (2, "", f"chassistune: error: --from: {source}: {problem}\n")
+    r = cli("export", source, "--format", "c", "--out", str(tmp_path / "c"))
+    assert (r.code, r.out, r.err) == (2, "", f"chassistune: error: SOURCE: {source}: {problem}\n")
+    assert not (tmp_path / "c").exists()
