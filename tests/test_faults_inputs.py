@@ -166,3 +166,54 @@ def test_a_tampered_tune_result_is_refused_naming_its_key(cli, tmp_path, changes
     r = cli("export", source, "--format", "c", "--out", str(tmp_path / "c"))
     assert (r.code, r.out, r.err) == (2, "", f"chassistune: error: SOURCE: {source}: {problem}\n")
     assert not (tmp_path / "c").exists()
+
+
+# -- study configs ---------------------------------------------------------------------------------
+
+STUDY = """[study]
+name = "t"
+seeds = 1
+[[scenarios]]
+plant = "abs-wheel"
+roads = ["dry-concrete"]
+controller = "pid"
+{scenario}
+[[optimizers]]
+name = "pso"
+{optimizer}
+[budget]
+{budget}
+"""
+
+
+@pytest.mark.parametrize(
+    ("parts", "message"),
+    [
+        (
+            {"budget": "pop_size = 10\nevaluations = 5"},
+            "budget.evaluations: 5 evaluations do not cover one population of 10: "
+            "no iteration would run",
+        ),
+        (
+            {"scenario": "[scenarios.budget]\npop_size = 8\nevaluations = 7"},
+            "scenarios[0].budget.evaluations: 7 evaluations do not cover one population of 8: "
+            "no iteration would run",
+        ),
+        (
+            {"scenario": "[scenarios.bounds]\nkp = [-1e308, 1e308]"},
+            "scenarios[0].bounds.kp: the range hi - lo of [-1e+308, 1e+308] overflows a float",
+        ),
+        (
+            {"optimizer": 'hyperparameters = {w = "x"}'},
+            "optimizers[0].hyperparameters.w: expected a number, got 'x'",
+        ),
+    ],
+)
+def test_a_bad_study_config_is_refused_before_any_work(cli, tmp_path, parts, message):
+    config = tmp_path / "s.toml"
+    text = {"scenario": "", "optimizer": "", "budget": "pop_size = 10\niterations = 2", **parts}
+    config.write_text(STUDY.format(**text))
+    out = tmp_path / "st"
+    r = cli("study", "run", str(config), "--out", str(out))
+    assert (r.code, r.out, r.err) == (2, "", f"chassistune: error: {message}\n")
+    assert not out.exists()

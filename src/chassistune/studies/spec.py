@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import tomllib
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -450,6 +451,15 @@ def _resolve_functions(
     return out
 
 
+def _check_spans(names: tuple[str, ...], bounds: list[tuple[float, float]]) -> None:
+    """Refuse a box whose width hi - lo overflows a float (the optimizers scale by it)."""
+    for name, (lo, hi) in zip(names, bounds, strict=True):
+        if not math.isfinite(hi - lo):
+            raise InputError(
+                f"bounds.{name}", f"the range hi - lo of [{lo:g}, {hi:g}] overflows a float"
+            )
+
+
 def _resolve_scenario(
     index: int, sc: ScenarioConfig, seed: int, sequence: np.random.SeedSequence
 ) -> list[dict[str, Any]]:
@@ -483,6 +493,7 @@ def _resolve_scenario(
                 "uncertainty": sc.uncertainty,
             }
             problem = build(fields, seed, sequence)
+            _check_spans(problem.gain_names, problem.bounds)
             fields.update(
                 {
                     "group": cell.group,
@@ -507,6 +518,26 @@ def _resolve_scenario(
     return out
 
 
+def _check_hyper_types(opt: OptimizerConfig, where: str) -> None:
+    """Refuse a hyperparameter whose value is not of its default's type (a number for a number:
+    `w = "x"`), naming it; unknown names are left to the registry's check."""
+    from chassistune.optimizers.registry import get
+
+    defaults = get(opt.name).defaults.as_dict()
+    for key, value in opt.hyperparameters.items():
+        if key not in defaults:
+            continue
+        default = defaults[key]
+        if isinstance(default, bool) or not isinstance(default, int | float):
+            ok, kind = isinstance(value, type(default)), type(default).__name__
+        elif isinstance(default, float):
+            ok, kind = isinstance(value, int | float) and not isinstance(value, bool), "number"
+        else:
+            ok, kind = isinstance(value, int) and not isinstance(value, bool), "whole number"
+        if not ok:
+            raise InputError(f"{where}.hyperparameters.{key}", f"expected a {kind}, got {value!r}")
+
+
 def _resolve_optimizer(
     index: int, opt: OptimizerConfig, budget: BudgetConfig, bounds: list[tuple[float, float]]
 ) -> None:
@@ -527,6 +558,7 @@ def _resolve_optimizer(
         get(opt.name)
     except InputError as exc:
         raise InputError(f"{where}.name", exc.problem) from None
+    _check_hyper_types(opt, where)
     hyper: dict[str, Any] = dict(opt.hyperparameters)
     try:
         make(
@@ -550,6 +582,17 @@ def _resolve_optimizer(
         raise InputError(f"{where}.hyperparameters", str(exc)) from None
 
 
+def _check_budget(budget: BudgetConfig, where: str) -> None:
+    """Refuse an evaluation budget smaller than one population, as `tune` does (no iteration
+    would run, and every run would fail)."""
+    from chassistune.optimizers.base import check_covers_population
+
+    try:
+        check_covers_population(budget.pop_size, budget.evaluations)
+    except InputError as exc:
+        raise InputError(f"{where}.evaluations", exc.problem) from None
+
+
 def plan_study(config: StudyConfig) -> StudyPlan:
     """Resolve every name and expand the grid into run specs (InputError on the first problem)."""
     cells: list[dict[str, Any]] = []
@@ -557,6 +600,9 @@ def plan_study(config: StudyConfig) -> StudyPlan:
     first = child_seed(config.study.seed, config.study.seeds[0])
     for i, sc in enumerate(config.scenarios):
         resolved = _resolve_scenario(i, sc, int_seed(first), first)
+        _check_budget(
+            sc.budget or config.budget, f"scenarios[{i}].budget" if sc.budget else "budget"
+        )
         budgets += [sc.budget or config.budget] * len(resolved)
         if any(c["group"] == resolved[0]["group"] for c in cells):
             raise InputError(
