@@ -192,8 +192,9 @@ def _save_interrupted(
 
 
 def _finished_before_interrupt(nfev: int, out_dir: str | None) -> str:
-    """The Ctrl-C hook once the optimizer has finished: the result exists, its files may not."""
-    where = f"; the files in {out_dir} may be incomplete" if out_dir else ""
+    """The Ctrl-C hook once the optimizer has finished: the result exists, its files may not
+    (they are written as one set: all of them or none)."""
+    where = f"; its files in {out_dir} are all written or none is" if out_dir else ""
     return f"the tune had finished ({nfev} evaluations) and was being written out{where}"
 
 

@@ -62,9 +62,10 @@ class Download:
     uri: str
 
     @classmethod
-    def from_csv(cls, path: Path) -> Download:
+    def from_csv(cls, path: Path, name: str = "") -> Download:
+        """The CSV file `path` offered as `name` (default: its own name)."""
         data = base64.b64encode(path.read_bytes()).decode("ascii")
-        return cls(path.name, f"data:text/csv;charset=utf-8;base64,{data}")
+        return cls(name or path.name, f"data:text/csv;charset=utf-8;base64,{data}")
 
 
 @dataclass(frozen=True)
