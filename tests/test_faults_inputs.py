@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 
+from chassistune import memory
 from chassistune.errors import InputError
 from chassistune.params import ImplausibleValue, to_float
 from chassistune.plants.roads import MAX_CSV_BYTES, read_mu_slip_csv, tire_for_road
@@ -217,3 +218,81 @@ def test_a_bad_study_config_is_refused_before_any_work(cli, tmp_path, parts, mes
     r = cli("study", "run", str(config), "--out", str(out))
     assert (r.code, r.out, r.err) == (2, "", f"chassistune: error: {message}\n")
     assert not out.exists()
+
+
+# -- memory ----------------------------------------------------------------------------------------
+
+
+@pytest.fixture
+def one_gib(monkeypatch):
+    """A machine with 1 GiB available: the estimates decide, nothing is allocated."""
+    monkeypatch.setattr(memory, "available_bytes", lambda: memory.GIB)
+
+
+def test_a_population_past_the_machine_is_refused_from_its_estimate(cli):
+    r = cli("tune", "abs-wheel", "--controller", "pid", "--optimizer", "pso", "--pop", "10" * 6)
+    assert (r.code, r.out) == (2, "")
+    assert r.err.startswith(
+        "chassistune: error: --pop: a population of 101,010,101,010 needs about "
+    ) and r.err.endswith(" GiB available\n")
+
+
+def test_the_estimate_counts_gains_and_scenarios():
+    one = memory.tune_bytes(1000, 3, 1)
+    assert memory.tune_bytes(2000, 3, 1) == 2 * one
+    assert memory.tune_bytes(1000, 3, 4) > one and memory.tune_bytes(1000, 6, 1) > one
+
+
+def test_tune_refuses_a_population_the_machine_cannot_hold(cli, one_gib):
+    args = ("tune", "abs-wheel", "--controller", "pid", "--optimizer", "pso", "--pop")
+    r = cli(*args, "2000000")
+    assert (r.code, r.out) == (2, "")
+    assert r.err == (
+        "chassistune: error: --pop: a population of 2,000,000 needs about 1.67 GiB of "
+        "memory, more than the 1 GiB available\n"
+    )
+
+
+@pytest.mark.parametrize(
+    ("study", "budget", "message"),
+    [
+        (
+            "",
+            "pop_size = 2000000\niterations = 2",
+            "budget.pop_size: a population of 2,000,000 needs about 1.67 GiB of memory",
+        ),
+        (
+            "seeds = 100000",
+            "pop_size = 10\niterations = 2",
+            "study.seeds: a grid of 200,000 runs (2 scenario cells x 1 optimizers x 100000 "
+            "seeds) needs about 1.53 GiB of memory",
+        ),
+    ],
+)
+def test_a_study_the_machine_cannot_hold_is_refused_before_planning(
+    cli, tmp_path, one_gib, study, budget, message
+):
+    text = STUDY.format(scenario="", optimizer="", budget=budget)
+    text = text.replace("seeds = 1\n", (study or "seeds = 1") + "\n")
+    text = text.replace('roads = ["dry-concrete"]', 'roads = ["dry-concrete", "ice"]')
+    config = tmp_path / "s.toml"
+    config.write_text(text)
+    r = cli("study", "run", str(config), "--out", str(tmp_path / "st"))
+    assert (r.code, r.out) == (2, "")
+    assert r.err.startswith(f"chassistune: error: {message}, more than the 1 GiB available")
+    assert not (tmp_path / "st").exists()
+
+
+def test_an_endless_input_file_is_refused_at_its_size_cap(cli, tmp_path):
+    for name in ("config.toml", "tune.json"):
+        (tmp_path / name).symlink_to("/dev/zero")
+    r = cli("study", "run", str(tmp_path / "config.toml"), "--out", str(tmp_path / "st"))
+    assert (r.code, r.err) == (
+        2,
+        f"chassistune: error: CONFIG: {str(tmp_path / 'config.toml')!r} is larger than "
+        "1,048,576 bytes, the most read for this input\n",
+    )
+    r = cli("simulate", "--from", str(tmp_path / "tune.json"))
+    assert r.code == 2 and r.err.endswith(
+        "is larger than 67,108,864 bytes, the most read for this input\n"
+    )

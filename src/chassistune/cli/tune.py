@@ -109,6 +109,7 @@ def tune_command(
     candidate is a closed-loop simulation; a whole population is simulated in one kernel call.
     Example: chassistune tune abs-wheel --road dry-concrete --controller pid --optimizer derlsp-ao
     """
+    from chassistune.memory import check_fits, problem_bytes
     from chassistune.optimizers.base import check_covers_population
     from chassistune.optimizers.registry import get as get_optimizer
     from chassistune.optimizers.registry import make
@@ -133,6 +134,7 @@ def tune_command(
     )
     problem = robust_or_nominal(problem, aggregate, robust, values, seed)
     _check_test_roads(plant, preset, controller, values, seed, test_roads)
+    check_fits(problem_bytes(problem, pop_size), "--pop", f"a population of {pop_size:,}")
     make(optimizer, problem.bounds, pop_size, seed, max_iter=iters, max_evals=evals)  # checks
     check_covers_population(pop_size, evals)
     announce_compile(plant)

@@ -36,9 +36,14 @@ from pydantic import (
     model_validator,
 )
 
+from chassistune._io import read_input
 from chassistune._rng import child_seed, int_seed, make_rng
 from chassistune.errors import InputError
+from chassistune.memory import PLANNED_RUN_BYTES, check_fits, tune_bytes
 from chassistune.tuning.robust.aggregate import parse_aggregate
+
+MAX_CONFIG_BYTES = 1 << 20
+"""Largest study config read (a config is a page of TOML)."""
 
 MAX_SEEDS = 100_000
 """Largest seed count (and seed index) a config may ask for."""
@@ -367,12 +372,7 @@ def load_config(path: str | Path) -> StudyConfig:
         raise InputError("CONFIG", f"file not found: {str(p)!r}")
     if p.is_dir():
         raise InputError("CONFIG", f"{str(p)!r} is a folder, not a TOML file")
-    try:
-        text = p.read_bytes().decode("utf-8")
-    except OSError as exc:
-        raise InputError("CONFIG", f"cannot read {str(p)!r}: {exc.strerror}") from None
-    except UnicodeDecodeError:
-        raise InputError("CONFIG", f"{str(p)!r} is not UTF-8 text (not a TOML file)") from None
+    text = read_input(p, "CONFIG", MAX_CONFIG_BYTES)
     if not text.strip():
         raise InputError("CONFIG", f"{str(p)!r} is empty")
     try:
@@ -582,15 +582,31 @@ def _resolve_optimizer(
         raise InputError(f"{where}.hyperparameters", str(exc)) from None
 
 
-def _check_budget(budget: BudgetConfig, where: str) -> None:
+def _check_budget(budget: BudgetConfig, cells: list[dict[str, Any]], where: str) -> None:
     """Refuse an evaluation budget smaller than one population, as `tune` does (no iteration
-    would run, and every run would fail)."""
+    would run, and every run would fail), and a population whose run would not fit in memory."""
     from chassistune.optimizers.base import check_covers_population
+    from chassistune.tuning.robust.spec import UncertaintySpec
 
     try:
         check_covers_population(budget.pop_size, budget.evaluations)
     except InputError as exc:
         raise InputError(f"{where}.evaluations", exc.problem) from None
+    for cell in cells:
+        table = cell.get("uncertainty") or {}
+        training = int(table.get("scenarios", UncertaintySpec.scenarios)) if table else 1
+        need = tune_bytes(budget.pop_size, len(cell["bounds"]), len(cell["roads"]) * training)
+        check_fits(need, f"{where}.pop_size", f"a population of {budget.pop_size:,}")
+
+
+def _check_grid(runs: int, cells: int, config: StudyConfig) -> None:
+    """Refuse, before expanding it, a grid of runs whose plan would not fit in memory."""
+    check_fits(
+        runs * PLANNED_RUN_BYTES,
+        "study.seeds",
+        f"a grid of {runs:,} runs ({cells} scenario cells x {len(config.optimizers)} "
+        f"optimizers x {len(config.study.seeds)} seeds)",
+    )
 
 
 def plan_study(config: StudyConfig) -> StudyPlan:
@@ -600,10 +616,9 @@ def plan_study(config: StudyConfig) -> StudyPlan:
     first = child_seed(config.study.seed, config.study.seeds[0])
     for i, sc in enumerate(config.scenarios):
         resolved = _resolve_scenario(i, sc, int_seed(first), first)
-        _check_budget(
-            sc.budget or config.budget, f"scenarios[{i}].budget" if sc.budget else "budget"
-        )
-        budgets += [sc.budget or config.budget] * len(resolved)
+        budget = sc.budget or config.budget
+        _check_budget(budget, resolved, f"scenarios[{i}].budget" if sc.budget else "budget")
+        budgets += [budget] * len(resolved)
         if any(c["group"] == resolved[0]["group"] for c in cells):
             raise InputError(
                 f"scenarios[{i}].name",
@@ -611,6 +626,7 @@ def plan_study(config: StudyConfig) -> StudyPlan:
                 f"{resolved[0]['group']!r}: give each scenario a distinct `name`",
             )
         cells.extend(resolved)
+    _check_grid(len(cells) * len(config.optimizers) * len(config.study.seeds), len(cells), config)
     labels: list[str] = []
     for j, opt in enumerate(config.optimizers):
         label = opt.label or opt.name
