@@ -29,6 +29,8 @@ def test_a_road_that_cannot_brake_is_refused_by_every_command(cli, tmp_path):
     road = _csv(tmp_path / "zero.csv", "slip,mu\n0,0\n0.5,0\n1,0\n")
     with pytest.raises(InputError, match=r"cannot brake: its peak mu is 0"):
         tire_for_road(road, {})
+    with pytest.raises(InputError, match=r"burckhardt-ice cannot brake: its peak mu is 0"):
+        tire_for_road("burckhardt-ice", {"c3": "100"})  # falls from mu = 0 at zero slip
     for args in (
         ("simulate", "abs-wheel", "--road", road),
         ("tune", "abs-wheel", "--road", road, "--controller", "pid", "--optimizer", "pso"),

@@ -16,11 +16,14 @@ import math
 import warnings
 from collections.abc import Mapping
 
+import numpy as np
+
 from chassistune._io import read_input
 from chassistune.errors import InputError
 from chassistune.params import ImplausibleValue, implausible, number, override
 from chassistune.plants.tires import (
     BURCKHARDT_SURFACES,
+    KIND_BURCKHARDT,
     PLAUSIBLE_MU_PEAK,
     SLDEMO_TABLE,
     BilinearTire,
@@ -101,7 +104,11 @@ def checked_grip(road: str, tire: TireCurve) -> TireCurve:
     """`tire`, refused when it cannot brake (its peak mu is not positive: no deceleration, no
     stopping-distance bound) and warned about when its peak mu is outside PLAUSIBLE_MU_PEAK
     (unless a parameter of the curve is already warned about)."""
-    mu_peak = tire.peak()[0]
+    kind, _, _, nodes_mu = tire.kernel_data()
+    if kind == KIND_BURCKHARDT:  # smooth: its maximum on a fine grid (TireCurve.peak refines)
+        mu_peak = float(np.max(tire.mu(np.linspace(0.0, 1.0, 4001))))
+    else:  # piecewise linear: the largest node
+        mu_peak = float(np.max(nodes_mu))
     if not mu_peak > 0.0:
         raise InputError("road", f"{road} cannot brake: its peak mu is {mu_peak:g} (must be > 0)")
     lo, hi = PLAUSIBLE_MU_PEAK
