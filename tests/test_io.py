@@ -48,9 +48,12 @@ def test_failure_keeps_the_old_file_and_leaves_no_temporary(tmp_path: Path) -> N
     assert [p.name for p in tmp_path.iterdir()] == ["out.json"]
 
 
-def test_temporary_keeps_the_suffix_and_lives_beside_the_target(tmp_path: Path) -> None:
+def test_temporary_keeps_the_name_and_lives_in_a_hidden_folder_beside_the_target(
+    tmp_path: Path,
+) -> None:
     with atomic_path(tmp_path / "fig.png") as tmp:
-        assert Path(tmp).parent == tmp_path and tmp.endswith(".png")
+        assert Path(tmp).name == "fig.png" and Path(tmp).parent.parent == tmp_path
+        assert Path(tmp).parent.name.startswith(".fig.png.")
         Path(tmp).write_bytes(b"png")
     assert (tmp_path / "fig.png").read_bytes() == b"png"
 

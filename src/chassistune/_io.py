@@ -5,13 +5,13 @@ Input files read whole (road tables, configs, results) are read up to a stated s
 so that a wrong path (`/dev/zero`, a log of gigabytes) is refused instead of filling memory; a
 UTF-8 byte-order mark, as spreadsheet programs write it, is dropped.
 
-Atomic: the data goes to a temporary file beside the target (same folder, so the final
-`os.replace` is a rename on one file system) and replaces the target only once complete; on any
-error the temporary file is removed and the target is left as it was. Files that belong together
-(a tune's outputs, an export, a report) are staged as one `file_set` and renamed into place
-together once all are written. An OSError while writing names the target, not the temporary.
-The temporary file is created with mode 0o666 less the umask, as a plain `open(path, "w")`
-would (tempfile.mkstemp would give 0o600).
+Atomic: the data goes to a temporary file beside the target (in a hidden folder of the same
+folder, so the final `os.replace` is a rename on one file system) and replaces the target only
+once complete; on any error the temporary is removed and the target is left as it was. Files
+that belong together (a tune's outputs, an export, a report) are staged as one `file_set` and
+renamed into place together once all are written. An OSError while writing names the target,
+not the temporary. The temporary file is created with mode 0o666 less the umask, as a plain
+`open(path, "w")` would (tempfile.mkstemp would give 0o600).
 """
 
 from __future__ import annotations
@@ -53,42 +53,69 @@ def read_input(path: str | os.PathLike[str], field: str, max_bytes: int) -> str:
 
 
 _live: set[Path] = set()
-"""Temporary files created and not yet renamed into place or removed."""
+"""Hidden folders holding a temporary file not yet renamed into place or removed."""
 _renaming = threading.Lock()
-"""Held while a set is renamed into place and while Ctrl-C removes the temporaries: a set
-interrupted by Ctrl-C is either wholly in place or not at all."""
+"""Held while a temporary is created, while a set is renamed into place and while Ctrl-C removes
+the temporaries: a set interrupted by Ctrl-C is either wholly in place or not at all."""
+_stopper: int | None = None
+"""The thread that ran the Ctrl-C hook; any other thread that would write a file after it waits
+for the end of the process instead (which comes at once: `_interrupt` calls os._exit)."""
 
 
 def _remove_temporaries() -> None:
-    """The Ctrl-C hook: remove every temporary file (the process ends without unwinding)."""
+    """The Ctrl-C hook: remove every temporary file with its hidden folder (the process ends
+    without unwinding; a writer still holding a temporary's path can no longer create it) and
+    stop the other threads from making new ones."""
+    global _stopper
     with _renaming:
-        for tmp in list(_live):
-            tmp.unlink(missing_ok=True)
+        _stopper = threading.get_ident()
+        for folder in list(_live):
+            shutil.rmtree(folder, ignore_errors=True)
         _live.clear()
 
 
 on_interrupt(_remove_temporaries)
 
 
+def _stopped() -> bool:
+    """Whether Ctrl-C stopped the writes of this thread (with `_renaming` held)."""
+    return _stopper is not None and _stopper != threading.get_ident()
+
+
+def _wait_for_exit() -> None:
+    """Park this thread: the Ctrl-C watcher ends the process in a moment."""
+    threading.Event().wait()
+
+
 def _create_beside(path: Path) -> Path:
-    """A new empty file in `path`'s folder, named after it, with the umask's mode."""
+    """A new empty file named as `path`, in a new hidden folder beside it (`.NAME.HEX.tmp`),
+    with the umask's mode."""
     while True:
-        tmp = path.with_name(f".{path.stem}.{secrets.token_hex(6)}.tmp{path.suffix}")
-        try:
-            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
-        except FileExistsError:  # pragma: no cover - 48 random bits
-            continue
-        except OSError as exc:
-            raise _naming(exc, path, tmp) from None
-        os.close(fd)
-        _live.add(tmp)
-        return tmp
+        folder = path.with_name(f".{path.name}.{secrets.token_hex(6)}.tmp")
+        tmp = folder / path.name
+        with _renaming:
+            stopped = _stopped()
+            if not stopped:
+                try:
+                    folder.mkdir(0o700)
+                except FileExistsError:  # pragma: no cover - 48 random bits
+                    continue
+                except OSError as exc:
+                    raise _naming(exc, path, folder) from None
+                _live.add(folder)
+                try:
+                    os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
+                except OSError as exc:
+                    raise _naming(exc, path, folder) from None
+                return tmp
+        _wait_for_exit()
 
 
-def _naming(exc: OSError, target: Path, tmp: Path) -> OSError:
+def _naming(exc: OSError, target: Path, folder: Path) -> OSError:
     """`exc` about the file `target` (one line of the CLI names it) when it was about no file
-    or about the temporary standing in for it (a full disk: `No space left on device`)."""
-    if exc.filename not in (None, str(tmp), tmp):
+    or about the temporary in `folder` standing in for it (a full disk: `No space left on
+    device`)."""
+    if exc.filename is not None and not os.fspath(exc.filename).startswith(str(folder)):
         return exc
     return OSError(exc.errno, exc.strerror or str(exc), str(target))
 
@@ -102,15 +129,19 @@ class FileSet:
 
     @contextmanager
     def path(self, target: str | os.PathLike[str]) -> Iterator[str]:
-        """Yield the temporary path standing in for `target` (same folder and suffix): write
-        it in the block; an OSError about it is raised about `target`."""
+        """Yield the temporary path standing in for `target` (same name, in a hidden folder
+        beside it): write it in the block; an OSError about it is raised about `target`."""
         where = Path(target)
         tmp = _create_beside(where)
         self._staged.append((tmp, where))
         try:
             yield str(tmp)
         except OSError as exc:
-            raise _naming(exc, where, tmp) from None
+            with _renaming:
+                stopped = _stopped()
+            if stopped:  # Ctrl-C removed the temporary under the writer: no error to report
+                _wait_for_exit()
+            raise _naming(exc, where, tmp.parent) from None
 
     def write_bytes(self, target: str | os.PathLike[str], data: bytes) -> None:
         """Stage `data` as the content of `target`."""
@@ -130,20 +161,25 @@ class FileSet:
 
     def _commit(self) -> None:
         with _renaming:
-            for tmp, _ in self._staged:
-                if tmp not in _live:  # removed by Ctrl-C before this set was complete
-                    raise KeyboardInterrupt
-            for tmp, target in self._staged:
-                try:
-                    os.replace(tmp, target)
-                except OSError as exc:
-                    raise _naming(exc, target, tmp) from None
-                _live.discard(tmp)
+            stopped = _stopped()
+            if not stopped:
+                if any(tmp.parent not in _live for tmp, _ in self._staged):
+                    raise KeyboardInterrupt  # Ctrl-C removed some before the set was complete
+                for tmp, target in self._staged:
+                    try:
+                        os.replace(tmp, target)
+                    except OSError as exc:
+                        raise _naming(exc, target, tmp.parent) from None
+                for tmp, _ in self._staged:
+                    tmp.parent.rmdir()
+                    _live.discard(tmp.parent)
+                return
+        _wait_for_exit()
 
     def _discard(self) -> None:
         for tmp, _ in self._staged:
-            tmp.unlink(missing_ok=True)
-            _live.discard(tmp)
+            shutil.rmtree(tmp.parent, ignore_errors=True)
+            _live.discard(tmp.parent)
 
 
 @contextmanager

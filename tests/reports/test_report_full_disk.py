@@ -1,17 +1,22 @@
-"""`study report` on a disk that fills while it writes: the page, its tables and its figures are
-one set of files, so a report that cannot be written whole leaves the previous one as it was."""
+"""`study report` on a disk that fills while it writes, and stopped by Ctrl-C: the page, its
+tables and its figures are one set of files, so a report that cannot be written whole leaves the
+previous one as it was, and no temporary file behind."""
 
 from __future__ import annotations
 
 import errno
 import os
 import shutil
+import signal
 import subprocess
+import sys
+import time
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
+from chassistune._rng import make_rng
 from chassistune.reports.build import REPORT_NAME, build_report
 
 
@@ -52,6 +57,35 @@ def test_a_report_that_fills_the_disk_leaves_the_previous_one_whole(reported, di
     with pytest.raises(OSError) as exc:
         build_report(study)
     assert exc.value.errno == errno.ENOSPC
-    assert exc.value.filename is not None and Path(exc.value.filename).parent.is_relative_to(study)
-    assert not Path(exc.value.filename).name.startswith(".")  # the file, not its temporary
+    assert exc.value.filename is not None
+    named = Path(exc.value.filename).relative_to(study).parts
+    assert not any(part.startswith(".") for part in named)  # the file, not its temporary
     assert _files(study) == before  # no file changed, none added (no temporaries)
+
+
+@pytest.mark.slow
+def test_ctrl_c_at_a_random_moment_of_a_report_leaves_no_temporary(reported, tmp_path):
+    """A real Ctrl-C (SIGINT to the command) while the figures are drawn: exit 130, and the
+    folder holds the previous report unchanged or the new one whole, never a hidden .tmp.png."""
+    study = tmp_path / "study"
+    study.mkdir()
+    shutil.copy(reported.dir / "study.sqlite", study / "study.sqlite")
+    command = [sys.executable, "-m", "chassistune.cli", "study", "report", str(study)]
+    start = time.monotonic()
+    subprocess.run(command, check=True, capture_output=True)
+    wall_s = time.monotonic() - start
+    before = _files(study)
+    rng = make_rng(2415)
+    for delay_s in rng.uniform(0.4 * wall_s, 0.9 * wall_s, 2):
+        proc = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        time.sleep(float(delay_s))
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=120)
+        assert proc.returncode in (0, 130), err
+        hidden = [p for p in study.rglob(".*")]
+        assert hidden == []
+        after = _files(study)
+        assert set(after) == set(before)  # the same files: the previous set or the new one
+        if proc.returncode == 130:
+            assert err.decode().splitlines()[-1] == "chassistune: interrupted"
+            assert after == before
