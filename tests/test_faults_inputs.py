@@ -27,6 +27,7 @@ def _csv(path: Path, text: str) -> str:
 
 def test_a_road_that_cannot_brake_is_refused_by_every_command(cli, tmp_path):
     road = _csv(tmp_path / "zero.csv", "slip,mu\n0,0\n0.5,0\n1,0\n")
+    out = tmp_path / "x"
     with pytest.raises(InputError, match=r"cannot brake: its peak mu is 0"):
         tire_for_road(road, {})
     with pytest.raises(InputError, match=r"burckhardt-ice cannot brake: its peak mu is 0"):
@@ -34,7 +35,7 @@ def test_a_road_that_cannot_brake_is_refused_by_every_command(cli, tmp_path):
     for args in (
         ("simulate", "abs-wheel", "--road", road),
         ("tune", "abs-wheel", "--road", road, "--controller", "pid", "--optimizer", "pso"),
-        ("export", "--controller", "pid", "--road", road, "--format", "c", "--out", "x"),
+        ("export", "--controller", "pid", "--road", road, "--format", "c", "--out", str(out)),
     ):
         r = cli(*args)
         assert (r.code, r.out) == (2, ""), args
@@ -42,7 +43,7 @@ def test_a_road_that_cannot_brake_is_refused_by_every_command(cli, tmp_path):
             r.err == f"chassistune: error: --road: {road} cannot brake: its peak mu is 0 "
             "(must be > 0)\n"
         ), args
-    assert not (tmp_path / "x").exists()
+    assert not out.exists()
 
 
 @pytest.mark.parametrize("mu", ["50", "1e308"])
