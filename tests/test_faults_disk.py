@@ -8,7 +8,6 @@ import errno
 import json
 import os
 import resource
-import subprocess
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -20,6 +19,7 @@ from chassistune.reports.outputs import write_tune_outputs
 from chassistune.reports.tables import write_table
 from chassistune.tuning.problem import build_problem
 from chassistune.tuning.tune import TuneResult, run_optimizer
+from fs_helpers import mounted_tmpfs
 
 PNG_END = b"IEND\xaeB`\x82"
 TUNE_FILES = {
@@ -40,18 +40,8 @@ def tuned() -> TuneResult:
 @pytest.fixture(scope="module")
 def small_disk(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
     """A 512 KiB tmpfs, or a skip where mounting is not allowed."""
-    where = tmp_path_factory.mktemp("tmpfs")
-    mounted = subprocess.run(
-        ["mount", "-t", "tmpfs", "-o", "size=512k", "tmpfs", str(where)],
-        capture_output=True,
-        check=False,
-    )
-    if mounted.returncode != 0:
-        pytest.skip(f"cannot mount a tmpfs here: {mounted.stderr.decode().strip()}")
-    try:
-        yield where
-    finally:
-        subprocess.run(["umount", str(where)], check=False)
+    with mounted_tmpfs(tmp_path_factory.mktemp("tmpfs"), "512k") as disk:
+        yield disk
 
 
 def _leave_free(disk: Path, free_bytes: int) -> None:

@@ -18,22 +18,14 @@ import pytest
 
 from chassistune._rng import make_rng
 from chassistune.reports.build import REPORT_NAME, build_report
+from fs_helpers import mounted_tmpfs
 
 
 @pytest.fixture
 def disk(tmp_path: Path) -> Iterator[Path]:
     """An 8 MiB tmpfs, or a skip where mounting is not allowed."""
-    mounted = subprocess.run(
-        ["mount", "-t", "tmpfs", "-o", "size=8m", "tmpfs", str(tmp_path)],
-        capture_output=True,
-        check=False,
-    )
-    if mounted.returncode != 0:
-        pytest.skip(f"cannot mount a tmpfs here: {mounted.stderr.decode().strip()}")
-    try:
-        yield tmp_path
-    finally:
-        subprocess.run(["umount", str(tmp_path)], check=False)
+    with mounted_tmpfs(tmp_path, "8m") as mounted:
+        yield mounted
 
 
 def _files(root: Path) -> dict[str, bytes]:
