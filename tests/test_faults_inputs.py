@@ -46,23 +46,19 @@ def test_a_road_that_cannot_brake_is_refused_by_every_command(cli, tmp_path):
     assert not out.exists()
 
 
-@pytest.mark.parametrize("mu", ["50", "1e308"])
-def test_an_implausible_peak_mu_is_warned_about(tmp_path, mu):
-    road = _csv(tmp_path / "grippy.csv", f"slip,mu\n0,0\n0.2,{mu}\n1,0.5\n")
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        tire_for_road(road, {})
-    said = [w.message for w in caught if isinstance(w.message, ImplausibleValue)]
-    assert [(w.field, w.problem) for w in said] == [
-        ("road", f"{road}: peak mu {float(mu):g} is outside the plausible range [0.05, 1.5]")
-    ]
-
-
-def test_a_plausible_table_is_not_warned_about(tmp_path):
-    road = _csv(tmp_path / "fine.csv", "slip,mu\n0,0\n0.2,0.9\n1,0.7\n")
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        tire_for_road(road, {})
+def test_only_an_implausible_peak_mu_is_warned_about(tmp_path):
+    for mu, expected in (("50", "50"), ("1e308", "1e+308"), ("0.9", None)):
+        road = _csv(tmp_path / "grippy.csv", f"slip,mu\n0,0\n0.2,{mu}\n1,0.5\n")
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            tire_for_road(road, {})
+        said = [(w.message.field, w.message.problem) for w in caught]  # type: ignore[union-attr]
+        assert all(isinstance(w.message, ImplausibleValue) for w in caught)
+        assert said == (
+            [("road", f"{road}: peak mu {expected} is outside the plausible range [0.05, 1.5]")]
+            if expected
+            else []
+        )
 
 
 def test_a_byte_order_mark_is_accepted(tmp_path):
@@ -98,7 +94,7 @@ def test_a_road_file_past_the_size_cap_is_refused_without_reading_it_whole(tmp_p
         read_mu_slip_csv(str(zero))
 
 
-@pytest.mark.parametrize("text", ["1_0", "1_000.5", "_1"])
+@pytest.mark.parametrize("text", ["1_0", "1_000.5"])
 def test_digit_separators_are_not_numbers(text):
     with pytest.raises(InputError, match="not a number"):
         to_float(text, "params.mass_kg")
@@ -129,13 +125,19 @@ def _tune_json(tmp_path: Path, **changes: object) -> str:
     return str(path)
 
 
-def test_an_untampered_tune_result_simulates_and_exports(cli, tmp_path):
+def test_a_tune_result_missing_a_gain_is_refused_where_the_whole_one_works(cli, tmp_path):
     source = _tune_json(tmp_path)
     r = cli("simulate", "--from", source, "--json")
     assert r.code == 0, r.err
     assert json.loads(r.out)["gains"] == TUNED["best_gains"]
     r = cli("export", source, "--format", "json", "--out", str(tmp_path / "ok"))
     assert r.code == 0, r.err
+    source = _tune_json(tmp_path, best_gains={"kp": 4000.0, "ki": 10.0})
+    for args in (("simulate", "--from", source), ("export", source, "--format", "c")):
+        r = cli(*args, *(("--out", str(tmp_path / "c")) if args[0] == "export" else ()))
+        assert r.code == 2 and r.err.endswith(
+            f"{source}: best_gains.kd: missing (a tuned pid has kp, ki, kd)\n"
+        ), args
 
 
 @pytest.mark.parametrize(
