@@ -51,15 +51,19 @@ def parse_assignments(items: list[str] | tuple[str, ...], field: str) -> dict[st
     return out
 
 
+MAX_JSON_BYTES = 64 << 20
+"""Largest JSON input read (a tune.json of a long run holds its history: well under this)."""
+
+
 def read_json(path: str, field: str) -> Any:
     """A JSON file's content; InputError naming `field` when it cannot be read or parsed."""
     import json
 
+    from chassistune._io import read_input
+
+    text = read_input(path, field, MAX_JSON_BYTES)
     try:
-        with open(path, encoding="utf-8") as fh:
-            return json.load(fh)
-    except OSError as exc:
-        raise InputError(field, f"cannot read {path!r}: {exc.strerror or exc}") from None
+        return json.loads(text)
     except ValueError as exc:
         raise InputError(field, f"{path!r} is not JSON: {exc}") from None
 
@@ -77,10 +81,18 @@ def read_gains_file(path: str) -> dict[str, str]:
     return {str(k): repr(float(v)) for k, v in doc.items()}
 
 
+def number(text: str) -> float:
+    """A float written as a decimal or scientific number; ValueError for anything else that
+    Python's float() would take: digit separators (`1_0` is not 10)."""
+    if "_" in text:
+        raise ValueError(f"not a number: {text!r}")
+    return float(text)
+
+
 def to_float(value: object, field: str) -> float:
     """A finite float from a string or number, else InputError naming `field`."""
     try:
-        x = float(value)  # type: ignore[arg-type]
+        x = number(value) if isinstance(value, str) else float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError):
         raise InputError(field, f"not a number: {value!r}") from None
     if not math.isfinite(x):

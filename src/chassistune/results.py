@@ -19,29 +19,24 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from chassistune.errors import InputError
-
 if TYPE_CHECKING:
     from chassistune.reports.tables import StudyData
     from chassistune.simulate import SimulationResult
 
-TUNE_KEYS = ("plant", "preset", "roads", "controller", "best_gains", "params")
-"""What a tune result holds at least (tune.json, the best-so-far of an interrupted tune)."""
-
 
 def load_tune(path: str | os.PathLike[str], field: str = "path") -> dict[str, Any]:
-    """A tune's tune.json (or the folder holding it), or an export's JSON seen as one."""
+    """A tune's tune.json (or the folder holding it), or an export's JSON seen as one; checked
+    (`tuning.saved.check_tune`: every gain of its controller present and a finite number)."""
     from chassistune.params import read_json
+    from chassistune.tuning.saved import check_tune
 
     file = os.path.join(path, "tune.json") if os.path.isdir(path) else os.fspath(path)
     doc = read_json(file, field)
     if isinstance(doc, dict) and "schema" in doc:
         from chassistune.export.json_export import as_tune_result
 
-        return as_tune_result(doc, field, file)
-    if not isinstance(doc, dict) or any(k not in doc for k in TUNE_KEYS):
-        raise InputError(field, f"{file!r} is not a tune result (needs {', '.join(TUNE_KEYS)})")
-    return doc
+        doc = as_tune_result(doc, field, file)
+    return check_tune(doc, field, file)
 
 
 def overrides(doc: Mapping[str, Any]) -> dict[str, object]:

@@ -168,7 +168,7 @@ def test_bad_input_is_one_line_exit_2_and_nothing_written(
                 "preset": None,
                 "roads": ["mu-jump"],
                 "controller": "pid",
-                "best_gains": {},
+                "best_gains": {"kp": 1.0, "ki": 0.0, "kd": 0.0},
                 "params": {},
             }
         )
@@ -181,7 +181,7 @@ def test_bad_input_is_one_line_exit_2_and_nothing_written(
                 "preset": None,
                 "roads": ["ice"],
                 "controller": "pid",
-                "best_gains": {},
+                "best_gains": {"kp": 1.0, "ki": 0.0, "kd": 0.0},
                 "params": {"ecu": "realistic", "gain_schedule": "speed"},
             }
         )

@@ -15,6 +15,7 @@ import pandas as pd
 import pytest
 
 from chassistune import stats
+from chassistune._io import file_set
 from chassistune.reports.gains import bound_flag
 from chassistune.reports.responses import response_sets
 from chassistune.reports.sections import Assets, comparison_section
@@ -158,8 +159,9 @@ def test_friedman_ranks_only_over_two_or_more_scenarios(reported, tmp_path) -> N
         data.scenarios[:1],
         data.optimizers,
     )
-    assert comparison_section(one, data.optimizers[0], Assets(tmp_path)) is None
-    full = comparison_section(data, data.optimizers[0], Assets(tmp_path))
+    with file_set() as staged:
+        assert comparison_section(one, data.optimizers[0], Assets(tmp_path, staged)) is None
+        full = comparison_section(data, data.optimizers[0], Assets(tmp_path, staged))
     assert full is not None and "Friedman mean ranks" in [i.title for i in full.items]
 
 

@@ -109,6 +109,7 @@ def tune_command(
     candidate is a closed-loop simulation; a whole population is simulated in one kernel call.
     Example: chassistune tune abs-wheel --road dry-concrete --controller pid --optimizer derlsp-ao
     """
+    from chassistune.memory import check_fits, problem_bytes
     from chassistune.optimizers.base import check_covers_population
     from chassistune.optimizers.registry import get as get_optimizer
     from chassistune.optimizers.registry import make
@@ -136,6 +137,7 @@ def tune_command(
     _check_test_roads(plant, preset, controller, values, seed, test_roads)
     if optimizer is None:  # reported once every given option has been checked
         raise InputError("--optimizer", "missing (chassistune list optimizers)")
+    check_fits(problem_bytes(problem, pop_size), "--pop", f"a population of {pop_size:,}")
     make(optimizer, problem.bounds, pop_size, seed, max_iter=iters, max_evals=evals)  # checks
     check_covers_population(pop_size, evals)
     announce_compile(plant)
@@ -189,8 +191,9 @@ def _save_interrupted(
 
 
 def _finished_before_interrupt(nfev: int, out_dir: str | None) -> str:
-    """The Ctrl-C hook once the optimizer has finished: the result exists, its files may not."""
-    where = f"; the files in {out_dir} may be incomplete" if out_dir else ""
+    """The Ctrl-C hook once the optimizer has finished: the result exists, its files may not
+    (they are written as one set: all of them or none)."""
+    where = f"; its files in {out_dir} are all written or none is" if out_dir else ""
     return f"the tune had finished ({nfev} evaluations) and was being written out{where}"
 
 

@@ -23,7 +23,6 @@ and valve models are not part of the exported controller (an ECU has its own).
 
 from __future__ import annotations
 
-import json
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -163,27 +162,20 @@ class _Origin:
 
 
 def _from_tune_json(path: Path) -> _Origin:
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-        params = dict(data["params"])
-        params.pop("seed", None)
-        return _Origin(
-            data["plant"],
-            data["preset"],
-            data["roads"][0],
-            data["controller"],
-            dict(data["best_gains"]),
-            params,
-            str(path),
-        )
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError("source", f"cannot read {str(path)!r} as a tune result: {exc}") from None
-    except (KeyError, IndexError, TypeError):
-        raise InputError(
-            "source",
-            f"{str(path)!r} is not a tune.json (needs plant, preset, "
-            "roads, controller, best_gains, params)",
-        ) from None
+    from chassistune.tuning.saved import read_tune_json
+
+    data = read_tune_json(str(path), "source")
+    params = dict(data["params"])
+    params.pop("seed", None)
+    return _Origin(
+        data["plant"],
+        data["preset"],
+        data["roads"][0],
+        data["controller"],
+        dict(data["best_gains"]),
+        params,
+        str(path),
+    )
 
 
 def _from_study_run(study_dir: str, key: str) -> _Origin:

@@ -1,22 +1,20 @@
 """Write an exported controller in one format into a folder: all files or none.
 
 Every format carries test_vectors.csv (the reference the C, the FMU and any port must reproduce).
-Files are built in memory, then staged as one group on top of `_io.atomic_path`: every file goes
-to its temporary twin in the target folder, and only once all are written do they replace their
-targets (one rename each). On any error before that no target is touched, and a folder this call
-created is removed again.
+Files are built in memory, then written as one `_io.file_set`: every file goes to its temporary
+twin in the target folder, and only once all are written do they replace their targets (one
+rename each). On any error before that no target is touched, and a folder this call created is
+removed again.
 """
 
 from __future__ import annotations
 
 import os
-import shutil
-from contextlib import ExitStack
 from pathlib import Path
 
 import numpy as np
 
-from chassistune._io import atomic_path
+from chassistune._io import file_set
 from chassistune.errors import InputError
 from chassistune.export import c99, fmu, json_export, matlab, vectors
 from chassistune.export.source import ExportedController
@@ -66,17 +64,7 @@ def write(ec: ExportedController, fmt: str, out_dir: str) -> list[str]:
     check_folder(out_dir)
     contents = files(ec, fmt)
     target = Path(out_dir).absolute()
-    created = next((p for p in reversed(target.parents) if not p.exists()), None)
-    if created is None and not target.exists():
-        created = target
-    target.mkdir(parents=True, exist_ok=True)
-    try:
-        with ExitStack() as staged:
-            for name, data in contents.items():
-                with open(staged.enter_context(atomic_path(target / name)), "wb") as fh:
-                    fh.write(data)
-    except BaseException:
-        if created is not None:
-            shutil.rmtree(created, ignore_errors=True)
-        raise
+    with file_set(target) as staged:
+        for name, data in contents.items():
+            staged.write_bytes(target / name, data)
     return [str(target / name) for name in contents]

@@ -11,13 +11,20 @@ MathWorks' sldemo table (`sldemo-table`), and a measured mu-slip table read from
 from __future__ import annotations
 
 import csv
+import io
 import math
+import warnings
 from collections.abc import Mapping
 
+import numpy as np
+
+from chassistune._io import read_input
 from chassistune.errors import InputError
-from chassistune.params import override
+from chassistune.params import ImplausibleValue, implausible, number, override
 from chassistune.plants.tires import (
     BURCKHARDT_SURFACES,
+    KIND_BURCKHARDT,
+    PLAUSIBLE_MU_PEAK,
     SLDEMO_TABLE,
     BilinearTire,
     BurckhardtTire,
@@ -77,11 +84,10 @@ def tire_for_road(road: str, values: Mapping[str, object]) -> tuple[TireCurve, s
         s, h, g, _ = BILINEAR_ROADS[road]
         base = BilinearTire(s, h, g)
     elif road == "sldemo-table":  # its table is fixed; only the scale of the curve varies
-        return override(SLDEMO_TABLE, {k: v for k, v in values.items() if k == "mu_scale"})
+        base, values = SLDEMO_TABLE, {k: v for k, v in values.items() if k == "mu_scale"}
     elif road.lower().endswith(CSV_SUFFIX):  # a measured table: likewise
-        return override(
-            read_mu_slip_csv(road), {k: v for k, v in values.items() if k == "mu_scale"}
-        )
+        base = read_mu_slip_csv(road)
+        values = {k: v for k, v in values.items() if k == "mu_scale"}
     elif road.startswith(BURCKHARDT_PREFIX) and surface in BURCKHARDT_SURFACES:
         base = BurckhardtTire(*BURCKHARDT_SURFACES[surface])
     else:
@@ -91,20 +97,47 @@ def tire_for_road(road: str, values: Mapping[str, object]) -> tuple[TireCurve, s
             f"or a measured mu-slip table, FILE{CSV_SUFFIX})",
         )
     tire, used = override(base, values)
-    return tire, used
+    return checked_grip(road, tire), used
+
+
+def checked_grip(road: str, tire: TireCurve) -> TireCurve:
+    """`tire`, refused when it cannot brake (its peak mu is not positive: no deceleration, no
+    stopping-distance bound) and warned about when its peak mu is outside PLAUSIBLE_MU_PEAK
+    (unless a parameter of the curve is already warned about)."""
+    kind, _, _, nodes_mu = tire.kernel_data()
+    if kind == KIND_BURCKHARDT:  # smooth: its maximum on a fine grid (TireCurve.peak refines)
+        mu_peak = float(np.max(tire.mu(np.linspace(0.0, 1.0, 4001))))
+    else:  # piecewise linear: the largest node
+        mu_peak = float(np.max(nodes_mu))
+    if not mu_peak > 0.0:
+        raise InputError("road", f"{road} cannot brake: its peak mu is {mu_peak:g} (must be > 0)")
+    lo, hi = PLAUSIBLE_MU_PEAK
+    if not lo <= mu_peak <= hi and not implausible(tire):
+        warnings.warn(
+            ImplausibleValue(
+                "road",
+                f"{road}: peak mu {mu_peak:g} is outside the plausible range [{lo:g}, {hi:g}]",
+            ),
+            stacklevel=2,
+        )
+    return tire
+
+
+MAX_CSV_BYTES = 64 * 1024
+"""Largest road CSV read: a table of at most MAX_TABLE_NODES rows is far smaller."""
 
 
 def read_mu_slip_csv(path: str) -> TableTire:
-    """A measured road: the mu-slip table of a CSV file with a header naming the columns `slip`
-    and `mu` (others are ignored), one node per row (TableTire's rules: 2 to 32 nodes, slips
+    """A measured road: the mu-slip table of a UTF-8 CSV file (a byte-order mark allowed) with a
+    header naming the columns `slip` and `mu` once each (other named columns are ignored), one
+    node per row and no field beyond the header (TableTire's rules: 2 to 32 nodes, slips
     increasing strictly from 0 to 1, mu >= 0 and 0 at slip 0). Errors name the file, the row
     (the header is row 1) and the column."""
+    text = read_input(path, "road", MAX_CSV_BYTES)
     try:
-        with open(path, newline="", encoding="utf-8") as fh:
-            rows = list(csv.reader(fh))
-    except (OSError, UnicodeDecodeError) as exc:
-        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else exc
-        raise InputError("road", f"cannot read {path!r}: {reason}") from None
+        rows = list(csv.reader(io.StringIO(text, newline="")))
+    except csv.Error as exc:
+        raise InputError("road", f"{path} is not a CSV file: {exc}") from None
     header = [h.strip().lower() for h in rows[0]] if rows else []
     missing = [c for c in ("slip", "mu") if c not in header]
     if missing:
@@ -113,27 +146,36 @@ def read_mu_slip_csv(path: str) -> TableTire:
             f"{path} row 1: the header needs the columns slip and mu "
             f"(missing: {', '.join(missing)})",
         )
+    twice = next((h for h in header if h and header.count(h) > 1), None)
+    if twice is not None:
+        raise InputError("road", f"{path} row 1: the column {twice} is named twice")
     columns = {c: header.index(c) for c in ("slip", "mu")}
     data: dict[str, list[float]] = {"slip": [], "mu": []}
     body = [(k, r) for k, r in enumerate(rows[1:], start=2) if any(x.strip() for x in r)]
     for k, row in body:
+        if len(row) > len(header):
+            raise InputError(
+                "road",
+                f"{path} row {k}: {len(row)} fields, more than the header's {len(header)}",
+            )
         for name, j in columns.items():
-            text = row[j].strip() if j < len(row) else ""
+            value_text = row[j].strip() if j < len(row) else ""
             try:
-                value = float(text)
+                value = number(value_text)
             except ValueError:
                 value = math.nan
             if not math.isfinite(value):
                 raise InputError(
-                    "road", f"{path} row {k}, column {name}: expected a finite number, got {text!r}"
+                    "road",
+                    f"{path} row {k}, column {name}: expected a finite number, got {value_text!r}",
                 )
             data[name].append(value)
     slips, mus = tuple(data["slip"]), tuple(data["mu"])
     problem = table_problem(slips, mus)
     if problem is not None:
-        node, column, text = problem
+        node, column, problem_text = problem
         where = f"row {body[node][0]}, column {column}" if node is not None else "rows"
-        raise InputError("road", f"{path} {where}: {text}")
+        raise InputError("road", f"{path} {where}: {problem_text}")
     return TableTire(slips, mus)
 
 

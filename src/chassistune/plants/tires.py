@@ -31,6 +31,9 @@ KIND_BILINEAR = 2
 MAX_TABLE_NODES = 32
 """Most nodes a table tire may have (the kernels copy a table into this many stack slots)."""
 
+PLAUSIBLE_MU_PEAK = (0.05, 1.5)
+"""Peak friction of real tires on real roads, from ice to dry asphalt with a sticky tire."""
+
 _MU_SCALE = {"positive": True}
 """mu_scale's metadata (every curve's road parameter; no plausible range declared)."""
 
@@ -90,7 +93,7 @@ class BilinearTire(TireCurve):
     """Tian et al. (derlsp-ao-abs) eq. 5 with Table 1's (S_T, mu_h, mu_g)."""
 
     slip_opt: float = field(metadata=positive(0.03, 0.5))
-    mu_peak: float = field(metadata=positive(0.05, 1.5))
+    mu_peak: float = field(metadata=positive(*PLAUSIBLE_MU_PEAK))
     mu_lock: float = field(metadata=nonnegative(0.03, 1.5))
     mu_scale: float = field(default=1.0, metadata=_MU_SCALE)
 

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from chassistune._io import write_text
+from chassistune._io import file_set
 from chassistune.errors import InputError
 from chassistune.reports import sections, tables
 from chassistune.reports.html import Section
@@ -66,22 +66,25 @@ def read_study(study_dir: str | Path, reference: str | None) -> StudyReport:
 
 
 def build_report(study_dir: str | Path, reference: str | None = None) -> ReportFiles:
-    """Write DIR/report.html, its CSV tables and PNG figures; InputError for a bad DIR."""
+    """Write DIR/report.html, its CSV tables and PNG figures as one set of files (all or none,
+    `_io.file_set`); InputError for a bad DIR."""
     from importlib.metadata import version
 
     from chassistune.reports.figures import PngFigures
     from chassistune.reports.html import render
 
     study = read_study(study_dir, reference)
-    assets = sections.Assets(study.root)
-    figures = PngFigures(assets)
-    page = render(
-        study.data.name,
-        study.summary,
-        study.description,
-        study.sections(assets, figures),
-        version("chassistune"),
-    )
     html = study.root / REPORT_NAME
-    write_text(html, page)
+    with file_set() as staged:
+        assets = sections.Assets(study.root, staged)
+        figures = PngFigures(assets)
+        page = render(
+            study.data.name,
+            study.summary,
+            study.description,
+            study.sections(assets, figures),
+            version("chassistune"),
+        )
+        staged.write_text(html, page)
+    figures.remove_stale()
     return ReportFiles(html, study.root / sections.ASSETS, assets.tables, figures.written)

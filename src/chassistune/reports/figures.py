@@ -3,7 +3,7 @@ responses of every optimizer over the baseline (`PngFigures`, the static `sectio
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -92,20 +92,29 @@ def boxplot_figure(costs: Mapping[str, np.ndarray], path: str, title: str) -> No
 
 
 class PngFigures:
-    """Draws each figure into DIR/report/figures/NAME.png and embeds it in the page."""
+    """Draws each figure into DIR/report/figures/NAME.png (in the report's set of files) and
+    embeds it in the page."""
 
     def __init__(self, assets: Assets) -> None:
         self.assets = assets
         self.folder = assets.root / ASSETS / "figures"
         self.folder.mkdir(parents=True, exist_ok=True)
-        for old in self.folder.glob("*.png"):  # a previous report's figures
-            old.unlink()
         self.written: list[Path] = []
 
-    def _view(self, path: Path, title: str, caption: str) -> FigureView:
+    def remove_stale(self) -> None:
+        """Remove the figures of a previous report that this one did not draw (once this
+        report's files are in place)."""
+        for old in self.folder.glob("*.png"):
+            if old not in self.written:
+                old.unlink()
+
+    def _draw(self, name: str, draw: Callable[[str], None], title: str, caption: str) -> FigureView:
+        path = self.folder / f"{name}.png"
+        with self.assets.staged.path(path) as tmp:
+            draw(tmp)
         self.written.append(path)
         return FigureView.from_png(
-            path,
+            Path(tmp),
             self.assets.next_id("figure"),
             title,
             caption,
@@ -115,35 +124,32 @@ class PngFigures:
     def convergence(
         self, scenario: str, runs: Mapping[str, Sequence[RunRecord]], name: str
     ) -> FigureView:
-        path = self.folder / f"{name}.png"
-        convergence_figure(runs, str(path), scenario)
-        return self._view(
-            path,
+        return self._draw(
+            name,
+            lambda path: convergence_figure(runs, path, scenario),
             f"Convergence, {scenario}",
             "Best cost so far against evaluations: median over seeds (line) and "
             "interquartile band.",
         )
 
     def final_costs(self, scenario: str, costs: Mapping[str, np.ndarray], name: str) -> FigureView:
-        path = self.folder / f"{name}.png"
-        boxplot_figure(costs, str(path), f"{scenario}: final best cost")
-        return self._view(
-            path,
+        return self._draw(
+            name,
+            lambda path: boxplot_figure(costs, path, f"{scenario}: final best cost"),
             f"Final cost distribution, {scenario}",
             "Box plot of the final best cost per optimizer; points are runs.",
         )
 
     def responses(self, rs: ResponseSet, name: str) -> FigureView:
-        path = self.folder / f"{name}.png"
-        plot_overlay(
-            [(p.signal, p.label) for p in rs.panels],
-            rs.curves,
-            str(path),
-            f"{rs.scenario} on {rs.road}: each optimizer's best run",
-        )
         base = next((c.label for c in rs.curves if c.baseline), "")
-        return self._view(
-            path,
+        return self._draw(
+            name,
+            lambda path: plot_overlay(
+                [(p.signal, p.label) for p in rs.panels],
+                rs.curves,
+                path,
+                f"{rs.scenario} on {rs.road}: each optimizer's best run",
+            ),
             f"Best controllers against {base}, {rs.scenario}, on {rs.road}",
             f"Each optimizer's lowest-cost gains (label: the seed that found them) "
             f"re-simulated on {rs.road}, all on the road realization of seed "

@@ -64,11 +64,12 @@ class Download:
     folder: str = ""
 
     @classmethod
-    def from_csv(cls, path: Path, page_dir: Path) -> Download:
-        """`path`'s bytes, its folder named relative to `page_dir` (the page's folder)."""
-        data = base64.b64encode(path.read_bytes()).decode("ascii")
+    def from_csv(cls, path: Path, page_dir: Path, data: Path | None = None) -> Download:
+        """The CSV file `path`, its folder named relative to `page_dir` (the page's folder), with
+        the bytes of `data` (default: `path`; a staged copy while `path` is not yet in place)."""
+        encoded = base64.b64encode((data or path).read_bytes()).decode("ascii")
         folder = path.parent.resolve().relative_to(page_dir.resolve()).as_posix()
-        return cls(path.name, f"data:text/csv;charset=utf-8;base64,{data}", f"{folder}/")
+        return cls(path.name, f"data:text/csv;charset=utf-8;base64,{encoded}", f"{folder}/")
 
 
 @dataclass(frozen=True)

@@ -16,7 +16,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from chassistune._io import write_text
+from chassistune._io import file_set
 from chassistune.errors import InputError
 from chassistune.reports import sections
 from chassistune.reports.bands import convergence_bands, log_scale_suits
@@ -293,13 +293,14 @@ def build_interactive(study_dir: str | Path, reference: str | None = None) -> Re
     """Write DIR/report_interactive.html (and refresh the CSV tables beside it)."""
     require_plotly()
     study = read_study(study_dir, reference)
-    assets = sections.Assets(study.root)
-    page = interactive_page(
-        study.data.name,
-        study.summary,
-        study.description,
-        study.sections(assets, PlotlyFigures(assets)),
-    )
     html = study.root / INTERACTIVE_NAME
-    write_text(html, page)
+    with file_set() as staged:
+        assets = sections.Assets(study.root, staged)
+        page = interactive_page(
+            study.data.name,
+            study.summary,
+            study.description,
+            study.sections(assets, PlotlyFigures(assets)),
+        )
+        staged.write_text(html, page)
     return ReportFiles(html, study.root / sections.ASSETS, assets.tables, [])

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from chassistune._io import write_json, write_text
+from chassistune._io import file_set
 from chassistune.tuning.problem import TuningProblem
 from chassistune.tuning.tune import TuneResult
 
@@ -29,41 +29,44 @@ DEMO_METRICS = (
 
 def write_tune_outputs(result: TuneResult, out_dir: str) -> list[str]:
     """best_gains.json, tune.json, history.csv, convergence.png and one response plot per road
-    into `out_dir` (created if missing); the paths written, in that order."""
+    into `out_dir` (created if missing), as one set: all or none (`_io.file_set`); the paths
+    written, in that order."""
     from chassistune.plots.convergence import plot_convergence
     from chassistune.plots.registry import plot_trace
 
-    os.makedirs(out_dir, exist_ok=True)
     written = []
-    path = os.path.join(out_dir, "best_gains.json")
-    write_json(path, result.best_gains)
-    written.append(path)
-    path = os.path.join(out_dir, "tune.json")
-    write_json(path, result.as_dict())
-    written.append(path)
-    path = os.path.join(out_dir, "history.csv")
-    rows = "\n".join(
-        f"{i + 1},{int(n)},{float(c)!r}"
-        for i, (n, c) in enumerate(zip(result.history_nfev, result.history, strict=True))
-    )
-    write_text(path, "iteration,nfev,best_cost\n" + rows + "\n")
-    written.append(path)
-    path = os.path.join(out_dir, "convergence.png")
-    first = result.problem.scenarios[0]
-    plot_convergence(
-        {result.optimizer: [(result.history_nfev, result.history)]},
-        path,
-        title=f"{first.plant} {first.controller.name} on "
-        f"{', '.join(result.problem.roads)}: {result.problem.objective}, seed "
-        f"{first.seed}",
-    )
-    written.append(path)
-    gains = np.array([result.best_gains[n] for n in result.problem.gain_names])
-    for sc in result.problem.scenarios:
-        road = sc.road.replace(os.sep, "_").replace("/", "_")  # a measured road is a path
-        path = os.path.join(out_dir, f"response-{road}.png")
-        plot_trace(sc, sc.trace(gains), path)
+    with file_set(out_dir) as staged:
+        path = os.path.join(out_dir, "best_gains.json")
+        staged.write_json(path, result.best_gains)
         written.append(path)
+        path = os.path.join(out_dir, "tune.json")
+        staged.write_json(path, result.as_dict())
+        written.append(path)
+        path = os.path.join(out_dir, "history.csv")
+        rows = "\n".join(
+            f"{i + 1},{int(n)},{float(c)!r}"
+            for i, (n, c) in enumerate(zip(result.history_nfev, result.history, strict=True))
+        )
+        staged.write_text(path, "iteration,nfev,best_cost\n" + rows + "\n")
+        written.append(path)
+        path = os.path.join(out_dir, "convergence.png")
+        first = result.problem.scenarios[0]
+        with staged.path(path) as tmp:
+            plot_convergence(
+                {result.optimizer: [(result.history_nfev, result.history)]},
+                tmp,
+                title=f"{first.plant} {first.controller.name} on "
+                f"{', '.join(result.problem.roads)}: {result.problem.objective}, seed "
+                f"{first.seed}",
+            )
+        written.append(path)
+        gains = np.array([result.best_gains[n] for n in result.problem.gain_names])
+        for sc in result.problem.scenarios:
+            road = sc.road.replace(os.sep, "_").replace("/", "_")  # a measured road is a path
+            path = os.path.join(out_dir, f"response-{road}.png")
+            with staged.path(path) as tmp:
+                plot_trace(sc, sc.trace(gains), tmp)
+            written.append(path)
     _remove_stale_responses(out_dir, written)
     return written
 
@@ -85,8 +88,7 @@ def write_interrupted_tune(
     out_dir: str,
 ) -> list[str]:
     """The best so far of an interrupted tune: best_gains.json and tune.json marked
-    `"interrupted": true` (no plots: the process is about to end)."""
-    os.makedirs(out_dir, exist_ok=True)
+    `"interrupted": true` (no plots: the process is about to end), as one set."""
     gains, cost, nfev = best
     best_gains = dict(zip(problem.gain_names, gains.tolist(), strict=True))
     sc = problem.scenarios[0]
@@ -106,8 +108,9 @@ def write_interrupted_tune(
         "params": sc.params(),
     }
     paths = [os.path.join(out_dir, "best_gains.json"), os.path.join(out_dir, "tune.json")]
-    write_json(paths[0], best_gains)
-    write_json(paths[1], doc)
+    with file_set(out_dir) as staged:
+        staged.write_json(paths[0], best_gains)
+        staged.write_json(paths[1], doc)
     return paths
 
 

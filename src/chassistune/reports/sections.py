@@ -15,6 +15,7 @@ from typing import Any, Protocol
 import numpy as np
 import pandas as pd
 
+from chassistune._io import FileSet
 from chassistune.reports import study_setup, tables
 from chassistune.reports.baseline import LABEL as BASELINE_LABEL
 from chassistune.reports.baseline import Baseline, default_baseline
@@ -43,11 +44,12 @@ def slug(text: str) -> str:
 
 
 class Assets:
-    """Writes the CSV tables under DIR/report/tables (each also embedded in the page) and hands
-    out page ids."""
+    """Writes the CSV tables under DIR/report/tables (each also embedded in the page) into the
+    report's set of files `staged`, and hands out page ids."""
 
-    def __init__(self, study_dir: Path) -> None:
+    def __init__(self, study_dir: Path, staged: FileSet) -> None:
         self.root = study_dir
+        self.staged = staged
         self.tables_dir = study_dir / ASSETS / "tables"
         self.tables_dir.mkdir(parents=True, exist_ok=True)
         self.tables: list[Path] = []
@@ -59,10 +61,11 @@ class Assets:
 
     def csv(self, df: pd.DataFrame, name: str) -> Download:
         path = self.tables_dir / f"{name}.csv"
-        tables.write_table(df, str(path), "csv")
+        with self.staged.path(path) as tmp:
+            tables.write_table(df, tmp, "csv")
         if path not in self.tables:
             self.tables.append(path)
-        return Download.from_csv(path, self.root)
+        return Download.from_csv(path, self.root, Path(tmp))
 
     def table(
         self, df: pd.DataFrame, title: str, caption: str = "", *sources: Download

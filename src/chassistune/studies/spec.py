@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import tomllib
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -35,9 +36,14 @@ from pydantic import (
     model_validator,
 )
 
+from chassistune._io import read_input
 from chassistune._rng import child_seed, int_seed, make_rng
 from chassistune.errors import InputError
+from chassistune.memory import PLANNED_RUN_BYTES, check_fits, tune_bytes
 from chassistune.tuning.robust.aggregate import parse_aggregate
+
+MAX_CONFIG_BYTES = 1 << 20
+"""Largest study config read (a config is a page of TOML)."""
 
 MAX_SEEDS = 100_000
 """Largest seed count (and seed index) a config may ask for."""
@@ -366,12 +372,7 @@ def load_config(path: str | Path) -> StudyConfig:
         raise InputError("CONFIG", f"file not found: {str(p)!r}")
     if p.is_dir():
         raise InputError("CONFIG", f"{str(p)!r} is a folder, not a TOML file")
-    try:
-        text = p.read_bytes().decode("utf-8")
-    except OSError as exc:
-        raise InputError("CONFIG", f"cannot read {str(p)!r}: {exc.strerror}") from None
-    except UnicodeDecodeError:
-        raise InputError("CONFIG", f"{str(p)!r} is not UTF-8 text (not a TOML file)") from None
+    text = read_input(p, "CONFIG", MAX_CONFIG_BYTES)
     if not text.strip():
         raise InputError("CONFIG", f"{str(p)!r} is empty")
     try:
@@ -450,6 +451,15 @@ def _resolve_functions(
     return out
 
 
+def _check_spans(names: tuple[str, ...], bounds: list[tuple[float, float]]) -> None:
+    """Refuse a box whose width hi - lo overflows a float (the optimizers scale by it)."""
+    for name, (lo, hi) in zip(names, bounds, strict=True):
+        if not math.isfinite(hi - lo):
+            raise InputError(
+                f"bounds.{name}", f"the range hi - lo of [{lo:g}, {hi:g}] overflows a float"
+            )
+
+
 def _resolve_scenario(
     index: int, sc: ScenarioConfig, seed: int, sequence: np.random.SeedSequence
 ) -> list[dict[str, Any]]:
@@ -483,6 +493,7 @@ def _resolve_scenario(
                 "uncertainty": sc.uncertainty,
             }
             problem = build(fields, seed, sequence)
+            _check_spans(problem.gain_names, problem.bounds)
             fields.update(
                 {
                     "group": cell.group,
@@ -507,6 +518,26 @@ def _resolve_scenario(
     return out
 
 
+def _check_hyper_types(opt: OptimizerConfig, where: str) -> None:
+    """Refuse a hyperparameter whose value is not of its default's type (a number for a number:
+    `w = "x"`), naming it; unknown names are left to the registry's check."""
+    from chassistune.optimizers.registry import get
+
+    defaults = get(opt.name).defaults.as_dict()
+    for key, value in opt.hyperparameters.items():
+        if key not in defaults:
+            continue
+        default = defaults[key]
+        if isinstance(default, bool) or not isinstance(default, int | float):
+            ok, kind = isinstance(value, type(default)), type(default).__name__
+        elif isinstance(default, float):
+            ok, kind = isinstance(value, int | float) and not isinstance(value, bool), "number"
+        else:
+            ok, kind = isinstance(value, int) and not isinstance(value, bool), "whole number"
+        if not ok:
+            raise InputError(f"{where}.hyperparameters.{key}", f"expected a {kind}, got {value!r}")
+
+
 def _resolve_optimizer(
     index: int, opt: OptimizerConfig, budget: BudgetConfig, bounds: list[tuple[float, float]]
 ) -> None:
@@ -527,6 +558,7 @@ def _resolve_optimizer(
         get(opt.name)
     except InputError as exc:
         raise InputError(f"{where}.name", exc.problem) from None
+    _check_hyper_types(opt, where)
     hyper: dict[str, Any] = dict(opt.hyperparameters)
     try:
         make(
@@ -550,6 +582,33 @@ def _resolve_optimizer(
         raise InputError(f"{where}.hyperparameters", str(exc)) from None
 
 
+def _check_budget(budget: BudgetConfig, cells: list[dict[str, Any]], where: str) -> None:
+    """Refuse an evaluation budget smaller than one population, as `tune` does (no iteration
+    would run, and every run would fail), and a population whose run would not fit in memory."""
+    from chassistune.optimizers.base import check_covers_population
+    from chassistune.tuning.robust.spec import UncertaintySpec
+
+    try:
+        check_covers_population(budget.pop_size, budget.evaluations)
+    except InputError as exc:
+        raise InputError(f"{where}.evaluations", exc.problem) from None
+    for cell in cells:
+        table = cell.get("uncertainty") or {}
+        training = int(table.get("scenarios", UncertaintySpec.scenarios)) if table else 1
+        need = tune_bytes(budget.pop_size, len(cell["bounds"]), len(cell["roads"]) * training)
+        check_fits(need, f"{where}.pop_size", f"a population of {budget.pop_size:,}")
+
+
+def _check_grid(runs: int, cells: int, config: StudyConfig) -> None:
+    """Refuse, before expanding it, a grid of runs whose plan would not fit in memory."""
+    check_fits(
+        runs * PLANNED_RUN_BYTES,
+        "study.seeds",
+        f"a grid of {runs:,} runs ({cells} scenario cells x {len(config.optimizers)} "
+        f"optimizers x {len(config.study.seeds)} seeds)",
+    )
+
+
 def plan_study(config: StudyConfig) -> StudyPlan:
     """Resolve every name and expand the grid into run specs (InputError on the first problem)."""
     cells: list[dict[str, Any]] = []
@@ -557,7 +616,9 @@ def plan_study(config: StudyConfig) -> StudyPlan:
     first = child_seed(config.study.seed, config.study.seeds[0])
     for i, sc in enumerate(config.scenarios):
         resolved = _resolve_scenario(i, sc, int_seed(first), first)
-        budgets += [sc.budget or config.budget] * len(resolved)
+        budget = sc.budget or config.budget
+        _check_budget(budget, resolved, f"scenarios[{i}].budget" if sc.budget else "budget")
+        budgets += [budget] * len(resolved)
         if any(c["group"] == resolved[0]["group"] for c in cells):
             raise InputError(
                 f"scenarios[{i}].name",
@@ -565,6 +626,7 @@ def plan_study(config: StudyConfig) -> StudyPlan:
                 f"{resolved[0]['group']!r}: give each scenario a distinct `name`",
             )
         cells.extend(resolved)
+    _check_grid(len(cells) * len(config.optimizers) * len(config.study.seeds), len(cells), config)
     labels: list[str] = []
     for j, opt in enumerate(config.optimizers):
         label = opt.label or opt.name
