@@ -19,7 +19,10 @@ bitwise equal pressures.
 Integration: classic RK4 at a fixed step over all states; the CG path length and the slip
 integrals by quadrature of step-end values (as the single wheel); the surfaces under the wheels
 and their target slips switch at step ends from the contact points' global positions; the stop
-at v_stop (CG speed) is located by linear interpolation inside the last step.
+at v_stop (CG speed) is located by linear interpolation inside the last step, and the end metrics
+(stop_x_m, the end heading and lateral offset) and the trace's last row are the state there: the
+speeds, wheel and controller states linear over the step, X, Y and the heading their integrals
+(`_at_stop`), on the surfaces of that step.
 
 Lanes (issue 12, the design of `abs_wheel_kernel`). Every per-candidate quantity lives in ONE
 flat array `st` of rows of LANES values (row r of lane l at r * LANES + l). Each iteration runs
@@ -910,15 +913,16 @@ def _put_surface(st, l, commit, j, b, cp, sp, kc):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _wheel_end(st, l, commit, j, s_new, vabs, w, acc, frac, h, t, moving, kc, srf):
-    """Step-end integrals of wheel j (slip, its error to the target, locking); acc = (iae,
-    itae, ise, locked, all still) so far, returned updated."""
+def _wheel_end(st, l, commit, j, s_new, vabs, w, acc, frac, h, t, stop, moving, kc, srf):
+    """Step-end integrals of wheel j (slip, its error to the target, locking) and its slip at
+    the step's end (at the stop when the run stops); acc = (iae, itae, ise, locked, all still)
+    so far, returned updated."""
     slip = _get(st, R_SLIP + j, l)
     target = _target(st, j, l, srf)
     s_end = slip + frac * (s_new - slip)
     d_iae, d_itae, d_ise = error_integrals(target - slip, target - s_end, t, h)
     _put(st, R_SINT + j, l, commit, _get(st, R_SINT + j, l) + trapezoid(slip, s_end, h))
-    _put(st, R_SLIP + j, l, commit, s_new)
+    _put(st, R_SLIP + j, l, commit, select(stop, s_end, s_new))
     locked = moving & (w * kc[KC_RW] < kc[KC_LOCK] * vabs)
     lock_t = _get(st, R_LOCK_T + j, l)
     _put(st, R_LOCK_T + j, l, commit, select(locked & (lock_t != lock_t), t + kc[KC_DT], lock_t))
@@ -932,10 +936,11 @@ def _wheel_end(st, l, commit, j, s_new, vabs, w, acc, frac, h, t, moving, kc, sr
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _end_step(st, l, commit, x, slips, vabs, cp, sp, k4, kc, srf):
-    """Commit the step to state x = (b, w0, w1, w2, w3) and k4 of lane l where `commit`:
-    distance, integrals, locking, surfaces, yaw metrics, status. Returns whether the run
-    ended."""
+def _end_step(st, l, commit, x0, x, slips, vabs, cp, sp, k4, kc, srf):
+    """Commit the step from state x0 to state x = (b, w0, w1, w2, w3) and k4 of lane l where
+    `commit`: distance, integrals, locking, surfaces, yaw metrics, status; at a stop the lane
+    keeps the state at the stop (`_at_stop`) and the surfaces of the step. Returns whether the
+    run ended."""
     b, w0, w1, w2, w3 = x
     dt = kc[KC_DT]
     v_stop = kc[KC_VSTOP]
@@ -951,20 +956,29 @@ def _end_step(st, l, commit, x, slips, vabs, cp, sp, k4, kc, srf):
     dist = _get(st, R_DIST, l) + trapezoid(sp_old, select(stop, v_stop, sp_new), h)
     moving = sp_new > v_stop
     acc = (_get(st, R_IAE, l), _get(st, R_ITAE, l), _get(st, R_ISE, l), _get(st, R_LOCKED, l), True)
-    acc = _wheel_end(st, l, commit, 0, slips[0], vabs[0], w0[0], acc, frac, h, t, moving, kc, srf)
-    acc = _wheel_end(st, l, commit, 1, slips[1], vabs[1], w1[0], acc, frac, h, t, moving, kc, srf)
-    acc = _wheel_end(st, l, commit, 2, slips[2], vabs[2], w2[0], acc, frac, h, t, moving, kc, srf)
-    acc = _wheel_end(st, l, commit, 3, slips[3], vabs[3], w3[0], acc, frac, h, t, moving, kc, srf)
+    acc = _wheel_end(
+        st, l, commit, 0, slips[0], vabs[0], w0[0], acc, frac, h, t, stop, moving, kc, srf
+    )
+    acc = _wheel_end(
+        st, l, commit, 1, slips[1], vabs[1], w1[0], acc, frac, h, t, stop, moving, kc, srf
+    )
+    acc = _wheel_end(
+        st, l, commit, 2, slips[2], vabs[2], w2[0], acc, frac, h, t, stop, moving, kc, srf
+    )
+    acc = _wheel_end(
+        st, l, commit, 3, slips[3], vabs[3], w3[0], acc, frac, h, t, stop, moving, kc, srf
+    )
     iae, itae, ise, locked, all_still = acc
     all_t = _get(st, R_ALL_T, l)
     first = all_still & (all_t != all_t) & moving
     _put(st, R_ALL_T, l, commit, select(first, t + dt, all_t))
     _put(st, R_ALL_V, l, commit, select(first, sp_new, _get(st, R_ALL_V, l)))
     _put(st, R_ALL_D, l, commit, select(first, dist, _get(st, R_ALL_D, l)))
-    _put_surface(st, l, commit, 0, b, cp, sp, kc)
-    _put_surface(st, l, commit, 1, b, cp, sp, kc)
-    _put_surface(st, l, commit, 2, b, cp, sp, kc)
-    _put_surface(st, l, commit, 3, b, cp, sp, kc)
+    switch = commit & (not stop)
+    _put_surface(st, l, switch, 0, b, cp, sp, kc)
+    _put_surface(st, l, switch, 1, b, cp, sp, kc)
+    _put_surface(st, l, switch, 2, b, cp, sp, kc)
+    _put_surface(st, l, switch, 3, b, cp, sp, kc)
     r_now = b[2]
     psi_now = b[5]
     in_window = t + 0.5 * dt < kc[KC_WINDOW]
@@ -1009,9 +1023,62 @@ def _end_step(st, l, commit, x, slips, vabs, cp, sp, k4, kc, srf):
     _put(st, R_ISE, l, commit, ise)
     _put(st, R_LOCKED, l, commit, locked)
     _put(st, R_STEP, l, commit, k + 1.0)
-    _put_state(st, 0, l, commit, x)
+    _put_state(st, 0, l, commit, _at_stop(x0, x, stop, 1.0 - frac, dt, cp, sp))
     _put_state(st, R_K4, l, commit, k4)
     return ended
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _rate_at_stop(a, b, stop, back):
+    """b, or at a stop the value linear from a (step start) to b (end) a fraction `back` of the
+    step before its end: the crossing fraction of the speed, linear over the step."""
+    return select(stop, b - back * (b - a), b)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _integral_at_stop(a, b, rate_b, stop, back, dt):
+    """b, or at a stop the integral of a rate linear over the step (a position under the
+    speed's linear law): the parabola through a (step start) and b with the slope rate_b at
+    the end, `back` of the step before it: b - back dt rate_b + back^2 (a - b + dt rate_b)."""
+    return select(stop, b - back * dt * rate_b + back * back * (a - b + dt * rate_b), b)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _wheel_at_stop(a, b, stop, back):
+    return (
+        _rate_at_stop(a[0], b[0], stop, back),
+        _rate_at_stop(a[1], b[1], stop, back),
+        _rate_at_stop(a[2], b[2], stop, back),
+        _rate_at_stop(a[3], b[3], stop, back),
+        _rate_at_stop(a[4], b[4], stop, back),
+    )
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _at_stop(x0, x, stop, back, dt, cp, sp):
+    """The state x, or at a stop the state at the stop instant, `back` of the step before x
+    (x0 the step's start): the speeds, wheel and controller states linear over the step as
+    the stop's crossing assumes, X, Y and the heading their integrals (`_integral_at_stop`,
+    slopes the end's global velocity from the heading's (cos, sin) = (cp, sp) and the yaw
+    rate)."""
+    a, b = x0[0], x[0]
+    vx, vy, r = b[0], b[1], b[2]
+    body = (
+        _rate_at_stop(a[0], vx, stop, back),
+        _rate_at_stop(a[1], vy, stop, back),
+        _rate_at_stop(a[2], r, stop, back),
+        _integral_at_stop(a[3], b[3], vx * cp - vy * sp, stop, back, dt),
+        _integral_at_stop(a[4], b[4], vx * sp + vy * cp, stop, back, dt),
+        _integral_at_stop(a[5], b[5], r, stop, back, dt),
+        _rate_at_stop(a[6], b[6], stop, back),
+    )
+    return (
+        body,
+        _wheel_at_stop(x0[1], x[1], stop, back),
+        _wheel_at_stop(x0[2], x[2], stop, back),
+        _wheel_at_stop(x0[3], x[3], stop, back),
+        _wheel_at_stop(x0[4], x[4], stop, back),
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -1049,7 +1116,7 @@ def _lane_step(st, l, kc, srf, live):
     va2, sl2 = _unsteered(nb, n2, 2, kc)
     va3, sl3 = _unsteered(nb, n3, 3, kc)
     ended = _end_step(
-        st, l, commit, xn, (sl0, sl1, sl2, sl3), (va0, va1, va2, va3), 1.0, 0.0, kd, kc, srf
+        st, l, commit, x, xn, (sl0, sl1, sl2, sl3), (va0, va1, va2, va3), 1.0, 0.0, kd, kc, srf
     )
     st[R_DONE * LANES + l] = select(commit, 1.0, 0.0)
     return ended & commit & (l < live)
@@ -1130,6 +1197,7 @@ def _general_step(
         st,
         l,
         True,
+        _state(x, 0, 1, 0),
         _state(y, 0, 1, 0),
         (sc[W_SLIP, 0], sc[W_SLIP, 1], sc[W_SLIP, 2], sc[W_SLIP, 3]),
         (sc[W_VABS, 0], sc[W_VABS, 1], sc[W_VABS, 2], sc[W_VABS, 3]),
@@ -1401,8 +1469,8 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out, 
                 tgt,
                 inv,
             )
-            if _get(st, R_STATUS, 0) == STATUS_STOPPED:
-                trace[rows, T_SPEED] = max(trace[rows, T_SPEED], kc[KC_VSTOP])
+            if _get(st, R_STATUS, 0) == STATUS_STOPPED:  # the row at the stop
+                trace[rows, T_SPEED] = kc[KC_VSTOP]
             rows += 1
         if ended:
             for l in range(live - 1, -1, -1):  # high to low: lanes moved down are done
