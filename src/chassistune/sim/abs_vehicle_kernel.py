@@ -22,7 +22,8 @@ and their target slips switch at step ends from the contact points' global posit
 at v_stop (CG speed) is located by linear interpolation inside the last step, and the end metrics
 (stop_x_m, the end heading and lateral offset) and the trace's last row are the state there: the
 speeds, wheel and controller states linear over the step, X, Y and the heading their integrals
-(`_at_stop`), on the surfaces of that step.
+(`_at_stop`), on the surfaces of that step. A wheel's lock time is located the same way, where
+its margin w R - lock_ratio |V|, linear over the step, crosses 0.
 
 Lanes (issue 12, the design of `abs_wheel_kernel`). Every per-candidate quantity lives in ONE
 flat array `st` of rows of LANES values (row r of lane l at r * LANES + l). Each iteration runs
@@ -206,7 +207,11 @@ METRIC_LAYOUT = Layout(
         Slot("all_locked_distance_m", "m", "CG path length then"),
         *(Slot(f"mean_slip_{w}", "-") for w in WHEELS),
         *(
-            Slot(f"lock_time_{w}_s", "s", "first time w R < lock_ratio |V| (NaN: never)")
+            Slot(
+                f"lock_time_{w}_s",
+                "s",
+                "first time w R < lock_ratio |V|, located inside its step (NaN: never)",
+            )
             for w in WHEELS
         ),
         Slot("load_iterations_max", "-", "most Newton iterations of one load solve"),
@@ -913,10 +918,13 @@ def _put_surface(st, l, commit, j, b, cp, sp, kc):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _wheel_end(st, l, commit, j, s_new, vabs, w, acc, frac, h, t, stop, moving, kc, srf):
-    """Step-end integrals of wheel j (slip, its error to the target, locking) and its slip at
-    the step's end (at the stop when the run stops); acc = (iae, itae, ise, locked, all still)
-    so far, returned updated."""
+def _wheel_end(st, l, commit, j, s_new, vabs, w, b0, wt0, acc, timing, kc, srf):
+    """Step-end integrals of wheel j (slip, its error to the target, locking), its slip at the
+    step's end (at the stop when the run stops) and its lock time: where the margin
+    w R - lock_ratio |V|, linear from the step's start (body b0, wheel wt0) to its end, crosses
+    0. acc = (iae, itae, ise, locked, all still) so far, returned updated; timing = (t, the
+    stop's crossing fraction, the step's length up to the stop, stop, moving)."""
+    t, frac, h, stop, moving = timing
     slip = _get(st, R_SLIP + j, l)
     target = _target(st, j, l, srf)
     s_end = slip + frac * (s_new - slip)
@@ -925,7 +933,11 @@ def _wheel_end(st, l, commit, j, s_new, vabs, w, acc, frac, h, t, stop, moving, 
     _put(st, R_SLIP + j, l, commit, select(stop, s_end, s_new))
     locked = moving & (w * kc[KC_RW] < kc[KC_LOCK] * vabs)
     lock_t = _get(st, R_LOCK_T + j, l)
-    _put(st, R_LOCK_T + j, l, commit, select(locked & (lock_t != lock_t), t + kc[KC_DT], lock_t))
+    # the start's |V| unsteered: steering turns the wheel's velocity, not its norm
+    margin0 = wt0[0] * kc[KC_RW] - kc[KC_LOCK] * _unsteered(b0, wt0, j, kc)[0]
+    margin1 = w * kc[KC_RW] - kc[KC_LOCK] * vabs
+    t_lock = t + crossing_fraction(margin0, margin1, 0.0, locked) * kc[KC_DT]
+    _put(st, R_LOCK_T + j, l, commit, select(locked & (lock_t != lock_t), t_lock, lock_t))
     return (
         acc[0] + d_iae,
         acc[1] + d_itae,
@@ -956,18 +968,12 @@ def _end_step(st, l, commit, x0, x, slips, vabs, cp, sp, k4, kc, srf):
     dist = _get(st, R_DIST, l) + trapezoid(sp_old, select(stop, v_stop, sp_new), h)
     moving = sp_new > v_stop
     acc = (_get(st, R_IAE, l), _get(st, R_ITAE, l), _get(st, R_ISE, l), _get(st, R_LOCKED, l), True)
-    acc = _wheel_end(
-        st, l, commit, 0, slips[0], vabs[0], w0[0], acc, frac, h, t, stop, moving, kc, srf
-    )
-    acc = _wheel_end(
-        st, l, commit, 1, slips[1], vabs[1], w1[0], acc, frac, h, t, stop, moving, kc, srf
-    )
-    acc = _wheel_end(
-        st, l, commit, 2, slips[2], vabs[2], w2[0], acc, frac, h, t, stop, moving, kc, srf
-    )
-    acc = _wheel_end(
-        st, l, commit, 3, slips[3], vabs[3], w3[0], acc, frac, h, t, stop, moving, kc, srf
-    )
+    b0 = x0[0]
+    timing = (t, frac, h, stop, moving)
+    acc = _wheel_end(st, l, commit, 0, slips[0], vabs[0], w0[0], b0, x0[1], acc, timing, kc, srf)
+    acc = _wheel_end(st, l, commit, 1, slips[1], vabs[1], w1[0], b0, x0[2], acc, timing, kc, srf)
+    acc = _wheel_end(st, l, commit, 2, slips[2], vabs[2], w2[0], b0, x0[3], acc, timing, kc, srf)
+    acc = _wheel_end(st, l, commit, 3, slips[3], vabs[3], w3[0], b0, x0[4], acc, timing, kc, srf)
     iae, itae, ise, locked, all_still = acc
     all_t = _get(st, R_ALL_T, l)
     first = all_still & (all_t != all_t) & moving
