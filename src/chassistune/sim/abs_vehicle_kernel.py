@@ -380,7 +380,9 @@ R_SURF = R_U0 + 4
 R_SLIP = R_SURF + 4
 R_SINT = R_SLIP + 4
 R_LOCK_T = R_SINT + 4
-R_AW = R_LOCK_T + 4
+R_LOCK_M0 = R_LOCK_T + 4
+R_LOCK_M1 = R_LOCK_M0 + 4
+R_AW = R_LOCK_M1 + 4
 R_PHASE = R_AW + 4
 R_WS = R_PHASE + 4
 (
@@ -918,12 +920,12 @@ def _put_surface(st, l, commit, j, b, cp, sp, kc):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _wheel_end(st, l, commit, j, s_new, vabs, w, b0, wt0, acc, timing, kc, srf):
+def _wheel_end(st, l, commit, j, s_new, vabs, w, w0, vabs0, acc, timing, kc, srf):
     """Step-end integrals of wheel j (slip, its error to the target, locking), its slip at the
-    step's end (at the stop when the run stops) and its lock time: where the margin
-    w R - lock_ratio |V|, linear from the step's start (body b0, wheel wt0) to its end, crosses
-    0. acc = (iae, itae, ise, locked, all still) so far, returned updated; timing = (t, the
-    stop's crossing fraction, the step's length up to the stop, stop, moving)."""
+    step's end (at the stop when the run stops) and, in the step it first locks, that step's
+    start and its margins w R - lock_ratio |V| at the start (w0, vabs0) and the end (the lock
+    time: `_lock_time`). acc = (iae, itae, ise, locked, all still) so far, returned updated;
+    timing = (t, the stop's crossing fraction, the step's length up to the stop, stop, moving)."""
     t, frac, h, stop, moving = timing
     slip = _get(st, R_SLIP + j, l)
     target = _target(st, j, l, srf)
@@ -933,11 +935,10 @@ def _wheel_end(st, l, commit, j, s_new, vabs, w, b0, wt0, acc, timing, kc, srf):
     _put(st, R_SLIP + j, l, commit, select(stop, s_end, s_new))
     locked = moving & (w * kc[KC_RW] < kc[KC_LOCK] * vabs)
     lock_t = _get(st, R_LOCK_T + j, l)
-    # the start's |V| unsteered: steering turns the wheel's velocity, not its norm
-    margin0 = wt0[0] * kc[KC_RW] - kc[KC_LOCK] * _unsteered(b0, wt0, j, kc)[0]
-    margin1 = w * kc[KC_RW] - kc[KC_LOCK] * vabs
-    t_lock = t + crossing_fraction(margin0, margin1, 0.0, locked) * kc[KC_DT]
-    _put(st, R_LOCK_T + j, l, commit, select(locked & (lock_t != lock_t), t_lock, lock_t))
+    first = locked & (lock_t != lock_t)
+    _put(st, R_LOCK_T + j, l, commit, select(first, t, lock_t))
+    _put(st, R_LOCK_M0 + j, l, commit & first, w0 * kc[KC_RW] - kc[KC_LOCK] * vabs0)
+    _put(st, R_LOCK_M1 + j, l, commit & first, w * kc[KC_RW] - kc[KC_LOCK] * vabs)
     return (
         acc[0] + d_iae,
         acc[1] + d_itae,
@@ -948,11 +949,12 @@ def _wheel_end(st, l, commit, j, s_new, vabs, w, b0, wt0, acc, timing, kc, srf):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _end_step(st, l, commit, x0, x, slips, vabs, cp, sp, k4, kc, srf):
-    """Commit the step from state x0 to state x = (b, w0, w1, w2, w3) and k4 of lane l where
-    `commit`: distance, integrals, locking, surfaces, yaw metrics, status; at a stop the lane
-    keeps the state at the stop (`_at_stop`) and the surfaces of the step. Returns whether the
-    run ended."""
+def _end_step(st, l, commit, x0, vabs0, x, slips, vabs, cp, sp, k4, kc, srf, stops):
+    """Commit the step from state x0 (its wheels' |V|: vabs0) to state x = (b, w0, w1, w2, w3)
+    and k4 of lane l where `commit`: distance, integrals, locking, surfaces, yaw metrics,
+    status; at a stop the lane keeps the state at the stop (`_at_stop`) and the surfaces of the
+    step. `stops`, a constant: whether this pass may commit the step in which the run stops
+    (False folds the stop's code away). Returns whether the run ended."""
     b, w0, w1, w2, w3 = x
     dt = kc[KC_DT]
     v_stop = kc[KC_VSTOP]
@@ -962,18 +964,25 @@ def _end_step(st, l, commit, x0, x, slips, vabs, cp, sp, k4, kc, srf):
     vy = b[1]
     sp_new = math.sqrt(vx * vx + vy * vy)
     sp_old = _get(st, R_SPEED, l)
-    stop = sp_new <= v_stop
+    stop = (sp_new <= v_stop) & stops  # a constant False folds the stop away
     frac = crossing_fraction(sp_old, sp_new, v_stop, stop)
     h = frac * dt
     dist = _get(st, R_DIST, l) + trapezoid(sp_old, select(stop, v_stop, sp_new), h)
     moving = sp_new > v_stop
     acc = (_get(st, R_IAE, l), _get(st, R_ITAE, l), _get(st, R_ISE, l), _get(st, R_LOCKED, l), True)
-    b0 = x0[0]
     timing = (t, frac, h, stop, moving)
-    acc = _wheel_end(st, l, commit, 0, slips[0], vabs[0], w0[0], b0, x0[1], acc, timing, kc, srf)
-    acc = _wheel_end(st, l, commit, 1, slips[1], vabs[1], w1[0], b0, x0[2], acc, timing, kc, srf)
-    acc = _wheel_end(st, l, commit, 2, slips[2], vabs[2], w2[0], b0, x0[3], acc, timing, kc, srf)
-    acc = _wheel_end(st, l, commit, 3, slips[3], vabs[3], w3[0], b0, x0[4], acc, timing, kc, srf)
+    acc = _wheel_end(
+        st, l, commit, 0, slips[0], vabs[0], w0[0], x0[1][0], vabs0[0], acc, timing, kc, srf
+    )
+    acc = _wheel_end(
+        st, l, commit, 1, slips[1], vabs[1], w1[0], x0[2][0], vabs0[1], acc, timing, kc, srf
+    )
+    acc = _wheel_end(
+        st, l, commit, 2, slips[2], vabs[2], w2[0], x0[3][0], vabs0[2], acc, timing, kc, srf
+    )
+    acc = _wheel_end(
+        st, l, commit, 3, slips[3], vabs[3], w3[0], x0[4][0], vabs0[3], acc, timing, kc, srf
+    )
     iae, itae, ise, locked, all_still = acc
     all_t = _get(st, R_ALL_T, l)
     first = all_still & (all_t != all_t) & moving
@@ -1099,10 +1108,24 @@ def _unsteered(b, wt, j, kc):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _wheel_speeds(x, kc):
+    """The four wheels' |V| at state x (unsteered: steering turns a wheel's velocity, not its
+    norm)."""
+    b = x[0]
+    return (
+        _unsteered(b, x[1], 0, kc)[0],
+        _unsteered(b, x[2], 1, kc)[0],
+        _unsteered(b, x[3], 2, kc)[0],
+        _unsteered(b, x[4], 3, kc)[0],
+    )
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _lane_step(st, l, kc, srf, live):
     """One RK4 step of lane l in the straight-line case, committed (R_DONE 1) only if every
-    stage and the step's end are straight; returns 1 if a live lane ended. Straight-line code:
-    the body of the vector loop."""
+    stage and the step's end are straight and the run does not stop in it (that step, once a
+    run, is the scalar pass's: it locates the stop); returns 1 if a live lane ended.
+    Straight-line code: the body of the vector loop."""
     x = _state(st, 0, LANES, l)
     g, s = _laws_surfaces(st, l, srf)
     hs = kc[KC_HS]
@@ -1113,16 +1136,32 @@ def _lane_step(st, l, kc, srf, live):
     kd, ok4 = _straight_stage(rk4_point(x, dt, kc3), g, s, kc)
     xn = _held(rk4_update(x, kc[KC_H6], ka, kb, kc3, kd), kc[KC_QMAX])
     nb, n0, n1, n2, n3 = xn
-    commit = (
+    straight = (
         ok1 & ok2 & ok3 & ok4 & (nb[1] == 0.0) & (nb[2] == 0.0) & (nb[5] == 0.0) & (nb[6] == 0.0)
     )
+    stopping = math.sqrt(nb[0] * nb[0] + nb[1] * nb[1]) <= kc[KC_VSTOP]
+    commit = straight & (not stopping)
     # the step end's kinematics with delta = 0 (`_kinematics`, unsteered)
     va0, sl0 = _unsteered(nb, n0, 0, kc)
     va1, sl1 = _unsteered(nb, n1, 1, kc)
     va2, sl2 = _unsteered(nb, n2, 2, kc)
     va3, sl3 = _unsteered(nb, n3, 3, kc)
+    v0 = fmax(abs(x[0][0]), kc[KC_VMIN])  # every wheel's |V| at the straight start
     ended = _end_step(
-        st, l, commit, x, xn, (sl0, sl1, sl2, sl3), (va0, va1, va2, va3), 1.0, 0.0, kd, kc, srf
+        st,
+        l,
+        commit,
+        x,
+        (v0, v0, v0, v0),
+        xn,
+        (sl0, sl1, sl2, sl3),
+        (va0, va1, va2, va3),
+        1.0,
+        0.0,
+        kd,
+        kc,
+        srf,
+        False,
     )
     st[R_DONE * LANES + l] = select(commit, 1.0, 0.0)
     return ended & commit & (l < live)
@@ -1199,11 +1238,13 @@ def _general_step(
     psi = y[S_PSI]
     cp = math.cos(psi) if psi != 0.0 else 1.0
     sp = math.sin(psi) if psi != 0.0 else 0.0
+    x0 = _state(x, 0, 1, 0)
     ended = _end_step(
         st,
         l,
         True,
-        _state(x, 0, 1, 0),
+        x0,
+        _wheel_speeds(x0, kc),
         _state(y, 0, 1, 0),
         (sc[W_SLIP, 0], sc[W_SLIP, 1], sc[W_SLIP, 2], sc[W_SLIP, 3]),
         (sc[W_VABS, 0], sc[W_VABS, 1], sc[W_VABS, 2], sc[W_VABS, 3]),
@@ -1212,6 +1253,7 @@ def _general_step(
         _state(ks[3], 0, 1, 0),
         kc,
         srf,
+        True,
     )
     st[R_AX * LANES + l] = guess[0, 0]
     st[R_AY * LANES + l] = guess[1, 0]
@@ -1330,9 +1372,19 @@ def _fill_lane(st, l, i, gains, col0, ctrl_kind, c, kc, srf, v0):
     st[R_TEND * LANES + l] = kc[KC_TTIMEOUT]
 
 
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _lock_time(st, j, l, dt):
+    """Wheel j's lock time (NaN: never): where its margin w R - lock_ratio |V|, linear over the
+    step in which it first locked, crosses 0."""
+    t = _get(st, R_LOCK_T + j, l)
+    m0 = _get(st, R_LOCK_M0 + j, l)
+    frac = crossing_fraction(m0, _get(st, R_LOCK_M1 + j, l), 0.0, True)
+    return select(t == t, t + frac * dt, t)
+
+
 @numba.njit(**_NO_REFCOUNT)
-def _finish_lane(st, l, out_row):
-    """Write the metrics row of the run that ended in lane l."""
+def _finish_lane(st, l, out_row, dt):
+    """Write the metrics row of the run that ended in lane l (step dt)."""
     t_end = _get(st, R_TEND, l)
     psi1 = _get(st, R_PSI1, l)
     y1 = _get(st, R_Y1, l)
@@ -1359,7 +1411,7 @@ def _finish_lane(st, l, out_row):
     out_row[M_ALL_D] = _get(st, R_ALL_D, l)
     for j in range(4):
         out_row[M_MEAN_SLIP + j] = _get(st, R_SINT + j, l) / t_end if t_end > 0.0 else 0.0
-        out_row[M_LOCK_T + j] = _get(st, R_LOCK_T + j, l)
+        out_row[M_LOCK_T + j] = _lock_time(st, j, l, dt)
     out_row[M_ITER] = _get(st, R_ITER, l)
 
 
@@ -1483,7 +1535,7 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out, 
                 if _get(st, R_ENDED, l) == 0.0:
                     continue
                 i = lane_of[l]
-                _finish_lane(st, l, out[i])
+                _finish_lane(st, l, out[i], dt)
                 if queued < n:
                     _fill_lane(st, l, queued, gains, col0, ctrl_kind, c, kc, srf, p[P_V0])
                     lane_of[l] = queued
