@@ -31,11 +31,12 @@ one fused RK4 step per lane (`_lane_step`) for a whole number of VECTOR-wide blo
 straight-line case (no yaw, lateral velocity, heading or steering; loads in closed form), all
 four stages in registers, branch-free, stored by select only where every stage and the step's
 end were straight. Lanes where that case does not hold (split-mu, a driver steering, a wheel
-unloaded) are redone by a scalar pass (`_general_step`): each stage straight where it holds,
-else `_rhs` with the loads by Newton's method, in the same formulas and order, so that a lane's
-numbers do not depend on the path, the lane or the population. Sampled laws tick in a scalar
-pass before the step at each lane's own sample instants; a finished lane is refilled from the
-queue or, when it is empty, filled with the last live lane (live lanes stay packed in front).
+unloaded), and the step in which a run stops, are redone by a scalar pass (`_general_step`):
+each stage straight where it holds, else `_rhs` with the loads by Newton's method, in the same
+formulas and order, so that a lane's numbers do not depend on the path, the lane or the
+population. Sampled laws tick in a scalar pass before the step at each lane's own sample
+instants; a finished lane is refilled from the queue or, when it is empty, filled with the last
+live lane (live lanes stay packed in front).
 
 No reference counting. `simulate_abs_vehicle` and its scalar passes (the functions not inlined)
 are compiled without numba's runtime (`_nrt=False`): the caller passes every array the kernel
