@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -98,6 +100,26 @@ def test_the_stability_limit_follows_dt_and_v_stop():
     PLANT.scenario(None, "ice", "pid", {"v_stop_m_s": 0.5})  # ice: a 4.4x softer wheel mode
     with pytest.raises(InputError, match="stability"):
         PLANT.scenario(None, "mu-jump", "pid", {"v_stop_m_s": 0.5})
+
+
+@pytest.mark.parametrize(
+    "params",
+    [{"mass_kg": 1500}, {"mass_kg": 3000}, {"v_stop_m_s": 0.5}, {"dt_s": 0.0015}],
+)
+def test_the_stability_refusal_names_steps_that_pass(params):
+    """The refusal's proposals, as printed, each pass: the step divided by a whole k, the largest
+    step and the least v_stop_m_s."""
+    with pytest.raises(InputError) as err:
+        PLANT.scenario(None, "dry-concrete", "pid", params)
+    msg = str(err.value)
+    divided = re.search(r"dt_s = (\S+) \(the step divided by (\d+)\) passes", msg)
+    largest = re.search(r"any dt_s <= (\S+),", msg)
+    v_stop = re.search(r"v_stop_m_s >= (\S+)$", msg)
+    assert divided and largest and v_stop, msg
+    dt_s = float(params.get("dt_s", 1e-3))
+    assert float(divided[1]) == pytest.approx(dt_s / int(divided[2]), rel=1e-6)
+    for change in ({"dt_s": divided[1]}, {"dt_s": largest[1]}, {"v_stop_m_s": v_stop[1]}):
+        PLANT.scenario(None, "dry-concrete", "pid", {**params, **change})
 
 
 @pytest.mark.parametrize(

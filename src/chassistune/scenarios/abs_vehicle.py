@@ -86,20 +86,40 @@ def road_bound(pp: VehicleParams, road: VehicleRoad) -> Bound:
     return uniform_bound(pp, a)
 
 
+def _three_digits(x: float, up: bool) -> float:
+    """x rounded to three significant digits, up or down (a printed limit that still holds)."""
+    unit = 10.0 ** (math.floor(math.log10(x)) - 2)
+    return (math.ceil(x / unit) if up else math.floor(x / unit)) * unit
+
+
+def _passing_step(pp: VehicleParams, lam_1_s: float) -> tuple[float, int]:
+    """(dt_s / k, k) for the least whole k with dt_s / k, as printed (six significant digits),
+    inside RK4's stability limit at the wheel-mode rate lam_1_s: a whole divisor keeps every
+    sample period and t_max whole numbers of steps."""
+    k = max(1, math.ceil(lam_1_s * pp.dt_s / RK4_REAL_LIMIT))
+    while lam_1_s * float(f"{pp.dt_s / k:.6g}") > RK4_REAL_LIMIT:
+        k += 1
+    return float(f"{pp.dt_s / k:.6g}"), k
+
+
 def check_step(pp: VehicleParams, road: VehicleRoad) -> None:
-    """Refuse a (dt_s, v_stop_m_s) pair past RK4's stability limit of the wheel mode."""
+    """Refuse a (dt_s, v_stop_m_s) pair past RK4's stability limit of the wheel mode, naming a
+    step that passes (`_passing_step`), the largest one and the least v_stop_m_s at this step
+    (both rounded to three digits on the passing side)."""
     rise = max(t.mu_peak / t.slip_opt for t in road.surfaces)
     mu = max(t.mu_peak for t in road.surfaces)
     lam = wheel_mode_rate(pp, rise, mu)
     if lam * pp.dt_s > RK4_REAL_LIMIT:
-        dt_max = RK4_REAL_LIMIT / lam
-        v_min = pp.v_stop_m_s * lam * pp.dt_s / RK4_REAL_LIMIT
+        dt_pass, k = _passing_step(pp, lam)
+        dt_max = _three_digits(RK4_REAL_LIMIT / lam, up=False)
+        v_min = _three_digits(pp.v_stop_m_s * lam * pp.dt_s / RK4_REAL_LIMIT, up=True)
         raise InputError(
             "params.dt_s",
             f"dt_s = {pp.dt_s:g} s with v_stop_m_s = "
             f"{pp.v_stop_m_s:g} m/s is past RK4's stability limit of the wheel mode "
-            f"(|lambda| dt = {lam * pp.dt_s:.2f} > {RK4_REAL_LIMIT}): use dt_s <= "
-            f"{dt_max:.3g} or v_stop_m_s >= {v_min:.3g}",
+            f"(|lambda| dt = {lam * pp.dt_s:.2f} > {RK4_REAL_LIMIT}): dt_s = "
+            f"{dt_pass:g} (the step divided by {k}) passes, as does any dt_s <= "
+            f"{dt_max:g}, or v_stop_m_s >= {v_min:g}",
         )
 
 

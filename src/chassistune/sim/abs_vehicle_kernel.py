@@ -19,7 +19,11 @@ bitwise equal pressures.
 Integration: classic RK4 at a fixed step over all states; the CG path length and the slip
 integrals by quadrature of step-end values (as the single wheel); the surfaces under the wheels
 and their target slips switch at step ends from the contact points' global positions; the stop
-at v_stop (CG speed) is located by linear interpolation inside the last step.
+at v_stop (CG speed) is located by linear interpolation inside the last step, and the end metrics
+(stop_x_m, the end heading and lateral offset) and the trace's last row are the state there: the
+speeds, wheel and controller states linear over the step, X, Y and the heading their integrals
+(`_at_stop`), on the surfaces of that step. A wheel's lock time is located the same way, where
+its margin w R - lock_ratio |V|, linear over the step, crosses 0.
 
 Lanes (issue 12, the design of `abs_wheel_kernel`). Every per-candidate quantity lives in ONE
 flat array `st` of rows of LANES values (row r of lane l at r * LANES + l). Each iteration runs
@@ -27,11 +31,12 @@ one fused RK4 step per lane (`_lane_step`) for a whole number of VECTOR-wide blo
 straight-line case (no yaw, lateral velocity, heading or steering; loads in closed form), all
 four stages in registers, branch-free, stored by select only where every stage and the step's
 end were straight. Lanes where that case does not hold (split-mu, a driver steering, a wheel
-unloaded) are redone by a scalar pass (`_general_step`): each stage straight where it holds,
-else `_rhs` with the loads by Newton's method, in the same formulas and order, so that a lane's
-numbers do not depend on the path, the lane or the population. Sampled laws tick in a scalar
-pass before the step at each lane's own sample instants; a finished lane is refilled from the
-queue or, when it is empty, filled with the last live lane (live lanes stay packed in front).
+unloaded), and the step in which a run stops, are redone by a scalar pass (`_general_step`):
+each stage straight where it holds, else `_rhs` with the loads by Newton's method, in the same
+formulas and order, so that a lane's numbers do not depend on the path, the lane or the
+population. Sampled laws tick in a scalar pass before the step at each lane's own sample
+instants; a finished lane is refilled from the queue or, when it is empty, filled with the last
+live lane (live lanes stay packed in front).
 
 No reference counting. `simulate_abs_vehicle` and its scalar passes (the functions not inlined)
 are compiled without numba's runtime (`_nrt=False`): the caller passes every array the kernel
@@ -203,7 +208,11 @@ METRIC_LAYOUT = Layout(
         Slot("all_locked_distance_m", "m", "CG path length then"),
         *(Slot(f"mean_slip_{w}", "-") for w in WHEELS),
         *(
-            Slot(f"lock_time_{w}_s", "s", "first time w R < lock_ratio |V| (NaN: never)")
+            Slot(
+                f"lock_time_{w}_s",
+                "s",
+                "first time w R < lock_ratio |V|, located inside its step (NaN: never)",
+            )
             for w in WHEELS
         ),
         Slot("load_iterations_max", "-", "most Newton iterations of one load solve"),
@@ -372,7 +381,9 @@ R_SURF = R_U0 + 4
 R_SLIP = R_SURF + 4
 R_SINT = R_SLIP + 4
 R_LOCK_T = R_SINT + 4
-R_AW = R_LOCK_T + 4
+R_LOCK_M0 = R_LOCK_T + 4
+R_LOCK_M1 = R_LOCK_M0 + 4
+R_AW = R_LOCK_M1 + 4
 R_PHASE = R_AW + 4
 R_WS = R_PHASE + 4
 (
@@ -910,18 +921,25 @@ def _put_surface(st, l, commit, j, b, cp, sp, kc):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _wheel_end(st, l, commit, j, s_new, vabs, w, acc, frac, h, t, moving, kc, srf):
-    """Step-end integrals of wheel j (slip, its error to the target, locking); acc = (iae,
-    itae, ise, locked, all still) so far, returned updated."""
+def _wheel_end(st, l, commit, j, s_new, vabs, w, w0, vabs0, acc, timing, kc, srf):
+    """Step-end integrals of wheel j (slip, its error to the target, locking), its slip at the
+    step's end (at the stop when the run stops) and, in the step it first locks, that step's
+    start and its margins w R - lock_ratio |V| at the start (w0, vabs0) and the end (the lock
+    time: `_lock_time`). acc = (iae, itae, ise, locked, all still) so far, returned updated;
+    timing = (t, the stop's crossing fraction, the step's length up to the stop, stop, moving)."""
+    t, frac, h, stop, moving = timing
     slip = _get(st, R_SLIP + j, l)
     target = _target(st, j, l, srf)
     s_end = slip + frac * (s_new - slip)
     d_iae, d_itae, d_ise = error_integrals(target - slip, target - s_end, t, h)
     _put(st, R_SINT + j, l, commit, _get(st, R_SINT + j, l) + trapezoid(slip, s_end, h))
-    _put(st, R_SLIP + j, l, commit, s_new)
+    _put(st, R_SLIP + j, l, commit, select(stop, s_end, s_new))
     locked = moving & (w * kc[KC_RW] < kc[KC_LOCK] * vabs)
     lock_t = _get(st, R_LOCK_T + j, l)
-    _put(st, R_LOCK_T + j, l, commit, select(locked & (lock_t != lock_t), t + kc[KC_DT], lock_t))
+    first = locked & (lock_t != lock_t)
+    _put(st, R_LOCK_T + j, l, commit, select(first, t, lock_t))
+    _put(st, R_LOCK_M0 + j, l, commit & first, w0 * kc[KC_RW] - kc[KC_LOCK] * vabs0)
+    _put(st, R_LOCK_M1 + j, l, commit & first, w * kc[KC_RW] - kc[KC_LOCK] * vabs)
     return (
         acc[0] + d_iae,
         acc[1] + d_itae,
@@ -932,10 +950,12 @@ def _wheel_end(st, l, commit, j, s_new, vabs, w, acc, frac, h, t, moving, kc, sr
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _end_step(st, l, commit, x, slips, vabs, cp, sp, k4, kc, srf):
-    """Commit the step to state x = (b, w0, w1, w2, w3) and k4 of lane l where `commit`:
-    distance, integrals, locking, surfaces, yaw metrics, status. Returns whether the run
-    ended."""
+def _end_step(st, l, commit, x0, vabs0, x, slips, vabs, cp, sp, k4, kc, srf, stops):
+    """Commit the step from state x0 (its wheels' |V|: vabs0) to state x = (b, w0, w1, w2, w3)
+    and k4 of lane l where `commit`: distance, integrals, locking, surfaces, yaw metrics,
+    status; at a stop the lane keeps the state at the stop (`_at_stop`) and the surfaces of the
+    step. `stops`, a constant: whether this pass may commit the step in which the run stops
+    (False folds the stop's code away). Returns whether the run ended."""
     b, w0, w1, w2, w3 = x
     dt = kc[KC_DT]
     v_stop = kc[KC_VSTOP]
@@ -945,26 +965,36 @@ def _end_step(st, l, commit, x, slips, vabs, cp, sp, k4, kc, srf):
     vy = b[1]
     sp_new = math.sqrt(vx * vx + vy * vy)
     sp_old = _get(st, R_SPEED, l)
-    stop = sp_new <= v_stop
+    stop = (sp_new <= v_stop) & stops  # a constant False folds the stop away
     frac = crossing_fraction(sp_old, sp_new, v_stop, stop)
     h = frac * dt
     dist = _get(st, R_DIST, l) + trapezoid(sp_old, select(stop, v_stop, sp_new), h)
     moving = sp_new > v_stop
     acc = (_get(st, R_IAE, l), _get(st, R_ITAE, l), _get(st, R_ISE, l), _get(st, R_LOCKED, l), True)
-    acc = _wheel_end(st, l, commit, 0, slips[0], vabs[0], w0[0], acc, frac, h, t, moving, kc, srf)
-    acc = _wheel_end(st, l, commit, 1, slips[1], vabs[1], w1[0], acc, frac, h, t, moving, kc, srf)
-    acc = _wheel_end(st, l, commit, 2, slips[2], vabs[2], w2[0], acc, frac, h, t, moving, kc, srf)
-    acc = _wheel_end(st, l, commit, 3, slips[3], vabs[3], w3[0], acc, frac, h, t, moving, kc, srf)
+    timing = (t, frac, h, stop, moving)
+    acc = _wheel_end(
+        st, l, commit, 0, slips[0], vabs[0], w0[0], x0[1][0], vabs0[0], acc, timing, kc, srf
+    )
+    acc = _wheel_end(
+        st, l, commit, 1, slips[1], vabs[1], w1[0], x0[2][0], vabs0[1], acc, timing, kc, srf
+    )
+    acc = _wheel_end(
+        st, l, commit, 2, slips[2], vabs[2], w2[0], x0[3][0], vabs0[2], acc, timing, kc, srf
+    )
+    acc = _wheel_end(
+        st, l, commit, 3, slips[3], vabs[3], w3[0], x0[4][0], vabs0[3], acc, timing, kc, srf
+    )
     iae, itae, ise, locked, all_still = acc
     all_t = _get(st, R_ALL_T, l)
     first = all_still & (all_t != all_t) & moving
     _put(st, R_ALL_T, l, commit, select(first, t + dt, all_t))
     _put(st, R_ALL_V, l, commit, select(first, sp_new, _get(st, R_ALL_V, l)))
     _put(st, R_ALL_D, l, commit, select(first, dist, _get(st, R_ALL_D, l)))
-    _put_surface(st, l, commit, 0, b, cp, sp, kc)
-    _put_surface(st, l, commit, 1, b, cp, sp, kc)
-    _put_surface(st, l, commit, 2, b, cp, sp, kc)
-    _put_surface(st, l, commit, 3, b, cp, sp, kc)
+    switch = commit & (not stop)
+    _put_surface(st, l, switch, 0, b, cp, sp, kc)
+    _put_surface(st, l, switch, 1, b, cp, sp, kc)
+    _put_surface(st, l, switch, 2, b, cp, sp, kc)
+    _put_surface(st, l, switch, 3, b, cp, sp, kc)
     r_now = b[2]
     psi_now = b[5]
     in_window = t + 0.5 * dt < kc[KC_WINDOW]
@@ -1009,9 +1039,62 @@ def _end_step(st, l, commit, x, slips, vabs, cp, sp, k4, kc, srf):
     _put(st, R_ISE, l, commit, ise)
     _put(st, R_LOCKED, l, commit, locked)
     _put(st, R_STEP, l, commit, k + 1.0)
-    _put_state(st, 0, l, commit, x)
+    _put_state(st, 0, l, commit, _at_stop(x0, x, stop, 1.0 - frac, dt, cp, sp))
     _put_state(st, R_K4, l, commit, k4)
     return ended
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _rate_at_stop(a, b, stop, back):
+    """b, or at a stop the value linear from a (step start) to b (end) a fraction `back` of the
+    step before its end: the crossing fraction of the speed, linear over the step."""
+    return select(stop, b - back * (b - a), b)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _integral_at_stop(a, b, rate_b, stop, back, dt):
+    """b, or at a stop the integral of a rate linear over the step (a position under the
+    speed's linear law): the parabola through a (step start) and b with the slope rate_b at
+    the end, `back` of the step before it: b - back dt rate_b + back^2 (a - b + dt rate_b)."""
+    return select(stop, b - back * dt * rate_b + back * back * (a - b + dt * rate_b), b)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _wheel_at_stop(a, b, stop, back):
+    return (
+        _rate_at_stop(a[0], b[0], stop, back),
+        _rate_at_stop(a[1], b[1], stop, back),
+        _rate_at_stop(a[2], b[2], stop, back),
+        _rate_at_stop(a[3], b[3], stop, back),
+        _rate_at_stop(a[4], b[4], stop, back),
+    )
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _at_stop(x0, x, stop, back, dt, cp, sp):
+    """The state x, or at a stop the state at the stop instant, `back` of the step before x
+    (x0 the step's start): the speeds, wheel and controller states linear over the step as
+    the stop's crossing assumes, X, Y and the heading their integrals (`_integral_at_stop`,
+    slopes the end's global velocity from the heading's (cos, sin) = (cp, sp) and the yaw
+    rate)."""
+    a, b = x0[0], x[0]
+    vx, vy, r = b[0], b[1], b[2]
+    body = (
+        _rate_at_stop(a[0], vx, stop, back),
+        _rate_at_stop(a[1], vy, stop, back),
+        _rate_at_stop(a[2], r, stop, back),
+        _integral_at_stop(a[3], b[3], vx * cp - vy * sp, stop, back, dt),
+        _integral_at_stop(a[4], b[4], vx * sp + vy * cp, stop, back, dt),
+        _integral_at_stop(a[5], b[5], r, stop, back, dt),
+        _rate_at_stop(a[6], b[6], stop, back),
+    )
+    return (
+        body,
+        _wheel_at_stop(x0[1], x[1], stop, back),
+        _wheel_at_stop(x0[2], x[2], stop, back),
+        _wheel_at_stop(x0[3], x[3], stop, back),
+        _wheel_at_stop(x0[4], x[4], stop, back),
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -1026,10 +1109,24 @@ def _unsteered(b, wt, j, kc):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _wheel_speeds(x, kc):
+    """The four wheels' |V| at state x (unsteered: steering turns a wheel's velocity, not its
+    norm)."""
+    b = x[0]
+    return (
+        _unsteered(b, x[1], 0, kc)[0],
+        _unsteered(b, x[2], 1, kc)[0],
+        _unsteered(b, x[3], 2, kc)[0],
+        _unsteered(b, x[4], 3, kc)[0],
+    )
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _lane_step(st, l, kc, srf, live):
     """One RK4 step of lane l in the straight-line case, committed (R_DONE 1) only if every
-    stage and the step's end are straight; returns 1 if a live lane ended. Straight-line code:
-    the body of the vector loop."""
+    stage and the step's end are straight and the run does not stop in it (that step, once a
+    run, is the scalar pass's: it locates the stop); returns 1 if a live lane ended.
+    Straight-line code: the body of the vector loop."""
     x = _state(st, 0, LANES, l)
     g, s = _laws_surfaces(st, l, srf)
     hs = kc[KC_HS]
@@ -1040,16 +1137,32 @@ def _lane_step(st, l, kc, srf, live):
     kd, ok4 = _straight_stage(rk4_point(x, dt, kc3), g, s, kc)
     xn = _held(rk4_update(x, kc[KC_H6], ka, kb, kc3, kd), kc[KC_QMAX])
     nb, n0, n1, n2, n3 = xn
-    commit = (
+    straight = (
         ok1 & ok2 & ok3 & ok4 & (nb[1] == 0.0) & (nb[2] == 0.0) & (nb[5] == 0.0) & (nb[6] == 0.0)
     )
+    stopping = math.sqrt(nb[0] * nb[0] + nb[1] * nb[1]) <= kc[KC_VSTOP]
+    commit = straight & (not stopping)
     # the step end's kinematics with delta = 0 (`_kinematics`, unsteered)
     va0, sl0 = _unsteered(nb, n0, 0, kc)
     va1, sl1 = _unsteered(nb, n1, 1, kc)
     va2, sl2 = _unsteered(nb, n2, 2, kc)
     va3, sl3 = _unsteered(nb, n3, 3, kc)
+    v0 = fmax(abs(x[0][0]), kc[KC_VMIN])  # every wheel's |V| at the straight start
     ended = _end_step(
-        st, l, commit, xn, (sl0, sl1, sl2, sl3), (va0, va1, va2, va3), 1.0, 0.0, kd, kc, srf
+        st,
+        l,
+        commit,
+        x,
+        (v0, v0, v0, v0),
+        xn,
+        (sl0, sl1, sl2, sl3),
+        (va0, va1, va2, va3),
+        1.0,
+        0.0,
+        kd,
+        kc,
+        srf,
+        False,
     )
     st[R_DONE * LANES + l] = select(commit, 1.0, 0.0)
     return ended & commit & (l < live)
@@ -1126,10 +1239,13 @@ def _general_step(
     psi = y[S_PSI]
     cp = math.cos(psi) if psi != 0.0 else 1.0
     sp = math.sin(psi) if psi != 0.0 else 0.0
+    x0 = _state(x, 0, 1, 0)
     ended = _end_step(
         st,
         l,
         True,
+        x0,
+        _wheel_speeds(x0, kc),
         _state(y, 0, 1, 0),
         (sc[W_SLIP, 0], sc[W_SLIP, 1], sc[W_SLIP, 2], sc[W_SLIP, 3]),
         (sc[W_VABS, 0], sc[W_VABS, 1], sc[W_VABS, 2], sc[W_VABS, 3]),
@@ -1138,6 +1254,7 @@ def _general_step(
         _state(ks[3], 0, 1, 0),
         kc,
         srf,
+        True,
     )
     st[R_AX * LANES + l] = guess[0, 0]
     st[R_AY * LANES + l] = guess[1, 0]
@@ -1256,9 +1373,19 @@ def _fill_lane(st, l, i, gains, col0, ctrl_kind, c, kc, srf, v0):
     st[R_TEND * LANES + l] = kc[KC_TTIMEOUT]
 
 
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _lock_time(st, j, l, dt):
+    """Wheel j's lock time (NaN: never): where its margin w R - lock_ratio |V|, linear over the
+    step in which it first locked, crosses 0."""
+    t = _get(st, R_LOCK_T + j, l)
+    m0 = _get(st, R_LOCK_M0 + j, l)
+    frac = crossing_fraction(m0, _get(st, R_LOCK_M1 + j, l), 0.0, True)
+    return select(t == t, t + frac * dt, t)
+
+
 @numba.njit(**_NO_REFCOUNT)
-def _finish_lane(st, l, out_row):
-    """Write the metrics row of the run that ended in lane l."""
+def _finish_lane(st, l, out_row, dt):
+    """Write the metrics row of the run that ended in lane l (step dt)."""
     t_end = _get(st, R_TEND, l)
     psi1 = _get(st, R_PSI1, l)
     y1 = _get(st, R_Y1, l)
@@ -1285,7 +1412,7 @@ def _finish_lane(st, l, out_row):
     out_row[M_ALL_D] = _get(st, R_ALL_D, l)
     for j in range(4):
         out_row[M_MEAN_SLIP + j] = _get(st, R_SINT + j, l) / t_end if t_end > 0.0 else 0.0
-        out_row[M_LOCK_T + j] = _get(st, R_LOCK_T + j, l)
+        out_row[M_LOCK_T + j] = _lock_time(st, j, l, dt)
     out_row[M_ITER] = _get(st, R_ITER, l)
 
 
@@ -1401,15 +1528,15 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out, 
                 tgt,
                 inv,
             )
-            if _get(st, R_STATUS, 0) == STATUS_STOPPED:
-                trace[rows, T_SPEED] = max(trace[rows, T_SPEED], kc[KC_VSTOP])
+            if _get(st, R_STATUS, 0) == STATUS_STOPPED:  # the row at the stop
+                trace[rows, T_SPEED] = kc[KC_VSTOP]
             rows += 1
         if ended:
             for l in range(live - 1, -1, -1):  # high to low: lanes moved down are done
                 if _get(st, R_ENDED, l) == 0.0:
                     continue
                 i = lane_of[l]
-                _finish_lane(st, l, out[i])
+                _finish_lane(st, l, out[i], dt)
                 if queued < n:
                     _fill_lane(st, l, queued, gains, col0, ctrl_kind, c, kc, srf, p[P_V0])
                     lane_of[l] = queued
