@@ -30,7 +30,7 @@ from chassistune.plants.mf_coefficients import (
     tir_name,
 )
 
-FITTYP_VERSIONS = {61: "MF 6.1", 6: "MF 5.2 (PAC2002)", 21: "MF 5.2"}
+FITTYP_VERSIONS = {61: "MF 6.1", 6: "MF 5.2", 21: "MF 5.2"}
 """FITTYP values accepted, and the version each names (all evaluated by the MF 6.1 equations)."""
 
 LENGTH_UNITS_M = {"meter": 1.0, "m": 1.0, "mm": 1e-3, "millimeter": 1e-3, "cm": 1e-2,
