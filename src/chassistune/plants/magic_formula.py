@@ -17,71 +17,7 @@ import math
 import numba
 import numpy as np
 
-from chassistune.plants.mf_coefficients import (
-    FNOMIN_N,
-    LCX,
-    LCY,
-    LEX,
-    LEY,
-    LFZO,
-    LHX,
-    LHY,
-    LKX,
-    LKY,
-    LMUX,
-    LMUY,
-    LVX,
-    LVY,
-    LVYKA,
-    LXAL,
-    LYKA,
-    PCX1,
-    PCY1,
-    PDX1,
-    PDX2,
-    PDY1,
-    PDY2,
-    PEX1,
-    PEX2,
-    PEX3,
-    PEX4,
-    PEY1,
-    PEY2,
-    PEY3,
-    PHX1,
-    PHX2,
-    PHY1,
-    PHY2,
-    PKX1,
-    PKX2,
-    PKX3,
-    PKY1,
-    PKY2,
-    PKY4,
-    PVX1,
-    PVX2,
-    PVY1,
-    PVY2,
-    RBX1,
-    RBX2,
-    RBY1,
-    RBY2,
-    RBY3,
-    RCX1,
-    RCY1,
-    REX1,
-    REX2,
-    REY1,
-    REY2,
-    RHX1,
-    RHY1,
-    RHY2,
-    RVY1,
-    RVY2,
-    RVY4,
-    RVY5,
-    RVY6,
-)
+from chassistune.plants import mf_coefficients as mfc
 
 EPSILON = 1e-6
 """epsilon_x, epsilon_y of 4.E16 and 4.E26: keeps B finite where C D vanishes (zero load)."""
@@ -94,9 +30,22 @@ _jit = numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
 
 
 @_jit
+def sign(x: float) -> float:
+    """sgn(x): 1, -1, or 0 at 0."""
+    return 1.0 if x > 0.0 else (-1.0 if x < 0.0 else 0.0)
+
+
+@_jit
+def stiffness_factor(k: float, cs: float, d: float, commonroad: bool) -> float:
+    """B = K / (C D + epsilon sgn D) (4.E16, 4.E26; CommonRoad's mode: no epsilon)."""
+    eps = 0.0 if commonroad else (EPSILON if d >= 0.0 else -EPSILON)
+    return k / (cs * d + eps)
+
+
+@_jit
 def load_increment(c: np.ndarray, fz_n: float) -> float:
     """dfz = (F_z - F'_z0) / F'_z0 with F'_z0 = FNOMIN LFZO (4.E1, 4.E2a)."""
-    fz0 = c[FNOMIN_N] * c[LFZO]
+    fz0 = c[mfc.FNOMIN_N] * c[mfc.LFZO]
     return (fz_n - fz0) / fz0
 
 
@@ -127,18 +76,19 @@ def longitudinal_shape(
     """(B_x, C_x, D_x, E_x, S_Hx, S_Vx, K_xkappa) at slip kappa and load fz_n (4.E10-4.E18; E_x
     uses sgn(kappa_x), capped at 1)."""
     dfz = load_increment(c, fz_n)
-    shx = (c[PHX1] + c[PHX2] * dfz) * c[LHX]
-    svx = fz_n * (c[PVX1] + c[PVX2] * dfz) * c[LVX] * degressive_friction_scale(c[LMUX])
-    cx = c[PCX1] * c[LCX]
-    dx = (c[PDX1] + c[PDX2] * dfz) * c[LMUX] * fz_n
-    kappa_x = kappa + shx
-    sign = 1.0 if kappa_x > 0.0 else (-1.0 if kappa_x < 0.0 else 0.0)
-    ex = (c[PEX1] + c[PEX2] * dfz + c[PEX3] * dfz * dfz) * (1.0 - c[PEX4] * sign) * c[LEX]
-    ex = min(ex, 1.0)
-    kx = fz_n * (c[PKX1] + c[PKX2] * dfz) * math.exp(c[PKX3] * dfz) * c[LKX]
-    eps = 0.0 if commonroad else (EPSILON if dx >= 0.0 else -EPSILON)
-    bx = kx / (cx * dx + eps)
-    return bx, cx, dx, ex, shx, svx, kx
+    shx = (c[mfc.PHX1] + c[mfc.PHX2] * dfz) * c[mfc.LHX]
+    svx = (
+        fz_n
+        * (c[mfc.PVX1] + c[mfc.PVX2] * dfz)
+        * c[mfc.LVX]
+        * degressive_friction_scale(c[mfc.LMUX])
+    )
+    cx = c[mfc.PCX1] * c[mfc.LCX]
+    dx = (c[mfc.PDX1] + c[mfc.PDX2] * dfz) * c[mfc.LMUX] * fz_n
+    ex = c[mfc.PEX1] + c[mfc.PEX2] * dfz + c[mfc.PEX3] * dfz * dfz
+    ex = min(ex * (1.0 - c[mfc.PEX4] * sign(kappa + shx)) * c[mfc.LEX], 1.0)
+    kx = fz_n * (c[mfc.PKX1] + c[mfc.PKX2] * dfz) * math.exp(c[mfc.PKX3] * dfz) * c[mfc.LKX]
+    return stiffness_factor(kx, cx, dx, commonroad), cx, dx, ex, shx, svx, kx
 
 
 @_jit
@@ -157,7 +107,7 @@ def longitudinal_force_pure_n(
 @_jit
 def lateral_friction(c: np.ndarray, fz_n: float) -> float:
     """mu_y = (PDY1 + PDY2 dfz) LMUY (4.E23 at zero camber and nominal pressure)."""
-    return (c[PDY1] + c[PDY2] * load_increment(c, fz_n)) * c[LMUY]
+    return (c[mfc.PDY1] + c[mfc.PDY2] * load_increment(c, fz_n)) * c[mfc.LMUY]
 
 
 @_jit
@@ -167,23 +117,29 @@ def lateral_shape(
     """(B_y, C_y, D_y, E_y, S_Hy, S_Vy, K_yalpha) at lateral slip alpha and load fz_n (4.E20-4.E29
     at zero camber; K_yalpha 4.E25, E_y uses sgn(alpha_y), capped at 1)."""
     dfz = load_increment(c, fz_n)
-    fz0 = c[FNOMIN_N] * c[LFZO]
+    fz0 = c[mfc.FNOMIN_N] * c[mfc.LFZO]
     if commonroad:  # the shifts are signed by the camber, so vanish at zero camber
         shy = 0.0
         svy = 0.0
-        ky = c[PKY1] * fz_n * c[LKY]
+        ky = c[mfc.PKY1] * fz_n * c[mfc.LKY]
     else:
-        shy = (c[PHY1] + c[PHY2] * dfz) * c[LHY]
-        svy = fz_n * (c[PVY1] + c[PVY2] * dfz) * c[LVY] * degressive_friction_scale(c[LMUY])
-        ky = c[PKY1] * fz0 * math.sin(c[PKY4] * math.atan(fz_n / (c[PKY2] * fz0))) * c[LKY]
-    cy = c[PCY1] * c[LCY]
+        shy = (c[mfc.PHY1] + c[mfc.PHY2] * dfz) * c[mfc.LHY]
+        svy = (
+            fz_n
+            * (c[mfc.PVY1] + c[mfc.PVY2] * dfz)
+            * c[mfc.LVY]
+            * degressive_friction_scale(c[mfc.LMUY])
+        )
+        ky = (
+            c[mfc.PKY1]
+            * fz0
+            * math.sin(c[mfc.PKY4] * math.atan(fz_n / (c[mfc.PKY2] * fz0)))
+            * c[mfc.LKY]
+        )
+    cy = c[mfc.PCY1] * c[mfc.LCY]
     dy = lateral_friction(c, fz_n) * fz_n
-    alpha_y = alpha + shy
-    sign = 1.0 if alpha_y > 0.0 else (-1.0 if alpha_y < 0.0 else 0.0)
-    ey = min((c[PEY1] + c[PEY2] * dfz) * (1.0 - c[PEY3] * sign) * c[LEY], 1.0)
-    eps = 0.0 if commonroad else (EPSILON if dy >= 0.0 else -EPSILON)
-    by = ky / (cy * dy + eps)
-    return by, cy, dy, ey, shy, svy, ky
+    ey = (c[mfc.PEY1] + c[mfc.PEY2] * dfz) * (1.0 - c[mfc.PEY3] * sign(alpha + shy)) * c[mfc.LEY]
+    return stiffness_factor(ky, cy, dy, commonroad), cy, dy, min(ey, 1.0), shy, svy, ky
 
 
 @_jit
@@ -199,10 +155,10 @@ def lateral_force_pure_n(
 @_jit
 def longitudinal_weight(c: np.ndarray, kappa: float, alpha: float, fz_n: float) -> float:
     """G_xalpha, the reduction of F_x by lateral slip (4.E51-4.E57 at zero camber)."""
-    shxa = c[RHX1]
-    bxa = c[RBX1] * math.cos(math.atan(c[RBX2] * kappa)) * c[LXAL]
-    cxa = c[RCX1]
-    exa = min(c[REX1] + c[REX2] * load_increment(c, fz_n), 1.0)
+    shxa = c[mfc.RHX1]
+    bxa = c[mfc.RBX1] * math.cos(math.atan(c[mfc.RBX2] * kappa)) * c[mfc.LXAL]
+    cxa = c[mfc.RCX1]
+    exa = min(c[mfc.REX1] + c[mfc.REX2] * load_increment(c, fz_n), 1.0)
     return cosine_curve(bxa, cxa, exa, alpha + shxa) / cosine_curve(bxa, cxa, exa, shxa)
 
 
@@ -210,10 +166,10 @@ def longitudinal_weight(c: np.ndarray, kappa: float, alpha: float, fz_n: float) 
 def lateral_weight(c: np.ndarray, kappa: float, alpha: float, fz_n: float) -> float:
     """G_ykappa, the reduction of F_y by longitudinal slip (4.E59-4.E65 at zero camber)."""
     dfz = load_increment(c, fz_n)
-    shyk = c[RHY1] + c[RHY2] * dfz
-    byk = c[RBY1] * math.cos(math.atan(c[RBY2] * (alpha - c[RBY3]))) * c[LYKA]
-    cyk = c[RCY1]
-    eyk = min(c[REY1] + c[REY2] * dfz, 1.0)
+    shyk = c[mfc.RHY1] + c[mfc.RHY2] * dfz
+    byk = c[mfc.RBY1] * math.cos(math.atan(c[mfc.RBY2] * (alpha - c[mfc.RBY3]))) * c[mfc.LYKA]
+    cyk = c[mfc.RCY1]
+    eyk = min(c[mfc.REY1] + c[mfc.REY2] * dfz, 1.0)
     return cosine_curve(byk, cyk, eyk, kappa + shyk) / cosine_curve(byk, cyk, eyk, shyk)
 
 
@@ -222,9 +178,9 @@ def lateral_shift_by_slip_n(
     c: np.ndarray, kappa: float, alpha: float, fz_n: float, mu_y: float
 ) -> float:
     """S_Vykappa, the lateral force longitudinal slip induces (4.E66, 4.E67 at zero camber)."""
-    dvyk = mu_y * fz_n * (c[RVY1] + c[RVY2] * load_increment(c, fz_n))
-    dvyk *= math.cos(math.atan(c[RVY4] * alpha))
-    return dvyk * math.sin(c[RVY5] * math.atan(c[RVY6] * kappa)) * c[LVYKA]
+    dvyk = mu_y * fz_n * (c[mfc.RVY1] + c[mfc.RVY2] * load_increment(c, fz_n))
+    dvyk *= math.cos(math.atan(c[mfc.RVY4] * alpha))
+    return dvyk * math.sin(c[mfc.RVY5] * math.atan(c[mfc.RVY6] * kappa)) * c[mfc.LVYKA]
 
 
 @_jit

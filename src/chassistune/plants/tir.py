@@ -108,18 +108,13 @@ def read_tir(path: str, lateral: bool = False) -> MagicFormulaTire:
         and not (name in LATERAL_ONLY and not lateral)
         and entry.value != neutral(name)
     )
-    if ignored:
-        warnings.warn(
-            TirWarning(f"{path}: {len(ignored)} coefficients ignored (camber, pressure, "
-                       f"moments, turn slip, ...): {' '.join(ignored)}"),
-            stacklevel=2,
-        )  # fmt: skip
-    if absent:
-        warnings.warn(
-            TirWarning(f"{path}: {len(absent)} coefficients absent, their neutral values "
-                       f"used: {' '.join(absent)}"),
-            stacklevel=2,
-        )  # fmt: skip
+    for names, what in ((ignored, "ignored (camber, pressure, moments, turn slip, ...)"),
+                        (absent, "absent, their neutral values used")):  # fmt: skip
+        if names:
+            warnings.warn(
+                TirWarning(f"{path}: {len(names)} coefficients {what}: {' '.join(names)}"),
+                stacklevel=2,
+            )
     return tire
 
 
