@@ -3,7 +3,8 @@
 `MagicFormulaTire` is what `plants.tir.read_tir` returns: one frozen dataclass of floats, in the
 order of the kernel array (`kernel_array`), whose indices are the upper-case names below, so a
 compiled force function reads `c[PCX1]`. Names are the TIR file's, lower-case; the three
-dimensional ones carry their SI unit. Absent coefficients take the neutral values of `neutral`:
+dimensional ones carry their SI unit. LONGITUDINAL_STIFFNESS and PCFX1-2 give the relaxation
+length (`plants.mf_relaxation`). Absent coefficients take the neutral values of `neutral`:
 0 for shifts and load terms, 1 for the scaling factors (LFZO, LCX, ...), PKY4 = 2 (MF 5.2's
 constant, which 6.1 made a coefficient).
 """
@@ -87,6 +88,9 @@ class MagicFormulaTire:
     rvy4: float
     rvy5: float
     rvy6: float
+    longitudinal_stiffness_n_m: float
+    pcfx1: float
+    pcfx2: float
 
     def kernel_array(self) -> np.ndarray:
         """The coefficients as one float64 array, indexed by the module's upper-case constants."""
@@ -160,7 +164,10 @@ class MagicFormulaTire:
     RVY4,
     RVY5,
     RVY6,
-) = range(66)
+    LONGITUDINAL_STIFFNESS_N_M,
+    PCFX1,
+    PCFX2,
+) = range(69)
 """Index of each coefficient in `MagicFormulaTire.kernel_array()` (the dataclass's field order)."""
 
 REQUIRED_LONGITUDINAL = ("FNOMIN", "UNLOADED_RADIUS", "PCX1", "PDX1", "PKX1")
@@ -179,7 +186,7 @@ LATERAL_ONLY = frozenset(
 
 def tir_name(field_name: str) -> str:
     """The TIR file's name of a field: upper case without the SI suffix."""
-    for suffix in ("_n", "_m"):
+    for suffix in ("_n_m", "_n", "_m"):
         if field_name.endswith(suffix):
             return field_name[: -len(suffix)].upper()
     return field_name.upper()
@@ -187,9 +194,12 @@ def tir_name(field_name: str) -> str:
 
 def neutral(name: str) -> float:
     """A coefficient's neutral value (its TIR name): 1 for a scaling factor (L...), 2 for PKY4,
-    else 0 (shifts, load and combined-slip terms); FZMAX has none (no upper limit: inf)."""
+    else 0 (shifts, load and combined-slip terms); FZMAX has none (no upper limit: inf), nor
+    LONGITUDINAL_STIFFNESS (0: not given, no relaxation length from the file)."""
     if name == "FZMAX":
         return float("inf")
+    if name == "LONGITUDINAL_STIFFNESS":
+        return 0.0
     if name == "PKY4":
         return 2.0
     return 1.0 if name.startswith("L") else 0.0

@@ -44,8 +44,9 @@ REQUIRED_SECTIONS = ("MODEL", "DIMENSION", "VERTICAL", "LONGITUDINAL_COEFFICIENT
 
 _FORCES = ("FNOMIN", "FZMIN", "FZMAX")
 _LENGTHS = ("UNLOADED_RADIUS",)
-_LOAD_LIMITS = ("FZMIN", "FZMAX")
-"""Not coefficients: absent, the load range is unbounded, without a warning."""
+_STIFFNESSES = ("LONGITUDINAL_STIFFNESS",)
+_OPTIONAL = ("FZMIN", "FZMAX", "LONGITUDINAL_STIFFNESS")
+"""Not force coefficients: absent (no load limits, no relaxation length), without a warning."""
 
 
 class TirWarning(UserWarning):
@@ -91,13 +92,12 @@ def read_tir(path: str, lateral: bool = False) -> MagicFormulaTire:
         if name == "PKY4" and mf52:
             values[f.name] = neutral(name)  # MF 5.2's constant 2
         elif name in entries:
-            scale = force_n if name in _FORCES else length_m if name in _LENGTHS else 1.0
-            values[f.name] = _number(path, entries, name, end) * scale
+            values[f.name] = _number(path, entries, name, end) * _si_factor(name, length_m, force_n)
         elif name in required:
             raise InputError(end, f"end of file without {name}, which the forces need")
         else:
             values[f.name] = neutral(name)
-            absent += [] if name in _LOAD_LIMITS else [name]
+            absent += [] if name in _OPTIONAL else [name]
     tire = MagicFormulaTire(**values)
     _check_ranges(path, entries, tire)
     ignored = sorted(
@@ -116,6 +116,15 @@ def read_tir(path: str, lateral: bool = False) -> MagicFormulaTire:
                 stacklevel=2,
             )
     return tire
+
+
+def _si_factor(name: str, length_m: float, force_n: float) -> float:
+    """What a value of `name` in the file's units is multiplied by to be in SI."""
+    if name in _FORCES:
+        return force_n
+    if name in _LENGTHS:
+        return length_m
+    return force_n / length_m if name in _STIFFNESSES else 1.0
 
 
 def _at(path: str, entry: _Entry) -> str:
