@@ -63,6 +63,7 @@ def test_the_sample_reads_with_one_warning_listing_the_absent_coefficients() -> 
     assert len(warned) == 1
     assert "absent" in warned[0] and " PDX2 " in warned[0] and " LMUX " in warned[0]
     assert "PCY1" not in warned[0]  # lateral coefficients not asked for
+    assert "PCFX1" not in warned[0]  # relaxation: not a force coefficient
 
 
 def test_units_convert_to_si_and_ignored_coefficients_warn_once(tmp_path: Path) -> None:

@@ -45,8 +45,9 @@ REQUIRED_SECTIONS = ("MODEL", "DIMENSION", "VERTICAL", "LONGITUDINAL_COEFFICIENT
 _FORCES = ("FNOMIN", "FZMIN", "FZMAX")
 _LENGTHS = ("UNLOADED_RADIUS",)
 _STIFFNESSES = ("LONGITUDINAL_STIFFNESS",)
-_OPTIONAL = ("FZMIN", "FZMAX", "LONGITUDINAL_STIFFNESS")
-"""Not force coefficients: absent (no load limits, no relaxation length), without a warning."""
+_OPTIONAL = ("FZMIN", "FZMAX", "LONGITUDINAL_STIFFNESS", "PCFX1", "PCFX2")
+"""Not force coefficients: absent (no load limits; no relaxation length, or one independent of
+the load), without a warning."""
 
 
 class TirWarning(UserWarning):
