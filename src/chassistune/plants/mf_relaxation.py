@@ -1,0 +1,51 @@
+"""Transient slip: the first-order relaxation-length model (Pacejka 2012, sec. 7.2.1, the
+single-contact-point model, sigma dkappa'/dt + |V| kappa' = |V| kappa with the kinematic slip
+kappa = -V_sx / |V|).
+
+The lagged slip kappa' (longitudinal, or the lateral slip alpha' alike) follows the kinematic slip
+with the time constant sigma / |V|: the tire must roll its relaxation length sigma for the force
+to build up. The forces are then evaluated at kappa' instead of kappa. sigma = 0 is the static
+tire (kappa' = kappa). sigma is a parameter, or MF 6.1's from the TIR file's carcass stiffness.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from chassistune.plants import mf_coefficients as mfc
+from chassistune.plants.magic_formula import load_increment, longitudinal_shape
+
+
+@numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def lagged_slip_rate_per_s(
+    slip: float, lagged_slip: float, speed_m_s: float, relaxation_length_m: float
+) -> float:
+    """dkappa'/dt = (|V| / sigma) (kappa - kappa'), for sigma > 0."""
+    return abs(speed_m_s) / relaxation_length_m * (slip - lagged_slip)
+
+
+@numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def lagged_slip_after(
+    slip: float, lagged_slip: float, speed_m_s: float, relaxation_length_m: float, dt_s: float
+) -> float:
+    """kappa' after dt_s with kappa and V held: the exact solution
+    kappa + (kappa' - kappa) exp(-|V| dt / sigma); sigma = 0 gives kappa itself."""
+    if relaxation_length_m == 0.0:
+        return slip
+    return slip + (lagged_slip - slip) * math.exp(-abs(speed_m_s) * dt_s / relaxation_length_m)
+
+
+@numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def longitudinal_relaxation_length_m(c: np.ndarray, fz_n: float) -> float:
+    """MF 6.1's sigma_kappa = |K_xkappa / C_x| at load fz_n, with the longitudinal carcass
+    stiffness C_x = LONGITUDINAL_STIFFNESS (1 + PCFX1 dfz + PCFX2 dfz^2) (Besselink, Schmeitz and
+    Pacejka 2010, Vehicle System Dynamics 48 sup. 1, eqs. 17 and 19, at nominal pressure). Needs
+    LONGITUDINAL_STIFFNESS > 0 (0 in `MagicFormulaTire` when the file does not give it)."""
+    dfz = load_increment(c, fz_n)
+    stiffness_n_m = c[mfc.LONGITUDINAL_STIFFNESS_N_M] * (
+        1.0 + c[mfc.PCFX1] * dfz + c[mfc.PCFX2] * dfz * dfz
+    )
+    return abs(longitudinal_shape(c, 0.0, fz_n)[6] / stiffness_n_m)
