@@ -134,21 +134,3 @@ def prune(max_age_s: float = 7 * 86400) -> list[Path]:
     for path in old:
         shutil.rmtree(path, ignore_errors=True)
     return [p for p in old if not p.exists()]
-
-
-COLD_COMPILE_S = 20
-"""About how long the first simulation of a plant takes to compile its kernels on an idle 2-core
-machine (measured: 17 s single-wheel ABS, 17 s quarter car; several times that under load)."""
-
-
-def is_cold(plant: str) -> bool:
-    """True when the kernel cache holds no compiled kernel of `plant` yet (its kernel module is
-    `sim/<plant>_kernel.py` by convention): its next simulation compiles first."""
-    folder = os.environ.get("NUMBA_CACHE_DIR")
-    if not folder:
-        return False
-    stem = plant.replace("-", "_") + "_kernel"
-    try:
-        return not any(Path(folder).rglob(f"{stem}.*.nbi"))
-    except OSError:
-        return True
