@@ -19,13 +19,14 @@ from numba.core import event
 COMPILE_CPU_S = {
     "abs_wheel_kernel": 45,
     "abs_wheel_ecu_kernel": 15,
-    "abs_vehicle_kernel": 45,
+    "abs_vehicle_kernel": 65,
     "quarter_car_kernel": 11,
     "lyapunov": 5,
 }
-"""CPU seconds numba takes to compile a kernel of each module (one tire law of the single
-wheel), measured with `time.process_time` around each compilation on a fresh cache (2026-11-27,
-AMD EPYC): the wall time on an idle core; several times that while other work shares it."""
+"""CPU seconds numba takes to compile a kernel of each module (one tire law of the single wheel:
+38 s bilinear, 44-47 s table, 46-53 s Burckhardt), measured with `time.process_time` around each
+compilation on a fresh cache (2026-11-27, AMD EPYC; `chassistune warmup` lists them): about the
+wall time on an idle core, several times that while other work shares it."""
 
 OTHER_CPU_S = 3
 """About the CPU seconds of any other compiled function (a fuzzy surface, a C export replay)."""
