@@ -2,12 +2,13 @@
 the machine code on disk, keyed on the sources): the scenario part of `chassistune warmup`.
 
 The cases come from the registries: every plant x preset x road x controller, the single wheel
-in each ECU mode (`ECU_MODES`); each runs every objective on a small population (the chunked
-batch path) and a trace. Building every case's scenario first, in this process, compiles what
-scenarios share (the fuzzy surfaces); the runs are then grouped by the compiled entry point they
-go through (`entry_point`) and the groups spread over worker processes, the largest estimated
-compilation first. No kernel is compiled in two groups, so no two processes write one function's
-cache index at once (numba's index is rewritten whole: two writers would lose an entry).
+in each ECU mode (`ECU_MODES`); each runs its default objective on a small population, the
+first of each controller every objective and a trace (`exercise`). Building every case's
+scenario first, in this process, compiles what scenarios share (the fuzzy surfaces); the runs
+are then grouped by the compiled entry point they go through (`entry_point`) and the groups
+spread over worker processes, the largest estimated compilation first. No kernel is compiled in
+two groups, so no two processes write one function's cache index at once (numba's index is
+rewritten whole: two writers would lose an entry).
 """
 
 from __future__ import annotations
@@ -75,23 +76,29 @@ def entry_point(sc: Scenario) -> str:
     return f"{sc.plant.replace('-', '_')}_kernel"
 
 
-def exercise(sc: Scenario, seed: int = 0) -> None:
-    """Every objective on a random population in the controller's box, and a trace."""
+def exercise(sc: Scenario, every_objective: bool, seed: int = 0) -> None:
+    """The default objective on a random population in the controller's box; with
+    `every_objective`, each objective (one may have a kernel of its own: the quarter car's exact
+    one) and a trace too."""
     box = np.array(sc.controller.bounds(), dtype=float).reshape(-1, 2)
     rows = make_rng(seed).random((POPULATION, box.shape[0]))
     population = box[:, 0] + rows * (box[:, 1] - box[:, 0])
-    for objective in sc.objectives:
+    for objective in sc.objectives if every_objective else (sc.default_objective,):
         sc.cost(population, objective)
-    sc.trace(sc.gains_array(None))
+    if every_objective:
+        sc.trace(sc.gains_array(None))
 
 
 def run(group: list[Case]) -> Compiled:
-    """Exercise every case of `group` in this process: what was compiled."""
+    """Exercise every case of `group` in this process, with every objective and a trace for
+    the first case of each controller (the others differ in values only): what was compiled."""
     log = CompileLog()
+    seen: set[str] = set()
     with recording(log), warnings.catch_warnings():
         warnings.simplefilter("ignore")  # implausible values of the combinations: not the user's
         for case in group:
-            exercise(case.scenario())
+            exercise(case.scenario(), case.controller not in seen)
+            seen.add(case.controller)
     return log.done
 
 
