@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import itertools
 import multiprocessing
+import os
 import time
 import warnings
 from collections.abc import Callable
@@ -24,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from chassistune._compile_notice import CompileLog, estimate_cpu_s, recording
+from chassistune._interrupt import as_worker
 from chassistune._rng import make_rng
 from chassistune.errors import InputError
 from chassistune.scenarios.abs_wheel import AbsWheelScenario
@@ -144,7 +146,9 @@ def warm_up(
                 progress(key, done)
     else:
         spawn = multiprocessing.get_context("spawn")
-        with ProcessPoolExecutor(processes, mp_context=spawn) as pool:
+        with ProcessPoolExecutor(
+            processes, mp_context=spawn, initializer=as_worker, initargs=(os.getpid(),)
+        ) as pool:
             futures = {pool.submit(run, groups[key]): key for key in order}
             for future in as_completed(futures):
                 done = future.result()
