@@ -24,7 +24,7 @@ COMPILE_CPU_S = {
     "lyapunov": 5,
 }
 """CPU seconds numba takes to compile a kernel of each module (one tire law of the single wheel:
-38 s bilinear, 44-47 s table, 46-53 s Burckhardt), measured with `time.process_time` around each
+38 s bilinear, 44-52 s table, 46-60 s Burckhardt), measured with `time.process_time` around each
 compilation on a fresh cache (2026-11-27, AMD EPYC; `chassistune warmup` lists them): about the
 wall time on an idle core, several times that while other work shares it."""
 
