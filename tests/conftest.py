@@ -2,7 +2,12 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import contextlib
+import fcntl
+import io
+import os
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -38,16 +43,34 @@ class Reproduced:
     stdout: str
 
 
+@contextmanager
+def _shared_once(tmp_path_factory: pytest.TempPathFactory, name: str) -> Iterator[Path]:
+    """A folder shared by every xdist worker of this test run, entered by one worker at a time
+    (a file lock): a session fixture computes into it once and the other workers reuse it."""
+    root = tmp_path_factory.getbasetemp()
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        root = root.parent  # the run's folder, above each worker's own
+    folder = root / name
+    folder.mkdir(exist_ok=True)
+    with open(root / f"{name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            yield folder
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
+
+
 @pytest.fixture(scope="session")
 def reproduced(tmp_path_factory: pytest.TempPathFactory) -> Reproduced:
-    """`chassistune reproduce all --quick` into a temporary folder (shared by the tests of
-    tests/papers and the browser test of tests/reports)."""
-    import contextlib
-    import io
-
-    out = tmp_path_factory.mktemp("reproduce") / "report"
-    buf = io.StringIO()
-    with contextlib.redirect_stdout(buf), pytest.raises(SystemExit) as exc:
-        main(["reproduce", "all", "--quick", "--interactive", "--out", str(out)])
-    assert exc.value.code == 0
-    return Reproduced(out, buf.getvalue())
+    """`chassistune reproduce all --quick` into a temporary folder, once per test run however
+    many workers ask (the tests of tests/papers and the browser test of tests/reports)."""
+    with _shared_once(tmp_path_factory, "reproduce") as folder:
+        out = folder / "report"
+        stdout = folder / "stdout.txt"
+        if not stdout.exists():
+            buf = io.StringIO()
+            with contextlib.redirect_stdout(buf), pytest.raises(SystemExit) as exc:
+                main(["reproduce", "all", "--quick", "--interactive", "--out", str(out)])
+            assert exc.value.code == 0
+            stdout.write_text(buf.getvalue())
+    return Reproduced(out, stdout.read_text())

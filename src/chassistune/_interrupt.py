@@ -17,6 +17,7 @@ import os
 import signal
 import sys
 import threading
+import time
 from collections.abc import Callable
 
 EXIT_INTERRUPTED = 130
@@ -77,3 +78,21 @@ def install() -> None:
     signal.signal(signal.SIGTERM, _ignore)
     threading.Thread(target=_watch, args=(read_fd,), name="ctrl-c", daemon=True).start()
     _installed = True
+
+
+def _exit_with_parent(parent: int, period_s: float = 0.5) -> None:
+    """End this worker once its driver is gone (a SIGKILLed driver cannot shut its pool)."""
+    while os.getppid() == parent:
+        time.sleep(period_s)
+    os._exit(1)
+
+
+def as_worker(parent: int) -> None:
+    """In a pool's worker process of driver `parent`: Ctrl-C is left to the driver (which ends
+    the command at once) and the worker ends within a moment of the driver. A spawned worker
+    re-imports the driver's main module under the driver's argv, so it may have taken the
+    command line's policy (`install`): it ends on SIGTERM as any process does, saying nothing."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.set_wakeup_fd(-1)
+    threading.Thread(target=_exit_with_parent, args=(parent,), daemon=True).start()

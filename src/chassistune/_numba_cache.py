@@ -4,16 +4,19 @@ numba's `cache=True` keys a compiled function on its own file only: when a kerne
 jitted helper from another module (a tire curve, a fuzzy surface) and that module changes, the
 stale machine code is loaded and can read memory with the old layout. Keying the cache folder on
 every source file of the package (path, size, mtime) makes any change start a fresh cache.
-Takes effect only if numba has not been imported yet and NUMBA_CACHE_DIR is not set.
+Takes effect only if numba has not been imported yet; a NUMBA_CACHE_DIR the user set is kept
+when numba can write it.
 """
 
 from __future__ import annotations
 
+import atexit
 import functools
 import hashlib
 import os
 import shutil
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -30,45 +33,104 @@ def source_key() -> str:
     return digest.hexdigest()[:16]
 
 
+def _preferred_base() -> Path:
+    """$XDG_CACHE_HOME/chassistune (an absolute XDG_CACHE_HOME only, as the XDG spec says), else
+    ~/.cache/chassistune."""
+    xdg = os.environ.get("XDG_CACHE_HOME", "")
+    if os.path.isabs(xdg):
+        return Path(xdg) / "chassistune"
+    return Path.home() / ".cache" / "chassistune"
+
+
+def _unusable(folder: Path) -> str | None:
+    """Why a cache could not be kept in `folder` (None when it can): a file in the way, or no
+    write permission on the folder or, if it does not exist yet, on its nearest existing
+    ancestor (numba creates it). Nothing is created."""
+    try:
+        probe = folder.absolute()
+        while not probe.exists():
+            probe = probe.parent
+        if not probe.is_dir():
+            return f"{probe} is not a folder"
+        if not os.access(probe, os.W_OK | os.X_OK):
+            return f"{probe} is not writable"
+    except OSError as exc:
+        return exc.strerror or str(exc)
+    return None
+
+
+_WARNED: set[str] = set()
+
+
+def _fallback(reason: str) -> Path:
+    """This process's temporary cache folder (created on first use, removed at exit), with one
+    stderr line per distinct `reason` saying why it is used."""
+    if reason not in _WARNED:
+        _WARNED.add(reason)
+        sys.stderr.write(
+            f"chassistune: warning: {reason}; caching in the temporary folder "
+            f"{_temporary_folder()} instead, removed at exit (kernels compile again next run)\n"
+        )
+    return _temporary_folder()
+
+
+_temporary: Path | None = None
+
+
+def _temporary_folder() -> Path:
+    global _temporary
+    if _temporary is None:
+        _temporary = Path(tempfile.mkdtemp(prefix="chassistune-cache-"))
+        atexit.register(shutil.rmtree, _temporary, ignore_errors=True)
+    return _temporary
+
+
+def numba_cache_is_temporary() -> bool:
+    """True when numba caches into this process's temporary fallback folder (nothing compiled
+    now outlives the run)."""
+    folder = os.environ.get("NUMBA_CACHE_DIR", "")
+    return _temporary is not None and Path(folder).is_relative_to(_temporary)
+
+
+@functools.cache
 def cache_base() -> Path:
-    """The package's cache folder ($XDG_CACHE_HOME/chassistune, else ~/.cache/chassistune)."""
-    return Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "chassistune"
+    """The package's cache folder ($XDG_CACHE_HOME/chassistune, else ~/.cache/chassistune), or,
+    when that cannot be used (a file in the way, no permission, no home), a temporary folder
+    removed at exit, with one stderr line saying so."""
+    try:
+        base = _preferred_base()
+    except RuntimeError as exc:  # Path.home(): no HOME and no password entry
+        return _fallback(f"no cache folder ({exc})")
+    problem = _unusable(base)
+    return base if problem is None else _fallback(f"cache folder {base}: {problem}")
 
 
 def configure() -> None:
-    """Set NUMBA_CACHE_DIR (unless set, or numba already imported) to a source-keyed folder."""
-    if "NUMBA_CACHE_DIR" in os.environ or "numba" in sys.modules:
+    """Set NUMBA_CACHE_DIR (unless numba is already imported): the folder the user set, else the
+    source-keyed folder `cache_base()/numba-<source_key()>`; a folder numba could not write (it
+    would silently fall back to `__pycache__` inside the installed sources, outside the
+    source-keyed cache) is replaced by a temporary one, with one stderr line saying so. Nothing
+    is removed here: `prune` is a step of `chassistune warmup`."""
+    if "numba" in sys.modules:
         return
+    given = os.environ.get("NUMBA_CACHE_DIR", "")
+    folder = Path(given) if given else cache_base() / f"numba-{source_key()}"
+    problem = _unusable(folder)
+    if problem is not None:
+        folder = _fallback(f"NUMBA_CACHE_DIR {folder}: {problem}")
+    os.environ["NUMBA_CACHE_DIR"] = str(folder)
+
+
+def prune(max_age_s: float = 7 * 86400) -> list[Path]:
+    """Remove the numba caches of other source versions unused for `max_age_s` (best effort);
+    the folders removed."""
     base = cache_base()
-    target = base / f"numba-{source_key()}"
-    os.environ["NUMBA_CACHE_DIR"] = str(target)
-    _prune(base, keep=target)
-
-
-def _prune(base: Path, keep: Path, max_age_s: float = 7 * 86400) -> None:
-    """Remove caches of other source versions unused for a week (best effort)."""
+    keep = base / f"numba-{source_key()}"
     now = time.time()
     try:
         old = [p for p in base.glob("numba-*") if p != keep and now - p.stat().st_mtime > max_age_s]
     except OSError:
-        return
+        return []
     for path in old:
         shutil.rmtree(path, ignore_errors=True)
-
-
-COLD_COMPILE_S = 20
-"""About how long the first simulation of a plant takes to compile its kernels on an idle 2-core
-machine (measured: 17 s single-wheel ABS, 17 s quarter car; several times that under load)."""
-
-
-def is_cold(plant: str) -> bool:
-    """True when the kernel cache holds no compiled kernel of `plant` yet (its kernel module is
-    `sim/<plant>_kernel.py` by convention): its next simulation compiles first."""
-    folder = os.environ.get("NUMBA_CACHE_DIR")
-    if not folder:
-        return False
-    stem = plant.replace("-", "_") + "_kernel"
-    try:
-        return not any(Path(folder).rglob(f"{stem}.*.nbi"))
-    except OSError:
-        return True
+    return [p for p in old if not p.exists()]

@@ -229,23 +229,32 @@ def test_list_params_gives_unit_default_valid_and_plausible_range(cli):
     assert r.code == 0 and "plausible [0.1, 50]" in r.out
 
 
-def test_the_first_use_announces_compiling_and_bad_input_does_not(
-    cli, tmp_path, monkeypatch, capsys
-):
-    from chassistune.cli.common import announce_compile
-
-    cache = tmp_path / "cache"
-    monkeypatch.setenv("NUMBA_CACHE_DIR", str(cache))
+def test_the_first_use_announces_compiling_and_bad_input_does_not(cli):
     r = cli("tune", "abs-wheel", "--controller", "pid", "--optimizer", "pso", "--pop", "1")
     assert r.code == 2 and r.err.count("\n") == 1  # bad input: only the error line
-    announce_compile("abs-wheel")
-    assert "compiling kernels (first use, about" in capsys.readouterr().err
-    (cache / "sim_x").mkdir(parents=True)
-    (cache / "sim_x" / "abs_wheel_kernel.simulate_abs_wheel-190.py311.nbi").write_bytes(b"")
-    announce_compile("abs-wheel")
-    assert capsys.readouterr().err == ""
-    announce_compile(["abs-wheel", "quarter-car"])
-    assert "compiling kernels" in capsys.readouterr().err
+
+
+def test_a_compilation_is_announced_as_it_starts_and_only_then() -> None:
+    """The notice comes from numba's compile event (after a cache miss, for the very function
+    and argument types): once per compiled signature, naming the function, with an estimate;
+    nothing for a call that is already compiled."""
+    from numba import njit
+
+    from chassistune._compile_notice import announcing
+
+    @njit(cache=False)
+    def twice(x):  # type: ignore[no-untyped-def]
+        return 2 * x
+
+    lines: list[str] = []
+    with announcing(lines.append):
+        twice(1.0)
+        twice(2.0)
+        twice(3)
+    assert len(lines) == 2 and all("compiling test_new_user_cli.twice" in x for x in lines)
+    assert all("about 3 s on an idle core" in x for x in lines)
+    twice(4j)
+    assert len(lines) == 2  # outside: silent
 
 
 def test_tune_reports_test_roads_and_warns_of_gains_at_their_bounds(cli):

@@ -105,6 +105,7 @@ def _check_tune(code: int, err: str, out: Path) -> bool:
     return False
 
 
+@pytest.mark.slow
 def test_ctrl_c_at_random_moments_stops_at_once_with_130_and_one_line(tmp_path):
     warm = subprocess.run(
         CLI + _tune(tmp_path / "warm", 4)[:-4] + ["--iters", "1"], capture_output=True, text=True

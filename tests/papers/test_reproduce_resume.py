@@ -11,6 +11,8 @@ import sys
 import time
 from pathlib import Path
 
+import pytest
+
 SCRIPT = Path(__file__).with_name("tiny_reproduce.py")
 SECOND_STORE = Path("studies") / "derlsp-ao-abs-functions-quick" / "study.sqlite"
 
@@ -30,6 +32,7 @@ def _tables(out: Path) -> dict[str, bytes]:
     return {f.name: f.read_bytes() for f in files}
 
 
+@pytest.mark.slow
 def test_killed_and_rerun_gives_the_report_of_an_uninterrupted_run(tmp_path: Path) -> None:
     whole = _run(tmp_path / "whole", "--executor", "process", "--workers", "2")
     killed = _run(tmp_path / "killed")

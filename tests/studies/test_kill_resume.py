@@ -10,6 +10,7 @@ import sys
 import time
 from pathlib import Path
 
+import pytest
 from studies_helpers import write_plan
 
 from chassistune.reports.tables import runs_table
@@ -71,6 +72,7 @@ def _table(folder: Path):
         return runs_table(list(store.records())).drop(columns=["wall_time_s", "versions"])
 
 
+@pytest.mark.slow
 def test_sigkilled_study_resumes_to_the_uninterrupted_result(tmp_path):
     config, plan = write_plan(tmp_path, CONFIG)
     assert len(plan.runs) == RUNS

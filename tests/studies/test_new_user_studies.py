@@ -260,6 +260,7 @@ objective = "dies"
 """
 
 
+@pytest.mark.slow
 def test_a_run_that_kills_its_dask_worker_is_tried_twice_then_failed(tmp_path, monkeypatch):
     """Bug 14: tried once by the scheduler (allowed-failures 0 on our LocalCluster; Dask's
     default 3 tried it four times) and once alone; the runs that shared its worker complete;

@@ -117,19 +117,6 @@ def check_output_dir(path: str | None, option: str, parents: bool = False) -> No
     _probe_writable(parent, option)
 
 
-def announce_compile(plants: str | list[str]) -> None:
-    """One stderr line before the first kernel call of a plant in this package version (numba
-    compiles then, for tens of seconds; later runs load the cached machine code)."""
-    from chassistune._numba_cache import COLD_COMPILE_S, is_cold
-
-    if any(is_cold(p) for p in ([plants] if isinstance(plants, str) else plants)):
-        click.echo(
-            f"chassistune: compiling kernels (first use, about {COLD_COMPILE_S} s; "
-            "cached for later runs)",
-            err=True,
-        )
-
-
 def echo_json(obj: dict[str, Any]) -> None:
     """Print exactly one JSON object on stdout (normalized by `_io.jsonable`)."""
     from chassistune._io import dumps

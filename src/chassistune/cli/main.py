@@ -8,8 +8,10 @@ inside it, so that `--help`, `--version` and `list` answer without importing num
 
 from __future__ import annotations
 
+import functools
 import sys
 import warnings
+from typing import Any
 
 import click
 
@@ -53,6 +55,35 @@ for _command in (
     bbob_command,
 ):
     cli.add_command(_command)
+
+
+def _announcing_compiles(command: click.Command) -> None:
+    """Make `command` (a group: each of its commands) say which kernels it compiles as numba
+    starts each (`_compile_notice`); `list` answers from the registries without numba, and
+    `warmup` reports what it compiled itself."""
+    if isinstance(command, click.Group):
+        for sub in command.commands.values():
+            _announcing_compiles(sub)
+        return
+    callback = command.callback
+    if callback is None or command.name in ("list", "warmup"):
+        return
+
+    @functools.wraps(callback)
+    def run(*args: Any, **kwargs: Any) -> Any:
+        from chassistune._compile_notice import announcing
+
+        with announcing(_echo_err):
+            return callback(*args, **kwargs)
+
+    command.callback = run
+
+
+def _echo_err(line: str) -> None:
+    click.echo(line, err=True)
+
+
+_announcing_compiles(cli)
 
 
 def _one_line(text: str) -> str:

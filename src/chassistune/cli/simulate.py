@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from chassistune.cli.choices import ChoicesCommand, ChoicesOption
-from chassistune.cli.common import announce_compile, check_output_file, echo_json, fmt
+from chassistune.cli.common import check_output_file, echo_json, fmt
 from chassistune.cli.options import ecu_option, param_option, preset_option
 from chassistune.errors import InputError
 from chassistune.units import shown_unit, with_pressure
@@ -244,7 +244,6 @@ def _one_run(
     from chassistune.simulate import prepare, run
 
     scenario, vector = prepare(plant, preset, road, controller, values, gains, seed)
-    announce_compile(plant)
     result = run(scenario, vector)
     if r13h:
         result.metrics.update(r13h_metrics(result, values))
@@ -285,7 +284,6 @@ def _compare(
 
     wanted = [n.strip() for n in names.split(",") if n.strip() and n.strip() != "tuned"]
     per = {controller: gains} if doc is None and controller and gains else {}
-    announce_compile(plant)
     cmp = compare(plant, wanted, preset, road, values, per, seed)
     if doc is not None and controller is not None:
         tuned = simulate(plant, preset, road, controller, values, gains, seed)

@@ -8,7 +8,7 @@ import sys
 import click
 
 from chassistune._interrupt import on_interrupt
-from chassistune.cli.common import announce_compile, check_output_dir, check_output_file
+from chassistune.cli.common import check_output_dir, check_output_file
 from chassistune.cli.options import executor_options
 from chassistune.errors import InputError
 
@@ -55,7 +55,6 @@ def run_command(
     refuse_if_locked(out_dir)
     if executor == "dask":
         check_dask()
-    announce_compile(sorted({r.plant for r in plan.runs}))
     stored = [len(plan.runs) - len(pending_runs(plan, out_dir, retry_failed)), len(plan.runs)]
 
     def count(progress: Progress) -> Progress:

@@ -10,7 +10,7 @@ import click
 
 from chassistune._interrupt import on_interrupt
 from chassistune.cli.choices import ChoicesCommand, ChoicesOption
-from chassistune.cli.common import announce_compile, check_output_dir, echo_json, fmt
+from chassistune.cli.common import check_output_dir, echo_json, fmt
 from chassistune.cli.options import ecu_option, param_option, preset_option
 from chassistune.cli.robust_options import (
     echo_validation,
@@ -140,7 +140,6 @@ def tune_command(
     check_fits(problem_bytes(problem, pop_size), "--pop", f"a population of {pop_size:,}")
     make(optimizer, problem.bounds, pop_size, seed, max_iter=iters, max_evals=evals)  # checks
     check_covers_population(pop_size, evals)
-    announce_compile(plant)
     incumbent = Incumbent(problem)
     forget = on_interrupt(lambda: _save_interrupted(incumbent, optimizer, seed, out_dir))
     if as_json or not sys.stderr.isatty():

@@ -1,23 +1,67 @@
-"""`chassistune warmup`: compile every kernel now (cached on disk) instead of at first use."""
+"""`chassistune warmup`: compile every kernel variant a command can reach now (cached on disk)
+instead of at first use, and say what it compiled and how long it took."""
 
 from __future__ import annotations
 
+import os
 import time
 
 import click
 
 
+def _warm_rest() -> None:
+    """The kernels no scenario run reaches: the C export's closed-loop replay of each exportable
+    law and the fuzzy engine of each built-in rule base (`fuzzy eval`)."""
+    import numpy as np
+
+    from chassistune.controllers import discrete
+    from chassistune.export import vectors
+    from chassistune.export.source import PLANTS, resolve
+    from chassistune.fuzzy.engine import evaluate
+    from chassistune.fuzzy.loader import builtin_names, load_rulebase
+
+    for plant in PLANTS:
+        for law in discrete.LAWS:
+            ec = resolve(None, plant, law, {}, {})
+            inputs, _ = vectors.record(ec)
+            vectors.replay(ec, inputs[:2])
+    for name in builtin_names():
+        rb = load_rulebase(name)
+        evaluate(rb, np.zeros((1, len(rb.inputs))))
+
+
 @click.command("warmup")
-def warmup_command() -> None:
-    """Compile every plant's and controller's kernels (numba's disk cache; `make` runs this at
-    installation, so that the first `reproduce` or `tune` starts at once)."""
+@click.option(
+    "--processes",
+    type=click.IntRange(1, 64),
+    default=None,
+    help="Worker processes that compile side by side [default: the machine's cores, at most 2].",
+)
+def warmup_command(processes: int | None) -> None:
+    """Compile every kernel variant the commands can reach: every plant, preset, road and
+    controller, both ECU modes, the C export (numba's disk cache; `make` runs this at
+    installation, so that no documented command compiles at its first use). Removes first the
+    caches of other versions of the sources unused for a week."""
+    from chassistune._numba_cache import prune
     from chassistune.cli.choices import collect, store
     from chassistune.scenarios.warmup import warm_up
 
-    t0 = time.perf_counter()
+    cpu0 = time.process_time()
+    for folder in prune():
+        click.echo(f"removed {folder} (the cache of other sources, unused for a week)", err=True)
     store(collect())  # the choices `--help` lists
-    done = warm_up(lambda pair: click.echo(f"compiled {pair}", err=True))
+
+    def progress(entry: str, done: list[tuple[str, float]]) -> None:
+        what = ", ".join(f"{name} {cpu_s:.0f} s" for name, cpu_s in done) or "from the cache"
+        click.echo(f"warmup: {entry}: {what}", err=True)
+
+    n = processes or max(1, min(2, os.cpu_count() or 1))
+    report = warm_up(n, _warm_rest, progress)
+    compiled_cpu_s = sum(cpu_s for _, cpu_s in report.compiled)
     click.echo(
-        f"warmup: {len(done)} plant/controller pairs compiled or loaded from the cache "
-        f"in {time.perf_counter() - t0:.1f} s"
+        f"warmup: {len(report.compiled)} functions compiled ({compiled_cpu_s:.0f} s of CPU), "
+        f"{report.cases} cases over {len(report.groups)} kernels run, in {report.wall_s:.1f} s "
+        f"on {n} processes (this process: {time.process_time() - cpu0:.0f} s of CPU)"
     )
+    for name, cpu_s in sorted(report.compiled, key=lambda x: -x[1]):
+        click.echo(f"  {name}: {cpu_s:.1f} s of CPU")

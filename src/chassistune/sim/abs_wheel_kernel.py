@@ -606,14 +606,16 @@ _ENTRY_OPTIONS: dict[str, Any] = {
 
 def _entry_point(law, doc):
     """The cached entry point of tire law `law`, a constant inside (numba freezes a closure's
-    variables and keys its disk cache on them: one index file holds the three laws)."""
+    variables and keys its disk cache on them). Each law has its own name, hence its own cache
+    index file, so that two processes may compile two laws at once (`chassistune warmup`)
+    without one overwriting the other's index entry."""
 
-    @njit(**_ENTRY_OPTIONS)
     def simulate(gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out, st, lane_of):
         _simulate(law, gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out, st, lane_of)
 
     simulate.__doc__ = doc
-    return simulate
+    simulate.__qualname__ = f"simulate_tire_law_{law}"
+    return njit(**_ENTRY_OPTIONS)(simulate)
 
 
 ENTRY_POINTS = {

@@ -13,16 +13,14 @@ import ast
 import concurrent.futures as cf
 import multiprocessing
 import os
-import signal
 import sys
-import threading
-import time
 from abc import ABC, abstractmethod
 from collections import deque
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
+from chassistune._interrupt import as_worker
 from chassistune.errors import InputError
 from chassistune.sim.batch import default_workers
 from chassistune.studies.records import RunResult
@@ -61,25 +59,11 @@ class SerialExecutor(Executor):
             yield execute_run(spec)
 
 
-def _exit_with_parent(parent: int, period_s: float = 0.5) -> None:
-    """End this worker once its driver is gone (a SIGKILLed driver cannot shut its pool)."""
-    while os.getppid() == parent:
-        time.sleep(period_s)
-    os._exit(1)
-
-
 def _init_worker(parent: int, extra: Callable[[], None] | None) -> None:
-    """Worker set-up: one kernel thread, Ctrl-C left to the driver, exit with the driver.
-
-    A spawned worker re-imports the driver's main module under the driver's argv, so under the
-    console script it has taken the command line's Ctrl-C policy (`_interrupt.install`); that
-    policy is the driver's: a worker ends on SIGTERM as any process does, saying nothing.
-    """
+    """Worker set-up: one kernel thread, then `_interrupt.as_worker` (Ctrl-C left to the driver,
+    SIGTERM silent, exit with the driver)."""
     os.environ["CHASSISTUNE_THREADS"] = "1"
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    signal.set_wakeup_fd(-1)
-    threading.Thread(target=_exit_with_parent, args=(parent,), daemon=True).start()
+    as_worker(parent)
     if extra is not None:
         extra()
 
