@@ -1,4 +1,4 @@
-"""ABS figures (DESIGN 8): speed, accuracy over presets and the tuning box, speed of the fuzzy
+"""ABS figures (design.md 8): speed, accuracy over presets and the tuning box, speed of the fuzzy
 controllers, cost per candidate-step against the population size.
 
 Population (`bench_population`): 50 gain triples 10 ** U(log10 lo, log10 hi) with (lo, hi) =
@@ -50,7 +50,7 @@ PERTURBATION = 1e-12
 
 
 def bench_population() -> np.ndarray:
-    """The 50 (kp, ki, kd) rows of DESIGN 8."""
+    """The 50 (kp, ki, kd) rows of design.md 8."""
     rng = make_rng(12345)
     lo = np.log10([10.0, 1.0, 0.01])
     hi = np.log10([3162.0, 1000.0, 10.0])

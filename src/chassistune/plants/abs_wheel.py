@@ -1,7 +1,7 @@
-"""Single-wheel ABS plant (DESIGN 3.1; Tian et al. `derlsp-ao-abs` eqs. 1-12, Ding 2023
+"""Single-wheel ABS plant (design.md 3.1; Tian et al. `derlsp-ao-abs` eqs. 1-12, Ding 2023
 `fuzzy-immune-abs`, MathWorks sldemo_absbrake): parameters and presets.
 
-The equations of motion (DESIGN 3.1) are integrated by the compiled kernel
+The equations of motion (design.md 3.1) are integrated by the compiled kernel
 `chassistune.sim.abs_wheel_kernel`; the tire curves and roads are `plants.tires`, `plants.roads`.
 """
 

@@ -1,4 +1,4 @@
-"""Longitudinal tire friction curves mu(S) and their peaks (DESIGN 3.2).
+"""Longitudinal tire friction curves mu(S) and their peaks (design.md 3.2).
 
 Three families, all evaluated from plain arrays (`kernel_data`; compiled: `plants.tire_kernel`) so
 that roads are data, not code paths:

@@ -1,4 +1,4 @@
-"""Scenarios of the single-wheel ABS plant `abs-wheel` (DESIGN 3.1): preset + road + controller
+"""Scenarios of the single-wheel ABS plant `abs-wheel` (design.md 3.1): preset + road + controller
 + scoring, fed to the compiled kernel `chassistune.sim.abs_wheel_kernel.simulate_abs_wheel`.
 
 The physics (parameters, presets) is `chassistune.plants.abs_wheel`; roads `plants.roads`.
@@ -50,7 +50,7 @@ _NONNEG = {"nonnegative": True}
 
 @dataclass(frozen=True)
 class Scoring:
-    """How runs become costs (DESIGN 5)."""
+    """How runs become costs (design.md 5)."""
 
     lock_penalty_per_s: float = field(default=100.0, metadata=_NONNEG)
     hopeless_factor: float = field(default=3.0, metadata=_POS)

@@ -1,4 +1,4 @@
-"""Compiled closed loop of the 7-DOF vehicle ABS (DESIGN 3.3) over a population of candidates.
+"""Compiled closed loop of the 7-DOF vehicle ABS (design.md 3.3) over a population of candidates.
 
 One kernel serves every wheel controller (an integer selects the law) and both paths: a batch of
 n gain rows, or one row with a trace (a single run is a batch of one).

@@ -1,4 +1,4 @@
-"""Compiled closed-loop simulation of the single-wheel ABS (DESIGN 3.1) over a population, in
+"""Compiled closed-loop simulation of the single-wheel ABS (design.md 3.1) over a population, in
 persistent SIMD lanes (issue 11).
 
 Plant (derlsp-ao-abs eqs. 1-4, 9-10; `sim.abs_wheel_model`), with Fz = lf M g the wheel load:

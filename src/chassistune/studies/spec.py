@@ -1,4 +1,4 @@
-"""Study configs (TOML, validated by pydantic) and their expansion into run specs (DESIGN 2, 9).
+"""Study configs (TOML, validated by pydantic) and their expansion into run specs (design.md 2, 9).
 
 A config is data: nothing in it is evaluated. `load_config` parses and validates the file,
 `plan_study` resolves every name against the registries (building each distinct problem once,
