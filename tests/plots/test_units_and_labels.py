@@ -1,4 +1,4 @@
-"""What a figure shows a new user (issue 10): the quarter car's travel and tire deflection in mm
+"""What a figure shows a new user: the quarter car's travel and tire deflection in mm
 with units in its table, and no fuzzy-surface label cut by its axes."""
 
 from __future__ import annotations

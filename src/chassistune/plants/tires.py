@@ -10,7 +10,7 @@ that roads are data, not code paths:
 * a piecewise-linear table (MathWorks' sldemo_absbrake mu-slip table).
 
 Every curve has `mu_scale` (default 1, positive), a road parameter multiplying the whole curve
-mu(S) (a road slicker or grippier than its nominal curve; issue 17): bilinear mu_h and mu_g,
+mu(S) (a road slicker or grippier than its nominal curve): bilinear mu_h and mu_g,
 Burckhardt c1 and c3, a table's mus. The peak slip stays; the peak friction scales.
 """
 

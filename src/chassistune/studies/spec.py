@@ -125,7 +125,7 @@ class ScenarioConfig(_Model):
     params: dict[str, Value] = Field(default_factory=dict)
     bounds: dict[str, tuple[Finite, Finite]] = Field(default_factory=dict)
     uncertainty: dict[str, Any] | None = None
-    """Robust tuning (issue 17): the `[uncertainty]` table (`tuning.robust.spec.parse_table`)."""
+    """Robust tuning: the `[uncertainty]` table (`tuning.robust.spec.parse_table`)."""
 
     @field_validator("roads", "tune_roads", "test_roads")
     @classmethod
