@@ -1,4 +1,4 @@
-"""Imports point one way (DESIGN 2): every import of every module, lazy ones inside functions
+"""Imports point one way (design.md 2): every import of every module, lazy ones inside functions
 included, is parsed and checked against the layers
 
     plants, controllers (-> fuzzy), fuzzy, optimizers, benchmarks  <-  sim  <-  scenarios

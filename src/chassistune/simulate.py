@@ -35,7 +35,7 @@ class SimulationResult:
         draw(self.scenario, self.trace, path)
 
     def as_dict(self) -> dict[str, Any]:
-        """The `simulate --json` object (DESIGN 7)."""
+        """The `simulate --json` object (design.md 7)."""
         sc = self.scenario
         return {
             "plant": sc.plant,

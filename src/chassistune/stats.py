@@ -1,5 +1,5 @@
-"""The one statistics module (OPTIMIZERS.md, "Statistics"), used by the optimizer benchmarks and the
-studies alike. Built on scipy.stats.
+"""The one statistics module (optimizers_design.md, "Statistics"), used by the optimizer
+benchmarks and the studies alike. Built on scipy.stats.
 
 - `summary`: mean, std (sample, ddof = 1), best, worst, median of final best costs (minimization).
 - `rank_sum`: Wilcoxon rank-sum (Mann-Whitney U, two-sided, scipy's `mannwhitneyu` with its tie

@@ -1,7 +1,7 @@
 """The unit of a name: every metric, trace signal and parameter (text tables, CSV headings, plots,
 `list params`), read from one table of name suffixes.
 
-The JSON keys and values stay as DESIGN 7 has them (SI; scripts read `body_acc_rms` in m/s^2 and
+The JSON keys and values stay as design.md 7 has them (SI; scripts read `body_acc_rms` in m/s^2 and
 `susp_travel_rms` in m); what a person reads states its unit. A name's unit is that of the longest
 suffix of SUFFIXES it ends in (`_rad_s` is rad/s, not s), else NAMES' entry for the whole name;
 `passive_x` has the unit of `x`, `x_fl` (a wheel's) that of `x`. The ABS brake pressure has the

@@ -1,4 +1,4 @@
-"""`--ecu ideal|realistic` on simulate and tune (issue 15)."""
+"""`--ecu ideal|realistic` on simulate and tune."""
 
 from __future__ import annotations
 

@@ -1,6 +1,5 @@
-"""What a new user hit in `simulate` and `tune` (issue 10): one test per numbered bug (3, 4,
-5, 8, 9, 10, 11; bugs 1 and 2 in test_output_preflight.py and test_sigint.py), and the loading
-back and comparing they expected."""
+"""What a new user hit in `simulate` and `tune`, one test per fault (output preflight and Ctrl-C
+have their own files), and the loading back and comparing they expected."""
 
 from __future__ import annotations
 
@@ -24,7 +23,7 @@ TUNE = (
 
 
 def test_history_csv_holds_plain_numbers(cli, tmp_path):
-    """Bug 3: `np.float64(0.0041...)` in history.csv."""
+    """history.csv holds numbers, not reprs such as `np.float64(0.0041...)`."""
     r = cli(*TUNE, "--out", str(tmp_path / "t"))
     assert r.code == 0, r.err
     lines = (tmp_path / "t" / "history.csv").read_text().splitlines()
@@ -36,7 +35,7 @@ def test_history_csv_holds_plain_numbers(cli, tmp_path):
 
 
 def test_a_folder_tuned_into_twice_holds_one_set_of_files(cli, tmp_path):
-    """Bug 4: a previous tune's response plots stayed beside the new result."""
+    """A previous tune's response plots do not stay beside the new result."""
     out = tmp_path / "t"
     assert cli(*TUNE, "--road", "ice", "--road", "wet-asphalt", "--out", str(out)).code == 0
     assert (out / "response-ice.png").exists()
@@ -46,7 +45,7 @@ def test_a_folder_tuned_into_twice_holds_one_set_of_files(cli, tmp_path):
 
 
 def test_a_run_that_did_not_stop_has_null_stop_metrics_and_says_why(cli):
-    """Bug 5: `t_max_s=1` reported a stop distance of 26 m and a ratio of 0.51."""
+    """`t_max_s=1` reports no stop distance or ratio (not 26 m and 0.51)."""
     r = cli("simulate", "abs-wheel", "--param", "t_max_s=1", "--json")
     m = json.loads(r.out)["metrics"]
     assert m["stopped"] is False and m["status"] == "timeout"
@@ -57,7 +56,7 @@ def test_a_run_that_did_not_stop_has_null_stop_metrics_and_says_why(cli):
 
 
 def test_a_penalty_only_tune_says_so_and_exits_1(cli):
-    """Bug 5: every candidate penalized printed "best gains" and exited 0."""
+    """A tune whose every candidate is penalized does not print "best gains" and exit 0."""
     r = cli(*TUNE, "--param", "t_max_s=1")
     assert r.code == 1
     assert r.err.count("\n") == 1 and "no candidate of 18 could be scored" in r.err
@@ -75,8 +74,8 @@ def test_a_penalty_only_tune_says_so_and_exits_1(cli):
     ],
 )
 def test_errors_name_the_field_the_user_set(cli, args, field):
-    """Bug 8: t_max_s=1e9 blamed dt_s, v_stop_m_s=40 blamed v0_m_s, `none` listed "known:
-    none"."""
+    """t_max_s=1e9 blames t_max_s (not dt_s), v_stop_m_s=40 blames v_stop_m_s (not v0_m_s), and
+    `none` is not listed as "known: none"."""
     r = cli("simulate", "abs-wheel", *args)
     assert r.code == 2 and r.err.count("\n") == 1
     assert r.err.startswith(f"chassistune: error: {field}: "), r.err
@@ -84,13 +83,13 @@ def test_errors_name_the_field_the_user_set(cli, args, field):
 
 
 def test_tune_pop_1_names_the_option_on_one_line(cli):
-    """Bug 8: `--pop 1` named pop_size after an empty line."""
+    """`--pop 1` names `--pop` on one line (not pop_size after an empty line)."""
     r = cli(*TUNE[:-4], "--pop", "1", "--iters", "2")
     assert r.code == 2 and r.err.count("\n") == 1 and r.err.startswith("chassistune: error: --pop")
 
 
 def test_mu_lock_above_mu_peak_is_bad_input(cli):
-    """Bug 9: mu_lock = 2 above mu_peak = 0.9 passed, and the bound used mu 2."""
+    """mu_lock = 2 above mu_peak = 0.9 is refused (the bound would use mu 2)."""
     r = cli("simulate", "abs-wheel", "--param", "mu_lock=2")
     assert r.code == 2 and r.err.startswith(
         "chassistune: error: --param mu_lock: must not exceed mu_peak"
@@ -101,7 +100,7 @@ def test_mu_lock_above_mu_peak_is_bad_input(cli):
     "assignment", ["mass_kg=1e30", "wheel_radius_m=500", "v0_m_s=108", "wheel_inertia_kg_m2=400"]
 )
 def test_implausible_values_warn_on_one_line_and_run(cli, assignment):
-    """Bug 9: absurd values passed silently."""
+    """Absurd values run, with a one-line warning."""
     r = cli("simulate", "abs-wheel", "--controller", "none", "--param", assignment, "--json")
     assert r.code == 0 and json.loads(r.out)["plant"] == "abs-wheel"
     name = assignment.split("=")[0]
@@ -126,14 +125,14 @@ def test_every_preset_is_inside_its_plausible_ranges(recwarn):
 
 
 def test_a_numerical_blow_up_is_named_diverged(cli):
-    """Bug 9: gains of 1e300 gave status `hopeless`."""
+    """Gains of 1e300 give status `diverged`, not `hopeless`."""
     r = cli("simulate", "abs-wheel", "--gains", "kp=1e300,kd=1e300", "--json")
     m = json.loads(r.out)["metrics"]
     assert m["status"] == "diverged" and m["stopped"] is False
 
 
 def test_the_default_time_limit_follows_the_bound_time(cli):
-    """Bug 10: no controller could stop on burckhardt-ice within 60 s (bound time 60.14 s)."""
+    """On burckhardt-ice (bound time 60.14 s) a flat 60 s limit would stop no controller."""
     doc = json.loads(cli("simulate", "abs-wheel", "--road", "burckhardt-ice", "--json").out)
     bound = doc["metrics"]["bound_time_s"]
     assert bound > 60 and doc["params"]["t_max_s"] == pytest.approx(3 * bound)
@@ -149,7 +148,7 @@ def test_the_default_time_limit_follows_the_bound_time(cli):
 
 
 def test_a_budget_below_one_population_is_refused(cli):
-    """Bug 11: `--evals 5` with pop 30 ran 0 iterations."""
+    """`--evals 5` with pop 30 (zero iterations) is refused."""
     r = cli("tune", "abs-wheel", "--controller", "pid", "--optimizer", "pso", "--evals", "5")
     assert r.code == 2 and r.err.startswith("chassistune: error: --evals: 5 evaluations")
     r = cli("tune", "--help")

@@ -1,4 +1,4 @@
-"""What a new user looks for before the first run (issue 10): the roads' friction curves
+"""What a new user looks for before the first run: the roads' friction curves
 (`list roads --plot`) and the valid choices in `--help`."""
 
 from __future__ import annotations

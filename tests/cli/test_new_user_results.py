@@ -1,4 +1,4 @@
-"""Results loaded back into Python (issue 10): a tune's folder as its document and as a new
+"""Results loaded back into Python: a tune's folder as its document and as a new
 simulation of the tuned controller (what `simulate --from` gives); a study folder as objects in
 tests/studies/test_study_loads_back.py."""
 

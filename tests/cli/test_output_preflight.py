@@ -1,4 +1,4 @@
-"""Every output option is checked before any work (issue 10, bug 1): an existing file where a
+"""Every output option is checked before any work: an existing file where a
 folder goes (or as the folder of a file), a missing folder, a read-only folder and /proc each
 give one line, exit 2, nothing written, and the work never starts."""
 

@@ -1,4 +1,4 @@
-"""Ctrl-C at random moments (issue 10, bug 2): every try ends within 2 s with exit 130 and one
+"""Ctrl-C at random moments: every try ends within 2 s with exit 130 and one
 line on stderr; an interrupted `tune --out` leaves its best so far, marked interrupted, exactly
 when an evaluation had finished (the line says which), and `study run` says what is stored.
 

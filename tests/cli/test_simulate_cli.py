@@ -1,4 +1,4 @@
-"""`chassistune simulate`, `list`, `demo`: outputs and the bad-input contract (DESIGN 7)."""
+"""`chassistune simulate`, `list`, `demo`: outputs and the bad-input contract (design.md 7)."""
 
 from __future__ import annotations
 

@@ -1,5 +1,4 @@
-"""`tune --vary ...` through the real CLI: the validation object and the bad-input contract
-(issue 17)."""
+"""`tune --vary ...` through the real CLI: the validation object and the bad-input contract."""
 
 from __future__ import annotations
 

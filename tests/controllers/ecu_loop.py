@@ -1,9 +1,9 @@
 """Test oracle: a scalar single-wheel ABS loop composed of the ECU step functions.
 
 An independent, deliberately plain implementation (one candidate, no lanes) of the
-`paper-derlsp-ao` wheel (DESIGN 3.1, bilinear tire) under a sampled PID, used to check that the
+`paper-derlsp-ao` wheel (design.md 3.1, bilinear tire) under a sampled PID, used to check that the
 ECU parts compose: in the ideal limit it must reproduce the package's kernel, and it gives the
-kernel integration of issue 15 a reference to match. Order of one ECU tick (every m steps), as in
+realistic ECU kernel a reference to match. Order of one ECU tick (every m steps), as in
 docs/ecu.md: sensor read, reference speed, ECU slip, cut-out, speed schedule, the discrete PID
 (forward-Euler integrator, backward-Euler derivative filter), the delay line, then the valves
 (continuous: the K/(s(Ts+1)) actuator; three-state: a duty-quantized pulse).
@@ -21,12 +21,12 @@ import chassistune as ct
 from chassistune.controllers import ecu as E
 from chassistune.controllers.ecu_params import EcuParams, draw_noise, orifice_gains
 
-# paper-derlsp-ao (DESIGN 3.1): M, I, R, g, K, T, kq, q_max, v0, v_stop, dt, t_max
+# paper-derlsp-ao (design.md 3.1): M, I, R, g, K, T, kq, q_max, v0, v_stop, dt, t_max
 PLANT = np.array([100.0, 12.0, 0.5, 9.81, 100.0, 0.01, 1.0, 1500.0, 30.0, 0.5, 1e-3, 120.0])
 SENSOR_IDEAL, SENSOR_TOOTHED = 0, 1
 VREF_TRUE, VREF_SLEW, VREF_ACCEL = 0, 1, 2
 LOW_SPEED_M_S = (1.0, 9.0)
-"""Speed band of the low-speed slip error (DESIGN/issue 15: fixed gains fail below ~9 m/s)."""
+"""Speed band of the low-speed slip error (fixed gains fail below ~9 m/s)."""
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")

@@ -1,4 +1,4 @@
-"""ECU parts (issue 15): toothed-wheel sensor, reference speed, three-state valves, quantizer."""
+"""ECU parts: toothed-wheel sensor, reference speed, three-state valves, quantizer."""
 
 from __future__ import annotations
 

@@ -51,7 +51,7 @@ def test_sampling_converges_to_the_ideal_mode(kernel_distance: dict[str, float])
 def test_fine_toothed_sensors_converge(
     teeth: int, timer_s: float, tol: float, kernel_distance: dict[str, float]
 ) -> None:
-    """The issue's 10^6 teeth and 1 ns are within 1 % (0.22 % dry, 0.40 % ice); 10^4 teeth
+    """10^6 teeth and a 1 ns timer are within 1 % (0.22 % dry, 0.40 % ice); 10^4 teeth
     with 1 ns, or 10^6 with 1 ps, are finer (see docs/ecu.md, sensor table)."""
     params = EcuParams(sensor_teeth=teeth, sensor_timer_s=timer_s)
     for road in ("dry-concrete", "ice"):
@@ -82,7 +82,7 @@ def test_realistic_ecu_stays_physical(road: str, vref: int) -> None:
 
 
 def test_slew_reference_drifts_under_a_continuous_controller() -> None:
-    """The effect the issue predicts on ice: a PID that never lets the wheel spin up leaves a
+    """The drift expected on ice: a PID that never lets the wheel spin up leaves a
     slew-limited reference to follow the wheel down (25 m/s below the truth: it collapses with
     the wheel); the accelerometer reference stays within 0.35 m/s on dry concrete."""
     slew = ecu_stop("ice", EcuParams(), sensor=SENSOR_TOOTHED, vref=VREF_SLEW, m=5)

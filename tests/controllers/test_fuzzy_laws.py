@@ -9,7 +9,7 @@ from chassistune.controllers.fuzzy_pid import fuzzy_pid_gains
 from chassistune.controllers.immune_pid import immune_gain, immune_pid_step, incremental_pid_du
 from chassistune.fuzzy import compiled, evaluate, load_rulebase, surface_lookup, surface_value
 
-TOLERANCE = 1e-3  # of the output range (issue 4)
+TOLERANCE = 1e-3  # of the output range
 
 
 @pytest.mark.parametrize("name", ["deffao", "classic"])

@@ -15,7 +15,7 @@ pytest.importorskip("skfuzzy")
 pytest.importorskip("networkx")
 from chassistune.perf.fuzzy import skfuzzy_evaluate, skfuzzy_simulation
 
-TOLERANCE = 5e-4  # exact inference, of the output range (issue 4)
+TOLERANCE = 5e-4  # exact inference, of the output range
 SURFACE_TOLERANCE = 1e-3  # compiled surface
 
 

@@ -17,7 +17,7 @@ from chassistune.fuzzy import (
     surface_value,
 )
 
-TOLERANCE = 1e-3  # of the output range (issue 4)
+TOLERANCE = 1e-3  # of the output range
 
 
 def test_surface_agrees_with_exact_inference(builtin: RuleBase) -> None:

@@ -1,4 +1,4 @@
-"""The common contract of OPTIMIZERS.md, checked for every registered optimizer."""
+"""The common contract of optimizers_design.md, checked for every registered optimizer."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""`chassistune optimize`: JSON keys of DESIGN 7, determinism, one-line errors with exit 2."""
+"""`chassistune optimize`: JSON keys of design.md 7, determinism, one-line errors with exit 2."""
 
 from __future__ import annotations
 

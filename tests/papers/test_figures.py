@@ -47,7 +47,7 @@ FIGURES = [
         for k in ("derlsp-ao-abs", "iabc-suspension", "deffao-vehicle-abs", "fuzzy-immune-abs")
     ),
 ]
-"""Issue 23 item 5: the papers' figures the reproduction must draw."""
+"""The papers' figures the reproduction must draw."""
 TABLES = [
     "derlsp-ao-abs_table1_roads",
     "iabc-suspension_table1_quarter_car",

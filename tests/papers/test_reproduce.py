@@ -65,7 +65,7 @@ FIGURES = [
     "fuzzy-immune-abs_fig5_dirt-0.2",
 ]
 CLAIMS = {"derlsp-ao-abs": 6, "iabc-suspension": 4, "deffao-vehicle-abs": 3, "fuzzy-immune-abs": 3}
-"""Claims of issue 14, item 4, per paper."""
+"""Number of claims the reproduction judges, per paper."""
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
 

@@ -1,4 +1,4 @@
-"""Physics of the 7-DOF vehicle ABS (DESIGN 3.3): bounds, straightness, locked wheels, load
+"""Physics of the 7-DOF vehicle ABS (design.md 3.3): bounds, straightness, locked wheels, load
 transfer, the single-wheel limit, the reference figures, mu-jump switching, split-mu yaw."""
 
 from __future__ import annotations
@@ -216,7 +216,7 @@ def test_mu_jump_each_wheel_switches_at_its_own_contact_point(surfaces):
     assert x[k["fl"] - 1] + lf < x_jump <= x[k["fl"]] + lf
     assert x[k["rl"]] - x[k["fl"]] == pytest.approx(big_l, abs=v[k["fl"]] * dt)
     lag = t[k["rl"]] - t[k["fl"]]
-    if first == "ice":  # the default road: L / v_cross = 0.0799 s (DESIGN 3.3), not L / v0
+    if first == "ice":  # the default road: L / v_cross = 0.0799 s (design.md 3.3), not L / v0
         assert lag == pytest.approx(0.080, abs=2e-3)
     assert big_l / v[k["fl"]] - dt <= lag <= big_l / v[k["rl"]] + dt
     # the target slip switches with the surface
@@ -237,7 +237,7 @@ def test_split_mu_yaw_in_the_first_second():
         assert peaks[label] > 0  # towards the dry (left) side
     assert peaks["pid"] <= 0.9 * peaks["none"]
     assert peaks["select-low"] <= 0.85 * peaks["pid"]
-    # reference model (DESIGN 3.3): 1.014 / 0.715 / 0.547 rad/s
+    # reference model (design.md 3.3): 1.014 / 0.715 / 0.547 rad/s
     assert peaks["none"] == pytest.approx(1.014, rel=1e-2)
     assert peaks["pid"] == pytest.approx(0.715, rel=1e-2)
     assert peaks["select-low"] == pytest.approx(0.547, rel=1e-2)

@@ -1,4 +1,4 @@
-"""The combined-slip tire and the load/force loop of the vehicle ABS (DESIGN 3.3), as properties."""
+"""The combined-slip tire and the vehicle ABS load/force loop (design.md 3.3) as properties."""
 
 from __future__ import annotations
 

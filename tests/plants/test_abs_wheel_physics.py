@@ -1,4 +1,4 @@
-"""Physics invariants of the single-wheel ABS (DESIGN 3.1): bounds, lock, slip, convergence."""
+"""Physics invariants of the single-wheel ABS (design.md 3.1): bounds, lock, slip, convergence."""
 
 from __future__ import annotations
 

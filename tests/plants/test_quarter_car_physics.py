@@ -1,4 +1,4 @@
-"""Long simulations against the exact stationary (Lyapunov) values (DESIGN 3.4)."""
+"""Long simulations against the exact stationary (Lyapunov) values (design.md 3.4)."""
 
 from __future__ import annotations
 
@@ -65,7 +65,7 @@ def test_other_feedback_signals_agree_with_exact(feedback: str) -> None:
 
 
 def test_paper_gains_and_exact_objective_of_the_presets() -> None:
-    """DESIGN 3.4: the paper's gains give about 2.99 on paper-iabc."""
+    """design.md 3.4: the paper's gains give about 2.99 on paper-iabc."""
     sc = PLANT.scenario("paper-iabc", controller="pid")
     assert sc.cost(np.array([PAPER_GAINS]))[0] == pytest.approx(2.99, abs=0.01)
     assert sc.vehicle.damping_ratio == pytest.approx(2.57, abs=0.005)

@@ -1,4 +1,4 @@
-"""Measured roads: a mu-slip table read from a CSV file (issue 10)."""
+"""Measured roads: a mu-slip table read from a CSV file."""
 
 from __future__ import annotations
 

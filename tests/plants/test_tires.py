@@ -1,4 +1,4 @@
-"""Tire curves: peaks and target slips (DESIGN 3.2)."""
+"""Tire curves: peaks and target slips (design.md 3.2)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The Sobol-index bar chart writes a PNG (issue 17)."""
+"""The Sobol-index bar chart writes a PNG."""
 
 from __future__ import annotations
 

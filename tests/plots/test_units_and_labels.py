@@ -1,4 +1,4 @@
-"""What a figure shows a new user (issue 10): the quarter car's travel and tire deflection in mm
+"""What a figure shows a new user: the quarter car's travel and tire deflection in mm
 with units in its table, and no fuzzy-surface label cut by its axes."""
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ def test_simulate_text_states_units_and_keeps_the_json_si(cli):
     import json
 
     doc = json.loads(cli("simulate", "quarter-car", "--json").out)
-    assert 0.0005 < doc["metrics"]["susp_travel_rms"] < 0.05  # metres in the JSON (DESIGN 7)
+    assert 0.0005 < doc["metrics"]["susp_travel_rms"] < 0.05  # metres in the JSON (design.md 7)
     text = cli("simulate", "quarter-car").out
     row = next(line.split() for line in text.splitlines() if "susp_travel_rms" in line)
     assert row[:2] == ["susp_travel_rms", "[mm]"]

@@ -1,4 +1,4 @@
-"""Fuzzy controllers in the single-wheel ABS kernel (issue 4 item 4, DESIGN 4)."""
+"""Fuzzy controllers in the single-wheel ABS kernel (design.md 4)."""
 
 from __future__ import annotations
 

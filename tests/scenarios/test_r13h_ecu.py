@@ -1,4 +1,4 @@
-"""r13h_epsilon with the realistic ECU (issue 15): k_M from the ABS-off search (no ECU acts on a
+"""r13h_epsilon with the realistic ECU: k_M from the ABS-off search (no ECU acts on a
 constant pressure), z_AL from the ECU-realistic stop."""
 
 from __future__ import annotations

@@ -23,7 +23,7 @@ def test_smooth_candidate_is_converged_and_chattering_one_warns() -> None:
     smooth = step_refinement(sc, np.array([500.0, 10.0, 1.0]), {})
     assert smooth.max_rel_change < 1e-3 and smooth.warning is None
     assert smooth.as_dict()["cost_refined"] > 0.0
-    chatter = step_refinement(sc, np.array([1e4, 1e4, 1e3]), {})  # issue 11: 1-5 % off at 1 ms
+    chatter = step_refinement(sc, np.array([1e4, 1e4, 1e3]), {})  # 1-5 % off at 1 ms
     assert chatter.max_rel_change > 1e-3 and "dt/4" in (chatter.warning or "")
 
 

@@ -1,4 +1,4 @@
-"""The ECU-realistic ABS kernel (issue 15, docs/ecu.md): the limit to the ideal mode, batch rows
+"""The ECU-realistic ABS kernel (docs/ecu.md): the limit to the ideal mode, batch rows
 equal to single runs, physical valves, the reference-speed drift, speed-scheduled gains, no NaN
 on random gains, bad input."""
 
@@ -132,7 +132,7 @@ def test_trace_agrees_with_the_metrics_and_shows_the_ecu() -> None:
 def test_slew_limited_reference_drifts_threshold_does_not_anchor_it() -> None:
     """A continuous slip controller never lets the wheel spin up: the slew-limited reference
     (a_max 1.2 g) follows the wheel down, by 25.8 m/s on ice (it collapses with the wheel) and
-    8.4 m/s on dry concrete. Contrary to the issue's expectation, the threshold ABS does not
+    8.4 m/s on dry concrete. Contrary to what one might expect, the threshold ABS does not
     keep it anchored either (26.0 m/s on ice, 9.2 m/s on dry): its release phases end when the
     wheel stops re-accelerating, judged against the drifting reference, so the wheel never
     reaches the vehicle speed again. The accelerometer reference holds on dry concrete."""
@@ -204,7 +204,7 @@ def test_sensor_estimate_within_the_edge_timing_bound_on_the_trace(road: str) ->
     period, stretched by at most one timer tick tau each way: it lies in
     [min w (1 - tau/T), max w (1 + tau/T)] over [t_a - tau, t_b + tau] (T = t_b - t_a; min and
     max over the trace rows bracketing the window, widened by the largest change between two
-    rows). Also the issue's form: |w_est - w(t)| <= w_mean tau / (T - tau) + alpha_max (t - t_a)
+    rows). Also in the form |w_est - w(t)| <= w_mean tau / (T - tau) + alpha_max (t - t_a)
     (alpha_max the largest |dw/dt| on the trace up to t, plus one row's change)."""
     sc = PLANT.scenario(PRESET, road, "threshold", {"ecu": "realistic"})
     s = sc.trace(sc.gains_array(None)).signals

@@ -1,5 +1,5 @@
 """The persistent-lane ABS kernel: vectorized, lane-independent, per-row plant parameters,
-cached across processes (issue 11)."""
+cached across processes."""
 
 from __future__ import annotations
 

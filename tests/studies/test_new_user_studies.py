@@ -1,6 +1,5 @@
-"""What a new user hit in studies (issue 10): unequal evaluation counts shown and warned about
-(bug 6), the docs' script under spawn (7), export formats (12), one driver per folder (13), Dask
-retries, dashboard and options (14)."""
+"""What a new user hit in studies: unequal evaluation counts shown and warned about, the docs'
+script under spawn, export formats, one driver per folder, Dask retries, dashboard and options."""
 
 from __future__ import annotations
 
@@ -32,7 +31,7 @@ ABC_VS_PSO = tiny_config(seeds=2).replace('name = "de"', 'name = "abc"')
 
 
 def test_unequal_evaluations_are_shown_and_warned(cli, tmp_path):
-    """An `iterations` budget: ABC spends about twice PSO's evaluations (bug 6)."""
+    """An `iterations` budget: ABC spends about twice PSO's evaluations."""
     config, _ = write_plan(tmp_path, ABC_VS_PSO)
     r = cli("study", "run", str(config), "--out", str(tmp_path / "st"))
     assert r.code == 0, r.err
@@ -77,7 +76,7 @@ print("completed", outcome.completed, "failed", outcome.failed)
 
 
 def test_the_docs_script_runs_under_spawn_and_an_unguarded_one_is_refused(tmp_path):
-    """Bug 7: the guarded snippet completes; without the guard, one line before any worker."""
+    """The guarded snippet completes; without the guard, one line before any worker."""
     config, _ = write_plan(tmp_path, tiny_config(seeds=1))
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
     guarded = tmp_path / "guarded.py"
@@ -127,7 +126,7 @@ def study_dir(tmp_path: Path) -> Path:
 
 
 def test_export_takes_its_format_from_the_suffix(cli, study_dir, tmp_path):
-    """Bug 12: no CSV in a .parquet name; `-` is stdout."""
+    """No CSV in a .parquet name; `-` is stdout."""
     r = cli(
         "study",
         "export",
@@ -185,7 +184,7 @@ def _wait_for_lock(out: Path, proc: subprocess.Popen[str]) -> None:
 
 
 def test_a_second_driver_is_refused_and_a_rerun_after_sigkill_proceeds(cli, tmp_path):
-    """Bug 13: one driver per folder; the kernel frees the lock of a SIGKILLed driver."""
+    """One driver per folder; the kernel frees the lock of a SIGKILLed driver."""
     config, _ = write_plan(tmp_path, LONG)
     out = tmp_path / "st"
     first = _driver(config, out)
@@ -212,7 +211,7 @@ def test_a_second_driver_is_refused_and_a_rerun_after_sigkill_proceeds(cli, tmp_
 
 
 def test_workers_with_the_serial_executor_are_refused():
-    """Bug 14: `--workers` was ignored with `--executor serial`."""
+    """`--workers` with `--executor serial` is refused rather than ignored."""
     with pytest.raises(InputError, match=r"^workers: the serial executor"):
         make_executor("serial", workers=3)
 
@@ -262,7 +261,7 @@ objective = "dies"
 
 @pytest.mark.slow
 def test_a_run_that_kills_its_dask_worker_is_tried_twice_then_failed(tmp_path, monkeypatch):
-    """Bug 14: tried once by the scheduler (allowed-failures 0 on our LocalCluster; Dask's
+    """Tried once by the scheduler (allowed-failures 0 on our LocalCluster; Dask's
     default 3 tried it four times) and once alone; the runs that shared its worker complete;
     no dashboard."""
     pytest.importorskip("distributed")

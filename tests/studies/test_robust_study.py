@@ -1,4 +1,4 @@
-"""Robust scenarios in a study (issue 17): the `[uncertainty]` table, the training set shared by
+"""Robust scenarios in a study: the `[uncertainty]` table, the training set shared by
 every optimizer at a seed index on every executor, validation in the store, errors by path."""
 
 from __future__ import annotations

@@ -1,6 +1,5 @@
 """The shipped robust study (examples/studies/robust-vs-nominal.toml) at a small budget: the
-robust PID's worst validation distance ratio beats the nominal PID's on the same draws
-(issue 17)."""
+robust PID's worst validation distance ratio beats the nominal PID's on the same draws."""
 
 from __future__ import annotations
 

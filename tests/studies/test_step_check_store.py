@@ -1,4 +1,4 @@
-"""The study store keeps each winner's step check by road (issue 11)."""
+"""The study store keeps each winner's step check by road."""
 
 from __future__ import annotations
 

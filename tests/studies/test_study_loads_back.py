@@ -1,4 +1,4 @@
-"""A study folder loaded back into Python objects (issue 10: `chassistune.load_study`)."""
+"""A study folder loaded back into Python objects (`chassistune.load_study`)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Aggregates over K scenarios (x R roads): mean, max, CVaR (issue 17)."""
+"""Aggregates over K scenarios (x R roads): mean, max, CVaR."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """n candidates x K scenarios on the abs-wheel plant: common random numbers, aggregates equal to
-single-scenario runs, mu_scale, validation of a robust and a fragile controller (issue 17)."""
+single-scenario runs, mu_scale, validation of a robust and a fragile controller."""
 
 from __future__ import annotations
 

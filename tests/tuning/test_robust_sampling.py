@@ -1,4 +1,4 @@
-"""Training and Monte Carlo sets: reproducible, inside their ranges, stratified (issue 17)."""
+"""Training and Monte Carlo sets: reproducible, inside their ranges, stratified."""
 
 from __future__ import annotations
 

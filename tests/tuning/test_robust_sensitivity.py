@@ -1,4 +1,4 @@
-"""Sobol indices against the Ishigami function's analytic values (issue 17)."""
+"""Sobol indices against the Ishigami function's analytic values."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Uncertain-parameter specs: `--vary`, `--aggregate` and the `[uncertainty]` table (issue 17)."""
+"""Uncertain-parameter specs: `--vary`, `--aggregate` and the `[uncertainty]` table."""
 
 from __future__ import annotations
 

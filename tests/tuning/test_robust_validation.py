@@ -1,4 +1,4 @@
-"""Validation pass rate and the zero-failure certificate (issue 17)."""
+"""Validation pass rate and the zero-failure certificate."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Tuning: optimizer + plant batch cost through the registry's box (DESIGN 5, 7)."""
+"""Tuning: optimizer + plant batch cost through the registry's box (design.md 5, 7)."""
 
 from __future__ import annotations
 

@@ -4,7 +4,7 @@ Each function is data (`BenchmarkFunction`: bounds, usual dimension, known minim
 plus a vectorized formula. `get(name)(x)` maps an `(n, d)` array to `(n,)` costs; a 1-D `x` is one
 point and gives a float. F7 adds uniform noise in [0, 1) and needs a Generator: `get("F7")(x, rng)`.
 
-Choices (OPTIMIZERS.md): F6 is Yao's step, sum floor(x + 0.5)^2 (some codes drop the floor);
+Choices (optimizers_design.md): F6 is Yao's step, sum floor(x + 0.5)^2 (some codes drop the floor);
 F20 uses p(3, 2) = 0.1451 (minimum -3.32236801142; the common MATLAB code's 0.1415 gives
 -3.32199517); F21-F23 are Shekel 5/7/10 over all four coordinates, with minima -10.1531997,
 -10.4029406, -10.5364098 at points near (4, 4, 4, 4) (the often quoted -10.1532 / -10.4028 /

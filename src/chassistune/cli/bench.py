@@ -1,4 +1,4 @@
-"""`chassistune bench [--quick] [--json]`: the speed and accuracy figures of DESIGN 8.
+"""`chassistune bench [--quick] [--json]`: the speed and accuracy figures of design.md 8.
 
 Every ratio is measured against its baseline in the same run. Figures of areas not installed
 yet are skipped with a note.

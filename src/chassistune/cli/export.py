@@ -1,5 +1,5 @@
 """`chassistune export [SOURCE] ...`: a tuned controller as C99, an FMI 2.0 source FMU, MATLAB or
-JSON (issue 16). A plain click command; `cli/main.py` adds it to the group."""
+JSON. A plain click command; `cli/main.py` adds it to the group."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""`chassistune fuzzy show|eval`: inspect and evaluate fuzzy rule bases (DESIGN 7).
+"""`chassistune fuzzy show|eval`: inspect and evaluate fuzzy rule bases (design.md 7).
 
 RULEBASE is a built-in name (`deffao`, `classic`, `immune`) or a path to a TOML file with the
 structure of `fuzzy show --json`.

@@ -1,4 +1,4 @@
-"""Entry point: the click group with every command added, and the error policy of DESIGN 7.
+"""Entry point: the click group with every command added, and the error policy of design.md 7.
 
 Exit 0 on success, 2 on bad input (one line on stderr naming the field; an output the system
 refuses to write is bad input too), 130 on Ctrl-C (`_interrupt`), 1 on anything else.

@@ -1,4 +1,4 @@
-"""`tune`'s robust-tuning options (issue 17): `--vary NAME=LO:HI` (repeatable), `--scenarios K`,
+"""`tune`'s robust-tuning options: `--vary NAME=LO:HI` (repeatable), `--scenarios K`,
 `--sampler sobol|lhs`, `--validate N`, `--beta B` (and `--aggregate cvar:ALPHA`, which `tune`
 owns), turned into an `UncertaintySpec` before any work; without `--vary` the others are refused.
 

@@ -4,10 +4,10 @@
 read it. The ABS PID and the suspension PID share a name, not their bounds. Every built-in entry
 is listed below, explicitly; `register()` adds another under the same rules.
 
-abs-wheel (DESIGN 4): the gains act on the slip error e = S_target - S; the pressure command
+abs-wheel (design.md 4): the gains act on the slip error e = S_target - S; the pressure command
 integrates through the actuator K/(s(Ts+1)).
 
-quarter-car (DESIGN 3.4, 4): force u acts + on the body and - on the wheel; e = 0 - y. Gain units
+quarter-car (design.md 3.4, 4): force u acts + on the body and - on the wheel; e = 0 - y. Gain units
 are those of the default feedback y = body vertical velocity (then kp is a sky-hook damper, ki a sky
 spring since int(vs) = zs, kd a sky inertance with the filter N s/(s + N)). The bounds span the
 forces an active suspension actuator delivers: on an ISO class B road at 20 m/s the passive body

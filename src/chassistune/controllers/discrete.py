@@ -13,7 +13,7 @@ operation order, so that a C build without FMA contraction reproduces it bit for
 contracts a*b + c into an fma (numba compiles without fastmath) or reorders a sum.
 
 The laws (e = target_slip - slip throughout):
-- `pid` (DESIGN 4 in discrete time; Simulink's discrete PID, parallel form, forward-Euler
+- `pid` (design.md 4 in discrete time; Simulink's discrete PID, parallel form, forward-Euler
   integrator, backward-Euler derivative filter: stable at any ts, unlike a forward-Euler filter,
   which needs N ts < 2):
       xf_0 = e_0,  xf_k = (xf_k-1 + ts N e_k) / (1 + ts N)         (backward Euler, no kick)
@@ -27,7 +27,7 @@ The laws (e = target_slip - slip throughout):
       u_k = u_k-1 + kp1 (e_k - e_k-1) + ki ts e_k + kd (e_k - 2 e_k-1 + e_k-2) / ts,
   starting from rest (u = 0, e = 0 before k = 0, no derivative term at k = 0); after k = 0,
   e_k-1 = e_k-2 = e_0 (the kernel's start, where the slip is 0 at the first sample).
-- `threshold` (DESIGN 4's rule-based ABS, the kernel's phases): aw_k = (w_k - w_k-1) R / ts
+- `threshold` (design.md 4's rule-based ABS, the kernel's phases): aw_k = (w_k - w_k-1) R / ts
   (0 at k = 0), then the phase machine build -> hold -> dump -> recover -> slow build, with
   u = +amplitude (build), 0 (hold, recover), -amplitude (dump), slow_fraction amplitude (slow).
 

@@ -1,4 +1,4 @@
-"""Compiled ECU parts between plant and controller (issue 15; parameters in `ecu_params.py`).
+"""Compiled ECU parts between plant and controller (parameters in `ecu_params.py`).
 
 Scalar-in, scalar-out step functions with their state passed in and returned, so that the
 single-wheel kernel and a four-wheel vehicle kernel can call them per lane or per wheel. They

@@ -1,4 +1,4 @@
-"""Parameters of the ECU model (issue 15): sampling, wheel-speed sensor, reference speed, valves.
+"""Parameters of the ECU model: sampling, wheel-speed sensor, reference speed, valves.
 
 One frozen dataclass, `EcuParams`; every field carries its unit, default and source in its
 metadata (`unit`, `source`) and its docstring. `ecu_params(values)` overrides fields by name
@@ -55,7 +55,7 @@ SRC_ASSUMED = "our assumption (no primary source found); stated in docs/ecu.md"
 
 @dataclass(frozen=True)
 class EcuParams:
-    """The ECU between plant and controller (issue 15, docs/ecu.md). SI units."""
+    """The ECU between plant and controller (docs/ecu.md). SI units."""
 
     ecu_ts_s: float = field(default=5e-3, metadata=_meta("s", SRC_SERVICE, positive=True))
     """Control period: the controller runs every ecu_ts_s (zero-order hold in between)."""

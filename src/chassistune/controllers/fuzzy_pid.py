@@ -1,4 +1,4 @@
-"""Fuzzy self-tuning PID (deffao-vehicle-abs section 3, Fig. 3; DESIGN 4): gain schedule of a PID.
+"""Fuzzy self-tuning PID (deffao-vehicle-abs section 3, Fig. 3; design.md 4): a PID's gain schedule.
 
 The inputs e and de/dt are scaled by the quantization factors `ke`, `kec` into the rule base's
 universe (and clipped to it); its three outputs (deffao: magnitudes in [0, 1]; classic: signed

@@ -1,4 +1,4 @@
-"""Fuzzy immune PID (Ding 2023 eqs. 6-10; DESIGN 4): an incremental PID whose proportional gain
+"""Fuzzy immune PID (Ding 2023 eqs. 6-10; design.md 4): an incremental PID whose proportional gain
 follows an immune feedback law.
 
     kp1 = k_immune (1 - eta f(ke e, kec ec))                            (eq. 9, f: rule base)
@@ -35,7 +35,7 @@ def immune_gain(table, e, ec, ke, kec, k_immune, eta):
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def incremental_pid_du(kp1, ki, kd, ts, e0, e1, e2):
-    """Control increment of the discrete PID (fuzzy-immune-abs eq. 10 as DESIGN 4 reads it)."""
+    """Control increment of the discrete PID (fuzzy-immune-abs eq. 10 as design.md 4 reads it)."""
     return kp1 * (e0 - e1) + ki * ts * e0 + kd * (e0 - 2.0 * e1 + e2) / ts
 
 

@@ -1,5 +1,5 @@
 """Continuous PID on the slip error with a filtered derivative and conditional integration
-(DESIGN 4; derlsp-ao-abs eq. 12).
+(design.md 4; derlsp-ao-abs eq. 12).
 
     u = u0 + kp e + ki z + kd N (e - xf),   dz/dt = e (0 while the actuator saturates in the
     direction e pushes),   dxf/dt = N (e - xf).
@@ -26,7 +26,7 @@ from chassistune._branchfree import select
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def pid_step(e, z, xf, u0, kp, ki, kd, n_filter, sat_hi, sat_lo):
-    """Command u and the state rates (dz/dt, dxf/dt) of the filtered PID (DESIGN 4)."""
+    """Command u and the state rates (dz/dt, dxf/dt) of the filtered PID (design.md 4)."""
     u = u0 + kp * e + ki * z + kd * n_filter * (e - xf)
     dz = select((sat_hi & (e > 0.0)) | (sat_lo & (e < 0.0)), 0.0, e)
     return u, dz, n_filter * (e - xf)

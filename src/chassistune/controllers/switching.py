@@ -1,4 +1,4 @@
-"""Sampled switching laws of the single-wheel ABS (DESIGN 4): no ABS, bang-bang, threshold.
+"""Sampled switching laws of the single-wheel ABS (design.md 4): no ABS, bang-bang, threshold.
 
 Each law is evaluated at its own sample instants and its command held in between (zero-order
 hold), so the law does not change when the integration step is refined. The held command enters

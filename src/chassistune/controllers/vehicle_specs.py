@@ -1,4 +1,4 @@
-"""Wheel controllers of the vehicle ABS (`abs-vehicle`, DESIGN 3.3, 4): gains, bounds, defaults.
+"""Wheel controllers of the vehicle ABS (`abs-vehicle`, design.md 3.3, 4): gains, bounds, defaults.
 
 The laws are the single wheel's, one per wheel on the slip error of the surface under it; one gain
 set is shared by the four wheels (as Tian 2025 tunes it) unless `axle_gains = "per-axle"`, which
@@ -6,7 +6,7 @@ doubles every gain into a front (`_f`) and a rear (`_r`) copy.
 
 Vehicle defaults of their own. With J = 0.6 kg m^2 the rear wheels carry about 1230 N while
 braking: the single wheel's PID 5000/0/230 makes them lock-cycle (mu-jump 98.35 m, no better than
-no ABS), so the vehicle PID defaults to kp 1200, ki 0, kd 20 (DESIGN 3.3). The fuzzy PID's
+no ABS), so the vehicle PID defaults to kp 1200, ki 0, kd 20 (design.md 3.3). The fuzzy PID's
 defaults are rescaled the same way: its gains span kp0 + [0, 1] ku_p (deffao outputs are
 magnitudes in [0, 1]), centred on the vehicle PID: kp in [700, 1700], kd in [15, 25], ki 0.
 """

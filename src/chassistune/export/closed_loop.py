@@ -94,7 +94,7 @@ STOPPED, HOPELESS, TIMEOUT, DIVERGED = (
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def plant_rates(x, u, lc, xc, xs, ys):
     """(dv, dw, dq, dr) of the wheel in state x = (v, w, q, r) under the held command u
-    (DESIGN 3.1)."""
+    (design.md 3.1)."""
     v, w, q, r = x
     r_w = lc[L_RADIUS]
     c0, c1, c2, c3 = lc[L_C0], lc[L_C1], lc[L_C2], lc[L_C3]

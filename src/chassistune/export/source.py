@@ -41,7 +41,7 @@ from chassistune.scenarios.abs_wheel_ecu import ECU_PARAM_NAMES, law_params, tab
 from chassistune.scenarios.registry import get_plant
 
 DEFAULT_ECU_TS_S = EcuParams().ecu_ts_s
-"""Sample time without one from the source: the realistic ECU's (issue 15: 5 ms loops)."""
+"""Sample time without one from the source: the realistic ECU's (5 ms, a production ECU's loop)."""
 
 EXPORT_PARAMS = ("ecu_ts_s", "fuzzy_table_points")
 PLANTS = ("abs-wheel",)

@@ -3,7 +3,7 @@
 Rule strength is the min of the input memberships (inputs clipped to their universes), each
 output set is activated by the max of the strengths of the rules that conclude it, the implication
 clips the set at that level (min), the clipped sets are aggregated by max, and the output is the
-centroid of the aggregate (DESIGN 4; deffao-vehicle-abs section 3, fuzzy-immune-abs eq. 11 read
+centroid of the aggregate (design.md 4; deffao-vehicle-abs section 3, fuzzy-immune-abs eq. 11 read
 as a centroid).
 
 The centroid is computed without a sampling grid. The aggregate mu(y) = max_s min(a_s, m_s(y)) is

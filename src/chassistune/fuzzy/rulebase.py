@@ -1,7 +1,7 @@
 """The rule-base data model: variables with fuzzy sets, and Mamdani rules as rows of set names.
 
 A rule base is data. Its dictionary form (`RuleBase.as_dict`) is the `fuzzy show --json` output of
-DESIGN 7 and has the structure of the TOML files (`schema.rulebase_from_dict` reads it back):
+design.md 7 and has the structure of the TOML files (`schema.rulebase_from_dict` reads it back):
 `inputs` and `outputs` each a list of {name, universe [lo, hi], sets [{name, shape, params}]},
 `rules` each a list of the input set names in input order then the output set names in output
 order, and `operators` {and: min, aggregate: max, defuzzify: centroid}.
@@ -107,7 +107,7 @@ class RuleBase:
         )
 
     def as_dict(self) -> dict[str, object]:
-        """The `fuzzy show --json` description (DESIGN 7)."""
+        """The `fuzzy show --json` description (design.md 7)."""
         return {
             "inputs": [v.as_dict() for v in self.inputs],
             "outputs": [v.as_dict() for v in self.outputs],

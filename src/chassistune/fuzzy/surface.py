@@ -1,14 +1,14 @@
 """Compile a two-input rule base into lookup surfaces, read by bilinear interpolation in numba code.
 
-A fuzzy controller in an ECU is a lookup table too (DESIGN 4). Exact Mamdani inference costs about
-a microsecond per point, far too much per integration step, so each rule base is evaluated once on
-a grid over its two inputs and the kernels interpolate bilinearly.
+A fuzzy controller in an ECU is a lookup table too (design.md 4). Exact Mamdani inference costs
+about a microsecond per point, far too much per integration step, so each rule base is evaluated
+once on a grid over its two inputs and the kernels interpolate bilinearly.
 
 Grid. A uniform coarse grid whose lines pass through every knot of the input sets (peaks, feet) and
 every point where two input sets cross, so the kinks along those lines cost nothing. Kinks across
 cells remain: where the two memberships of a rule are equal (diagonals) and where a small
 activation switches on near a knot, and a bilinear grid resolves them only at first order.
-Measured on the built-ins, an aligned uniform grid of 480 x 480 (DESIGN 4's figure) has maximum
+Measured on the built-ins, an aligned uniform grid of 480 x 480 (design.md 4's figure) has maximum
 errors of about 4e-3 of the output range (1e-3 only at the 99.9th percentile), and needs about
 1900 x 1900 nodes (90 MB for three outputs) for a 1e-3 maximum. Hence an adaptive second level:
 every coarse cell is checked against exact inference at its centre and edge midpoints, and a cell

@@ -1,4 +1,4 @@
-"""The batch ask/tell base shared by every optimizer (OPTIMIZERS.md, "Common contract").
+"""The batch ask/tell base shared by every optimizer (optimizers_design.md, "Common contract").
 
 An algorithm is written as a coroutine, `_steps()`, that yields whole batches of candidate points
 and receives their costs::
@@ -28,7 +28,7 @@ share:
 
 The schedule horizon `T` that the algorithms use (AO's 2T/3 switch, GWO's a, ...) is `max_iter`,
 or `floor(max_evals / evals_per_iteration)` when only `max_evals` is given, or the smaller of the
-two (OPTIMIZERS.md, "Budgets").
+two (optimizers_design.md, "Budgets").
 """
 
 from __future__ import annotations
@@ -162,7 +162,7 @@ class Optimizer:
         if self.max_evals is not None:
             horizons.append(max(1, self.max_evals // per_iter))
         self.T: int = min(horizons)
-        """Schedule horizon (OPTIMIZERS.md, "Budgets")."""
+        """Schedule horizon (optimizers_design.md, "Budgets")."""
 
         self.nfev = 0
         self.nit = 0

@@ -1,10 +1,10 @@
-"""Real-coded genetic algorithm (our GA-PID setting: no canonical one exists; OPTIMIZERS.md).
+"""Real-coded genetic algorithm (our GA-PID setting: no canonical one exists; optimizers_design.md).
 
 Generational with `elites` elites (default 1): tournament selection of size `tournament` = 3
-(OPTIMIZERS.md says 2: with 2, this GA stalls between 1e-6 and 4e-5 on F1 at d = 10 and 50,000
+(binary tournaments, `tournament=2`, stall between 1e-6 and 4e-5 on F1 at d = 10 and 50,000
 evaluations, because polynomial mutation scaled by the range wrecks most children near the optimum
-and binary tournaments let them breed; size 3 reaches about 1e-9; `tournament=2` restores the
-document's setting), simulated binary crossover (Deb & Agrawal 1995; eta_c = 15, applied to a pair
+and binary tournaments let them breed; size 3 reaches about 1e-9), simulated binary crossover
+(Deb & Agrawal 1995; eta_c = 15, applied to a pair
 with probability `crossover_prob` = 0.9 and to each gene of a crossing pair with probability 0.5),
 polynomial mutation (Deb & Goyal 1996; eta_m = 20, probability 1/D per gene), in their basic
 unbounded forms followed by the base's clipping. An iteration evaluates N - elites children.

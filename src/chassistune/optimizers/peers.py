@@ -3,7 +3,7 @@
 that name them. Each runs with our hyperparameters where it has them, the same population and the
 same budget, and returns our `OptimizeResult` (its history per epoch of the peer).
 
-mealpy is optional (`pip install --no-deps mealpy==3.0.3 opfunu==1.0.4`, DESIGN 10); it is
+mealpy is optional (`pip install --no-deps mealpy==3.0.3 opfunu==1.0.4`, design.md 10); it is
 imported only when a mealpy peer runs.
 """
 

@@ -1,7 +1,7 @@
 """What every paper's reproduction produces: a section (setting, budgets, tables, figures) and a
 verdict per claim; and the helpers the four share (median run, ranking verdicts, slip settling).
 
-Verdict words (issue 14): `holds`, `holds in ranking only` (the order the paper claims, without
+Verdict words: `holds`, `holds in ranking only` (the order the paper claims, without
 a significant difference or with a much smaller effect), `does not hold`, `cannot be checked`.
 """
 

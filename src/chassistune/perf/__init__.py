@@ -1,1 +1,1 @@
-"""Speed and accuracy figures of DESIGN 8, one module per area, each with `figures(quick)`."""
+"""Speed and accuracy figures of design.md 8, one module per area, each with `figures(quick)`."""

@@ -1,4 +1,4 @@
-"""ABS figures (DESIGN 8): speed, accuracy over presets and the tuning box, speed of the fuzzy
+"""ABS figures (design.md 8): speed, accuracy over presets and the tuning box, speed of the fuzzy
 controllers, cost per candidate-step against the population size.
 
 Population (`bench_population`): 50 gain triples 10 ** U(log10 lo, log10 hi) with (lo, hi) =
@@ -6,9 +6,7 @@ Population (`bench_population`): 50 gain triples 10 ** U(log10 lo, log10 hi) wit
 paper-derlsp-ao, PID, dry concrete, simulated to v_stop on one core. Speeds are best-of-n wall
 times (`*_sims_per_s`) and, since the machine is shared, also thread CPU times (`*_cpu`); every
 ratio is measured in the same run. Baseline: scipy `solve_ivp` RK45 (max_step 1e-3, terminal
-event at v_stop), what a Python user writes today. (The stage-by-stage kernel that preceded the
-persistent lanes ran 4,059 CPU sims/s against the lanes' 17,908 in the last run that had both,
-4.4x; it was removed once that figure was recorded.)
+event at v_stop), what a Python user writes today.
 
 Accuracy: relative error of stop distance and slip ITAE against the same run at dt/100, over the
 runs that stop at both steps (`abs_max_rel_err`: the population above; `_presets`: the PID with
@@ -50,7 +48,7 @@ PERTURBATION = 1e-12
 
 
 def bench_population() -> np.ndarray:
-    """The 50 (kp, ki, kd) rows of DESIGN 8."""
+    """The 50 (kp, ki, kd) rows of design.md 8."""
     rng = make_rng(12345)
     lo = np.log10([10.0, 1.0, 0.01])
     hi = np.log10([3162.0, 1000.0, 10.0])

@@ -1,4 +1,4 @@
-"""ECU figures (issue 15): `abs_ecu_sims_per_s`, the realistic ECU on the `abs_sims_per_s`
+"""ECU figures: `abs_ecu_sims_per_s`, the realistic ECU on the `abs_sims_per_s`
 population (`perf.abs.bench_population`: 50 PID gain triples, paper-derlsp-ao, dry concrete, one
 core) with the default `EcuParams` (48-tooth sensor, 5 ms, one sample of delay, accelerometer
 reference, three-state valves, cut-out 2 m/s), and `abs_ecu_ratio_to_ideal`, its ratio to the

@@ -1,4 +1,4 @@
-"""Fuzzy figure `fuzzy_speedup_vs_skfuzzy` (DESIGN 8), and the scikit-fuzzy reference system.
+"""Fuzzy figure `fuzzy_speedup_vs_skfuzzy` (design.md 8), and the scikit-fuzzy reference system.
 
 The figure: fuzzy PID gain evaluations per second (`fuzzy_pid_gains` on the compiled `deffao`
 surface, one call per (e, de) point, in a compiled loop on one core, as a closed-loop kernel calls

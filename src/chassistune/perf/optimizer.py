@@ -1,4 +1,4 @@
-"""Optimizer figures of DESIGN 8: `optimizer_us_per_eval` and `optimizer_speedup_vs_mealpy`.
+"""Optimizer figures of design.md 8: `optimizer_us_per_eval` and `optimizer_speedup_vs_mealpy`.
 
 AO on F5 (Rosenbrock), d = 30, N = 50, 500 iterations. The optimizer-side time is the wall time of
 a whole run minus the time spent inside the objective, per evaluation. The baseline is mealpy

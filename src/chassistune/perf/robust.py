@@ -1,8 +1,8 @@
-"""Robust-tuning figures (issue 17): the throughput of n candidates x K scenarios.
+"""Robust-tuning figures: the throughput of n candidates x K scenarios.
 
 Population: the first n = 30 rows of the ABS bench population (`perf.abs.bench_population`),
 PID on dry concrete, preset paper-derlsp-ao; K = 16 Sobol scenarios of mass 80-120 kg, mu_scale
-0.85-1.15, v0 20-35 m/s and actuator tau 7-13 ms (the issue's robust study).
+0.85-1.15, v0 20-35 m/s and actuator tau 7-13 ms (the robust study of docs/robust.md).
 
 - `robust_sims_per_s`: candidate-scenario simulations per second of today's path (one kernel call
   of n rows per scenario, K calls), all cores;

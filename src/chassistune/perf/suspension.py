@@ -1,4 +1,4 @@
-"""Suspension figure `suspension_exact_speedup_vs_sim` (DESIGN 8).
+"""Suspension figure `suspension_exact_speedup_vs_sim` (design.md 8).
 
 The exact objective (`rms-ratio-exact`: Lyapunov equation per candidate) against the simulated one
 (`rms-ratio`: the default 10 s run at dt = 1 ms, exact discretization), same candidates, same

@@ -1,4 +1,4 @@
-"""`tune_abs_wall_s` (DESIGN 8): DERLSP-AO tuning of the single-wheel ABS PID on dry concrete,
+"""`tune_abs_wall_s` (design.md 8): DERLSP-AO tuning of the single-wheel ABS PID on dry concrete,
 N = 50, 500 iterations (about 50,000 evaluations with its DE and opposition trials), both cores."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Vehicle ABS figures: `vehicle_sims_per_s`, `vehicle_speedup_vs_solve_ivp` (DESIGN 8).
+"""Vehicle ABS figures: `vehicle_sims_per_s`, `vehicle_speedup_vs_solve_ivp` (design.md 8).
 
 Population: 50 fuzzy-PID gain vectors drawn uniformly within the vehicle catalogue's tuning bounds
 by default_rng(12345); preset paper-deffao, dry concrete, four wheels, simulated to v_stop on one
@@ -21,7 +21,7 @@ from chassistune.scenarios.abs_vehicle import PLANT, AbsVehicleScenario
 
 
 def bench_population(scenario: AbsVehicleScenario) -> np.ndarray:
-    """The 50 gain rows of DESIGN 8, uniform in the controller's tuning bounds."""
+    """The 50 gain rows of design.md 8, uniform in the controller's tuning bounds."""
     box = np.array(scenario.controller.bounds())
     return np.random.default_rng(12345).uniform(box[:, 0], box[:, 1], (50, len(box)))
 

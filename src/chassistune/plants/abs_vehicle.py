@@ -1,4 +1,4 @@
-"""7-DOF vehicle ABS physics (`abs-vehicle`, DESIGN 3.3; deffao-vehicle-abs Table 2).
+"""7-DOF vehicle ABS physics (`abs-vehicle`, design.md 3.3; deffao-vehicle-abs Table 2).
 
 The combined-slip tire, the load/force loop solved exactly at every evaluation, and the exact
 stopping bounds (the parameters and the preset `paper-deffao`: `plants.abs_vehicle_params`). The
@@ -7,12 +7,12 @@ closed loop itself is compiled in `chassistune.sim.abs_vehicle_kernel`.
 Axes ISO 8855: x forward, y left, yaw counter-clockwise positive. Wheels fl, fr, rl, rr at
 x_i = (lf, lf, -lr, -lr), y_i = (tf/2, -tf/2, tr/2, -tr/2).
 
-Loads (DESIGN 3.3), with ax = sum Fx_i / m, ay = sum Fy_i / m the CG accelerations:
+Loads (design.md 3.3), with ax = sum Fx_i / m, ay = sum Fy_i / m the CG accelerations:
     Fz_f{l,r} = m g lr/(2L) - m ax h/(2L) -/+ m ay h lr/(tf L)
     Fz_r{l,r} = m g lf/(2L) + m ax h/(2L) -/+ m ay h lf/(tr L),   Fz_i >= 0,
 i.e. Fz_i = Fz0_i + A_i ax + B_i ay (lateral transfer split by the static axle loads).
 
-Tire (combined slip, in the slip-vector form of DESIGN 3.3 scaled by S_T), with |V| the wheel
+Tire (combined slip, in the slip-vector form of design.md 3.3 scaled by S_T), with |V| the wheel
 centre's speed floored at `min_speed_m_s`:
     sx = (u - w R)/|V|,   sy = (v/|V|) C S_T/(mu_h Fz),   s = |(sx, sy)|,
     |F| = Fz mu(min(s, 1)),   (Fx, Fy) = -|F| (sx, sy)/s     (mu the bilinear curve of 3.2).
@@ -55,7 +55,7 @@ def wheel_positions(pp: VehicleParams) -> tuple[np.ndarray, np.ndarray]:
 
 
 def load_coefficients(pp: VehicleParams) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(Fz0_i, A_i, B_i) of Fz_i = Fz0_i + A_i ax + B_i ay (DESIGN 3.3 load transfer)."""
+    """(Fz0_i, A_i, B_i) of Fz_i = Fz0_i + A_i ax + B_i ay (design.md 3.3 load transfer)."""
     m, g, h = pp.mass_kg, pp.g_m_s2, pp.cg_height_m
     lf, lr, big_l = pp.cg_to_front_m, pp.cg_to_rear_m, pp.wheelbase_m
     tf, tr = pp.track_front_m, pp.track_rear_m
@@ -91,7 +91,7 @@ def surface_row(
 
 @numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
 def tire_force(sx, vr, fz, surfs, k):
-    """Combined-slip force (Fx, Fy) of one wheel in its own frame and dF/dFz (DESIGN 3.3).
+    """Combined-slip force (Fx, Fy) of one wheel in its own frame and dF/dFz (design.md 3.3).
 
     sx = (u - w R)/|V|, vr = v/|V|; the surface is row k of `surfs` (indexed in place: a row
     view would cost reference counting in the kernel's inner loop). Returns
@@ -235,7 +235,7 @@ def geometry(pp: VehicleParams) -> np.ndarray:
 
 
 # ------------------------------------------------------------------------------------------------
-# exact bounds (DESIGN 3.3): v_stop included everywhere
+# exact bounds (design.md 3.3): v_stop included everywhere
 
 
 @dataclass(frozen=True)
@@ -294,7 +294,7 @@ def mu_jump_bound(pp: VehicleParams, mu_first: float, mu_second: float, x_jump_m
 
 def wheel_mode_rate(pp: VehicleParams, rise_max: float, mu_peak_max: float) -> float:
     """Largest |eigenvalue| of the wheel-spin mode at v_stop: R^2 (mu_h/S_T) Fz / (J v)
-    (DESIGN 3.3), with Fz the heaviest wheel's load braking at mu_peak_max g in a straight line."""
+    (design.md 3.3), Fz the heaviest wheel's load braking at mu_peak_max g in a straight line."""
     fz0, a, _b = load_coefficients(pp)
     fz_max = float(np.max(fz0 - a * mu_peak_max * pp.g_m_s2))
     return pp.wheel_radius_m**2 * rise_max * fz_max / (pp.wheel_inertia_kg_m2 * pp.v_stop_m_s)

@@ -1,4 +1,4 @@
-"""7-DOF vehicle ABS parameters, steering and the preset `paper-deffao` (DESIGN 3.3; Tian
+"""7-DOF vehicle ABS parameters, steering and the preset `paper-deffao` (design.md 3.3; Tian
 2025, deffao-vehicle-abs Table 2), kept apart from the compiled tire and load solver
 (`plants.abs_vehicle`) so that listing presets and parameters imports no numba."""
 
@@ -60,7 +60,7 @@ class VehicleParams:
 
 @dataclass(frozen=True)
 class SteeringParams:
-    """Front steering: `fixed` at 0 or a counter-steering `driver` (DESIGN 3.3):
+    """Front steering: `fixed` at 0 or a counter-steering `driver` (design.md 3.3):
     d(delta)/dt = (clip(-k_psi psi - k_r r, +-delta_max) - delta) / tau."""
 
     steering: str = "fixed"

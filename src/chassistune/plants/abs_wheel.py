@@ -1,7 +1,7 @@
-"""Single-wheel ABS plant (DESIGN 3.1; Tian et al. `derlsp-ao-abs` eqs. 1-12, Ding 2023
+"""Single-wheel ABS plant (design.md 3.1; Tian et al. `derlsp-ao-abs` eqs. 1-12, Ding 2023
 `fuzzy-immune-abs`, MathWorks sldemo_absbrake): parameters and presets.
 
-The equations of motion (DESIGN 3.1) are integrated by the compiled kernel
+The equations of motion (design.md 3.1) are integrated by the compiled kernel
 `chassistune.sim.abs_wheel_kernel`; the tire curves and roads are `plants.tires`, `plants.roads`.
 """
 
@@ -61,7 +61,7 @@ def default_t_max_s(pp: AbsWheelParams, mu_peak: float) -> float:
 
 
 FINE_DT_S = 2.5e-4
-"""The default step of the paper-fuzzy-immune and sldemo presets (issue 11 item 5): at 1 ms the
+"""The default step of the paper-fuzzy-immune and sldemo presets: at 1 ms the
 PID's stop distance and slip ITAE are off by up to 4.3e-3 (paper-fuzzy-immune) and 3.1e-3
 (sldemo) against dt/100, at 0.25 ms by at most 3.0e-4 (`chassistune bench`,
 abs_max_rel_err_presets). paper-derlsp-ao keeps 1 ms (6.7e-4 on dry concrete and wet asphalt)."""

@@ -1,4 +1,4 @@
-"""ISO 8608 random road profiles as filtered white noise (DESIGN 3.4, iabc-suspension eq. 3,
+"""ISO 8608 random road profiles as filtered white noise (design.md 3.4, iabc-suspension eq. 3,
 corrected).
 
 Displacement PSD of class X (one-sided, spatial frequency n in cycles/m):

@@ -1,8 +1,8 @@
-"""Quarter-car active suspension (DESIGN 3.4; Jing and Xu 2023, `iabc-suspension`): the
+"""Quarter-car active suspension (design.md 3.4; Jing and Xu 2023, `iabc-suspension`): the
 closed-loop state-space model with a linear controller (parameters and presets:
 `plants.quarter_car_params`).
 
-Plant (`iabc-suspension` eqs. 1-3 in the corrected form of DESIGN 3.4)::
+Plant (`iabc-suspension` eqs. 1-3 in the corrected form of design.md 3.4)::
 
     ms zs'' = -ks (zs - zu) - cs (zs' - zu') + u
     mu zu'' =  ks (zs - zu) + cs (zs' - zu') - kt (zu - z0) - u

@@ -1,4 +1,4 @@
-"""Quarter-car parameters and presets (DESIGN 3.4; Jing and Xu 2023, `iabc-suspension` Table 1),
+"""Quarter-car parameters and presets (design.md 3.4; Jing and Xu 2023, `iabc-suspension` Table 1),
 apart from the compiled model (`plants.quarter_car`) so that listing presets imports no numba.
 """
 

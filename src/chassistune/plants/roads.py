@@ -1,5 +1,5 @@
-"""Every road surface by name (DESIGN 3.2, 3.4): tire-road friction curves for the wheel plants and
-ISO 8608 roughness classes for the suspension.
+"""Every road surface by name (design.md 3.2, 3.4): tire-road friction curves for the wheel plants
+and ISO 8608 roughness classes for the suspension.
 
 Friction roads: the bilinear curves of Tian et al.'s Table 1 (`derlsp-ao-abs`) and the peaks of
 Ding 2023 (`fuzzy-immune-abs`), Burckhardt's seven surfaces (`burckhardt-<surface>`) and

@@ -1,4 +1,4 @@
-"""The compiled tire law mu(S) of `plants.tires` (DESIGN 3.2), apart from the tire data so that
+"""The compiled tire law mu(S) of `plants.tires` (design.md 3.2), apart from the tire data so that
 listing roads and presets imports no numba.
 
 `tire_mu` evaluates any family from the arrays of `TireCurve.kernel_data`; the vectorized ABS

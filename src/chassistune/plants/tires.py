@@ -1,4 +1,4 @@
-"""Longitudinal tire friction curves mu(S) and their peaks (DESIGN 3.2).
+"""Longitudinal tire friction curves mu(S) and their peaks (design.md 3.2).
 
 Three families, all evaluated from plain arrays (`kernel_data`; compiled: `plants.tire_kernel`) so
 that roads are data, not code paths:
@@ -10,7 +10,7 @@ that roads are data, not code paths:
 * a piecewise-linear table (MathWorks' sldemo_absbrake mu-slip table).
 
 Every curve has `mu_scale` (default 1, positive), a road parameter multiplying the whole curve
-mu(S) (a road slicker or grippier than its nominal curve; issue 17): bilinear mu_h and mu_g,
+mu(S) (a road slicker or grippier than its nominal curve): bilinear mu_h and mu_g,
 Burckhardt c1 and c3, a table's mus. The peak slip stays; the peak friction scales.
 """
 

@@ -1,12 +1,12 @@
-"""Roads of the vehicle ABS (DESIGN 3.2, 3.3): uniform, `mu-jump` and `split-mu`, built by name from
-the bilinear surfaces (derlsp-ao-abs Table 1, deffao-vehicle-abs Table 1).
+"""Roads of the vehicle ABS (design.md 3.2, 3.3): uniform, `mu-jump` and `split-mu`, built by name
+from the bilinear surfaces (derlsp-ao-abs Table 1, deffao-vehicle-abs Table 1).
 
 Which surface is under wheel i follows its contact point's global position:
 - `mu-jump`: the first surface until the contact point's global X reaches the jump, the second
   after; x_jump_m is measured from the front axle's start (global X_jump = lf + x_jump_m with the
   CG starting at X = 0);
 - `split-mu`: the left surface under the car's left wheels, the right one under its right wheels
-  (`split_by = "body"`, default: DESIGN 3.3's "by side"), or, with `split_by = "road"`, the left
+  (`split_by = "body"`, default: design.md 3.3's "by side"), or, with `split_by = "road"`, the left
   surface where the contact point's global Y >= split_y_m (0: the car starts centred on the split
   line) and the right one elsewhere;
 - uniform roads: one surface everywhere.

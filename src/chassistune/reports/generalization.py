@@ -1,7 +1,7 @@
 """Tuned on road X, tested on road Y: the cost of each run's best gains on every test road of its
 scenario (stored by the run), beside the plant's generalization metrics (stop distance over its
 bound and locked time for the ABS), re-simulated here from the stored gains and scenario seed;
-and robust versus nominal tuning (issue 17): training and validation figures of the runs with an
+and robust versus nominal tuning: training and validation figures of the runs with an
 `[uncertainty]` table."""
 
 from __future__ import annotations
@@ -112,7 +112,7 @@ def _arm(robust: dict[str, Any]) -> str:
 
 
 def robustness_table(data: StudyData) -> pd.DataFrame:
-    """Robust versus nominal (issue 17): one row per (group, optimizer, tuned on, tuning arm) of
+    """Robust versus nominal: one row per (group, optimizer, tuned on, tuning arm) of
     the runs with an `[uncertainty]` table: medians over seeds of the winner's worst training
     cost and of its worst and mean validation figure (the distance ratio when the plant has one,
     else the cost), the validation draws and failures summed over seeds, and the certificate

@@ -1,4 +1,4 @@
-"""The 7-DOF vehicle ABS scenario and plant (`abs-vehicle`, DESIGN 3.3; deffao-vehicle-abs).
+"""The 7-DOF vehicle ABS scenario and plant (`abs-vehicle`, design.md 3.3; deffao-vehicle-abs).
 
 Resolves preset + road + wheel controller + overrides into the kernel's declared inputs
 (`chassistune.sim.abs_vehicle_kernel` layouts), evaluates populations in one kernel call, and
@@ -57,7 +57,7 @@ PLANT_NAME = ABS_VEHICLE.name
 
 @dataclass(frozen=True)
 class VehicleScoring:
-    """How runs become costs and yaw metrics (DESIGN 3.3, 5)."""
+    """How runs become costs and yaw metrics (design.md 3.3, 5)."""
 
     lock_penalty_per_s: float = field(default=100.0, metadata={"nonnegative": True})
     hopeless_factor: float = field(default=3.0, metadata=positive(1.5, 20.0))
@@ -77,7 +77,7 @@ STATUS_NAMES = ("stopped", "hopeless", "timeout", "diverged")
 
 
 def road_bound(pp: VehicleParams, road: VehicleRoad) -> Bound:
-    """The exact bound of DESIGN 3.3 for this road."""
+    """The exact bound of design.md 3.3 for this road."""
     a, b = (t.mu_peak for t in road.surfaces)
     if road.kind == ROAD_MU_JUMP:
         return mu_jump_bound(pp, a, b, road.x_jump_m)

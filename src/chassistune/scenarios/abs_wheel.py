@@ -1,4 +1,4 @@
-"""Scenarios of the single-wheel ABS plant `abs-wheel` (DESIGN 3.1): preset + road + controller
+"""Scenarios of the single-wheel ABS plant `abs-wheel` (design.md 3.1): preset + road + controller
 + scoring, fed to the compiled kernel `chassistune.sim.abs_wheel_kernel.simulate_abs_wheel`.
 
 The physics (parameters, presets) is `chassistune.plants.abs_wheel`; roads `plants.roads`.
@@ -50,7 +50,7 @@ _NONNEG = {"nonnegative": True}
 
 @dataclass(frozen=True)
 class Scoring:
-    """How runs become costs (DESIGN 5)."""
+    """How runs become costs (design.md 5)."""
 
     lock_penalty_per_s: float = field(default=100.0, metadata=_NONNEG)
     hopeless_factor: float = field(default=3.0, metadata=_POS)
@@ -109,7 +109,7 @@ OBJECTIVE_COLUMNS = {
 }
 PER_BOUND = frozenset({"distance_ratio"})
 """Objectives divided by the scenario's adhesion-bound distance (stop distance / bound: scenarios
-of different speeds and roads compare on one scale; issue 17)."""
+of different speeds and roads compare on one scale)."""
 STATUS_REASONS = {
     "timeout": "t_max_s was reached before the speed fell to v_stop_m_s",
     "hopeless": "the distance passed hopeless_factor times the bound, so the run was cut short",
@@ -149,7 +149,7 @@ class AbsWheelScenario(Scenario):
         self.controller_params = controller_params
         self.scoring = scoring
         self.ecu = ecu
-        """None: the ideal kernel; else the realistic ECU (`--ecu realistic`, issue 15)."""
+        """None: the ideal kernel; else the realistic ECU (`--ecu realistic`)."""
         self.mu_peak, self.slip_at_peak, _ = tire.peak()
         self.target_slip = target_slip
         pp = plant_params
@@ -208,7 +208,7 @@ class AbsWheelScenario(Scenario):
         return run_chunked(call, kernel_gains(gains, self.controller), len(KL.METRICS), workers)
 
     def _ecu_call(self, gains: np.ndarray, trace: np.ndarray, out: np.ndarray) -> None:
-        """The realistic kernel on gain rows (issue 15)."""
+        """The realistic kernel on gain rows."""
         assert self.ecu is not None
         p, kind, coef, xs, ys, *_ = self._kernel_args
         lp = law_params(

@@ -1,4 +1,4 @@
-"""The ECU mode of the abs-wheel scenarios (issue 15, docs/ecu.md): `ecu = ideal` (the ideal
+"""The ECU mode of the abs-wheel scenarios (docs/ecu.md): `ecu = ideal` (the ideal
 kernel, bit for bit) or `realistic` (`sim.abs_wheel_ecu_kernel` with the `EcuParams` given as
 parameters and the discrete laws of `controllers.discrete`).
 

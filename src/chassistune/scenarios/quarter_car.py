@@ -1,4 +1,4 @@
-"""Scenarios of the quarter-car active suspension `quarter-car` (DESIGN 3.4).
+"""Scenarios of the quarter-car active suspension `quarter-car` (design.md 3.4).
 
 Evaluates populations of controller gains with the exact Lyapunov objective
 (`chassistune.sim.lyapunov`) or the compiled simulation (`chassistune.sim.quarter_car_kernel`) on an

@@ -18,7 +18,7 @@ whole quarter mass, so the "axle" is that wheel, the dynamic load is constant (n
 no pitch: k = z_m directly, without 1.1.4-1.1.5's rolling resistance and load-transfer terms),
 and a simulated stop is deterministic, so the three repeats coincide and t_m = t_min. A constant
 input force is the `none` controller with the pressure capped (`q_max`): the brake ramps to the
-cap in 0.15 s (DESIGN 3.1) and holds it. The pressure search evaluates a grid of caps per round
+cap in 0.15 s (design.md 3.1) and holds it. The pressure search evaluates a grid of caps per round
 (one kernel call each through the scenario API: a batched search needs the kernel change
 described in docs/ecu.md) and refines between the best cap that does not lock and the next one.
 """

@@ -1,5 +1,5 @@
 """Step-refinement check of a tuned winner: re-simulate it at a fraction of the integration step
-and report how much its cost and metrics move (issue 11 item 6).
+and report how much its cost and metrics move.
 
 A fixed-step kernel can flatter a chattering candidate (the slip ITAE reads low at a coarse step
 when the loop switches inside steps); the optimizer finds exactly such candidates. Re-running

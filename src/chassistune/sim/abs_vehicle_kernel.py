@@ -1,4 +1,4 @@
-"""Compiled closed loop of the 7-DOF vehicle ABS (DESIGN 3.3) over a population of candidates.
+"""Compiled closed loop of the 7-DOF vehicle ABS (design.md 3.3) over a population of candidates.
 
 One kernel serves every wheel controller (an integer selects the law) and both paths: a batch of
 n gain rows, or one row with a trace (a single run is a batch of one).
@@ -25,7 +25,7 @@ speeds, wheel and controller states linear over the step, X, Y and the heading t
 (`_at_stop`), on the surfaces of that step. A wheel's lock time is located the same way, where
 its margin w R - lock_ratio |V|, linear over the step, crosses 0.
 
-Lanes (issue 12, the design of `abs_wheel_kernel`). Every per-candidate quantity lives in ONE
+Lanes (the design of `abs_wheel_kernel`). Every per-candidate quantity lives in ONE
 flat array `st` of rows of LANES values (row r of lane l at r * LANES + l). Each iteration runs
 one fused RK4 step per lane (`_lane_step`) for a whole number of VECTOR-wide blocks: the
 straight-line case (no yaw, lateral velocity, heading or steering; loads in closed form), all

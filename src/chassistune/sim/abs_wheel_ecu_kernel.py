@@ -1,5 +1,5 @@
-"""Compiled closed loop of the single-wheel ABS with an ECU-realistic controller (issue 15,
-docs/ecu.md), over a population, one candidate after the other (no lanes).
+"""Compiled closed loop of the single-wheel ABS with an ECU-realistic controller
+(docs/ecu.md), over a population, one candidate after the other (no lanes).
 
 Plant: the ideal kernel's (`sim.abs_wheel_model.wheel_rates`, `sim.abs_wheel_tires`), RK4 at
 the fixed step dt (`sim.integrate`), plus the wheel angle (dtheta/dt = w, RK4 on the stage
@@ -112,7 +112,7 @@ T_VREF, T_WEST, T_ECU_SLIP, T_VALVE, T_EDGE_PREV, T_EDGE_LAST = (
 )
 
 LOW_SPEED_BAND_M_S = (1.0, 9.0)
-"""Speed band of `low_speed_slip_error` (issue 15: fixed gains fail below about 9 m/s)."""
+"""Speed band of `low_speed_slip_error` (fixed gains fail below about 9 m/s)."""
 
 _jit = njit(cache=True, nogil=True, error_model="numpy")
 

@@ -1,5 +1,5 @@
 """Declared inputs and outputs of the ECU-realistic single-wheel ABS kernel
-(`sim.abs_wheel_ecu_kernel`, issue 15), extending the ideal kernel's layouts
+(`sim.abs_wheel_ecu_kernel`), extending the ideal kernel's layouts
 (`sim.abs_wheel_layout`): the ECU vector, and metrics and trace rows that start with every slot
 of the ideal kernel's (same columns, so the scenario scores both modes alike) and add the ECU's.
 """

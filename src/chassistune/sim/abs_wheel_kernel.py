@@ -1,5 +1,5 @@
-"""Compiled closed-loop simulation of the single-wheel ABS (DESIGN 3.1) over a population, in
-persistent SIMD lanes (issue 11).
+"""Compiled closed-loop simulation of the single-wheel ABS (design.md 3.1) over a population, in
+persistent SIMD lanes.
 
 Plant (derlsp-ao-abs eqs. 1-4, 9-10; `sim.abs_wheel_model`), with Fz = lf M g the wheel load:
     M dv/dt = -mu(S) Fz,   I dw/dt = R mu(S) Fz - kq q  (w >= 0),   S = (v - w R)/v,
@@ -11,7 +11,7 @@ number of steps) so that the controller does not change when the step is refined
 
 Integration at a fixed step on (v, w, q, r, z, xf) (`sim.integrate`): Kutta's RK3 with explicit
 fused multiply-adds for the PID and no ABS, classic RK4 for the sampled laws (bang-bang,
-threshold, fuzzy PID, fuzzy immune PID). Measured against dt/100 (issue 11), RK3 at 1 ms is the
+threshold, fuzzy PID, fuzzy immune PID). Measured against dt/100, RK3 at 1 ms is the
 more accurate for the PID on every road of paper-derlsp-ao and in its tuning box (the error
 comes from kinks, clipping and saturation, not from the order) and 1.3x faster; for the sampled
 laws the comparison is mixed (threshold on ice: RK3 1.3e-3 against RK4 6.0e-4) and their cost is
@@ -36,7 +36,7 @@ divisions and clips in the stages, then the metrics), not by the arithmetic coun
 changing a number: the first stage reads the slip the last step left (`R_S1`, the same
 expression, no division), and a step adds its predecessor's error integrals (`R_EA` ... `R_EH`,
 `_add_pending_integrals`), so that their division runs beside the integration; the run's end
-adds the last step's. (352 -> 258 cycles per iteration for RK3, 463 -> 377 for RK4.)
+adds the last step's (258 cycles per iteration for RK3, 377 for RK4).
 
 No reference counting. The entry points are compiled without numba's runtime (`_nrt=False`):
 the caller passes the lane array `st` and `lane_of` as scratch, and nothing is allocated. With

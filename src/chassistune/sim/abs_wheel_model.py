@@ -1,5 +1,5 @@
-"""Right-hand side of the single-wheel ABS plant (DESIGN 3.1; derlsp-ao-abs eqs. 1-4, 9-10), scalar
-and branch-free for the compiled kernels (numba, inline="always").
+"""Right-hand side of the single-wheel ABS plant (design.md 3.1; derlsp-ao-abs eqs. 1-4, 9-10),
+scalar and branch-free for the compiled kernels (numba, inline="always").
 
     M dv/dt = -mu(S) Fz,   I dw/dt = R mu(S) Fz - kq q   (w >= 0: held at 0 while Tb >= R Fx),
     S = (v - w R)/v,   T dr/dt = K u - r,   dq/dt = r with q held in [0, q_max].

@@ -1,4 +1,4 @@
-"""Branch-free tire laws mu(S) for the vectorized ABS kernel, one per tire family (DESIGN 3.2).
+"""Branch-free tire laws mu(S) for the vectorized ABS kernel, one per tire family (design.md 3.2).
 
 Bitwise the same numbers as `plants.tire_kernel.tire_mu`, in a form a vector loop accepts: no calls
 (inline), no branches (selects), no data-dependent reads of argument arrays. A piecewise-linear

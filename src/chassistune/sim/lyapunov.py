@@ -1,7 +1,7 @@
-"""Exact stationary RMS of the quarter car from the Lyapunov equation, batched (DESIGN 3.4, 5).
+"""Exact stationary RMS of the quarter car from the Lyapunov equation, batched (design.md 3.4, 5).
 
 For the linear closed loop x' = A x + b w with white noise of intensity W (W = 1/2 for the ISO
-road, DESIGN 3.4) the stationary covariance P solves
+road, design.md 3.4) the stationary covariance P solves
 
     A P + P A^T + W b b^T = 0                                                  (1)
 
@@ -32,7 +32,7 @@ from chassistune.sim.layout import Layout, Slot
 from chassistune.sim.quarter_car_kernel import RMS_SLOTS
 
 W_ROAD = NOISE_INTENSITY
-"""Intensity of the road's white noise: W = 1/2, one-sided PSD 1 (DESIGN 3.4)."""
+"""Intensity of the road's white noise: W = 1/2, one-sided PSD 1 (design.md 3.4)."""
 
 EXACT = Layout(
     "quarter-car exact stationary results",

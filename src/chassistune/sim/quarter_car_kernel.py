@@ -1,4 +1,4 @@
-"""Compiled batch simulation of the quarter car on a random road (DESIGN 2, 3.4).
+"""Compiled batch simulation of the quarter car on a random road (design.md 2, 3.4).
 
 Each candidate's closed loop (the *explicit* realization of `plants.quarter_car`: integrator and
 derivative-filter states as a block diagram has them) is discretized exactly,

@@ -6,7 +6,7 @@ the spec on first use and keeps it for the next runs of the same problem (other 
 the same seed index). The key holds every field that goes into `build_problem`, the scenario
 seed included: two runs share a problem only when building it twice would give the same thing.
 
-A scenario with an `[uncertainty]` table is a robust problem (issue 17) whose training set is
+A scenario with an `[uncertainty]` table is a robust problem whose training set is
 drawn from the run's seed sequence: every optimizer at a seed index sees the same K scenarios,
 in any process (the scenario seed in the key is derived from that sequence).
 """

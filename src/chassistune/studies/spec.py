@@ -1,4 +1,4 @@
-"""Study configs (TOML, validated by pydantic) and their expansion into run specs (DESIGN 2, 9).
+"""Study configs (TOML, validated by pydantic) and their expansion into run specs (design.md 2, 9).
 
 A config is data: nothing in it is evaluated. `load_config` parses and validates the file,
 `plan_study` resolves every name against the registries (building each distinct problem once,
@@ -125,7 +125,7 @@ class ScenarioConfig(_Model):
     params: dict[str, Value] = Field(default_factory=dict)
     bounds: dict[str, tuple[Finite, Finite]] = Field(default_factory=dict)
     uncertainty: dict[str, Any] | None = None
-    """Robust tuning (issue 17): the `[uncertainty]` table (`tuning.robust.spec.parse_table`)."""
+    """Robust tuning: the `[uncertainty]` table (`tuning.robust.spec.parse_table`)."""
 
     @field_validator("roads", "tune_roads", "test_roads")
     @classmethod

@@ -111,7 +111,7 @@ def _run(spec: RunSpec) -> dict[str, Any]:
         )
         test_costs[road] = float(sc.cost(best, spec.objective)[0])
     robust = None
-    if isinstance(problem, RobustProblem):  # training summary and validation (issue 17)
+    if isinstance(problem, RobustProblem):  # training summary and validation
         robust = robust_summary(problem, best[0])
     return {
         "robust": robust,

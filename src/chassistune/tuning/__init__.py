@@ -1,1 +1,1 @@
-"""Tuning: connect any optimizer to the batch cost of a plant (DESIGN 5, 7)."""
+"""Tuning: connect any optimizer to the batch cost of a plant (design.md 5, 7)."""

@@ -1,4 +1,4 @@
-"""A tuning problem: the gains of one controller scored on one or several roads (DESIGN 5).
+"""A tuning problem: the gains of one controller scored on one or several roads (design.md 5).
 
 The box comes from the controller registry (or the caller's override); the cost of a population
 is one kernel call per road, aggregated across roads by mean, max or cvar:ALPHA

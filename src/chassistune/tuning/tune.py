@@ -127,7 +127,7 @@ class TuneResult(OptimizeResult):
         }
 
     def as_dict(self) -> dict[str, Any]:
-        """The `tune --json` object (DESIGN 7); `metrics` by road when several were tuned."""
+        """The `tune --json` object (design.md 7); `metrics` by road when several were tuned."""
         roads = self.problem.roads
         metrics: dict[str, Any] = self.metrics[roads[0]] if len(roads) == 1 else self.metrics
         sc = self.problem.scenarios[0]
@@ -300,7 +300,7 @@ def tune(
     uncertainty: UncertaintySpec | Mapping[str, Any] | None = None,
     **hyper: Any,
 ) -> TuneResult | RobustTuneResult:
-    """Tune `controller` of `plant` on `roads` with `optimizer` (defaults of DESIGN 7).
+    """Tune `controller` of `plant` on `roads` with `optimizer` (defaults of design.md 7).
 
     Without a budget, 100 iterations. The same seed gives the same result. With `uncertainty`
     (an `UncertaintySpec`, or the study's `[uncertainty]` table as a dict: {"vary": {"mass_kg":

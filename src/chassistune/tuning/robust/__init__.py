@@ -1,4 +1,4 @@
-"""Robust tuning under uncertainty (issue 17): one job per module.
+"""Robust tuning under uncertainty: one job per module.
 
 - `spec`: uncertain parameters and the `[uncertainty]` table as frozen dataclasses;
 - `sampling`: the training set (scrambled Sobol or Latin hypercube) and Monte Carlo sets;

@@ -1,4 +1,4 @@
-"""A candidate's cost over K scenarios (x R roads): mean, max or CVaR (issue 17).
+"""A candidate's cost over K scenarios (x R roads): mean, max or CVaR.
 
 `cvar:ALPHA` is the mean of the worst ceil(ALPHA M) of the M = K R costs of a candidate (the
 empirical conditional value at risk of the upper ALPHA tail; Rockafellar & Uryasev 2000): ALPHA = 1

@@ -1,4 +1,4 @@
-"""n candidates x K scenarios (x R roads): the robust tuning cost and the validation (issue 17).
+"""n candidates x K scenarios (x R roads): the robust tuning cost and the validation.
 
 `robust_problem` takes the nominal problem (the plain `build_problem`: controller box, objective,
 roads), draws the run's training set once (common random numbers) and builds its K R

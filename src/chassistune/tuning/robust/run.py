@@ -1,4 +1,4 @@
-"""`tune_robust(...)`: tune over a training set of K scenarios, then validate (issue 17).
+"""`tune_robust(...)`: tune over a training set of K scenarios, then validate.
 
 What `tune --vary ... --scenarios K --sampler S --aggregate A --validate N --beta B` does once
 its options are checked (`spec.spec_from_options` over `problem.known_for(nominal)`, before any

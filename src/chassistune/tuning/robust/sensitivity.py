@@ -1,4 +1,4 @@
-"""First-order and total Sobol indices of a function of the uncertain parameters (issue 17).
+"""First-order and total Sobol indices of a function of the uncertain parameters.
 
 Saltelli's scheme as `scipy.stats.sobol_indices` implements it (Saltelli et al. 2010, "Variance
 based sensitivity analysis of model output", Computer Physics Communications 181): n (d + 2)

@@ -1,4 +1,4 @@
-"""Uncertain parameters as data: `--vary` specs and the study `[uncertainty]` table (issue 17).
+"""Uncertain parameters as data: `--vary` specs and the study `[uncertainty]` table.
 
 Grammar of one spec (CLI `--vary`, or a value of the table's `vary` sub-table):
     NAME=LO:HI  (or NAME=uniform:LO:HI)   uniform on [LO, HI], LO < HI, inside the valid range;

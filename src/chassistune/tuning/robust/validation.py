@@ -1,4 +1,4 @@
-"""Validation of a tuned controller on N fresh Monte Carlo draws, and its certificate (issue 17).
+"""Validation of a tuned controller on N fresh Monte Carlo draws, and its certificate.
 
 The bound (zero-failure binomial bound; Tempo, Bai & Dabbene, "Probabilistic robustness
 analysis: explicit bounds for the minimum number of samples", Systems & Control Letters 30,
