@@ -18,12 +18,12 @@ import pytest
 from chassistune.errors import InputError
 from chassistune.studies.bbob import (
     BBOBPlan,
-    execute_bbob_run,
     get_problem,
     parse_instances,
     parse_problem_id,
 )
 from chassistune.studies.store import open_study
+from chassistune.studies.worker import execute_run
 
 ARGS = [
     "bbob",
@@ -175,6 +175,22 @@ def test_cocopp_postprocessing_writes_its_ecdf_pages(tiny: Path, cli) -> None:
     assert list((tiny / "ppdata").rglob("pprldmany*"))  # the ECDF figures
 
 
+def test_serial_and_process_executors_store_identical_traces(tiny: Path, cli) -> None:
+    """The same plan on two worker processes stores, run for run, the serial run's trace, points
+    and final cost (the tiny fixture ran serially)."""
+    out = tiny.parent / "process"
+    res = cli(*ARGS, "--executor", "process", "--workers", "2", "--out", str(out))
+    assert res.code == 0, res.err
+    serial = {r.spec.key: r for r in _records(tiny)}
+    process = {r.spec.key: r for r in _records(out)}
+    assert sorted(process) == sorted(serial) and len(serial) == 16
+    for key, run in serial.items():
+        other = process[key]
+        assert other.spec == run.spec
+        assert other.history == run.history and other.history_nfev == run.history_nfev
+        assert other.metrics == run.metrics and other.best_cost == run.best_cost
+
+
 def test_killed_run_resumes_to_the_uninterrupted_numbers(tmp_path: Path, cli) -> None:
     """SIGKILL the command once a run is stored, rerun it: every run once, each with the numbers
     a run of its spec gives on its own."""
@@ -221,6 +237,6 @@ def test_killed_run_resumes_to_the_uninterrupted_numbers(tmp_path: Path, cli) ->
     plan = BBOBPlan("bbob", ("cma-es",), (3,), (2,), (1, 2, 3, 4), 1500, 6, 0)
     assert sorted(records) == sorted(s.key for s in plan.runs())
     for spec in plan.runs():
-        alone = execute_bbob_run(spec)
+        alone = execute_run(spec)
         assert records[spec.key].history == alone.history
         assert records[spec.key].history_nfev == alone.history_nfev
