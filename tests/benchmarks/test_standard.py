@@ -20,12 +20,14 @@ from chassistune.papers.standard import (
 )
 
 
-def _part(name: str, better: str, columns: list[str], scores: dict[str, list[float]]) -> str:
+def _part(
+    name: str, better: str, columns: list[str], scores: dict[str, list[float]], tie: float = 0.0
+) -> str:
     rows = "\n".join(f'"{o}" = {s}' for o, s in scores.items())
     return (
         f'[{name}]\ntitle = "{name} title"\ncommand = "cmd {name}"\ndate = "2026-11-27"\n'
         f'setting = "tiny"\nscore = "a score"\nbetter = "{better}"\ncolumns = {columns}\n'
-        f"[{name}.scores]\n{rows}\n"
+        f"tie = {tie}\n[{name}.scores]\n{rows}\n"
     )
 
 
@@ -68,6 +70,7 @@ def _record() -> str:
             "cma-es": [2.0, 2.0, 2.0],
             "random-search": [2.0, 2.0, 2.0],
         },
+        tie=0.01,
     )
     return bbob + shifted + control
 
@@ -75,7 +78,9 @@ def _record() -> str:
 def _verdicts(record: str) -> dict[tuple[str, str], common.Verdict]:
     sec = build(parse(record))
     by_title = {"bbob title": "bbob", "shifted title": "shifted", "control title": "control"}
-    return {(v.paper, next(k for t, k in by_title.items() if t in v.claim)): v for v in sec.verdicts}
+    return {
+        (v.paper, next(k for t, k in by_title.items() if t in v.claim)): v for v in sec.verdicts
+    }
 
 
 def test_verdicts_on_a_constructed_record() -> None:
@@ -94,7 +99,20 @@ def test_verdicts_on_a_constructed_record() -> None:
     assert v[("deffao-vehicle-abs", "control")].verdict == common.UNCHECKED
     assert "no control column" in v[("deffao-vehicle-abs", "control")].evidence
     assert v[("iabc-suspension", "control")].verdict == common.HOLDS  # only its own column counts
-    assert v[("iabc-suspension", "bbob")].verdict == common.UNCHECKED  # wins vs random, split vs cma
+    assert (
+        v[("iabc-suspension", "bbob")].verdict == common.UNCHECKED
+    )  # wins vs random, split vs cma
+
+
+def test_scores_within_the_tie_are_equal() -> None:
+    """iabc's 1.99 against the references' 2.0 on its problem is a tie at 1 %, not a win."""
+    text = _record().replace('"iabc" = [9.0, 9.0, 1.0]', '"iabc" = [9.0, 9.0, 1.99]')
+    v = _verdicts(text)[("iabc-suspension", "control")]
+    assert v.verdict == common.UNCHECKED and "0 better, 0 worse of 1" in v.evidence
+    assert (
+        _verdicts(text.replace("tie = 0.01", "tie = 0.0"))[("iabc-suspension", "control")].verdict
+        == common.HOLDS
+    )
 
 
 def test_a_record_with_a_missing_score_is_refused() -> None:
@@ -119,8 +137,9 @@ def test_the_shipped_record_is_whole_dated_and_its_verdicts_follow_its_numbers()
         cols = [i for i, c in enumerate(bench.columns) if c.startswith(prefix)]
         mine = np.array(bench.scores[PROPOSED[v.paper]])[cols]
         sign = 1 if bench.higher_is_better else -1
-        majority = [
-            2 * np.sum(sign * (mine - np.array(bench.scores[r])[cols]) > 0) > len(cols)
-            for r in REFERENCES
-        ]
+        majority = []
+        for r in REFERENCES:
+            theirs = np.array(bench.scores[r])[cols]
+            apart = np.abs(mine - theirs) > bench.tie * np.maximum(abs(mine), abs(theirs))
+            majority.append(2 * np.sum(apart & (sign * (mine - theirs) > 0)) > len(cols))
         assert (v.verdict == common.HOLDS) == (bool(cols) and all(majority)), v

@@ -5,7 +5,8 @@ F1-F23 and on its own control problem? Read from the stored, dated record
 does not rerun the benchmarks.
 
 Against one reference, on one benchmark, each column (a dimension, a function, a control problem)
-is a win or a loss for the proposed optimizer (a tie is neither). It beats the reference when it
+is a win or a loss for the proposed optimizer; scores within the benchmark's relative `tie` of
+each other are a tie, neither. It beats the reference when it
 wins a majority of the columns and is beaten when it loses a majority; otherwise it is undecided.
 The claim "beats CMA-ES and random search" holds when it beats both, does not hold when either
 beats it, and is undecided at this budget (`cannot be checked`) otherwise or without numbers.
@@ -51,11 +52,16 @@ class Benchmark:
     higher_is_better: bool
     columns: tuple[str, ...]
     scores: Mapping[str, tuple[float, ...]]
+    tie: float = 0.0
+    """Relative difference at or below which two scores are equal."""
 
     def frame(self) -> pd.DataFrame:
         """Optimizers (rows) x columns, the stored scores."""
         return pd.DataFrame(
-            [{"optimizer": o, **dict(zip(self.columns, s, strict=True))} for o, s in self.scores.items()]
+            [
+                {"optimizer": o, **dict(zip(self.columns, s, strict=True))}
+                for o, s in self.scores.items()
+            ]
         )
 
 
@@ -80,6 +86,7 @@ def parse(text: str) -> dict[str, Benchmark]:
             part["better"] == "higher",
             columns,
             scores,
+            float(part.get("tie", 0.0)),
         )
     return out
 
@@ -96,14 +103,17 @@ def against(bench: Benchmark, optimizer: str, reference: str, prefix: str = "") 
         return UNDECIDED, f"no {bench.name} numbers for {optimizer} or {reference}"
     pairs = [
         (a, b)
-        for c, a, b in zip(bench.columns, bench.scores[optimizer], bench.scores[reference], strict=True)
+        for c, a, b in zip(
+            bench.columns, bench.scores[optimizer], bench.scores[reference], strict=True
+        )
         if c.startswith(prefix)
     ]
     if not pairs:
         return UNDECIDED, f"no {bench.name} column for {prefix or 'it'}"
     sign = 1.0 if bench.higher_is_better else -1.0
-    wins = sum(sign * (a - b) > 0 for a, b in pairs)
-    losses = sum(sign * (a - b) < 0 for a, b in pairs)
+    margins = [sign * (a - b) for a, b in pairs if abs(a - b) > bench.tie * max(abs(a), abs(b))]
+    wins = sum(m > 0 for m in margins)
+    losses = len(margins) - wins
     word = BEATS if 2 * wins > len(pairs) else BEATEN if 2 * losses > len(pairs) else UNDECIDED
     return word, f"{wins} better, {losses} worse of {len(pairs)} against {reference}"
 
@@ -119,7 +129,9 @@ def verdict(paper: str, bench: Benchmark, prefix: str = "") -> common.Verdict:
         word = common.FAILS
     else:
         word = common.UNCHECKED
-    evidence = "; ".join(f"{optimizer} {w} {ref} ({why})" for ref, (w, why) in zip(REFERENCES, results, strict=True))
+    evidence = "; ".join(
+        f"{optimizer} {w} {ref} ({why})" for ref, (w, why) in zip(REFERENCES, results, strict=True)
+    )
     if word == common.UNCHECKED:
         evidence = f"undecided at this budget: {evidence}"
     claim = f"{optimizer} beats CMA-ES and random search at equal evaluations on {bench.title}"
@@ -129,12 +141,16 @@ def verdict(paper: str, bench: Benchmark, prefix: str = "") -> common.Verdict:
 def build(record: Mapping[str, Benchmark] | None = None) -> common.PaperSection:
     """The section: the record's provenance, its tables, and three verdicts per paper."""
     benches = shipped() if record is None else record
-    setting = [(f"{b.title}: command", f"{b.command} ({b.date}; {b.setting})") for b in benches.values()]
+    setting = [
+        (f"{b.title}: command", f"{b.command} ({b.date}; {b.setting})") for b in benches.values()
+    ]
     sec = common.PaperSection(KEY, TITLE, setting)
     for b in benches.values():
         better = "higher" if b.higher_is_better else "lower"
         sec.tables.append(
-            common.Table(f"standard_{b.name}", b.title, b.frame(), f"{b.score} ({better} is better).")
+            common.Table(
+                f"standard_{b.name}", b.title, b.frame(), f"{b.score} ({better} is better)."
+            )
         )
     for paper in PROPOSED:
         sec.verdicts.append(verdict(paper, benches["bbob"]))
