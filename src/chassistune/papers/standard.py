@@ -148,9 +148,7 @@ def build(record: Mapping[str, Benchmark] | None = None) -> common.PaperSection:
     for b in benches.values():
         better = "higher" if b.higher_is_better else "lower"
         sec.tables.append(
-            common.Table(
-                f"standard_{b.name}", b.title, b.frame(), f"{b.score} ({better} is better)."
-            )
+            common.Table(b.name, b.title, b.frame(), f"{b.score} ({better} is better).")
         )
     for paper in PROPOSED:
         sec.verdicts.append(verdict(paper, benches["bbob"]))
