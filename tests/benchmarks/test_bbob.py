@@ -191,9 +191,12 @@ def test_serial_and_process_executors_store_identical_traces(tiny: Path, cli) ->
         assert other.metrics == run.metrics and other.best_cost == run.best_cost
 
 
-def test_killed_run_resumes_to_the_uninterrupted_numbers(tmp_path: Path, cli) -> None:
+@pytest.mark.parametrize("executor", ["serial", "process"])
+def test_killed_run_resumes_to_the_uninterrupted_numbers(
+    executor: str, tmp_path: Path, cli
+) -> None:
     """SIGKILL the command once a run is stored, rerun it: every run once, each with the numbers
-    a run of its spec gives on its own."""
+    a run of its spec gives on its own (the process executor's workers end with their driver)."""
     out = tmp_path / "killed"
     args = [
         "bbob",
@@ -210,6 +213,8 @@ def test_killed_run_resumes_to_the_uninterrupted_numbers(tmp_path: Path, cli) ->
         "--instances",
         "1-4",
         "--no-postprocess",
+        "--executor",
+        executor,
         "--out",
         str(out),
     ]
