@@ -175,11 +175,14 @@ def test_cocopp_postprocessing_writes_its_ecdf_pages(tiny: Path, cli) -> None:
     assert list((tiny / "ppdata").rglob("pprldmany*"))  # the ECDF figures
 
 
-def test_serial_and_process_executors_store_identical_traces(tiny: Path, cli) -> None:
-    """The same plan on two worker processes stores, run for run, the serial run's trace, points
-    and final cost (the tiny fixture ran serially)."""
-    out = tiny.parent / "process"
-    res = cli(*ARGS, "--executor", "process", "--workers", "2", "--out", str(out))
+@pytest.mark.parametrize("executor", ["process", "dask"])
+def test_every_executor_stores_the_serial_traces(executor: str, tiny: Path, cli) -> None:
+    """The same plan on two worker processes (a process pool, a Dask LocalCluster) stores, run for
+    run, the serial run's trace, points and final cost (the tiny fixture ran serially)."""
+    if executor == "dask":
+        pytest.importorskip("distributed")
+    out = tiny.parent / executor
+    res = cli(*ARGS, "--executor", executor, "--workers", "2", "--out", str(out))
     assert res.code == 0, res.err
     serial = {r.spec.key: r for r in _records(tiny)}
     process = {r.spec.key: r for r in _records(out)}
