@@ -18,12 +18,12 @@ import pytest
 from chassistune.errors import InputError
 from chassistune.studies.bbob import (
     BBOBPlan,
-    execute_bbob_run,
     get_problem,
     parse_instances,
     parse_problem_id,
 )
 from chassistune.studies.store import open_study
+from chassistune.studies.worker import execute_run
 
 ARGS = [
     "bbob",
@@ -175,9 +175,31 @@ def test_cocopp_postprocessing_writes_its_ecdf_pages(tiny: Path, cli) -> None:
     assert list((tiny / "ppdata").rglob("pprldmany*"))  # the ECDF figures
 
 
-def test_killed_run_resumes_to_the_uninterrupted_numbers(tmp_path: Path, cli) -> None:
+@pytest.mark.parametrize("executor", ["process", "dask"])
+def test_every_executor_stores_the_serial_traces(executor: str, tiny: Path, cli) -> None:
+    """The same plan on two worker processes (a process pool, a Dask LocalCluster) stores, run for
+    run, the serial run's trace, points and final cost (the tiny fixture ran serially)."""
+    if executor == "dask":
+        pytest.importorskip("distributed")
+    out = tiny.parent / executor
+    res = cli(*ARGS, "--executor", executor, "--workers", "2", "--out", str(out))
+    assert res.code == 0, res.err
+    serial = {r.spec.key: r for r in _records(tiny)}
+    process = {r.spec.key: r for r in _records(out)}
+    assert sorted(process) == sorted(serial) and len(serial) == 16
+    for key, run in serial.items():
+        other = process[key]
+        assert other.spec == run.spec
+        assert other.history == run.history and other.history_nfev == run.history_nfev
+        assert other.metrics == run.metrics and other.best_cost == run.best_cost
+
+
+@pytest.mark.parametrize("executor", ["serial", "process"])
+def test_killed_run_resumes_to_the_uninterrupted_numbers(
+    executor: str, tmp_path: Path, cli
+) -> None:
     """SIGKILL the command once a run is stored, rerun it: every run once, each with the numbers
-    a run of its spec gives on its own."""
+    a run of its spec gives on its own (the process executor's workers end with their driver)."""
     out = tmp_path / "killed"
     args = [
         "bbob",
@@ -194,6 +216,8 @@ def test_killed_run_resumes_to_the_uninterrupted_numbers(tmp_path: Path, cli) ->
         "--instances",
         "1-4",
         "--no-postprocess",
+        "--executor",
+        executor,
         "--out",
         str(out),
     ]
@@ -221,6 +245,6 @@ def test_killed_run_resumes_to_the_uninterrupted_numbers(tmp_path: Path, cli) ->
     plan = BBOBPlan("bbob", ("cma-es",), (3,), (2,), (1, 2, 3, 4), 1500, 6, 0)
     assert sorted(records) == sorted(s.key for s in plan.runs())
     for spec in plan.runs():
-        alone = execute_bbob_run(spec)
+        alone = execute_run(spec)
         assert records[spec.key].history == alone.history
         assert records[spec.key].history_nfev == alone.history_nfev

@@ -3,6 +3,8 @@ a reduced budget, and the ECDF, references and final costs are what the store sa
 
 from __future__ import annotations
 
+import re
+import tomllib
 from importlib import resources
 from pathlib import Path
 
@@ -15,6 +17,8 @@ from chassistune.studies.control_suite import (
     final_costs,
     markdown,
     references,
+    references_toml,
+    shipped_references,
     targets,
 )
 from chassistune.studies.executors import make_executor
@@ -70,17 +74,33 @@ def test_runs_at_equal_evaluations(reduced: list) -> None:
 
 
 def test_references_and_final_costs(reduced: list) -> None:
-    refs = references(reduced)
+    refs = references(reduced, {})
     for problem, ref in refs.items():
         assert ref == min(r.best_cost for r in reduced if r.spec.scenario == problem)
-    assert references(reduced, {"x": 1.0})["x"] == 1.0
+    problem = reduced[0].spec.scenario
+    assert references(reduced, {problem: 1.0, "x": 2.0}) == {**refs, problem: 1.0}
     for (_, _), (q1, q2, q3) in final_costs(reduced, refs).items():
         assert 1.0 <= q1 <= q2 <= q3
     assert np.all(np.diff(targets(2.0)) < 0) and targets(2.0)[-1] == 2.0 * (1 + PRECISIONS[-1])
 
 
-def test_ecdf_is_the_stored_hits_over_the_evaluations(reduced: list) -> None:
+def test_shipped_references_are_dated_and_below_a_short_run(reduced: list) -> None:
+    """The long reference run's costs are the default references, and a 36-evaluation run
+    does not reach them."""
+    shipped = shipped_references()
+    assert shipped.command.startswith("chassistune study run") and shipped.budget
+    assert re.fullmatch(r"\d{4}-\d{2}-\d{2}", shipped.date)
     refs = references(reduced)
+    assert refs == {p: shipped.values[p] for p in refs}
+    assert all(r.best_cost > refs[r.spec.scenario] for r in reduced)
+    text = references_toml(reduced, 'chassistune study run "a b"', "2026-01-02", "36")
+    again = tomllib.loads(text)
+    assert again["command"] == 'chassistune study run "a b"'
+    assert again["reference"] == references(reduced, {})
+
+
+def test_ecdf_is_the_stored_hits_over_the_evaluations(reduced: list) -> None:
+    refs = references(reduced, {})
     curves = {e.optimizer: e for e in ecdfs(reduced, refs)}
     assert set(curves) == {"derlsp-ao", "cma-es", "random-search"}
     for name, e in curves.items():

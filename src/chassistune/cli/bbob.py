@@ -1,5 +1,6 @@
 """`chassistune bbob --optimizer NAME [--optimizer NAME ...] [--dim D ...] [--function F ...]
-[--budget EVALS_PER_DIM] [--instances LIST] [--pop N] [--seed S] [--no-postprocess] --out DIR`:
+[--budget EVALS_PER_DIM] [--instances LIST] [--pop N] [--seed S] [--no-postprocess]
+[--executor serial|process|dask] [--workers N] [--scheduler ADDRESS] --out DIR`:
 registered optimizers on the COCO/BBOB suite (docs/bbob.md)."""
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ import click
 
 from chassistune.cli.choices import ChoicesOption
 from chassistune.cli.common import check_output_dir
+from chassistune.cli.options import executor_options
 from chassistune.errors import InputError
 
 DIMENSIONS = ("2", "3", "5", "10", "20")
@@ -75,6 +77,7 @@ DIMENSIONS = ("2", "3", "5", "10", "20")
     metavar="DIR",
     help="DIR/study.sqlite (the runs; an existing one is resumed), DIR/coco/, DIR/ppdata/.",
 )
+@executor_options
 def bbob_command(
     optimizers: tuple[str, ...],
     dims: tuple[str, ...],
@@ -85,11 +88,15 @@ def bbob_command(
     seed: int,
     no_postprocess: bool,
     out_dir: str,
+    executor: str,
+    scheduler: str | None,
+    workers: int | None,
 ) -> None:
     """Run optimizers on BBOB through cocoex; write COCO's data folder and cocopp's ECDFs.
 
-    Runs are recorded one by one in DIR/study.sqlite: kill the command at any moment and run
-    it again to finish. Example (a quick look):
+    Runs execute on --executor (serial, process or dask: the same numbers on each) and are
+    recorded one by one in DIR/study.sqlite: kill the command at any moment and run it again
+    to finish. Example (a quick look):
     chassistune bbob --optimizer cma-es --optimizer ao --dim 2 --dim 5 --budget 100
     --instances 1-3 --out bbob-quick
     """
@@ -107,6 +114,7 @@ def bbob_command(
         run_plan,
     )
     from chassistune.studies.coco_data import write_coco_data
+    from chassistune.studies.executors import make_executor
     from chassistune.studies.runner import check_out_dir
 
     names = tuple(dict.fromkeys(o.lower() for o in optimizers))
@@ -133,7 +141,8 @@ def bbob_command(
     def progress(done: int, total: int) -> None:
         click.echo(f"\rbbob: {done}/{total} runs", nl=done == total, err=True)
 
-    ran = run_plan(plan, out_dir, progress if sys.stderr.isatty() else None)
+    with make_executor(executor, workers, scheduler) as ex:
+        ran = run_plan(plan, out_dir, ex, progress if sys.stderr.isatty() else None)
     folders = write_coco_data(out_dir, names)
     click.echo(f"{ran} runs done now, {len(list(plan.runs())) - ran} were stored already")
     for folder in folders:

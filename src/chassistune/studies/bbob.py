@@ -4,11 +4,12 @@ comparing continuous optimizers in a black-box setting"; the functions: Hansen e
 One run is one optimizer on one BBOB problem (function 1-24, dimension, instance) at a budget
 of `evals_per_dim` x D evaluations, evaluated by `cocoex` without an observer. It records its
 improvement trace: every evaluation that lowered the best cost, as (evaluation number, cost,
-point). The driver writes each finished run into the study store (DIR/study.sqlite, one
-transaction per run, as the studies do): `history` and `history_nfev` hold the trace's costs and
-evaluation numbers, `metrics["improvements"]["x"]` its points. A killed run leaves no row and is
-redone; finished ones are skipped. COCO's data folder is written afterwards from the store alone
-(`studies.coco_data`): no observer ever writes from a run.
+point). Runs execute on the study executors (serial, process, Dask) through
+`studies.worker.execute_run`, like every study run; the driver writes each finished run into the
+study store (DIR/study.sqlite, one transaction per run): `history` and `history_nfev` hold the
+trace's costs and evaluation numbers, `metrics["improvements"]["x"]` its points. A killed run
+leaves no row and is redone; finished ones are skipped. COCO's data folder is written afterwards
+from the store alone (`studies.coco_data`): no observer ever writes from a run.
 
 Seeds: run seed index = the instance number, so every optimizer, function and dimension at one
 instance starts from the same child of the root seed.
@@ -18,19 +19,19 @@ from __future__ import annotations
 
 import math
 import re
-import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from chassistune._io import jsonable
 from chassistune.errors import InputError
 from chassistune.optimizers.base import FloatArray
-from chassistune.studies.records import RunResult, RunStatus
 from chassistune.studies.spec import RunSpec
+
+if TYPE_CHECKING:
+    from chassistune.studies.executors import Executor
 
 SUITE = "bbob"
 FUNCTIONS = tuple(range(1, 25))
@@ -165,17 +166,16 @@ class ImprovementTrace:
         return out
 
 
-def execute_bbob_run(spec: RunSpec) -> RunResult:
-    """One BBOB run: the optimizer through the ask/tell driver, costs from cocoex."""
+def bbob_numbers(spec: RunSpec) -> dict[str, Any]:
+    """One BBOB run's numbers: the optimizer through the ask/tell driver, costs from cocoex
+    (`studies.worker.execute_run` makes them the run's result, on any executor)."""
     from chassistune.optimizers.driver import drive
     from chassistune.optimizers.registry import make
-    from chassistune.studies.worker import versions
 
     function, dim, instance = parse_problem_id(spec.scenario)
     problem = get_problem(function, dim, instance)
     bounds = np.stack([problem.lower_bounds, problem.upper_bounds], axis=1)
     trace = ImprovementTrace(lambda x: float(problem(x)))
-    t0 = time.perf_counter()
     opt = make(
         spec.optimizer_name,
         bounds,
@@ -185,31 +185,32 @@ def execute_bbob_run(spec: RunSpec) -> RunResult:
     )
     result = drive(opt, trace)
     problem.free()
-    return RunResult(
-        key=spec.key,
-        spec_hash=spec.spec_hash,
-        status=RunStatus.COMPLETED,
-        wall_time_s=time.perf_counter() - t0,
-        versions=versions(),
-        best_cost=result.fun,
-        nfev=result.nfev,
-        nit=result.nit,
-        best_gains=dict(zip(spec.bounds, result.x.tolist(), strict=True)),
-        metrics={"improvements": {"x": trace.points}},
-        test_costs={},
-        history=jsonable(trace.costs),
-        history_nfev=trace.nfevs,
-        diagnostics=jsonable(result.diagnostics),
-    )
+    return {
+        "best_cost": result.fun,
+        "nfev": result.nfev,
+        "nit": result.nit,
+        "best_gains": dict(zip(spec.bounds, result.x.tolist(), strict=True)),
+        "metrics": {"improvements": {"x": trace.points}},
+        "test_costs": {},
+        "history": trace.costs,
+        "history_nfev": trace.nfevs,
+        "diagnostics": result.diagnostics,
+    }
 
 
 Progress = Callable[[int, int], None]
 """progress(done, total) after each finished run."""
 
 
-def run_plan(plan: BBOBPlan, out_dir: str | Path, progress: Progress | None = None) -> int:
-    """Do the plan's runs not yet in DIR/study.sqlite (serially, in this process), recording
-    each as it finishes; the number of runs done now. Refuses a store made from another plan."""
+def run_plan(
+    plan: BBOBPlan,
+    out_dir: str | Path,
+    executor: Executor,
+    progress: Progress | None = None,
+) -> int:
+    """Do the plan's runs not yet in DIR/study.sqlite on `executor` (serial, process or Dask:
+    the same numbers on each), recording each as it finishes; the number of runs done now.
+    Refuses a store made from another plan."""
     from chassistune.studies.lock import study_lock
     from chassistune.studies.runner import check_out_dir
     from chassistune.studies.store import Store, store_path
@@ -223,10 +224,10 @@ def run_plan(plan: BBOBPlan, out_dir: str | Path, progress: Progress | None = No
                 finished = old.finished()
                 if old.meta().get("study") not in (None, plan.name):
                     raise InputError("out", f"{str(out_dir)!r} holds another study")
-        todo = []
+        todo = {}
         for spec in specs:
             if spec.key not in finished:
-                todo.append(spec)
+                todo[spec.key] = spec
             elif finished[spec.key][0] != spec.spec_hash:
                 raise InputError(
                     "out",
@@ -235,8 +236,8 @@ def run_plan(plan: BBOBPlan, out_dir: str | Path, progress: Progress | None = No
                 )
         done = len(specs) - len(todo)
         with Store.create(out_dir, {"study": plan.name, "kind": BBOB_KIND}) as store:
-            for spec in todo:
-                store.record(spec, execute_bbob_run(spec))
+            for result in executor.results(list(todo.values())):
+                store.record(todo[result.key], result)
                 done += 1
                 if progress is not None:
                     progress(done, len(specs))

@@ -2,8 +2,10 @@
 its study store in COCO's manner (Hansen et al. 2021, "Anytime performance assessment").
 
 Each cell of the study (a plant, controller and road) is a problem. Its targets are relative to
-a reference cost f_ref: f_ref + eps |f_ref| for eps in `PRECISIONS`. The reference is the given
-value for the problem, or else the best cost any run in the store reached. The ECDF of an
+a reference cost f_ref: f_ref + eps |f_ref| for eps in `PRECISIONS`. The reference is the value
+shipped in `data/control-suite-references.toml` (the best cost of a long reference run over all
+optimizers, with the command, date and budget that made it), else the best cost any run in the
+store reached (a problem the reference run left out). The ECDF of an
 optimizer at n evaluations is the fraction of (problem, target, seed) triples whose best-so-far
 cost after n evaluations is at or below the target (the history is per iteration, so a target is
 credited at the end of the iteration that reached it); its area is the mean over a log grid of n.
@@ -12,9 +14,12 @@ credited at the end of the iteration that reached it); its area is the mean over
 from __future__ import annotations
 
 import math
+import tomllib
 from collections import defaultdict
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from functools import cache
+from importlib import resources
 
 import numpy as np
 
@@ -25,15 +30,64 @@ CONFIG = "control-suite"
 """The package's study config (`data/studies/control-suite.toml`)."""
 
 
-def references(
-    records: Iterable[RunRecord], given: Mapping[str, float] | None = None
-) -> dict[str, float]:
-    """Reference cost per problem: `given`, else the best completed run of the store."""
+REFERENCES_FILE = "data/control-suite-references.toml"
+
+
+@dataclass(frozen=True)
+class References:
+    """Stored reference costs per problem and how they were made."""
+
+    command: str
+    date: str
+    budget: str
+    values: Mapping[str, float]
+
+
+@cache
+def shipped_references() -> References:
+    """The package's reference costs (`data/control-suite-references.toml`)."""
+    text = resources.files("chassistune").joinpath(REFERENCES_FILE).read_text("utf-8")
+    data = tomllib.loads(text)
+    return References(data["command"], data["date"], data["budget"], dict(data["reference"]))
+
+
+def best_costs(records: Iterable[RunRecord]) -> dict[str, float]:
+    """The best final cost of the store's completed runs, per problem."""
     best: dict[str, float] = {}
     for r in records:
         if r.completed and r.best_cost is not None:
             best[r.spec.scenario] = min(best.get(r.spec.scenario, math.inf), r.best_cost)
-    return {**best, **(given or {})}
+    return best
+
+
+def references(
+    records: Iterable[RunRecord], given: Mapping[str, float] | None = None
+) -> dict[str, float]:
+    """Reference cost per problem of the store: `given` (default: the shipped references), else
+    the best completed run of the store."""
+    stored = shipped_references().values if given is None else given
+    best = best_costs(records)
+    return {p: stored.get(p, best[p]) for p in best}
+
+
+def references_toml(records: Iterable[RunRecord], command: str, date: str, budget: str) -> str:
+    """The text of a references file: the best cost per problem of a reference run's store."""
+    lines = [
+        "# Reference costs of the control suite (studies/control_suite.py): per problem, the",
+        "# best final cost over every optimizer of a long reference run. Made by:",
+        f"command = {_quoted(command)}",
+        f"date = {_quoted(date)}",
+        f"budget = {_quoted(budget)}",
+        "",
+        "[reference]",
+    ]
+    lines += [f"{_quoted(p)} = {c!r}" for p, c in sorted(best_costs(records).items())]
+    return "\n".join(lines) + "\n"
+
+
+def _quoted(text: str) -> str:
+    """A TOML basic string."""
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
 
 
 def targets(reference: float) -> np.ndarray:

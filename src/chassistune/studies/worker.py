@@ -81,6 +81,7 @@ def _run_function(spec: RunSpec) -> dict[str, Any]:
 
 def _run(spec: RunSpec) -> dict[str, Any]:
     from chassistune.scenarios.registry import get_plant
+    from chassistune.studies.bbob import BBOB_KIND, bbob_numbers
     from chassistune.studies.problems import problem_for
     from chassistune.tuning.functions import FUNCTION_KIND
     from chassistune.tuning.robust.problem import RobustProblem
@@ -89,6 +90,8 @@ def _run(spec: RunSpec) -> dict[str, Any]:
 
     if spec.plant == FUNCTION_KIND:
         return _run_function(spec)
+    if spec.plant == BBOB_KIND:
+        return bbob_numbers(spec)
     seed = spec.scenario_seed
     problem = problem_for(spec.model_dump(), seed, spec.seed_sequence())
     hyper: dict[str, Any] = dict(spec.hyperparameters)

@@ -1,0 +1,157 @@
+"""The section "the papers' optimizers against the standard" (docs/bbob.md): does each paper's
+proposed optimizer beat CMA-ES and random search at equal evaluations on BBOB, on the shifted
+F1-F23 and on its own control problem? Read from the stored, dated record
+`data/standard_result.toml` (command, date, setting and numbers of each benchmark); `reproduce`
+does not rerun the benchmarks.
+
+Against one reference, on one benchmark, each column (a dimension, a function, a control problem)
+is a win or a loss for the proposed optimizer; scores within the benchmark's relative `tie` of
+each other are a tie, neither. It beats the reference when it
+wins a majority of the columns and is beaten when it loses a majority; otherwise it is undecided.
+The claim "beats CMA-ES and random search" holds when it beats both, does not hold when either
+beats it, and is undecided at this budget (`cannot be checked`) otherwise or without numbers.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass
+from importlib import resources
+
+import pandas as pd
+
+from chassistune.papers import common
+
+RECORD = "data/standard_result.toml"
+KEY = "standard"
+TITLE = "The papers' optimizers against the standard"
+REFERENCES = ("cma-es", "random-search")
+PROPOSED = {"derlsp-ao-abs": "derlsp-ao", "deffao-vehicle-abs": "deffao", "iabc-suspension": "iabc"}
+"""Paper key -> its proposed optimizer."""
+OWN_PROBLEM = {
+    "derlsp-ao-abs": "derlsp-ao-abs-pid/",
+    "deffao-vehicle-abs": "deffao-vehicle-abs-fuzzy-pid/",
+    "iabc-suspension": "iabc-suspension-pid/",
+}
+"""Paper key -> the prefix of its own control problems in the control-suite part."""
+BENCHMARKS = ("bbob", "shifted", "control")
+BEATS, BEATEN, UNDECIDED = "beats", "is beaten by", "is undecided against"
+
+
+@dataclass(frozen=True)
+class Benchmark:
+    """One benchmark's stored numbers: a score per optimizer and column, with provenance."""
+
+    name: str
+    title: str
+    command: str
+    date: str
+    setting: str
+    score: str
+    higher_is_better: bool
+    columns: tuple[str, ...]
+    scores: Mapping[str, tuple[float, ...]]
+    tie: float = 0.0
+    """Relative difference at or below which two scores are equal."""
+
+    def frame(self) -> pd.DataFrame:
+        """Optimizers (rows) x columns, the stored scores."""
+        return pd.DataFrame(
+            [
+                {"optimizer": o, **dict(zip(self.columns, s, strict=True))}
+                for o, s in self.scores.items()
+            ]
+        )
+
+
+def parse(text: str) -> dict[str, Benchmark]:
+    """The benchmarks of a record's TOML text, by name."""
+    data = tomllib.loads(text)
+    out = {}
+    for name in BENCHMARKS:
+        part = data[name]
+        columns = tuple(part["columns"])
+        scores = {o: tuple(float(v) for v in s) for o, s in part["scores"].items()}
+        for o, s in scores.items():
+            if len(s) != len(columns):
+                raise ValueError(f"{name}: {o} has {len(s)} scores for {len(columns)} columns")
+        out[name] = Benchmark(
+            name,
+            part["title"],
+            part["command"],
+            part["date"],
+            part["setting"],
+            part["score"],
+            part["better"] == "higher",
+            columns,
+            scores,
+            float(part.get("tie", 0.0)),
+        )
+    return out
+
+
+def shipped() -> dict[str, Benchmark]:
+    """The package's record (`data/standard_result.toml`)."""
+    return parse(resources.files("chassistune").joinpath(RECORD).read_text("utf-8"))
+
+
+def against(bench: Benchmark, optimizer: str, reference: str, prefix: str = "") -> tuple[str, str]:
+    """(BEATS | BEATEN | UNDECIDED, wins and losses) of `optimizer` against `reference` over the
+    columns starting with `prefix`; UNDECIDED with the reason when a score is missing."""
+    if optimizer not in bench.scores or reference not in bench.scores:
+        return UNDECIDED, f"no {bench.name} numbers for {optimizer} or {reference}"
+    pairs = [
+        (a, b)
+        for c, a, b in zip(
+            bench.columns, bench.scores[optimizer], bench.scores[reference], strict=True
+        )
+        if c.startswith(prefix)
+    ]
+    if not pairs:
+        return UNDECIDED, f"no {bench.name} column for {prefix or 'it'}"
+    sign = 1.0 if bench.higher_is_better else -1.0
+    margins = [sign * (a - b) for a, b in pairs if abs(a - b) > bench.tie * max(abs(a), abs(b))]
+    wins = sum(m > 0 for m in margins)
+    losses = len(margins) - wins
+    word = BEATS if 2 * wins > len(pairs) else BEATEN if 2 * losses > len(pairs) else UNDECIDED
+    return word, f"{wins} better, {losses} worse of {len(pairs)} against {reference}"
+
+
+def verdict(paper: str, bench: Benchmark, prefix: str = "") -> common.Verdict:
+    """Whether the paper's proposed optimizer beats both references on `bench`."""
+    optimizer = PROPOSED[paper]
+    results = [against(bench, optimizer, ref, prefix) for ref in REFERENCES]
+    words = [w for w, _ in results]
+    if all(w == BEATS for w in words):
+        word = common.HOLDS
+    elif BEATEN in words:
+        word = common.FAILS
+    else:
+        word = common.UNCHECKED
+    evidence = "; ".join(
+        f"{optimizer} {w} {ref} ({why})" for ref, (w, why) in zip(REFERENCES, results, strict=True)
+    )
+    if word == common.UNCHECKED:
+        evidence = f"undecided at this budget: {evidence}"
+    claim = f"{optimizer} beats CMA-ES and random search at equal evaluations on {bench.title}"
+    return common.Verdict(paper, claim, word, f"{evidence} [{bench.score}; {bench.setting}]")
+
+
+def build(record: Mapping[str, Benchmark] | None = None) -> common.PaperSection:
+    """The section: the record's provenance, its tables, and three verdicts per paper."""
+    benches = shipped() if record is None else record
+    setting = [
+        (f"{b.title}: command", f"{b.command} ({b.date}; {b.setting})") for b in benches.values()
+    ]
+    sec = common.PaperSection(KEY, TITLE, setting)
+    for b in benches.values():
+        better = "higher" if b.higher_is_better else "lower"
+        sec.tables.append(
+            common.Table(b.name, b.title, b.frame(), f"{b.score} ({better} is better).")
+        )
+    for paper in PROPOSED:
+        sec.verdicts.append(verdict(paper, benches["bbob"]))
+        sec.verdicts.append(verdict(paper, benches["shifted"]))
+        sec.verdicts.append(verdict(paper, benches["control"], OWN_PROBLEM[paper]))
+    return sec
