@@ -12,7 +12,17 @@ import click
 
 from chassistune.cli.common import echo_json, fmt
 
-AREAS = ("abs", "optimizer", "tuning", "fuzzy", "suspension", "vehicle", "ecu", "robust")
+AREAS = (
+    "abs",
+    "jax_peer",
+    "optimizer",
+    "tuning",
+    "fuzzy",
+    "suspension",
+    "vehicle",
+    "ecu",
+    "robust",
+)
 
 
 @click.command("bench")

@@ -54,7 +54,7 @@ def _error_integrals(a: Array, b: Array, t: Array, h: Array) -> tuple[Array, Arr
     return jnp.where(same, iae_same, iae_cross), jnp.where(same, itae_same, itae_cross)
 
 
-def build_simulate(scenario: AbsWheelScenario) -> Callable[[Array], Array]:
+def build_simulate(scenario: AbsWheelScenario) -> jax.stages.Wrapped:
     """A jitted function of gains (n, 3) -> (n, 3): stop distance (m), slip ITAE (s^2) and
     whether the run stopped at v_stop (1.0) or ended otherwise (0.0: hopeless, timeout,
     diverged), for the PID of `scenario`."""
