@@ -45,9 +45,12 @@ SWEEPS = ("scaling",)
 def bench_command(quick: bool, as_json: bool, only: tuple[str, ...], plot_path: str | None) -> None:
     """Measure speed and accuracy: simulations/s, errors, speedups against baselines.
 
-    Every ratio is measured against its baseline (scipy solve_ivp, mealpy, scikit-fuzzy, the
-    simulated objective) in the same run; `--quick` uses fewer repetitions.
+    Every ratio is measured against its baseline (scipy solve_ivp, JAX, mealpy, scikit-fuzzy,
+    the simulated objective) in the same run; `--quick` uses fewer repetitions. The scaling
+    sweeps run only with `--only scaling`.
     """
+    if plot_path is not None and "scaling" not in only:
+        raise click.UsageError("--plot draws the scaling curves: add --only scaling")
     figures: dict[str, float] = {}
     notes: dict[str, str] = {}
     for area in only or AREAS:
@@ -60,8 +63,6 @@ def bench_command(quick: bool, as_json: bool, only: tuple[str, ...], plot_path: 
             click.echo(f"measuring {area} ...", err=True)
         figures.update(module.figures(quick))
     if plot_path is not None:
-        if "scaling" not in only:
-            raise click.UsageError("--plot draws the scaling curves: add --only scaling")
         importlib.import_module("chassistune.perf.scaling").plot(figures, plot_path)
     if as_json:
         echo_json({**figures, "notes": notes} if notes else figures)
