@@ -12,21 +12,45 @@ import click
 
 from chassistune.cli.common import echo_json, fmt
 
-AREAS = ("abs", "optimizer", "tuning", "fuzzy", "suspension", "vehicle", "ecu", "robust")
+AREAS = (
+    "abs",
+    "jax_peer",
+    "optimizer",
+    "tuning",
+    "fuzzy",
+    "suspension",
+    "vehicle",
+    "ecu",
+    "robust",
+)
+SWEEPS = ("scaling",)
+"""Areas measured only when named with --only (they would add minutes to the default bench)."""
 
 
 @click.command("bench")
 @click.option("--quick", is_flag=True, help="Fewer repetitions and a smaller baseline sample.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object on stdout.")
 @click.option(
-    "--only", type=click.Choice(AREAS), multiple=True, help="Measure only these areas (repeatable)."
+    "--only",
+    type=click.Choice(AREAS + SWEEPS),
+    multiple=True,
+    help="Measure only these areas (repeatable); 'scaling': cost against population, iterations.",
 )
-def bench_command(quick: bool, as_json: bool, only: tuple[str, ...]) -> None:
+@click.option(
+    "--plot",
+    "plot_path",
+    type=click.Path(dir_okay=False),
+    help="With --only scaling: write the scaling curves to this image file.",
+)
+def bench_command(quick: bool, as_json: bool, only: tuple[str, ...], plot_path: str | None) -> None:
     """Measure speed and accuracy: simulations/s, errors, speedups against baselines.
 
-    Every ratio is measured against its baseline (scipy solve_ivp, mealpy, scikit-fuzzy, the
-    simulated objective) in the same run; `--quick` uses fewer repetitions.
+    Every ratio is measured against its baseline (scipy solve_ivp, JAX, mealpy, scikit-fuzzy,
+    the simulated objective) in the same run; `--quick` uses fewer repetitions. The scaling
+    sweeps run only with `--only scaling`.
     """
+    if plot_path is not None and "scaling" not in only:
+        raise click.UsageError("--plot draws the scaling curves: add --only scaling")
     figures: dict[str, float] = {}
     notes: dict[str, str] = {}
     for area in only or AREAS:
@@ -38,6 +62,8 @@ def bench_command(quick: bool, as_json: bool, only: tuple[str, ...]) -> None:
         if not as_json:
             click.echo(f"measuring {area} ...", err=True)
         figures.update(module.figures(quick))
+    if plot_path is not None:
+        importlib.import_module("chassistune.perf.scaling").plot(figures, plot_path)
     if as_json:
         echo_json({**figures, "notes": notes} if notes else figures)
         return

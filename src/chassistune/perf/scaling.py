@@ -1,0 +1,144 @@
+"""How the cost grows (`chassistune bench --only scaling`; not part of the default bench).
+
+- Thread CPU ns per candidate-step on one core against the population (1, 10, 50, 200, 1000):
+  the single-wheel PID (`perf.abs.population_costs`), the 7-DOF vehicle's straight path (the
+  fuzzy PID of `perf.vehicle`, paper-deffao, dry concrete) and the quarter car (the PID of
+  `perf.suspension`, paper-iabc, iso-b, 10 s at 1 ms). Steps: stop time / dt per candidate for
+  the ABS models, duration / dt for the quarter car.
+- A tuning run (DERLSP-AO on the wheel's PID, dry concrete, seed 0, both cores) against the
+  population at 100 iterations and against the iterations at population 50: wall time and the
+  process's CPU time (both threads).
+`plot` draws both curves from the figures.
+"""
+
+from __future__ import annotations
+
+import re
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+from chassistune.perf import abs as abs_perf
+from chassistune.perf import suspension, vehicle
+from chassistune.perf.timing import best_cpu_time
+from chassistune.scenarios.abs_vehicle import PLANT as VEHICLE
+from chassistune.scenarios.quarter_car import PLANT as QUARTER_CAR
+from chassistune.sim import abs_vehicle_kernel as VK
+from chassistune.tuning.tune import tune
+
+POPULATIONS = (1, 10, 50, 200, 1000)
+TUNE_POPULATIONS = (10, 50, 200, 1000)
+TUNE_ITERATIONS = (50, 100, 200, 500)
+MODELS = ("abs_wheel", "vehicle_straight", "quarter_car")
+NAME = re.compile(r"scaling_(\w+?)_ns_per_candidate_step_pop_(\d+)")
+TUNE_NAME = re.compile(r"scaling_tune_(wall|cpu)_s_pop_(\d+)_iter_(\d+)")
+
+
+def _ns_per_step(run: Callable[[np.ndarray], object], gains: np.ndarray, steps: float) -> float:
+    """Best thread CPU ns per candidate-step of run(gains) that takes `steps` steps in all."""
+    run(gains[:1])  # compile / load the cache outside the timing
+    return 1e9 * best_cpu_time(lambda: run(gains), 3 if len(gains) >= 200 else 7) / steps
+
+
+def vehicle_costs() -> dict[int, float]:
+    """ns per candidate-step of the vehicle's straight path against the population."""
+    sc = VEHICLE.scenario("paper-deffao", "dry-concrete", "fuzzy-pid")
+    base = vehicle.bench_population(sc)
+    out = {}
+    for n in POPULATIONS:
+        gains = np.resize(base, (n, base.shape[1]))
+        t_stop = sc.raw(gains, workers=1)[:, VK.METRIC_LAYOUT["stop_time_s"]]
+        out[n] = _ns_per_step(
+            lambda g: sc.raw(g, workers=1), gains, float(np.sum(t_stop)) / sc.plant_params.dt_s
+        )
+    return out
+
+
+def quarter_car_costs() -> dict[int, float]:
+    """ns per candidate-step of the quarter car's simulated objective against the population."""
+    sc = QUARTER_CAR.scenario("paper-iabc", "iso-b", "pid", {"duration_s": 10.0})
+    out = {}
+    for n in POPULATIONS:
+        gains = suspension.bench_population(n)
+        out[n] = _ns_per_step(
+            lambda g: sc.cost(g, "rms-ratio", workers=1), gains, n * sc.solver.n_steps
+        )
+    return out
+
+
+def tuning_times(pop_size: int, iterations: int) -> tuple[float, float]:
+    """(wall s, process CPU s) of one DERLSP-AO tuning run of the wheel's PID."""
+    cpu0 = time.process_time()
+    res = tune(
+        "abs-wheel",
+        "pid",
+        "derlsp-ao",
+        roads="dry-concrete",
+        pop_size=pop_size,
+        max_iter=iterations,
+        seed=0,
+    )
+    return res.wall_time_s, time.process_time() - cpu0
+
+
+def figures(quick: bool = False) -> dict[str, float]:
+    """The curves as flat figures (`quick`: the per-step costs only)."""
+    costs = {
+        "abs_wheel": abs_perf.population_costs(POPULATIONS),
+        "vehicle_straight": vehicle_costs(),
+        "quarter_car": quarter_car_costs(),
+    }
+    out = {
+        f"scaling_{model}_ns_per_candidate_step_pop_{n}": ns
+        for model, curve in costs.items()
+        for n, ns in curve.items()
+    }
+    if quick:
+        return out
+    tuning_times(10, 2)  # compile / load the caches outside the timing
+    runs = {(p, 100) for p in TUNE_POPULATIONS} | {(50, i) for i in TUNE_ITERATIONS}
+    for p, i in sorted(runs):
+        wall, cpu = tuning_times(p, i)
+        out[f"scaling_tune_wall_s_pop_{p}_iter_{i}"] = wall
+        out[f"scaling_tune_cpu_s_pop_{p}_iter_{i}"] = cpu
+    return out
+
+
+def plot(figures: dict[str, float], path: str) -> None:
+    """Write the ns-per-candidate-step curves (left) and the tuning times against the number of
+    evaluations requested, population x iterations (right), as an image."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4))
+    for model in MODELS:
+        pts = sorted(
+            (int(m.group(2)), v)
+            for k, v in figures.items()
+            if (m := NAME.fullmatch(k)) and m.group(1) == model
+        )
+        left.plot(*zip(*pts, strict=True), marker="o", label=model.replace("_", " "))
+    left.set(xscale="log", yscale="log", xlabel="population", ylabel="CPU ns per candidate-step")
+    left.legend()
+    runs = [
+        (m.group(1), int(m.group(2)), int(m.group(3)), v)
+        for k, v in figures.items()
+        if (m := TUNE_NAME.fullmatch(k))
+    ]
+    for kind, marker in (("wall", "o"), ("cpu", "s")):
+        for label, keep in (
+            ("population, 100 iterations", lambda p, i: i == 100),
+            ("iterations, N = 50", lambda p, i: p == 50),
+        ):
+            pts = sorted((p * i, v) for c, p, i, v in runs if c == kind and keep(p, i))
+            if pts:
+                right.plot(*zip(*pts, strict=True), marker=marker, label=f"{kind}: {label}")
+    right.set(xscale="log", yscale="log", xlabel="population x iterations", ylabel="tuning run, s")
+    if runs:
+        right.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
