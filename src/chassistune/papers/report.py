@@ -23,6 +23,7 @@ import pandas as pd
 
 from chassistune._io import write_text
 from chassistune.papers import published
+from chassistune.papers.claims import FIELDS
 from chassistune.papers.common import (
     BOUND_RATIOS,
     VERDICT_MARKS,
@@ -50,14 +51,25 @@ class ReportFiles:
     interactive: Path | None = None
 
 
+VERDICT_COLUMNS = ["paper", "claim", "quote", "verdict", "evidence", *FIELDS[1:]]
+"""The verdict table's columns: the paper's sentence beside our verdict."""
+
+
 def verdict_frame(verdicts: Sequence[Verdict]) -> pd.DataFrame:
-    """One row per claim: paper, claim, verdict, evidence."""
+    """One row per claim: paper, claim (our English), the paper's quote, verdict, evidence, and
+    where the claim stands, what it compares, at which mass, by which rule."""
     return pd.DataFrame(
         [
-            {"paper": v.paper, "claim": v.claim, "verdict": v.verdict, "evidence": v.evidence}
+            {
+                "paper": v.paper,
+                "claim": v.claim.claim,
+                "verdict": v.verdict,
+                "evidence": v.evidence,
+                **v.claim.columns(),
+            }
             for v in verdicts
         ],
-        columns=["paper", "claim", "verdict", "evidence"],
+        columns=VERDICT_COLUMNS,
     )
 
 
@@ -105,7 +117,7 @@ def published_table(key: str) -> Table:
             "note": q.note,
         }
         for q in published.quantities(key)
-        for label, value in q.as_dict().items()
+        for label, value in q.as_printed().items()
     ]
     return Table(
         "published",
@@ -177,8 +189,9 @@ def _first_section(w: _Writer, sections: Sequence[PaperSection]) -> Section:
                 "verdicts",
                 "Verdict per claim, all papers",
                 verdict_frame(verdicts),
-                "✔ holds / ≈ holds in ranking only / ✘ does not hold / ? cannot be checked; the "
-                "evidence gives the numbers and tests (rank-sum p-values at alpha 0.05).",
+                " / ".join(f"{m} {w}" for w, m in VERDICT_MARKS.items())
+                + "; quote: the paper's sentence as printed; the evidence gives the numbers and "
+                "tests (p-values at alpha 0.05); rule: how we judge the claim.",
             ),
             "",
         ),
@@ -186,22 +199,25 @@ def _first_section(w: _Writer, sections: Sequence[PaperSection]) -> Section:
     below = [b for b in bounds if not b.possible]
     intro = (
         f"{counts_text(verdicts)}. Physical bounds: {len(below)} of {len(bounds)} "
-        "published stopping distances are shorter than the adhesion bound "
-        "v0^2/(2 mu_peak g) of their own speed and road"
+        "published stopping distances and times are below the adhesion bound "
+        "(v0^2 - v_stop^2)/(2 mu_peak g) or (v0 - v_stop)/(mu_peak g) of their own speed and road"
         + (f" (papers {', '.join(sorted({b.paper for b in below}))})" if below else "")
         + f" ({FLAG} below the bound); no run of ours beats its bound (each table lists "
-        "ours / bound)."
+        "ours / bound and ours time / time bound)."
     )
     if bounds:
         items.append(
             w.table(
                 Table(
                     "bounds",
-                    "Published distances against the physical bound",
+                    "Published distances and times against the physical bound",
                     pd.DataFrame([b.row() for b in bounds]),
-                    "published: the paper's stopping distance, as printed; bound: the shortest "
-                    "distance tire adhesion allows from the paper's speed on that road.",
-                    quoted=("published (m)",),
+                    "published: the paper's stopping distance or time, as printed; bound: the "
+                    "shortest distance or time tire adhesion allows from the paper's speed on "
+                    "that road (the same bound as the paper's table); a bound that rests on a "
+                    "modelling assumption names it, with the strict, assumption-free bound "
+                    "beside; reading: what a time below its bound means.",
+                    quoted=("published",),
                 ),
                 "",
             )
@@ -317,7 +333,9 @@ def write_interactive(
     write_text(
         html,
         interactive_page(
-            *_heading(sections, quick, timing), _page(w, sections, plots), kind="Reproduction"
+            *_heading(sections, quick, timing),
+            _page(w, sections, plots),
+            kind="Reproduction",
         ),
     )
     return html
