@@ -1,6 +1,6 @@
 """Every claim is declared as data (the paper's sentence, where it stands, what it compares, the
-rule) and gets one verdict row in the quick and in the full configuration; every published time
-below its physical bound is flagged and none of ours is."""
+rule) and gets one verdict row in the quick and in the full configuration; the quick page opens
+with its banner; every published time below its physical bound is flagged and none of ours is."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from chassistune.papers import common
+from chassistune.papers import common, full_run
 from chassistune.papers.claims import FIELDS, Claim
 from chassistune.papers.reproduce import PAPERS, plan_reproduction
 from chassistune.reports.tables import load_study
@@ -95,6 +95,33 @@ def test_every_declaration_has_a_verdict_in_the_full_configuration(full_sections
     assert sorted(judged, key=lambda c: (c.paper, c.name)) == sorted(
         ALL_CLAIMS, key=lambda c: (c.paper, c.name)
     )
+
+
+def test_the_quick_page_opens_with_what_its_budget_can_decide(reproduced) -> None:
+    html = (reproduced.out / "report.html").read_text(encoding="utf-8")
+    record = full_run.last_full_run()
+    start = html.index("Quick run: a few seeds")
+    assert start < html.index('id="t1"')  # before the first table of the first section
+    banner = html[start : html.index("</p>", start)]
+    assert "cannot make a ranking of tuned runs significant" in banner
+    assert f"Last full run: {record.date}" in banner and record.command in banner
+    differ = [v for v in record.verdicts if v.full != v.quick]
+    assert len(differ) == 3  # Fig. 7, Table 5, and 004's shortest stop
+    for v in differ:
+        assert v.claim in banner
+    undecided = (_verdicts(reproduced)["verdict"] == common.UNDECIDED).sum()
+    assert undecided > 0 and f"({undecided} here)" in banner
+
+
+def test_a_record_of_the_current_claims_is_compared_with_this_page() -> None:
+    c = ALL_CLAIMS[0]
+    shown = [common.Verdict(c, common.UNDECIDED, "evidence")]
+    same = full_run.RecordedVerdict(c.paper, c.claim, common.UNDECIDED, common.FAILS)
+    other = full_run.RecordedVerdict(c.paper, c.claim, common.HOLDS, common.FAILS)
+    record = full_run.FullRun("d", "cmd", "src", True, "", (same,))
+    assert full_run.decided_differently(record, shown) == []
+    record = full_run.FullRun("d", "cmd", "src", True, "", (other,))
+    assert full_run.decided_differently(record, shown) == [other]
 
 
 IMPOSSIBLE_TIMES = {

@@ -32,6 +32,7 @@ from chassistune.papers.common import (
     Table,
     Verdict,
 )
+from chassistune.papers.full_run import quick_banner
 from chassistune.reports.html import FLAG, Download, FigureView, Item, Section, TableView, render
 from chassistune.reports.tables import StudyData, write_table
 
@@ -171,7 +172,7 @@ def _shown(t: Table, rows: list[list[str]]) -> list[list[str]]:
     return out
 
 
-def _first_section(w: _Writer, sections: Sequence[PaperSection]) -> Section:
+def _first_section(w: _Writer, sections: Sequence[PaperSection], quick: bool) -> Section:
     verdicts = [v for s in sections for v in s.verdicts]
     bounds = [b for s in sections for b in s.bounds]
     items: list[Item] = [
@@ -198,7 +199,8 @@ def _first_section(w: _Writer, sections: Sequence[PaperSection]) -> Section:
     ]
     below = [b for b in bounds if not b.possible]
     intro = (
-        f"{counts_text(verdicts)}. Physical bounds: {len(below)} of {len(bounds)} "
+        (quick_banner(verdicts) + " " if quick else "")
+        + f"{counts_text(verdicts)}. Physical bounds: {len(below)} of {len(bounds)} "
         "published stopping distances and times are below the adhesion bound "
         "(v0^2 - v_stop^2)/(2 mu_peak g) or (v0 - v_stop)/(mu_peak g) of their own speed and road"
         + (f" (papers {', '.join(sorted({b.paper for b in below}))})" if below else "")
@@ -260,10 +262,10 @@ def _version() -> str:
 
 
 def _page(
-    w: _Writer, sections: Sequence[PaperSection], plots: PaperPlots | None = None
+    w: _Writer, sections: Sequence[PaperSection], quick: bool, plots: PaperPlots | None = None
 ) -> list[Section]:
     """Every section of the page, in order."""
-    return [_first_section(w, sections)] + [_paper_section(w, s, plots) for s in sections]
+    return [_first_section(w, sections, quick)] + [_paper_section(w, s, plots) for s in sections]
 
 
 def timing_text(wall_time_s: float, studies: Mapping[str, StudyData]) -> str:
@@ -293,7 +295,7 @@ def write_report(
 ) -> ReportFiles:
     """Write report.html, tables/*.csv and verdicts.csv into `out` (figures are there already)."""
     w = _Writer(out)
-    page = _page(w, sections)
+    page = _page(w, sections, quick)
     verdicts = out / "verdicts.csv"
     write_table(verdict_frame([v for s in sections for v in s.verdicts]), str(verdicts))
     html = out / "report.html"
@@ -334,7 +336,7 @@ def write_interactive(
         html,
         interactive_page(
             *_heading(sections, quick, timing),
-            _page(w, sections, plots),
+            _page(w, sections, quick, plots),
             kind="Reproduction",
         ),
     )
