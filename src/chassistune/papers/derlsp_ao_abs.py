@@ -234,10 +234,11 @@ SETTING = [
     ),
     (
         "defects",
-        "The published distances are below the adhesion bound v0^2/(2 mu_peak g) of "
-        "their own roads (dry concrete at 30 m/s: at least 51 m; the paper reports 24.8 m), and "
-        "the "
-        "ice stop times (about 7.5 s) are a quarter of the minimum (about 29.7 s). Eq. 7 prints a "
+        "The published distances are below the adhesion bound (v0^2 - v_stop^2)/(2 mu_peak g) "
+        "of their own roads (dry concrete at 30 m/s: at least 50.95 m; the paper prints "
+        "24.8163 m), and the ice times (7.46682-7.80347 s) are about a quarter of the time bound "
+        "(v0 - v_stop)/(mu_peak g) = 29.25 s (29.75 s to rest): read as the wheel's time to 0, "
+        "the wheel locks before the vehicle stops. Eq. 7 prints a "
         "wet-asphalt slope of 0.3125 where Table 1 gives 0.35 (Table 1 used). The wheel inertia "
         "unit is printed as kg/m^-2.",
     ),
