@@ -374,7 +374,8 @@ def _table5(ctx: common.Context, sec: common.PaperSection) -> list[common.Verdic
             "Ours: the untuned baselines and each optimizer's median run; bound and time bound: "
             "the road's bound from 120 km/h to v_stop (DESIGN 3.3; split-mu assumes equal side "
             "loads, mu-jump our road layout: see the bounds table for the strict bounds). "
-            "Paper: Table 5 as printed.",
+            "Paper: Table 5 as printed; its time read as the time to rest, so a time below the "
+            "time bound would be impossible.",
             quoted=("paper stop time (s)", "paper distance (m)"),
         )
     )

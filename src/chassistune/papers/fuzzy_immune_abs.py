@@ -216,7 +216,9 @@ def build(ctx: common.Context) -> common.PaperSection:
                 "Tuned rows: the median run of the tuning seeds; the paper reads its settling "
                 f"times off its figures (section 4.2, {fig}). The paper's 'others' are the "
                 "methods of its refs. [1] and [2]; ours beside them are stand-ins. Bound: "
-                "(v0^2 - v_stop^2)/(2 mu_peak g); time bound: (v0 - v_stop)/(mu_peak g).",
+                "(v0^2 - v_stop^2)/(2 mu_peak g); time bound: (v0 - v_stop)/(mu_peak g). The "
+                "paper's 3 s is below it whether read as the time to rest (impossible) or as the "
+                "wheel's time to 0 (a lock, against its own no-lock claim).",
                 quoted=("paper settle (s)", "paper stop time (s)", "paper distance (m)"),
             )
         )
