@@ -211,7 +211,7 @@ def median_run(runs: Sequence[RunRecord]) -> RunRecord:
 
 
 @dataclass(frozen=True)
-class Test:
+class PairTest:
     """One claimed entry against one rival (lower is better): the test used, its p-value, its
     sign ('+': the claimed entry significantly lower, '=': no significant difference, '-':
     significantly higher) and `floor_p`, the smallest p-value the sample sizes allow."""
@@ -234,7 +234,7 @@ class Test:
 
 def compare(
     claimed: np.ndarray, rival: np.ndarray, claimed_fixed: bool = False, rival_fixed: bool = False
-) -> Test:
+) -> PairTest:
     """`claimed` against `rival`, lower better; a `fixed` side is one value that no seed
     changes (an untuned baseline), the other side's values are runs over seeds. Runs against
     runs: two-sided Wilcoxon rank-sum (smallest p 2 / C(n + m, n)); runs against a fixed value:
@@ -243,19 +243,19 @@ def compare(
     a, b = np.asarray(claimed, dtype=float), np.asarray(rival, dtype=float)
     if claimed_fixed and rival_fixed:
         sign = "+" if a[0] < b[0] else "-" if a[0] > b[0] else "="
-        return Test("values", 0.0 if sign != "=" else 1.0, sign, 0.0)
+        return PairTest("values", 0.0 if sign != "=" else 1.0, sign, 0.0)
     if not claimed_fixed and not rival_fixed:
         r = stats.rank_sum(a, b)
-        return Test("rank-sum", r.p_value, r.sign, 2.0 / math.comb(a.size + b.size, a.size))
+        return PairTest("rank-sum", r.p_value, r.sign, 2.0 / math.comb(a.size + b.size, a.size))
     runs, fixed = (b, a[0]) if claimed_fixed else (a, b[0])
     d = runs - fixed
     floor = min(1.0, 2.0 / 2.0**runs.size)
     if not np.any(d):
-        return Test("signed-rank", 1.0, "=", floor)
+        return PairTest("signed-rank", 1.0, "=", floor)
     p = float(_st.wilcoxon(d).pvalue)
     runs_lower = float(np.median(d)) < 0.0
     sign = "=" if p >= stats.ALPHA else "+" if runs_lower != claimed_fixed else "-"
-    return Test("signed-rank", p, sign, floor)
+    return PairTest("signed-rank", p, sign, floor)
 
 
 def order_verdict(
@@ -279,7 +279,7 @@ def order_verdict(
 
 
 def ranking_verdict(
-    tests: Mapping[str, Test], medians: Mapping[str, float], claimed: str, lowest: bool = True
+    tests: Mapping[str, PairTest], medians: Mapping[str, float], claimed: str, lowest: bool = True
 ) -> tuple[str, str]:
     """The verdict on '`claimed` is the lowest (highest)' from its test against each rival:
     holds: every test significant the claimed way; does not hold: a rival significantly the
