@@ -16,6 +16,7 @@ import pandas as pd
 import pytest
 
 from chassistune.fuzzy.loader import builtin_path, load_rulebase
+from chassistune.papers.claims import Claim
 from chassistune.papers.common import (
     FAILS,
     HOLDS,
@@ -230,7 +231,10 @@ def test_the_page_explains_its_notation_and_its_empty_cells(reproduced, report_p
 
 def test_verdict_counts_agree_with_their_number() -> None:
     words = [HOLDS] * 2 + [RANKING_ONLY] + [FAILS] * 13 + [UNCHECKED]
-    verdicts = [Verdict("p", f"claim {i}", w, "") for i, w in enumerate(words)]
+    verdicts = [
+        Verdict(Claim("p", f"c{i}", "q", f"claim {i}", "l", "c", "r"), w, "")
+        for i, w in enumerate(words)
+    ]
     assert counts_text(verdicts) == (
         "17 claims: 2 hold, 1 holds in ranking only, 13 do not hold, 1 cannot be checked"
     )

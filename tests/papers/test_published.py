@@ -26,6 +26,20 @@ def test_values_are_quoted_exactly_as_published() -> None:
     assert published.lookup("iabc-suspension", "iabc_objective").values == (2.7321,)
 
 
+def test_values_keep_their_printed_digits() -> None:
+    ice = published.lookup("derlsp-ao-abs", "stop_distance_m", "ice")
+    assert ice.as_printed()["fuzzy PID"] == "47.2160" and ice.as_dict()["fuzzy PID"] == 47.216
+    jump = published.lookup("deffao-vehicle-abs", "stop_time_s", "mu-jump").as_printed()
+    assert jump["DEFFAO-fuzzy PID"] == "4.750"
+    split = published.lookup("deffao-vehicle-abs", "stop_distance_m", "split-mu").as_printed()
+    assert split["PID"] == "91.9460"
+    fig4 = published.lookup("derlsp-ao-abs", "slip_settles_at_s", "dry-concrete").printed
+    assert fig4 == ("1.00000",)  # 000 section 2.2: "1. 000 00 s"
+    for key in published.PAPER_KEYS:
+        for q in published.quantities(key):
+            assert q.values == tuple(float(v) for v in q.printed)
+
+
 def test_unknown_paper_and_missing_quantity() -> None:
     with pytest.raises(InputError, match="unknown paper"):
         published.quantities("nope")

@@ -2,7 +2,8 @@
 
 Each `Quantity` is one printed row of a paper: its paper key, where it is printed (table or
 figure), the quantity's name and unit, the road it belongs to (if any), and the values by label
-(controller, algorithm or gain), exactly as published. Reports quote them; tests never use them as
+(controller, algorithm or gain): `printed`, the strings exactly as published (47.2160 keeps its
+zero), and `values`, the same read as floats. Reports quote them; tests never use them as
 expectations of our results.
 """
 
@@ -36,13 +37,30 @@ class Quantity:
     name: str
     unit: str
     labels: tuple[str, ...]
-    values: tuple[float, ...]
+    printed: tuple[str, ...]
     road: str | None = None
     note: str = ""
+
+    @property
+    def values(self) -> tuple[float, ...]:
+        """The printed values as floats."""
+        return tuple(float(v) for v in self.printed)
 
     def as_dict(self) -> dict[str, float]:
         """Label -> value."""
         return dict(zip(self.labels, self.values, strict=True))
+
+    def as_printed(self) -> dict[str, str]:
+        """Label -> value as printed."""
+        return dict(zip(self.labels, self.printed, strict=True))
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 @cache
@@ -52,7 +70,11 @@ def _load() -> tuple[dict[str, Paper], tuple[Quantity, ...]]:
     papers = {k: Paper(k, v["citation"], v["setting"]) for k, v in raw["papers"].items()}
     quantities = []
     for q in raw["quantity"]:
-        if q["paper"] not in papers or len(q["labels"]) != len(q["values"]):
+        if (
+            q["paper"] not in papers
+            or len(q["labels"]) != len(q["values"])
+            or not all(isinstance(v, str) and _is_number(v) for v in q["values"])
+        ):
             raise ValueError(f"paper_results.toml: malformed quantity {q.get('name')!r}")
         quantities.append(
             Quantity(
@@ -61,7 +83,7 @@ def _load() -> tuple[dict[str, Paper], tuple[Quantity, ...]]:
                 name=q["name"],
                 unit=q["unit"],
                 labels=tuple(q["labels"]),
-                values=tuple(float(v) for v in q["values"]),
+                printed=tuple(q["values"]),
                 road=q.get("road"),
                 note=q.get("note", ""),
             )

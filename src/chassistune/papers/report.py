@@ -23,6 +23,7 @@ import pandas as pd
 
 from chassistune._io import write_text
 from chassistune.papers import published
+from chassistune.papers.claims import FIELDS
 from chassistune.papers.common import (
     BOUND_RATIOS,
     VERDICT_MARKS,
@@ -31,6 +32,7 @@ from chassistune.papers.common import (
     Table,
     Verdict,
 )
+from chassistune.papers.full_run import quick_banner
 from chassistune.papers.notation import NO_VALUE, NOT_PRINTED, notation_table
 from chassistune.reports.html import FLAG, Download, FigureView, Item, Section, TableView, render
 from chassistune.reports.tables import StudyData, write_table
@@ -51,14 +53,25 @@ class ReportFiles:
     interactive: Path | None = None
 
 
+VERDICT_COLUMNS = ["paper", "claim", "quote", "verdict", "evidence", *FIELDS[1:]]
+"""The verdict table's columns: the paper's sentence beside our verdict."""
+
+
 def verdict_frame(verdicts: Sequence[Verdict]) -> pd.DataFrame:
-    """One row per claim: paper, claim, verdict, evidence."""
+    """One row per claim: paper, claim (our English), the paper's quote, verdict, evidence, and
+    where the claim stands, what it compares, at which mass, by which rule."""
     return pd.DataFrame(
         [
-            {"paper": v.paper, "claim": v.claim, "verdict": v.verdict, "evidence": v.evidence}
+            {
+                "paper": v.paper,
+                "claim": v.claim.claim,
+                "verdict": v.verdict,
+                "evidence": v.evidence,
+                **v.claim.columns(),
+            }
             for v in verdicts
         ],
-        columns=["paper", "claim", "verdict", "evidence"],
+        columns=VERDICT_COLUMNS,
     )
 
 
@@ -114,7 +127,7 @@ def published_table(key: str) -> Table:
             "note": q.note,
         }
         for q in published.quantities(key)
-        for label, value in q.as_dict().items()
+        for label, value in q.as_printed().items()
     ]
     return Table(
         "published",
@@ -171,7 +184,7 @@ def _shown(t: Table, rows: list[list[str]]) -> list[list[str]]:
     return out
 
 
-def _first_section(w: _Writer, sections: Sequence[PaperSection]) -> Section:
+def _first_section(w: _Writer, sections: Sequence[PaperSection], quick: bool) -> Section:
     verdicts = [v for s in sections for v in s.verdicts]
     bounds = [b for s in sections for b in s.bounds]
     items: list[Item] = [
@@ -189,31 +202,36 @@ def _first_section(w: _Writer, sections: Sequence[PaperSection]) -> Section:
                 "verdicts",
                 "Verdict per claim, all papers",
                 verdict_frame(verdicts),
-                "✔ holds / ≈ holds in ranking only / ✘ does not hold / ? cannot be checked; the "
-                "evidence gives the numbers and tests (rank-sum p-values at alpha 0.05).",
+                " / ".join(f"{m} {w}" for w, m in VERDICT_MARKS.items())
+                + "; quote: the paper's sentence as printed; the evidence gives the numbers and "
+                "tests (p-values at alpha 0.05); rule: how we judge the claim.",
             ),
             "",
         ),
     ]
     below = [b for b in bounds if not b.possible]
     intro = (
-        f"{counts_text(verdicts)}. Physical bounds: {len(below)} of {len(bounds)} "
-        "published stopping distances are shorter than the adhesion bound "
-        "v0^2/(2 mu_peak g) of their own speed and road"
+        (quick_banner(verdicts) + " " if quick else "")
+        + f"{counts_text(verdicts)}. Physical bounds: {len(below)} of {len(bounds)} "
+        "published stopping distances and times are below the adhesion bound "
+        "(v0^2 - v_stop^2)/(2 mu_peak g) or (v0 - v_stop)/(mu_peak g) of their own speed and road"
         + (f" (papers {', '.join(sorted({b.paper for b in below}))})" if below else "")
         + f" ({FLAG} below the bound); no run of ours beats its bound (each table lists "
-        "ours / bound)."
+        "ours / bound and ours time / time bound)."
     )
     if bounds:
         items.append(
             w.table(
                 Table(
                     "bounds",
-                    "Published distances against the physical bound",
+                    "Published distances and times against the physical bound",
                     pd.DataFrame([b.row() for b in bounds]),
-                    "published: the paper's stopping distance, as printed; bound: the shortest "
-                    "distance tire adhesion allows from the paper's speed on that road.",
-                    quoted=("published (m)",),
+                    "published: the paper's stopping distance or time, as printed; bound: the "
+                    "shortest distance or time tire adhesion allows from the paper's speed on "
+                    "that road (the same bound as the paper's table); a bound that rests on a "
+                    "modelling assumption names it, with the strict, assumption-free bound "
+                    "beside; reading: what a time below its bound means.",
+                    quoted=("published",),
                 ),
                 "",
             )
@@ -257,10 +275,10 @@ def _version() -> str:
 
 
 def _page(
-    w: _Writer, sections: Sequence[PaperSection], plots: PaperPlots | None = None
+    w: _Writer, sections: Sequence[PaperSection], quick: bool, plots: PaperPlots | None = None
 ) -> list[Section]:
     """Every section of the page, in order."""
-    return [_first_section(w, sections)] + [_paper_section(w, s, plots) for s in sections]
+    return [_first_section(w, sections, quick)] + [_paper_section(w, s, plots) for s in sections]
 
 
 def timing_text(wall_time_s: float, studies: Mapping[str, StudyData]) -> str:
@@ -290,7 +308,7 @@ def write_report(
 ) -> ReportFiles:
     """Write report.html, tables/*.csv and verdicts.csv into `out` (figures are there already)."""
     w = _Writer(out)
-    page = _page(w, sections)
+    page = _page(w, sections, quick)
     verdicts = out / "verdicts.csv"
     write_table(verdict_frame([v for s in sections for v in s.verdicts]), str(verdicts))
     html = out / "report.html"
@@ -330,7 +348,9 @@ def write_interactive(
     write_text(
         html,
         interactive_page(
-            *_heading(sections, quick, timing), _page(w, sections, plots), kind="Reproduction"
+            *_heading(sections, quick, timing),
+            _page(w, sections, quick, plots),
+            kind="Reproduction",
         ),
     )
     return html
