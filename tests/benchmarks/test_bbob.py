@@ -15,11 +15,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from chassistune.cli.bbob import parse_instances
 from chassistune.errors import InputError
 from chassistune.studies.bbob import (
     BBOBPlan,
     get_problem,
-    parse_instances,
     parse_problem_id,
 )
 from chassistune.studies.store import open_study

@@ -9,6 +9,7 @@ import math
 import pandas as pd
 import pytest
 
+from chassistune._io import file_set
 from chassistune.reports import versus
 from chassistune.reports.baseline import LABEL, Baseline, default_baseline
 from chassistune.studies.problems import problem_for
@@ -79,11 +80,12 @@ def test_the_final_cost_table_claims_no_better_when_both_lose_to_the_defaults(
     monkeypatch.setattr(sections, "verdict_of_sign", lambda sign: versus.BETTER)
     ref, other = data.optimizers
     summary, ranks = tables.summary_table(data), tables.rank_sum_table(data, ref)
-    assets = sections.Assets(tmp_path)
-    sources = {"summary": assets.csv(summary, "summary"), "rank_sum": assets.csv(ranks, "r")}
-    section = sections.scenario_section(
-        data, sc, 1, ref, summary, ranks, sources, assets, _NoFigures()
-    )
+    with file_set() as staged:
+        assets = sections.Assets(tmp_path, staged)
+        sources = {"summary": assets.csv(summary, "summary"), "rank_sum": assets.csv(ranks, "r")}
+        section = sections.scenario_section(
+            data, sc, 1, ref, summary, ranks, sources, assets, _NoFigures()
+        )
     table = next(t for t in section.items if t.title.startswith("Final cost"))
     rows = {row[0]: row[-1] for row in table.rows}
     assert rows[LABEL] == "baseline"

@@ -20,7 +20,8 @@ def test_metrics_and_trace_decode_by_name() -> None:
     assert set(KL.RUN_METRICS) <= set(m) and list(m["status"]) == ["stopped", "hopeless"]
     assert list(m["stopped"]) == [True, False]  # kp = 1 builds no pressure: far too long
     tr = sc.trace(np.array([5000.0, 0.0, 230.0]))
-    assert tuple(tr.signals) == KL.TRACE.names and tr.units == KL.TRACE.units
+    assert tuple(tr.signals) == KL.TRACE.names
+    assert tr.units == {**KL.TRACE.units, "pressure": sc.pressure_unit}  # the preset's unit
     assert tr.signals["time_s"][-1] == tr.metrics["stop_time_s"]
     assert tr.signals["vehicle_speed_m_s"][-1] == sc.plant_params.v_stop_m_s
 

@@ -19,6 +19,25 @@ from chassistune.errors import InputError
 DIMENSIONS = ("2", "3", "5", "10", "20")
 
 
+def parse_instances(text: str) -> tuple[int, ...]:
+    """Instance numbers from `1,2,5-8` (InputError naming `--instances`)."""
+    out: list[int] = []
+    for part in text.split(","):
+        lo, dash, hi = part.strip().partition("-")
+        try:
+            first, last = int(lo), int(hi if dash else lo)
+        except ValueError:
+            raise InputError(
+                "--instances", f"expected numbers and ranges like 1-5, got {text!r}"
+            ) from None
+        if not 1 <= first <= last <= 9999:
+            raise InputError("--instances", f"expected instances in 1..9999, got {part.strip()!r}")
+        out.extend(range(first, last + 1))
+    if len(set(out)) != len(out):
+        raise InputError("--instances", f"an instance is listed twice in {text!r}")
+    return tuple(out)
+
+
 @click.command("bbob")
 @click.option(
     "--optimizer",
@@ -110,7 +129,6 @@ def bbob_command(
         FUNCTIONS,
         BBOBPlan,
         default_instances,
-        parse_instances,
         run_plan,
     )
     from chassistune.studies.coco_data import write_coco_data

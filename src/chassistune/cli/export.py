@@ -74,9 +74,9 @@ def export_command(
         preset,
         road,
     )
+    for path in write(ec, fmt, out_dir):
+        click.echo(f"wrote {path}")
     click.echo(
         f"sample time {ec.ts_s:g} s ({ec.ts_origin}, in whole steps of dt_s); "
         "--param ecu_ts_s=SECONDS sets another"
     )
-    for path in write(ec, fmt, out_dir):
-        click.echo(f"wrote {path}")

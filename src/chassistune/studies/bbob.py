@@ -56,25 +56,6 @@ def parse_problem_id(pid: str) -> tuple[int, int, int]:
     return int(m.group(1)), int(m.group(3)), int(m.group(2))
 
 
-def parse_instances(text: str) -> tuple[int, ...]:
-    """Instance numbers from `1,2,5-8` (InputError naming `--instances`)."""
-    out: list[int] = []
-    for part in text.split(","):
-        lo, dash, hi = part.strip().partition("-")
-        try:
-            first, last = int(lo), int(hi if dash else lo)
-        except ValueError:
-            raise InputError(
-                "--instances", f"expected numbers and ranges like 1-5, got {text!r}"
-            ) from None
-        if not 1 <= first <= last <= 9999:
-            raise InputError("--instances", f"expected instances in 1..9999, got {part.strip()!r}")
-        out.extend(range(first, last + 1))
-    if len(set(out)) != len(out):
-        raise InputError("--instances", f"an instance is listed twice in {text!r}")
-    return tuple(out)
-
-
 def default_instances() -> tuple[int, ...]:
     """The suite's current instances (cocoex's default for `bbob`)."""
     import cocoex
