@@ -91,6 +91,9 @@ def screenshot(
 
         path = folder / f"{name}.png"
         page.screenshot(path=str(path), full_page=True)
+        # our own screenshot, not an untrusted file: PIL's decompression-bomb guard (about 179
+        # million pixels) would refuse a full page taller than about 140,000 px at 1280 px wide
+        Image.MAX_IMAGE_PIXELS = None
         with Image.open(path) as img:
             shots.append((name, path, img.size))
             return np.asarray(img.convert("L"), dtype=float)
