@@ -63,7 +63,10 @@ def bench_command(quick: bool, as_json: bool, only: tuple[str, ...], plot_path: 
             click.echo(f"measuring {area} ...", err=True)
         figures.update(module.figures(quick))
     if plot_path is not None:
-        importlib.import_module("chassistune.perf.scaling").plot(figures, plot_path)
+        from chassistune.perf.scaling import curves
+        from chassistune.plots.bench_scaling import plot_scaling
+
+        plot_scaling(*curves(figures), plot_path)
     if as_json:
         echo_json({**figures, "notes": notes} if notes else figures)
         return

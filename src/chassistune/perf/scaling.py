@@ -105,40 +105,33 @@ def figures(quick: bool = False) -> dict[str, float]:
     return out
 
 
-def plot(figures: dict[str, float], path: str) -> None:
-    """Write the ns-per-candidate-step curves (left) and the tuning times against the number of
-    evaluations requested, population x iterations (right), as an image."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4))
-    for model in MODELS:
-        pts = sorted(
+def curves(
+    figures: dict[str, float],
+) -> tuple[dict[str, list[tuple[int, float]]], dict[str, list[tuple[int, float]]]]:
+    """From the sweep's figures: ns per candidate-step against population, per model; and the
+    tuning run's seconds against population x iterations, per series ('wall: population, 100
+    iterations', 'cpu: iterations, N = 50', ...)."""
+    per_step = {
+        model.replace("_", " "): sorted(
             (int(m.group(2)), v)
             for k, v in figures.items()
             if (m := NAME.fullmatch(k)) and m.group(1) == model
         )
-        left.plot(*zip(*pts, strict=True), marker="o", label=model.replace("_", " "))
-    left.set(xscale="log", yscale="log", xlabel="population", ylabel="CPU ns per candidate-step")
-    left.legend()
+        for model in MODELS
+    }
     runs = [
         (m.group(1), int(m.group(2)), int(m.group(3)), v)
         for k, v in figures.items()
         if (m := TUNE_NAME.fullmatch(k))
     ]
-    for kind, marker in (("wall", "o"), ("cpu", "s")):
-        for label, keep in (
-            ("population, 100 iterations", lambda p, i: i == 100),
-            ("iterations, N = 50", lambda p, i: p == 50),
-        ):
-            pts = sorted((p * i, v) for c, p, i, v in runs if c == kind and keep(p, i))
+    tuning: dict[str, list[tuple[int, float]]] = {}
+    for kind in ("wall", "cpu"):
+        for label, iters in (("population, 100 iterations", 100), ("iterations, N = 50", None)):
+            pts = sorted(
+                (p * i, v)
+                for c, p, i, v in runs
+                if c == kind and (i == iters if iters is not None else p == 50)
+            )
             if pts:
-                right.plot(*zip(*pts, strict=True), marker=marker, label=f"{kind}: {label}")
-    right.set(xscale="log", yscale="log", xlabel="population x iterations", ylabel="tuning run, s")
-    if runs:
-        right.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+                tuning[f"{kind}: {label}"] = pts
+    return per_step, tuning
