@@ -92,11 +92,10 @@ def numba_cache_is_temporary() -> bool:
     return _temporary is not None and Path(folder).is_relative_to(_temporary)
 
 
-@functools.cache
 def cache_base() -> Path:
     """The package's cache folder ($XDG_CACHE_HOME/chassistune, else ~/.cache/chassistune), or,
     when that cannot be used (a file in the way, no permission, no home), a temporary folder
-    removed at exit, with one stderr line saying so."""
+    removed at exit, with one stderr line saying so. Read from the environment at each call."""
     try:
         base = _preferred_base()
     except RuntimeError as exc:  # Path.home(): no HOME and no password entry
