@@ -10,7 +10,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from chassistune.papers import common, full_run
+from chassistune.papers import common, full_run, standard
 from chassistune.papers.claims import FIELDS, Claim
 from chassistune.papers.reproduce import PAPERS, plan_reproduction
 from chassistune.reports.tables import load_study
@@ -25,7 +25,7 @@ PAPER_FILES = {
     "fuzzy-immune-abs": "004_3b0b373ef99b53ac.txt",
 }
 CJK = re.compile(r"[\u4e00-\u9fff]")
-ALL_CLAIMS = [c for m in PAPERS.values() for c in m.CLAIMS]
+ALL_CLAIMS = [c for m in PAPERS.values() for c in m.CLAIMS] + list(standard.CLAIMS)
 
 
 def test_every_declared_claim_has_its_sentence_where_it_stands_and_a_rule() -> None:
@@ -86,7 +86,7 @@ def full_sections(reproduced, tmp_path_factory):
     ctx = common.Context(
         tmp_path_factory.mktemp("figures"), data, {r.name: r.configs for r in runs}, quick=False
     )
-    return [m.build(ctx) for m in PAPERS.values()]
+    return [m.build(ctx) for m in PAPERS.values()] + [standard.build()]
 
 
 @pytest.mark.slow

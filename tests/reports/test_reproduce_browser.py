@@ -83,7 +83,11 @@ def test_interactive_reproduction_has_the_static_sections_one_per_paper(
         ".map(h => h.textContent.replace(/^Table \\d+: /, ''))"
     )
     page.goto((reproduced.out / "report.html").as_uri(), wait_until="domcontentloaded")
-    assert live_page.evaluate(sections) == page.evaluate(sections) == ["verdicts", *PAPER_KEYS]
+    assert (
+        live_page.evaluate(sections)
+        == page.evaluate(sections)
+        == ["verdicts", *PAPER_KEYS, "standard"]
+    )
     assert live_page.evaluate(tables) == page.evaluate(tables)  # the same tables, in order
     static_images = page.evaluate("document.images.length")
     assert live_page.evaluate("document.images.length") == static_images > 0

@@ -91,6 +91,11 @@ def _load() -> tuple[dict[str, Paper], tuple[Quantity, ...]]:
     return papers, tuple(quantities)
 
 
+def papers() -> tuple[str, ...]:
+    """The keys of every paper with published numbers, in file order."""
+    return tuple(_load()[0])
+
+
 def paper(key: str) -> Paper:
     """The paper `key`, or InputError listing the known keys."""
     papers = _load()[0]

@@ -251,8 +251,9 @@ def _paper_section(w: _Writer, s: PaperSection, plots: PaperPlots | None) -> Sec
             ),
             prefix,
         ),
-        w.table(published_table(s.key), prefix),
     ]
+    if s.key in published.papers():
+        items.append(w.table(published_table(s.key), prefix))
     items += [w.table(t, prefix) for t in s.tables]
     for f in s.figures:
         w.count += 1
@@ -296,7 +297,7 @@ def timing_text(wall_time_s: float, studies: Mapping[str, StudyData]) -> str:
 def _heading(sections: Sequence[PaperSection], quick: bool, timing: str) -> tuple[str, str, str]:
     kind = "quick run (reduced budgets and seeds)" if quick else "full run"
     return (
-        f"of {len(sections)} paper(s)",
+        f"of {sum(s.key in published.papers() for s in sections)} paper(s)",
         f"chassistune reproduce, {kind}; {timing}.",
         "Each paper's tables put its published numbers beside ours; figures are redrawn "
         "from our runs; the stores under studies/ hold every run.",

@@ -23,6 +23,7 @@ from chassistune.papers import (
     derlsp_ao_abs,
     fuzzy_immune_abs,
     iabc_suspension,
+    standard,
 )
 from chassistune.papers.common import Context, PaperSection
 from chassistune.papers.report import (
@@ -165,6 +166,8 @@ def reproduce(
     ctx = Context(out / "figures", data, {r.name: r.configs for r in runs}, quick)
     keys = paper_keys(which)
     sections = [supplement(PAPERS[k].build(ctx), ctx) for k in keys]
+    if any(k in standard.PROPOSED for k in keys):
+        sections.append(standard.build(papers=keys))
     wall = time.perf_counter() - t0
     timing = timing_text(wall, data)
     files = write_report(out, sections, quick, timing)
