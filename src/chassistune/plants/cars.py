@@ -58,6 +58,7 @@ class Car:
         return out
 
     def description(self, g_m_s2: float) -> str:
+        """One line for `list presets`: the car, its source and its key numbers."""
         v = self.values(g_m_s2)
         return (
             f"{self.title}, CommonRoad vehicle {self.source['vehicle_id']} "
