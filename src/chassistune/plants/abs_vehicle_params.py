@@ -1,6 +1,7 @@
-"""7-DOF vehicle ABS parameters, steering and the preset `paper-deffao` (design.md 3.3; Tian
-2025, deffao-vehicle-abs Table 2), kept apart from the compiled tire and load solver
-(`plants.abs_vehicle`) so that listing presets and parameters imports no numba."""
+"""7-DOF vehicle ABS parameters, steering, the preset `paper-deffao` (design.md 3.3; Tian 2025,
+deffao-vehicle-abs Table 2) and the measured cars of `plants.cars` (docs/cars.md), kept apart
+from the compiled tire and load solver (`plants.abs_vehicle`) so that listing presets and
+parameters imports no numba."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import math
 from dataclasses import dataclass, field
 
 from chassistune.params import nonnegative, positive, unit_interval
+from chassistune.plants.cars import CARS, read_car
 from chassistune.plants.presets import Preset, PresetInfo
 from chassistune.units import PRESSURE
 
@@ -72,6 +74,20 @@ class SteeringParams:
 
 
 STEERING_MODES = ("fixed", "driver")
+VEHICLE_ROADS = ("dry-concrete", "mu-jump", "split-mu", "ice")
+"""The roads of paper-deffao, first the default; the measured cars run on the same."""
+DEFFAO_UNIT = "deffao-vehicle-abs unit"
+
+
+def car_preset(name: str) -> Preset[VehicleParams]:
+    """The measured car `name` (plants.cars): its data where the model has a field for it,
+    paper-deffao's values elsewhere (docs/cars.md)."""
+    car = read_car(name)
+    g = VehicleParams().g_m_s2
+    return Preset(
+        PresetInfo(name, car.description(g), VEHICLE_ROADS, DEFFAO_UNIT),
+        VehicleParams(**car.values(g)),
+    )
 
 
 PRESETS: dict[str, Preset[VehicleParams]] = {
@@ -81,9 +97,10 @@ PRESETS: dict[str, Preset[VehicleParams]] = {
             "Tian 2025 Table 2: m = 1110 kg total, Iz = 1440 kg m^2 (printed 1.44), J = 0.6 kg "
             "m^2, R = 0.4 m, lf/lr = 1.04/1.56 m, v0 = 120 km/h, g = 9.8; ours: h = 0.5 m, "
             "tracks 1.5 m, C = 60 kN/rad, kq = 1, q_max = 2500 on all wheels, K = 100, T = 0.01 s",
-            ("dry-concrete", "mu-jump", "split-mu", "ice"),
-            "deffao-vehicle-abs unit",
+            VEHICLE_ROADS,
+            DEFFAO_UNIT,
         ),
         VehicleParams(),
     ),
+    **{name: car_preset(name) for name in CARS},
 }

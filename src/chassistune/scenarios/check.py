@@ -1,6 +1,7 @@
 """Conformance check of a registered plant, as Gymnasium's `check_env` checks an environment.
 
-`check_plant(name)` builds the plant's default scenario with each of its controllers and demands:
+`check_plant(name)` builds the plant's default scenario (or a named preset's, on its first road)
+with each of its controllers and demands:
 batch row i equals the single run of row i bit for bit; finite gain bounds and a finite penalty;
 a finite cost, at most PENALTY, for random gains inside the bounds and wild gains outside them;
 the spec's key metrics among the scenario's metrics, every trace signal with a unit and of one
@@ -141,8 +142,14 @@ def check_scenario(
             os.remove(path)
 
 
-def check_plant(name: str, params: Mapping[str, object] | None = None, plot: bool = True) -> None:
-    """Check the registered plant `name` with every controller on its default preset and road.
+def check_plant(
+    name: str,
+    params: Mapping[str, object] | None = None,
+    plot: bool = True,
+    preset: str | None = None,
+) -> None:
+    """Check the registered plant `name` with every controller on `preset` (default: the
+    plant's default preset) and that preset's first road.
 
     `params` overrides parameters (e.g. a shorter simulated time); raises ConformanceError.
     """
@@ -151,5 +158,5 @@ def check_plant(name: str, params: Mapping[str, object] | None = None, plot: boo
     if spec.default_preset not in plant.presets():
         raise _fail(name, "-", f"default preset {spec.default_preset!r} is not a preset")
     for controller in plant.controllers():
-        sc = plant.scenario(None, None, controller.name, params or {}, 0)
+        sc = plant.scenario(preset, None, controller.name, params or {}, 0)
         check_scenario(sc, spec.key_metrics, spec.plot if plot else None)
