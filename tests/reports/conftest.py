@@ -90,7 +90,9 @@ def screenshot(
         from PIL import Image
 
         path = folder / f"{name}.png"
-        page.screenshot(path=str(path), full_page=True)
+        # a page of 100,000+ px takes 15-21 s to capture on 2 idle cores: playwright's default
+        # 30 s is too short on a loaded machine
+        page.screenshot(path=str(path), full_page=True, timeout=180_000)
         # our own screenshot, not an untrusted file: PIL's decompression-bomb guard (about 179
         # million pixels) would refuse a full page taller than about 140,000 px at 1280 px wide
         Image.MAX_IMAGE_PIXELS = None
