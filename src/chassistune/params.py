@@ -4,7 +4,9 @@ Every plant, road, solver and controller parameter is a field of a frozen datacl
 metadata `{"positive": True}`, `{"nonnegative": True}` or `{"unit_interval": True}` state the
 valid range (outside it: InputError); every float must be finite. `{"plausible": (lo, hi)}` states
 the range of real vehicles and rigs: outside it a value is allowed but warned about
-(`ImplausibleValue`); `{"unit": "..."}` overrides the unit read from the name's suffix.
+(`ImplausibleValue`); `{"unit": "..."}` overrides the unit read from the name's suffix;
+`{"open_interval": (lo, hi)}` states a narrower range the dataclass checks itself (robust tuning
+draws inside it).
 """
 
 from __future__ import annotations

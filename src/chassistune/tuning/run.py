@@ -15,7 +15,8 @@ from chassistune.errors import InputError
 from chassistune.optimizers.base import check_covers_population
 from chassistune.optimizers.driver import OptimizeResult, drive
 from chassistune.optimizers.registry import make
-from chassistune.scenarios.refine import REFINABLE_PLANTS, StepCheck, step_refinement
+from chassistune.scenarios.refine import StepCheck, step_refinement
+from chassistune.scenarios.registry import plant_spec
 from chassistune.tuning.problem import TuningProblem
 
 
@@ -227,10 +228,10 @@ def run_optimizer(
 
 
 def step_checks(problem: TuningProblem, gains: np.ndarray) -> dict[str, StepCheck]:
-    """The winner re-simulated at a quarter of the step on every road of an ABS plant
-    (`scenarios.refine.step_refinement`), by road."""
+    """The winner re-simulated at a quarter of the step on every road of a plant whose spec
+    says it is `refinable` (`scenarios.refine.step_refinement`), by road."""
     return {
         sc.road: step_refinement(sc, gains, problem.params, problem.objective)
         for sc in problem.scenarios
-        if sc.plant in REFINABLE_PLANTS
+        if plant_spec(sc.plant).refinable
     }
