@@ -26,9 +26,9 @@ def positive(lo: float, hi: float, **extra: object) -> dict[str, object]:
     return {"positive": True, "plausible": (lo, hi), **extra}
 
 
-def nonnegative(lo: float, hi: float) -> dict[str, object]:
+def nonnegative(lo: float, hi: float, **extra: object) -> dict[str, object]:
     """Field metadata: valid if non-negative, plausible in [lo, hi] (outside: a warning)."""
-    return {"nonnegative": True, "plausible": (lo, hi)}
+    return {"nonnegative": True, "plausible": (lo, hi), **extra}
 
 
 def unit_interval(lo: float, hi: float) -> dict[str, object]:
