@@ -30,7 +30,7 @@ from chassistune.tuning.robust.problem import (
     validation_set,
 )
 from chassistune.tuning.robust.spec import PassCriterion, UncertaintySpec, parse_vary
-from chassistune.tuning.tune import run_optimizer
+from chassistune.tuning.run import run_optimizer
 
 VARY = ["mass_kg=80:120", "mu_scale=0.85:1.15", "v0_m_s=20:35", "actuator_tau_s=0.007:0.013"]
 

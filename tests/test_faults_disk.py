@@ -18,7 +18,7 @@ from chassistune._rng import make_rng
 from chassistune.reports.outputs import write_tune_outputs
 from chassistune.reports.tables import write_table
 from chassistune.tuning.problem import build_problem
-from chassistune.tuning.tune import TuneResult, run_optimizer
+from chassistune.tuning.run import TuneResult, run_optimizer
 from fs_helpers import mounted_tmpfs
 
 PNG_END = b"IEND\xaeB`\x82"

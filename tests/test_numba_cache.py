@@ -88,13 +88,19 @@ def _old_cache(base: Path, name: str, age_s: float) -> Path:
 
 
 def test_import_removes_no_cache_folder(tmp_path: Path) -> None:
-    """Importing only points numba at the source-keyed folder (silently, when it is usable)."""
-    old = _old_cache(tmp_path / "cache-home", "numba-0000000000000000", 30 * 86400)
+    """Importing only points numba at the source-keyed folder (silently, when it is usable):
+    every file and folder of the cache home is still there afterwards, the caches of other
+    sources unused for a month included (pruning them is a step of `warmup`)."""
+    home = tmp_path / "cache-home"
+    old = _old_cache(home, "numba-0000000000000000", 30 * 86400)
+    _old_cache(home, "numba-1111111111111111", 86400)
+    (home / "chassistune" / "choices.json").write_text("{}")
+    before = sorted(home.rglob("*"))
     done = _run(PROBE, _env(tmp_path))
     assert done.returncode == 0 and done.stderr == ""
-    assert old.exists()
+    assert set(before) <= set(home.rglob("*"))
     numba_dir = Path(json.loads(done.stdout)["numba"])
-    assert numba_dir.relative_to(tmp_path / "cache-home" / "chassistune").parts[0] != old.name
+    assert numba_dir.relative_to(home / "chassistune").parts[0] != old.name
 
 
 def test_prune_removes_only_other_versions_unused_for_a_week(tmp_path: Path) -> None:

@@ -21,8 +21,7 @@ if _os.path.basename(_sys.argv[0]) == "chassistune":  # the console script: Ctrl
     _install_ctrl_c()
 
 from chassistune._numba_cache import configure as _configure_numba_cache
-
-__version__ = "0.1.0"
+from chassistune._version import __version__
 
 _configure_numba_cache()
 

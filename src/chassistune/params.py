@@ -4,7 +4,9 @@ Every plant, road, solver and controller parameter is a field of a frozen datacl
 metadata `{"positive": True}`, `{"nonnegative": True}` or `{"unit_interval": True}` state the
 valid range (outside it: InputError); every float must be finite. `{"plausible": (lo, hi)}` states
 the range of real vehicles and rigs: outside it a value is allowed but warned about
-(`ImplausibleValue`); `{"unit": "..."}` overrides the unit read from the name's suffix.
+(`ImplausibleValue`); `{"unit": "..."}` overrides the unit read from the name's suffix;
+`{"open_interval": (lo, hi)}` states a narrower range the dataclass checks itself (robust tuning
+draws inside it).
 """
 
 from __future__ import annotations
@@ -24,9 +26,9 @@ def positive(lo: float, hi: float, **extra: object) -> dict[str, object]:
     return {"positive": True, "plausible": (lo, hi), **extra}
 
 
-def nonnegative(lo: float, hi: float) -> dict[str, object]:
+def nonnegative(lo: float, hi: float, **extra: object) -> dict[str, object]:
     """Field metadata: valid if non-negative, plausible in [lo, hi] (outside: a warning)."""
-    return {"nonnegative": True, "plausible": (lo, hi)}
+    return {"nonnegative": True, "plausible": (lo, hi), **extra}
 
 
 def unit_interval(lo: float, hi: float) -> dict[str, object]:

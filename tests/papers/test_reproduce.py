@@ -9,7 +9,7 @@ import math
 import pandas as pd
 import pytest
 
-from chassistune.papers import published
+from chassistune.papers import keys, published
 from chassistune.papers.common import BOUND_RATIOS, VERDICTS
 from chassistune.reports.tables import load_study
 from chassistune.studies.store import open_study
@@ -18,7 +18,7 @@ TABLES = [
     "verdicts",
     "bounds",
     "verdict_counts",
-    *(f"{k}_{t}" for k in published.PAPER_KEYS for t in ("published", "evaluations_spent")),
+    *(f"{k}_{t}" for k in keys.PAPER_KEYS for t in ("published", "evaluations_spent")),
     *(
         f"derlsp-ao-abs_{t}"
         for t in (
@@ -200,7 +200,7 @@ def _page_cells(html: str) -> list[str]:
 @pytest.mark.parametrize("page", ["report.html", "report_interactive.html"])
 def test_the_pages_quote_every_published_number_in_full(reproduced, page) -> None:
     cells = _page_cells((reproduced.out / page).read_text(encoding="utf-8"))
-    for key in published.PAPER_KEYS:
+    for key in keys.PAPER_KEYS:
         for q in published.quantities(key):
             for value in q.printed:
                 assert value in cells, (key, q.source, q.name, value)
@@ -234,7 +234,7 @@ def test_the_budgets_show_the_evaluations_each_optimizer_spent(reproduced) -> No
     fn = "derlsp-ao-abs-functions"
     assert ratio[(fn, "DERLSP-AO")] > 1.8 * ratio[(fn, "AO")]
     assert ratio[("derlsp-ao-abs", "DERLSP-AO-PID")] > 1.8 * ratio[("derlsp-ao-abs", "AO-PID")]
-    for key in published.PAPER_KEYS:
+    for key in keys.PAPER_KEYS:
         df = _table(reproduced, f"{key}_evaluations_spent")
         assert (df["iterations done"].astype(str) != "").all() and df["population"].gt(0).all()
 

@@ -15,7 +15,7 @@ import pandas as pd
 import pytest
 from test_browser import WIDTH, Offline, _Links
 
-from chassistune.papers.published import PAPER_KEYS
+from chassistune.papers.keys import PAPER_KEYS
 
 
 def test_reproduction_report_renders_without_errors(page, reproduced, screenshot) -> None:

@@ -129,8 +129,8 @@ def bbob_command(
         FUNCTIONS,
         BBOBPlan,
         default_instances,
-        run_plan,
     )
+    from chassistune.studies.bbob_runner import run_plan
     from chassistune.studies.coco_data import write_coco_data
     from chassistune.studies.executors import make_executor
     from chassistune.studies.runner import check_out_dir

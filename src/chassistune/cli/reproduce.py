@@ -6,14 +6,9 @@ import click
 
 from chassistune.cli.common import check_output_dir
 from chassistune.cli.options import executor_options
+from chassistune.papers.keys import PAPER_KEYS
 
-PAPER_CHOICES = [
-    "derlsp-ao-abs",
-    "iabc-suspension",
-    "deffao-vehicle-abs",
-    "fuzzy-immune-abs",
-    "all",
-]
+PAPER_CHOICES = [*PAPER_KEYS, "all"]
 
 
 @click.command("reproduce")

@@ -19,7 +19,7 @@ from chassistune.errors import InputError
 if TYPE_CHECKING:
     from chassistune.tuning.problem import TuningProblem
     from chassistune.tuning.robust.spec import UncertaintySpec
-    from chassistune.tuning.tune import TuneResult
+    from chassistune.tuning.run import TuneResult
 
 robust_options = stacked(
     click.option(

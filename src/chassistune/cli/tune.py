@@ -21,7 +21,7 @@ from chassistune.cli.robust_options import (
 from chassistune.errors import InputError
 
 if TYPE_CHECKING:
-    from chassistune.tuning.tune import Incumbent, Progress, TuneResult
+    from chassistune.tuning.run import Incumbent, Progress, TuneResult
 
 
 @click.command("tune", cls=ChoicesCommand, arguments={"PLANT": "plants"})
@@ -117,7 +117,7 @@ def tune_command(
     from chassistune.reports.outputs import write_tune_outputs
     from chassistune.scenarios.base import PENALTY
     from chassistune.tuning.problem import build_problem
-    from chassistune.tuning.tune import Incumbent, run_optimizer
+    from chassistune.tuning.run import Incumbent, run_optimizer
 
     if optimizer is not None:
         get_optimizer(optimizer)

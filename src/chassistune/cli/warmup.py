@@ -16,11 +16,11 @@ def _warm_rest() -> None:
 
     from chassistune.controllers import discrete
     from chassistune.export import vectors
-    from chassistune.export.source import PLANTS, resolve
+    from chassistune.export.source import exportable_plants, resolve
     from chassistune.fuzzy.engine import evaluate
     from chassistune.fuzzy.loader import builtin_names, load_rulebase
 
-    for plant in PLANTS:
+    for plant in exportable_plants():
         for law in discrete.LAWS:
             ec = resolve(None, plant, law, {}, {})
             inputs, _ = vectors.record(ec)

@@ -43,7 +43,8 @@ def _meta(unit: str, source: str, **checks: bool) -> dict[str, Any]:
 
 SRC_SERVICE = (
     "service manuals: 'up to 10 activation cycles per second' (Saab 900 ABS, WIS "
-    "5-brakes/abs-2e); 5-12 control cycles/s and 5-10 ms loops (issue 15)"
+    "5-brakes/abs-2e); the 5 ms period, well inside that, is our choice (docs/ecu.md, "
+    "section 'Parameters')"
 )
 SRC_TONE = (
     "48 pulses per wheel turn from the ABS ring of BMW E36/E46 (MSS54 calibration "
@@ -61,15 +62,27 @@ class EcuParams:
     """Control period: the controller runs every ecu_ts_s (zero-order hold in between)."""
     ecu_delay_samples: int = field(
         default=1,
-        metadata=_meta("samples", "issue 15: one sample of computation delay", nonnegative=True),
+        metadata=_meta(
+            "samples",
+            "our choice: one sample of computation delay (docs/ecu.md, section 'Parameters')",
+            nonnegative=True,
+        ),
     )
     """Computation delay: the command computed at tick k is applied at tick k + delay."""
-    sensor: str = field(default="toothed", metadata=_meta("-", "issue 15"))
+    sensor: str = field(
+        default="toothed",
+        metadata=_meta("-", "our choice (docs/ecu.md, section 'Toothed-wheel sensor')"),
+    )
     """Wheel-speed sensor: `ideal` (true wheel speed) or `toothed` (edge timing)."""
     sensor_teeth: int = field(default=48, metadata=_meta("teeth", SRC_TONE, positive=True))
     """Teeth of the tone wheel; one edge per tooth (pitch 2 pi / teeth)."""
     sensor_timer_s: float = field(
-        default=1e-6, metadata=_meta("s", "issue 15: 1 MHz capture timer", positive=True)
+        default=1e-6,
+        metadata=_meta(
+            "s",
+            "our choice: a 1 MHz capture timer (docs/ecu.md, section 'Toothed-wheel sensor')",
+            positive=True,
+        ),
     )
     """Resolution of the ECU's edge capture timer (edge times are floored to it)."""
     sensor_spacing_error: float = field(
@@ -79,7 +92,12 @@ class EcuParams:
     wheel); drawn once per run, periodic with the revolution."""
     sensor_jitter_s: float = field(default=0.0, metadata=_meta("s", SRC_ASSUMED, nonnegative=True))
     """Std of the edge-time jitter (added before the timer floors the time); 0: none."""
-    sensor_stale: str = field(default="hold", metadata=_meta("-", "issue 15: hold"))
+    sensor_stale: str = field(
+        default="hold",
+        metadata=_meta(
+            "-", "our choice: the plain ECU's hold (docs/ecu.md, section 'Toothed-wheel sensor')"
+        ),
+    )
     """Without a new edge: `hold` the last estimate, or `bound` it by pitch / (time since the
     last edge) (a wheel that shows no edge cannot turn faster than that)."""
     vref: str = field(
@@ -127,7 +145,10 @@ class EcuParams:
     )
     """... for at least this long without a break (ceil(vref_anchor_s / ecu_ts_s) samples,
     at least one)."""
-    valves: str = field(default="three-state", metadata=_meta("-", "issue 15"))
+    valves: str = field(
+        default="three-state",
+        metadata=_meta("-", "our choice (docs/ecu.md, section 'Three-state modulator')"),
+    )
     """Modulator: `continuous` (the K/(s(Ts+1)) actuator) or `three-state` (build/hold/dump)."""
     valve_build_time_s: float = field(
         default=0.15,
@@ -150,14 +171,21 @@ class EcuParams:
         default=2.0,
         metadata=_meta(
             "m/s",
-            "ABS active above 3-5 mph (Dodge Grand Caravan 1998 service manual); 5-8 km/h "
-            "(issue 15)",
+            "ABS active above 3-5 mph (Dodge Grand Caravan 1998 service manual); 2 m/s, within "
+            "that range, is our choice",
             nonnegative=True,
         ),
     )
     """Below this reference speed ABS control stops (latched) and the brake builds to the
     driver's demand."""
-    gain_schedule: str = field(default="off", metadata=_meta("-", "issue 15"))
+    gain_schedule: str = field(
+        default="off",
+        metadata=_meta(
+            "-",
+            "our choice: the gains as tuned (docs/ecu.md, section 'Low-speed cut-out and "
+            "speed-scheduled gains')",
+        ),
+    )
     """`speed`: kp and kd scaled by v_ref / v0 (the wheel's gain grows as 1/v); `off`."""
     gain_schedule_floor: float = field(
         default=0.05, metadata=_meta("-", SRC_ASSUMED, unit_interval=True)

@@ -15,7 +15,7 @@ import re
 import numpy as np
 from numpy.typing import NDArray
 
-from chassistune import __version__
+from chassistune._version import __version__
 from chassistune.controllers import discrete
 from chassistune.export.source import ExportedController
 

@@ -19,7 +19,7 @@ import zipfile
 from datetime import UTC, datetime
 from xml.sax.saxutils import quoteattr
 
-from chassistune import __version__
+from chassistune._version import __version__
 from chassistune.controllers import discrete
 from chassistune.export import c99
 from chassistune.export.source import ExportedController

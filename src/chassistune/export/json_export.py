@@ -15,8 +15,8 @@ from typing import Any
 
 import numpy as np
 
-from chassistune import __version__
 from chassistune._io import dumps
+from chassistune._version import __version__
 from chassistune.controllers import discrete
 from chassistune.errors import InputError
 from chassistune.export.source import ExportedController

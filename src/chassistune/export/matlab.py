@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 import scipy.io
 
-from chassistune import __version__
+from chassistune._version import __version__
 from chassistune.export.c99 import c_name
 from chassistune.export.source import ExportedController
 

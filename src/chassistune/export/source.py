@@ -38,20 +38,12 @@ from chassistune.fuzzy.loader import load_rulebase
 from chassistune.params import to_float
 from chassistune.scenarios.abs_wheel import AbsWheelScenario
 from chassistune.scenarios.abs_wheel_ecu import ECU_PARAM_NAMES, law_params, table_points
-from chassistune.scenarios.registry import get_plant
+from chassistune.scenarios.registry import get_plant, plant_names, plant_spec
 
 DEFAULT_ECU_TS_S = EcuParams().ecu_ts_s
 """Sample time without one from the source: the realistic ECU's (5 ms, a production ECU's loop)."""
 
 EXPORT_PARAMS = ("ecu_ts_s", "fuzzy_table_points")
-PLANTS = ("abs-wheel",)
-REFUSED_PLANTS = {
-    "abs-vehicle": "its kernel runs the wheel laws in continuous time with the target slip of "
-    "the surface under each wheel (no discrete ECU form to test an export "
-    "against); export the single wheel (abs-wheel), whose law the vehicle repeats "
-    "per wheel",
-}
-"""Plants that name controllers with a discrete form but cannot be exported, and why."""
 IDEAL_ECU: dict[str, object] = {
     "ecu": "realistic",
     "sensor": "ideal",
@@ -64,6 +56,11 @@ IDEAL_ECU: dict[str, object] = {
     "valve_min_on_s": 0.0,
 }
 """The ECU of the exported scenario (module docstring): the law alone between plant and brake."""
+
+
+def exportable_plants() -> list[str]:
+    """The registered plants whose spec says their controllers export (`PlantSpec.exportable`)."""
+    return [name for name in plant_names() if plant_spec(name).exportable]
 
 
 @dataclass(frozen=True, eq=False)
@@ -240,14 +237,14 @@ def resolve(
     export_values = {k: overrides.pop(k) for k in EXPORT_PARAMS if k in overrides}
     origin = _origin(source, plant, controller)
     field = "plant" if source is None else "source"
-    if origin.plant in REFUSED_PLANTS:
-        raise InputError(
-            field, f"cannot export from plant {origin.plant!r}: {REFUSED_PLANTS[origin.plant]}"
-        )
-    if origin.plant not in PLANTS:
+    spec = plant_spec(origin.plant)
+    if spec.export_refusal:
+        raise InputError(field, f"cannot export from plant {origin.plant!r}: {spec.export_refusal}")
+    if not spec.exportable:
         raise InputError(
             field,
-            f"no discrete controllers for plant {origin.plant!r} (exportable: {', '.join(PLANTS)})",
+            f"no discrete controllers for plant {origin.plant!r} "
+            f"(exportable: {', '.join(exportable_plants())})",
         )
     law = discrete.law(origin.controller)
     if law is None:
@@ -276,7 +273,7 @@ def resolve(
     plain = get_plant(origin.plant).scenario(
         preset or origin.preset, road or origin.road, origin.controller, base
     )
-    if not isinstance(plain, AbsWheelScenario):  # pragma: no cover - PLANTS holds abs-wheel
+    if not isinstance(plain, AbsWheelScenario):  # pragma: no cover - abs-wheel only is exportable
         raise InputError("plant", f"cannot export from plant {origin.plant!r}")
     dt = plain.plant_params.dt_s
     ts, ts_origin = _sample_time(
@@ -292,7 +289,7 @@ def resolve(
     sc = get_plant(origin.plant).scenario(
         plain.preset, plain.road, origin.controller, {**base, **ecu}
     )
-    if not isinstance(sc, AbsWheelScenario):  # pragma: no cover - PLANTS holds abs-wheel only
+    if not isinstance(sc, AbsWheelScenario):  # pragma: no cover - abs-wheel only is exportable
         raise InputError("plant", f"cannot export from plant {origin.plant!r}")
     g = sc.gains_array({**origin.gains, **{k: to_float(v, f"gains.{k}") for k, v in gains.items()}})
     if not np.all(np.isfinite(g)):

@@ -12,16 +12,16 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from chassistune.papers import claims, common, figures, published
+from chassistune.papers import claims, common, figures, keys, published
 from chassistune.papers.claims import Claim
 from chassistune.plants.abs_vehicle import uniform_bound
 from chassistune.reports.figures import convergence_figure
 from chassistune.scenarios.registry import get_plant, plant_names
 from chassistune.studies.store import RunRecord
 
-KEY = "deffao-vehicle-abs"
+KEY = keys.DEFFAO_VEHICLE_ABS
 FUNCTIONS_STUDY = "deffao-vehicle-abs-functions"
-VEHICLE_STUDY = "deffao-vehicle-abs"
+VEHICLE_STUDY = KEY
 EQUAL_EVALS = "deffao-vehicle-abs-equal-evals"
 """The study giving DEFFAO-fuzzy PID AO-fuzzy PID's evaluations."""
 VEHICLE = "abs-vehicle"

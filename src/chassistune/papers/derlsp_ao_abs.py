@@ -13,7 +13,7 @@ from collections.abc import Callable
 import numpy as np
 import pandas as pd
 
-from chassistune.papers import claims, common, figures, published
+from chassistune.papers import claims, common, figures, keys, published
 from chassistune.papers.claims import Claim
 from chassistune.reports.figures import convergence_figure
 from chassistune.scenarios.abs_wheel import AbsWheelScenario
@@ -21,8 +21,8 @@ from chassistune.scenarios.base import Trace
 from chassistune.scenarios.registry import get_plant
 from chassistune.studies.store import RunRecord
 
-KEY = "derlsp-ao-abs"
-STUDIES = ("derlsp-ao-abs", "derlsp-ao-abs-functions")
+KEY = keys.DERLSP_AO_ABS
+STUDIES = (KEY, f"{KEY}-functions")
 PRESET = "paper-derlsp-ao"
 ROADS = (
     ("dry-concrete", "Table 2", "Fig. 10"),
@@ -295,7 +295,7 @@ def _road_results(
 ) -> tuple[dict[str, dict[str, np.ndarray]], dict[str, tuple[AbsWheelScenario, Trace]]]:
     """Stop times and distances by metric and controller (the tuned ones: every seed) and the
     representative traces (defaults; each optimizer's median run)."""
-    data = ctx.studies["derlsp-ao-abs"]
+    data = ctx.studies[STUDIES[0]]
     out: dict[str, dict[str, np.ndarray]] = {m: {} for m in (*METRICS, SETTLE)}
     traces: dict[str, tuple[AbsWheelScenario, Trace]] = {}
     for label, ctrl in DEFAULTS:
@@ -470,8 +470,8 @@ def _judge_equal_evaluations(
     group = f"pid-200kg/{road}"
     capped = ctx.studies[EQUAL_EVALS].runs(group, "DERLSP-AO-PID")
     spent = {
-        "GA-PID": ctx.studies["derlsp-ao-abs"].runs(group, "GA-PID"),
-        "AO-PID": ctx.studies["derlsp-ao-abs"].runs(group, "AO-PID"),
+        "GA-PID": ctx.studies[STUDIES[0]].runs(group, "GA-PID"),
+        "AO-PID": ctx.studies[STUDIES[0]].runs(group, "AO-PID"),
         "DERLSP-AO-PID": capped,
     }
     evals = ", ".join(f"{k} {np.median([r.nfev or 0 for r in v]):g}" for k, v in spent.items())

@@ -7,15 +7,15 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from chassistune.papers import claims, common, published
+from chassistune.papers import claims, common, keys, published
 from chassistune.papers.claims import Claim
 from chassistune.papers.derlsp_ao_abs import abs_trace, run_gains
 from chassistune.papers.notation import NOT_PRINTED
 from chassistune.scenarios.abs_wheel import AbsWheelScenario
 from chassistune.scenarios.base import Trace
 
-KEY = "fuzzy-immune-abs"
-STUDY = "fuzzy-immune-abs"
+KEY = keys.FUZZY_IMMUNE_ABS
+STUDY = KEY
 PRESET = "paper-fuzzy-immune"
 ROADS = (("asphalt-0.8", "Fig. 4"), ("dirt-0.2", "Fig. 5"))
 TUNED = (("PID", "pid"), ("fuzzy PID", "fuzzy-pid"), ("fuzzy immune PID", "fuzzy-immune-pid"))

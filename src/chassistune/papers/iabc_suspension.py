@@ -16,7 +16,7 @@ import pandas as pd
 from scipy.optimize import minimize
 
 from chassistune import stats
-from chassistune.papers import claims, common, published
+from chassistune.papers import claims, common, keys, published
 from chassistune.papers.claims import Claim
 from chassistune.reports.figures import convergence_figure
 from chassistune.scenarios.quarter_car import QuarterCarScenario
@@ -25,8 +25,8 @@ from chassistune.sim import lyapunov
 from chassistune.sim import quarter_car_kernel as kernel
 from chassistune.studies.store import RunRecord
 
-KEY = "iabc-suspension"
-STUDY = "iabc-suspension"
+KEY = keys.IABC_SUSPENSION
+STUDY = KEY
 PAPER_CELL = "paper-iabc-paper-box/iso-b"
 EXACT_CELLS = (
     ("paper-iabc", PAPER_CELL),

@@ -14,6 +14,12 @@ import pandas as pd
 
 from chassistune.fuzzy.loader import builtin_path, load_rulebase
 from chassistune.papers.common import Table
+from chassistune.papers.keys import (
+    DEFFAO_VEHICLE_ABS,
+    DERLSP_AO_ABS,
+    FUZZY_IMMUNE_ABS,
+    IABC_SUSPENSION,
+)
 from chassistune.plants.abs_vehicle_params import PRESETS as VEHICLE_PRESETS
 from chassistune.plants.abs_wheel import PRESETS as WHEEL_PRESETS
 from chassistune.plants.iso_roads import RoadParams
@@ -90,31 +96,31 @@ def printed_parameters() -> list[Printed]:
 
 
 CAPTIONS: dict[tuple[str, str], tuple[str, str, str]] = {
-    ("derlsp-ao-abs", "Table 1"): (
+    (DERLSP_AO_ABS, "Table 1"): (
         "table1_roads",
         "typical road parameters",
         "Eq. 7 prints a wet-asphalt slope of 0.3125 where this table gives (0.78 - 0.5)/"
         "(1 - 0.2) = 0.35: the table is used.",
     ),
-    ("iabc-suspension", "Table 1"): (
+    (IABC_SUSPENSION, "Table 1"): (
         "table1_quarter_car",
         "quarter-car parameters (preset paper-iabc)",
         "As printed, c_s = 12000 N s/m is about ten times a car's damper (damping ratio 2.57); "
         "preset typical runs 1200. The text gives Gq(n0) = 256e-6 (class C) and the abstract "
         "class B: this table's 64e-6 (class B) is used.",
     ),
-    ("deffao-vehicle-abs", "Table 1"): (
+    (DEFFAO_VEHICLE_ABS, "Table 1"): (
         "table1_roads",
         "typical road parameters",
         "The mu-jump and split-mu roads join these two surfaces.",
     ),
-    ("deffao-vehicle-abs", "Table 2"): (
+    (DEFFAO_VEHICLE_ABS, "Table 2"): (
         "table2_vehicle",
         "vehicle parameters (preset paper-deffao)",
         "The paper gives no CG height, track widths, tire cornering stiffness or brake: ours are "
         "in the preset (DESIGN 3.3). m1 and m2 are kept but unused by the planar model.",
     ),
-    ("fuzzy-immune-abs", "Table 2"): (
+    (FUZZY_IMMUNE_ABS, "Table 2"): (
         "table2_vehicle",
         "vehicle parameters (preset paper-fuzzy-immune)",
         "The units marked (sic) are printed so; J = 25 kg m^2 is about twenty times a car "
@@ -164,16 +170,16 @@ def rule_table(rulebase: str, name: str, title: str) -> Table:
 
 
 PARAMETER_TABLES: dict[str, tuple[Callable[[], Table], ...]] = {
-    "derlsp-ao-abs": (lambda: parameter_table("derlsp-ao-abs", "Table 1"),),
-    "iabc-suspension": (lambda: parameter_table("iabc-suspension", "Table 1"),),
-    "deffao-vehicle-abs": (
-        lambda: parameter_table("deffao-vehicle-abs", "Table 1"),
-        lambda: parameter_table("deffao-vehicle-abs", "Table 2"),
+    DERLSP_AO_ABS: (lambda: parameter_table(DERLSP_AO_ABS, "Table 1"),),
+    IABC_SUSPENSION: (lambda: parameter_table(IABC_SUSPENSION, "Table 1"),),
+    DEFFAO_VEHICLE_ABS: (
+        lambda: parameter_table(DEFFAO_VEHICLE_ABS, "Table 1"),
+        lambda: parameter_table(DEFFAO_VEHICLE_ABS, "Table 2"),
         lambda: rule_table("deffao", "table3_rules", "Table 3: fuzzy control rules (kp, ki, kd)"),
     ),
-    "fuzzy-immune-abs": (
+    FUZZY_IMMUNE_ABS: (
         lambda: rule_table("immune", "table1_rules", "Table 1: fuzzy rules of the immune f"),
-        lambda: parameter_table("fuzzy-immune-abs", "Table 2"),
+        lambda: parameter_table(FUZZY_IMMUNE_ABS, "Table 2"),
     ),
 }
 """The paper's own tables of parameters and rules, in the paper's order, by paper key."""

@@ -16,8 +16,6 @@ from importlib import resources
 
 from chassistune.errors import InputError
 
-PAPER_KEYS = ("derlsp-ao-abs", "iabc-suspension", "deffao-vehicle-abs", "fuzzy-immune-abs")
-
 
 @dataclass(frozen=True)
 class Paper:

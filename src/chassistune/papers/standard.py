@@ -25,29 +25,30 @@ import pandas as pd
 
 from chassistune.papers import claims, common, deffao_vehicle_abs, derlsp_ao_abs, iabc_suspension
 from chassistune.papers.claims import Claim
+from chassistune.papers.keys import DEFFAO_VEHICLE_ABS, DERLSP_AO_ABS, IABC_SUSPENSION
 
 RECORD = "data/standard_result.toml"
 KEY = "standard"
 TITLE = "The papers' optimizers against the standard"
 REFERENCES = ("cma-es", "random-search")
-PROPOSED = {"derlsp-ao-abs": "derlsp-ao", "deffao-vehicle-abs": "deffao", "iabc-suspension": "iabc"}
+PROPOSED = {DERLSP_AO_ABS: "derlsp-ao", DEFFAO_VEHICLE_ABS: "deffao", IABC_SUSPENSION: "iabc"}
 """Paper key -> its proposed optimizer."""
 OWN_PROBLEM = {
-    "derlsp-ao-abs": "derlsp-ao-abs-pid/",
-    "deffao-vehicle-abs": "deffao-vehicle-abs-fuzzy-pid/",
-    "iabc-suspension": "iabc-suspension-pid/",
+    DERLSP_AO_ABS: f"{DERLSP_AO_ABS}-pid/",
+    DEFFAO_VEHICLE_ABS: f"{DEFFAO_VEHICLE_ABS}-fuzzy-pid/",
+    IABC_SUSPENSION: f"{IABC_SUSPENSION}-pid/",
 }
 """Paper key -> the prefix of its own control problems in the control-suite part."""
 SOURCE_CLAIM = {
-    "derlsp-ao-abs": "fig7-most",
-    "deffao-vehicle-abs": "table4-best",
-    "iabc-suspension": "smaller-objective",
+    DERLSP_AO_ABS: "fig7-most",
+    DEFFAO_VEHICLE_ABS: "table4-best",
+    IABC_SUSPENSION: "smaller-objective",
 }
 """Paper key -> its declared claim that its optimizer is better (the quote the question tests)."""
 PAPER_CLAIMS = {
-    "derlsp-ao-abs": derlsp_ao_abs.CLAIMS,
-    "deffao-vehicle-abs": deffao_vehicle_abs.CLAIMS,
-    "iabc-suspension": iabc_suspension.CLAIMS,
+    DERLSP_AO_ABS: derlsp_ao_abs.CLAIMS,
+    DEFFAO_VEHICLE_ABS: deffao_vehicle_abs.CLAIMS,
+    IABC_SUSPENSION: iabc_suspension.CLAIMS,
 }
 BENCHMARKS = ("bbob", "shifted", "control")
 BEATS, BEATEN, UNDECIDED, MISSING = (

@@ -42,7 +42,9 @@ class VehicleParams:
     )
     v0_m_s: float = field(default=120.0 / 3.6, metadata=positive(1.0, 70.0))
     g_m_s2: float = field(default=9.8, metadata=positive(9.7, 9.9))
-    actuator_gain: float = field(default=100.0, metadata=positive(1.0, 1e4, unit="1/s"))
+    actuator_gain: float = field(default=100.0, metadata=positive(1.0, 1e4, unit=f"{PRESSURE}/s"))
+    """K of the actuator T dr/dt = K u - r: the pressure rate per unit of the (dimensionless)
+    command u (docs/design.md 3.1)."""
     actuator_tau_s: float = field(default=0.01, metadata=positive(1e-3, 0.5))
     brake_gain: float = field(default=1.0, metadata=positive(0.1, 1000.0, unit=f"N m/{PRESSURE}"))
     """kq in N m per pressure unit, the same on all four wheels (no brake balance)."""
@@ -66,7 +68,7 @@ class SteeringParams:
     d(delta)/dt = (clip(-k_psi psi - k_r r, +-delta_max) - delta) / tau."""
 
     steering: str = "fixed"
-    heading_gain: float = field(default=1.0, metadata=nonnegative(0.0, 10.0))
+    heading_gain: float = field(default=1.0, metadata=nonnegative(0.0, 10.0, unit="rad/rad"))
     yaw_rate_gain_s: float = field(default=0.2, metadata=nonnegative(0.0, 2.0))
     max_steer_rad: float = field(default=0.1, metadata=nonnegative(0.0, 0.7))
     """Refused at or above pi/2 (MAX_STEER_LIMIT_RAD)."""

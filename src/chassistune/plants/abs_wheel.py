@@ -36,7 +36,9 @@ class AbsWheelParams:
     wheel_radius_m: float = field(default=0.5, metadata=positive(0.15, 1.0))
     v0_m_s: float = field(default=30.0, metadata=positive(1.0, 70.0))
     g_m_s2: float = field(default=9.81, metadata=positive(9.7, 9.9))
-    actuator_gain: float = field(default=100.0, metadata=positive(1.0, 1e4, unit="1/s"))
+    actuator_gain: float = field(default=100.0, metadata=positive(1.0, 1e4, unit=f"{PRESSURE}/s"))
+    """K of the actuator T dr/dt = K u - r: the pressure rate per unit of the (dimensionless)
+    command u (docs/design.md 3.1)."""
     actuator_tau_s: float = field(default=0.01, metadata=positive(1e-3, 0.5))
     brake_gain: float = field(default=1.0, metadata=positive(0.1, 1000.0, unit=f"N m/{PRESSURE}"))
     q_max: float = field(default=1500.0, metadata=positive(10.0, 1e5, unit=PRESSURE))

@@ -92,7 +92,7 @@ class TireCurve:
 class BilinearTire(TireCurve):
     """Tian et al. (derlsp-ao-abs) eq. 5 with Table 1's (S_T, mu_h, mu_g)."""
 
-    slip_opt: float = field(metadata=positive(0.03, 0.5))
+    slip_opt: float = field(metadata=positive(0.03, 0.5, open_interval=(0.0, 1.0)))
     mu_peak: float = field(metadata=positive(*PLAUSIBLE_MU_PEAK))
     mu_lock: float = field(metadata=nonnegative(0.03, 1.5))
     mu_scale: float = field(default=1.0, metadata=_MU_SCALE)

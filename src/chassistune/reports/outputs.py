@@ -15,7 +15,7 @@ import numpy as np
 
 from chassistune._io import file_set
 from chassistune.tuning.problem import TuningProblem
-from chassistune.tuning.tune import TuneResult
+from chassistune.tuning.run import TuneResult
 
 DEMO_PRESET = "paper-derlsp-ao"
 DEMO_METRICS = (

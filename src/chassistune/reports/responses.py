@@ -13,9 +13,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from chassistune.plots.overlay import Line
-from chassistune.reports.plant_view import Panel, PlantView, plant_view
+from chassistune.reports.plant_view import plant_view
 from chassistune.reports.tables import StudyData
 from chassistune.scenarios.base import Plant
+from chassistune.scenarios.report_view import Panel, PlantView
 from chassistune.studies.store import RunRecord
 
 

@@ -21,6 +21,7 @@ from chassistune._registry import resolve
 from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
 from chassistune.plants.presets import PresetInfo
+from chassistune.scenarios.report_view import PlantView
 from chassistune.units import with_pressure
 
 PENALTY = 1e9
@@ -57,6 +58,7 @@ class PlantSpec:
     `presets` ("module:attr" of the presets by name, each with its `info`) and `roads`
     ("module:attr" of a function: road name -> description) point into light modules, so that
     listing them imports no kernel; empty, the plant's builder answers (`Plant.presets`).
+    The other fields say what the upper layers do with it (each default: nothing).
     """
 
     name: str
@@ -67,6 +69,20 @@ class PlantSpec:
     plot: str
     presets: str = ""
     roads: str = ""
+    view: PlantView = field(default_factory=PlantView)
+    """How the reports present it (baseline, response overlays, generalization metrics)."""
+    refinable: bool = False
+    """Its figures converge as the integration step is refined, so a tuned winner is re-run at
+    a finer step to check them (`scenarios.refine`)."""
+    exportable: bool = False
+    """Its controllers' discrete forms export to C against it (`export.source`)."""
+    export_refusal: str = ""
+    """Why it cannot be exported although it names controllers with a discrete form."""
+    varied: tuple[str, ...] = ()
+    """The attributes of its scenarios holding the plant, road and actuator parameter
+    dataclasses whose float fields robust tuning may vary (`tuning.robust.plant_params`)."""
+    varied_scales: tuple[str, ...] = ()
+    """Positive scale factors robust tuning may vary besides those fields."""
 
     def preset_table(self) -> Mapping[str, Any]:
         """The presets by name as the plant defines them (each with its `info`), imported now."""

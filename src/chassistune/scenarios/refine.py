@@ -25,10 +25,6 @@ from chassistune.scenarios.base import Scenario
 S = TypeVar("S", bound=Scenario)
 
 THRESHOLD = 1e-3
-REFINABLE_PLANTS = ("abs-wheel", "abs-vehicle")
-"""Plants whose figures converge as the step is refined. Not the quarter car: its road is white
-noise drawn per step, so a finer step is another road (its rms figures move by ~15 %), and its
-tuning objective, `rms-ratio-exact`, does not depend on the step at all."""
 
 
 @dataclass(frozen=True)

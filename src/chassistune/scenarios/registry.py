@@ -10,9 +10,25 @@ from __future__ import annotations
 from chassistune._registry import Registry
 from chassistune.plants.presets import PresetInfo
 from chassistune.scenarios.base import Plant, PlantSpec
+from chassistune.scenarios.report_view import Panel, PlantView
 
 ABS_KEY_METRICS = ("stop_distance_m", "distance_ratio", "stop_time_s", "slip_itae", "locked_time_s")
 """The metrics reported for both ABS plants (the single wheel and the 7-DOF vehicle)."""
+
+
+def abs_view(*panels: Panel) -> PlantView:
+    """The reports' view of an ABS plant: `panels` beside the run without ABS, and the
+    generalization matrices of stop distance over the bound and locked time."""
+    return PlantView(
+        baseline="none",
+        baseline_label="no ABS",
+        panels=panels,
+        generalization_metrics=(
+            ("distance_ratio", "stop distance / bound"),
+            ("locked_time_s", "locked time [s]"),
+        ),
+    )
+
 
 ABS_WHEEL = PlantSpec(
     name="abs-wheel",
@@ -23,6 +39,15 @@ ABS_WHEEL = PlantSpec(
     plot="chassistune.plots.abs_wheel:plot_trace",
     presets="chassistune.plants.abs_wheel:PRESETS",
     roads="chassistune.plants.roads:friction_roads",
+    view=abs_view(
+        Panel("slip", "slip S [-]"),
+        Panel("vehicle_speed_m_s", "vehicle speed v [m/s]"),
+        Panel("brake_torque_n_m", "brake torque [N m]"),
+        Panel("distance_m", "distance [m]"),
+    ),
+    refinable=True,
+    exportable=True,
+    varied=("plant_params", "tire"),
 )
 ABS_VEHICLE = PlantSpec(
     name="abs-vehicle",
@@ -34,6 +59,18 @@ ABS_VEHICLE = PlantSpec(
     plot="chassistune.plots.abs_vehicle:plot_trace",
     presets="chassistune.plants.abs_vehicle_params:PRESETS",
     roads="chassistune.plants.vehicle_roads:road_names",
+    view=abs_view(
+        Panel("slip_fl", "front-left slip [-]"),
+        Panel("speed_m_s", "vehicle speed v [m/s]"),
+        Panel("yaw_rate_rad_s", "yaw rate [rad/s]"),
+        Panel("distance_m", "distance [m]"),
+    ),
+    refinable=True,
+    export_refusal="its kernel runs the wheel laws in continuous time with the target slip of "
+    "the surface under each wheel (no discrete ECU form to test an export against); export the "
+    "single wheel (abs-wheel), whose law the vehicle repeats per wheel",
+    varied=("plant_params",),
+    varied_scales=("mu_scale",),
 )
 QUARTER_CAR = PlantSpec(
     name="quarter-car",
@@ -51,7 +88,25 @@ QUARTER_CAR = PlantSpec(
     plot="chassistune.plots.quarter_car:plot_trace",
     presets="chassistune.plants.quarter_car_params:PRESETS",
     roads="chassistune.plants.roads:roughness_roads",
+    view=PlantView(
+        baseline="passive",
+        baseline_label="passive",
+        panels=(
+            Panel("body_acc_m_s2", "body acceleration [m/s^2]", "passive_body_acc_m_s2"),
+            Panel("susp_travel_m", "suspension travel [m]", "passive_susp_travel_m"),
+            Panel("tire_defl_m", "tire deflection [m]", "passive_tire_defl_m"),
+        ),
+        generalization_metrics=(
+            ("body_acc_rms", "body acc. RMS [m/s^2]"),
+            ("susp_travel_rms", "travel RMS [m]"),
+        ),
+        window_s=5.0,
+    ),
+    varied=("vehicle", "road_params"),
 )
+"""Not `refinable`: its road is white noise drawn per step, so a finer step is another road (its
+rms figures move by ~15 %), and its tuning objective, `rms-ratio-exact`, does not depend on the
+step at all."""
 
 SPECS: Registry[PlantSpec] = Registry("plant")
 BUILDERS: Registry[Plant] = Registry("plant")

@@ -5,11 +5,12 @@ One run is one optimizer on one BBOB problem (function 1-24, dimension, instance
 of `evals_per_dim` x D evaluations, evaluated by `cocoex` without an observer. It records its
 improvement trace: every evaluation that lowered the best cost, as (evaluation number, cost,
 point). Runs execute on the study executors (serial, process, Dask) through
-`studies.worker.execute_run`, like every study run; the driver writes each finished run into the
-study store (DIR/study.sqlite, one transaction per run): `history` and `history_nfev` hold the
-trace's costs and evaluation numbers, `metrics["improvements"]["x"]` its points. A killed run
-leaves no row and is redone; finished ones are skipped. COCO's data folder is written afterwards
-from the store alone (`studies.coco_data`): no observer ever writes from a run.
+`studies.worker.execute_run`, like every study run; `studies.bbob_runner.run_plan` writes each
+finished run into the study store (DIR/study.sqlite, one transaction per run): `history` and
+`history_nfev` hold the trace's costs and evaluation numbers, `metrics["improvements"]["x"]` its
+points. A killed run leaves no row and is redone; finished ones are skipped. COCO's data
+folder is written afterwards from the store alone (`studies.coco_data`): no observer ever writes
+from a run.
 
 Seeds: run seed index = the instance number, so every optimizer, function and dimension at one
 instance starts from the same child of the root seed.
@@ -21,17 +22,12 @@ import math
 import re
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
-from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
-from chassistune.errors import InputError
 from chassistune.optimizers.base import FloatArray
 from chassistune.studies.spec import RunSpec
-
-if TYPE_CHECKING:
-    from chassistune.studies.executors import Executor
 
 SUITE = "bbob"
 FUNCTIONS = tuple(range(1, 25))
@@ -177,49 +173,3 @@ def bbob_numbers(spec: RunSpec) -> dict[str, Any]:
         "history_nfev": trace.nfevs,
         "diagnostics": result.diagnostics,
     }
-
-
-Progress = Callable[[int, int], None]
-"""progress(done, total) after each finished run."""
-
-
-def run_plan(
-    plan: BBOBPlan,
-    out_dir: str | Path,
-    executor: Executor,
-    progress: Progress | None = None,
-) -> int:
-    """Do the plan's runs not yet in DIR/study.sqlite on `executor` (serial, process or Dask:
-    the same numbers on each), recording each as it finishes; the number of runs done now.
-    Refuses a store made from another plan."""
-    from chassistune.studies.lock import study_lock
-    from chassistune.studies.runner import check_out_dir
-    from chassistune.studies.store import Store, store_path
-
-    check_out_dir(out_dir)
-    specs = list(plan.runs())
-    with study_lock(out_dir):
-        finished: dict[str, Any] = {}
-        if store_path(out_dir).exists():
-            with Store.open(out_dir, "out") as old:
-                finished = old.finished()
-                if old.meta().get("study") not in (None, plan.name):
-                    raise InputError("out", f"{str(out_dir)!r} holds another study")
-        todo = {}
-        for spec in specs:
-            if spec.key not in finished:
-                todo[spec.key] = spec
-            elif finished[spec.key][0] != spec.spec_hash:
-                raise InputError(
-                    "out",
-                    f"{str(out_dir)!r} already holds run {spec.key!r} made with other "
-                    "settings (budget, population or seed); use a new --out folder",
-                )
-        done = len(specs) - len(todo)
-        with Store.create(out_dir, {"study": plan.name, "kind": BBOB_KIND}) as store:
-            for result in executor.results(list(todo.values())):
-                store.record(todo[result.key], result)
-                done += 1
-                if progress is not None:
-                    progress(done, len(specs))
-    return len(todo)

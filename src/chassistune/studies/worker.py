@@ -86,7 +86,7 @@ def _run(spec: RunSpec) -> dict[str, Any]:
     from chassistune.tuning.functions import FUNCTION_KIND
     from chassistune.tuning.robust.problem import RobustProblem
     from chassistune.tuning.robust.run import robust_summary
-    from chassistune.tuning.tune import run_optimizer
+    from chassistune.tuning.run import run_optimizer
 
     if spec.plant == FUNCTION_KIND:
         return _run_function(spec)

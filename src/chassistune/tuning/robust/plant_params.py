@@ -19,7 +19,7 @@ from collections.abc import Callable, Mapping
 from typing import Any
 
 from chassistune.scenarios.base import Scenario
-from chassistune.scenarios.registry import get_plant
+from chassistune.scenarios.registry import get_plant, plant_spec
 from chassistune.tuning.robust.spec import ParamRange
 
 NOT_UNCERTAIN = frozenset(
@@ -37,7 +37,11 @@ NOT_UNCERTAIN = frozenset(
 
 
 def field_range(f: dataclasses.Field[Any]) -> ParamRange:
-    """A dataclass field's valid range from its metadata."""
+    """A dataclass field's valid range from its metadata (an open interval, when it states one,
+    before its sign)."""
+    if "open_interval" in f.metadata:
+        lo, hi = f.metadata["open_interval"]
+        return ParamRange(lo, hi, lo_open=True, hi_open=True)
     if f.metadata.get("positive"):
         return ParamRange(0.0, math.inf, lo_open=True)
     if f.metadata.get("nonnegative"):
@@ -57,22 +61,17 @@ def ranges_of(obj: Any) -> dict[str, ParamRange]:
 
 
 def known_ranges(scenario: Scenario) -> dict[str, ParamRange]:
-    """Parameters of this scenario's plant, road and actuator that may vary, with valid ranges."""
-    if scenario.plant == "abs-wheel":
-        out = ranges_of(scenario.plant_params)  # type: ignore[attr-defined]
-        out.update(ranges_of(scenario.tire))  # type: ignore[attr-defined]
-        if "slip_opt" in out:
-            out["slip_opt"] = ParamRange(0.0, 1.0, lo_open=True, hi_open=True)
-        return out
-    if scenario.plant == "abs-vehicle":  # the vehicle's roads are named surfaces: mu_scale
-        out = ranges_of(scenario.plant_params)  # type: ignore[attr-defined]
-        out["mu_scale"] = ParamRange(0.0, math.inf, lo_open=True)
-        return out
-    if scenario.plant == "quarter-car":
-        out = ranges_of(scenario.vehicle)  # type: ignore[attr-defined]
-        out.update(ranges_of(scenario.road_params))  # type: ignore[attr-defined]
-        return out
-    raise ValueError(f"no uncertain parameters declared for plant {scenario.plant!r}")
+    """Parameters of this scenario's plant, road and actuator that may vary, with valid ranges:
+    the fields of the parameter dataclasses its plant's spec names (`PlantSpec.varied`), then
+    its positive scale factors (`PlantSpec.varied_scales`)."""
+    spec = plant_spec(scenario.plant)
+    if not spec.varied:
+        raise ValueError(f"no uncertain parameters declared for plant {scenario.plant!r}")
+    out: dict[str, ParamRange] = {}
+    for attribute in spec.varied:
+        out.update(ranges_of(getattr(scenario, attribute)))
+    out.update({name: ParamRange(0.0, math.inf, lo_open=True) for name in spec.varied_scales})
+    return out
 
 
 def scenario_builder(

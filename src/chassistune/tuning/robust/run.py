@@ -19,7 +19,7 @@ from chassistune.tuning.problem import TuningProblem
 from chassistune.tuning.robust.problem import RobustProblem, robust_problem
 from chassistune.tuning.robust.spec import UncertaintySpec
 from chassistune.tuning.robust.validation import ValidationResult
-from chassistune.tuning.tune import TuneResult, run_optimizer
+from chassistune.tuning.run import TuneResult, run_optimizer
 
 
 @dataclass
