@@ -28,6 +28,8 @@ import math
 
 import numba
 
+from chassistune._branchfree import clip, select
+
 VALVE_DUMP = -1
 VALVE_HOLD = 0
 VALVE_BUILD = 1
@@ -40,10 +42,19 @@ _jit = numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 
 
 @_jit
+def cyclic_index(k, n):
+    """k mod n in [0, n) (Python's modulo), by a mask when n is a power of two: the same index
+    without an integer division (the pre-drawn noise arrays have such lengths)."""
+    if n & (n - 1) == 0:
+        return k & (n - 1)
+    return k % n
+
+
+@_jit
 def edge_angle(k, teeth, spacing):
     """Wheel angle (rad) of edge k: k 2 pi / teeth + spacing[k mod len(spacing)] (k may be a
     whole float, as a kernel's state rows hold it)."""
-    return k * (2.0 * math.pi / teeth) + spacing[int(k) % spacing.shape[0]]
+    return k * (2.0 * math.pi / teeth) + spacing[cyclic_index(int(k), spacing.shape[0])]
 
 
 @_jit
@@ -136,7 +147,7 @@ def sensor_step(
     k = max(k_first, k_end - 1)
     while k <= k_end:
         s = crossing_fraction(edge_angle(k, teeth, spacing), theta0, theta1, w0, w1, dt)
-        t_edge = t0 + s * dt + jitter[k % jitter.shape[0]]
+        t_edge = t0 + s * dt + jitter[cyclic_index(k, jitter.shape[0])]
         t_prev = t_last
         t_last = math.floor(t_edge / timer_s) * timer_s
         k += 1
@@ -202,26 +213,27 @@ def vref_accel(
 @_jit
 def orifice_advance(p, mode, h, kb, kd, p_supply, p_return):
     """Pressure after h seconds in a fixed valve state, exact for dp/dt = k_b sqrt(p_s - p)
-    (build), -k_d sqrt(p - p_r) (dump), 0 (hold); clamped into [p_r, p_s] at the start."""
-    p = min(max(p, p_return), p_supply)
-    if mode == VALVE_BUILD:
-        r = math.sqrt(p_supply - p) - 0.5 * kb * h
-        return p_supply - r * r if r > 0.0 else p_supply
-    if mode == VALVE_DUMP:
-        r = math.sqrt(p - p_return) - 0.5 * kd * h
-        return p_return + r * r if r > 0.0 else p_return
-    return p
+    (build: p_s - r^2 with r = sqrt(p_s - p) - k_b h / 2, p_s once r <= 0), -k_d sqrt(p - p_r)
+    (dump, alike), 0 (hold); clamped into [p_r, p_s] at the start. Branch-free (one square
+    root, selects), so that a vector loop can run it."""
+    p = clip(float(p), p_return, p_supply)
+    build = mode == VALVE_BUILD
+    r = math.sqrt(select(build, p_supply - p, p - p_return)) - 0.5 * select(build, kb, kd) * h
+    rr = r * r
+    dumped = select(r > 0.0, p_return + rr, p_return)
+    held = select(mode == VALVE_DUMP, dumped, p)
+    return select(build, select(r > 0.0, p_supply - rr, p_supply), held)
 
 
 @_jit
 def valve_mode_at(t, prev_mode, prev_start, prev_on, mode, start, on):
     """Valve state at time t given the previous and the current pulse (state, start, length):
-    the current pulse rules from its start, the previous one before; after a pulse: hold."""
-    if t >= start:
-        return mode if t < start + on else VALVE_HOLD
-    if t >= prev_start and t < prev_start + prev_on:
-        return prev_mode
-    return VALVE_HOLD
+    the current pulse rules from its start, the previous one before; after a pulse: hold.
+    Branch-free (a float)."""
+    hold = float(VALVE_HOLD)
+    current = select(t < start + on, float(mode), hold)
+    previous = select((t >= prev_start) & (t < prev_start + prev_on), float(prev_mode), hold)
+    return select(t >= start, current, previous)
 
 
 @_jit

@@ -164,6 +164,7 @@ N_ECU_METRICS = len(EL.METRICS) - M_ECU_IAE
     R_PM1,
     R_PS1,
     R_PO1,
+    R_QSWITCH,
     R_QA,
     R_QB,
     R_VALVE,
@@ -334,7 +335,8 @@ def reference_speed(st, l, w_read, x, ts, tire, tc, acc_noise):
     elif tick > 0:
         v, w, r_w = st[_at(R_V, l)], st[_at(R_W, l)], st[_at(R_RW, l)]
         a_true = -tire_mu(tire, wheel_slip(v, w, r_w), tc) * st[_at(R_FZ, l)] * st[_at(R_INV_M, l)]
-        a_meas = E.accelerometer(a_true, x[X_BIAS], acc_noise[tick % acc_noise.shape[0]])
+        noise = acc_noise[E.cyclic_index(tick, acc_noise.shape[0])]
+        a_meas = E.accelerometer(a_true, x[X_BIAS], noise)
         vref, held = E.vref_accel(
             vref,
             vw,
@@ -413,8 +415,9 @@ def delay_line(line, tick, delay, u):
     (zero for the first ticks); u enters the line."""
     if delay == 0:
         return u
-    cmd = line[tick % delay]
-    line[tick % delay] = u
+    j = E.cyclic_index(tick, delay)
+    cmd = line[j]
+    line[j] = u
     return cmd
 
 
@@ -483,24 +486,48 @@ def _tick(st, l, aux, base, x, ts, t, tire, tc, table, grid, acc_noise):
 
 
 @_inline
-def valve_pressures(st, l, t, hs, dt, x):
-    """The exact pressure of the three-state valves at t + dt/2 and t + dt (docs/ecu.md,
-    Three-state modulator: `modulator_advance`, exact through every pulse boundary), read by
-    the RK4 stages of the step from t."""
-    q = st[_at(R_Q, l)]
+def valve_switches(st, l, t, hs, dt, x):
+    """Three-state valves (docs/ecu.md, Three-state modulator): whether a pulse boundary falls
+    inside the step from t; if so, the exact pressures at t + dt/2 and t + dt through it
+    (`modulator_advance`), which the step reads instead of its own one-state solution."""
     pm0, ps0, po0 = st[_at(R_PM0, l)], st[_at(R_PS0, l)], st[_at(R_PO0, l)]
     pm1, ps1, po1 = st[_at(R_PM1, l)], st[_at(R_PS1, l)], st[_at(R_PO1, l)]
-    kb, kd, q_max = x[X_KB], x[X_KD], st[_at(R_QMAX, l)]
-    st[_at(R_QA, l)] = E.modulator_advance(
-        q, t, hs, pm0, ps0, po0, pm1, ps1, po1, kb, kd, q_max, 0.0
-    )
-    st[_at(R_QB, l)] = E.modulator_advance(
-        q, t, dt, pm0, ps0, po0, pm1, ps1, po1, kb, kd, q_max, 0.0
-    )
+    t_end = t + dt
+    switch = False
+    for b in (ps0 + po0, ps1, ps1 + po1):
+        switch |= t < b < t_end
+    st[_at(R_QSWITCH, l)] = 1.0 if switch else 0.0
+    if switch:
+        q, kb, kd, q_max = st[_at(R_Q, l)], x[X_KB], x[X_KD], st[_at(R_QMAX, l)]
+        for row, h in ((R_QA, hs), (R_QB, dt)):
+            st[_at(row, l)] = E.modulator_advance(
+                q, t, h, pm0, ps0, po0, pm1, ps1, po1, kb, kd, q_max, 0.0
+            )
 
 
 @_inline
-def plant_step(st, l, tire, three_state, dt, hs, h6, n_steps, t_timeout, live, tc):
+def _stage_pressures(st, l, t, hs, dt, kb, kd, q_max):
+    """The three-state valves' pressures at t + dt/2 and t + dt (`modulator_advance`): one
+    valve state over the step, `orifice_advance` from q; a step with a switch reads those of
+    `valve_switches`. Branch-free."""
+    q = st[_at(R_Q, l)]
+    mode = E.valve_mode_at(
+        t,
+        st[_at(R_PM0, l)],
+        st[_at(R_PS0, l)],
+        st[_at(R_PO0, l)],
+        st[_at(R_PM1, l)],
+        st[_at(R_PS1, l)],
+        st[_at(R_PO1, l)],
+    )
+    qa = E.orifice_advance(q, mode, (t + hs) - t, kb, kd, q_max, 0.0)
+    qb = E.orifice_advance(q, mode, (t + dt) - t, kb, kd, q_max, 0.0)
+    switch = st[_at(R_QSWITCH, l)] != 0.0
+    return select(switch, st[_at(R_QA, l)], qa), select(switch, st[_at(R_QB, l)], qb)
+
+
+@_inline
+def plant_step(st, l, tire, three_state, dt, hs, h6, n_steps, t_timeout, live, tc, kb, kd):
     """One RK4 step of lane l from t = k dt under its held command (design.md 3.1; three-state
     valves: the stages read the exact pressures), the wheel angle, the step's metrics (the ideal
     kernel's quadrature; slip objectives and lock before the cut-out only) and end flags.
@@ -519,10 +546,10 @@ def plant_step(st, l, tire, three_state, dt, hs, h6, n_steps, t_timeout, live, t
         q_max,
     )
     u0 = st[_at(R_U0, l)]
-    qa, qb = st[_at(R_QA, l)], st[_at(R_QB, l)]
     target = st[_at(R_TARGET, l)]
     k = st[_at(R_STEP, l)]
     t = k * dt
+    qa, qb = _stage_pressures(st, l, t, hs, dt, kb, kd, q_max)
 
     x0 = (v, w, q, r)
     k1 = _rates(tire, x0, u0, pr, tc)
@@ -594,14 +621,26 @@ def plant_step(st, l, tire, three_state, dt, hs, h6, n_steps, t_timeout, live, t
 
 
 @_inline
-def _plant_steps(st, width, tire, three_state, dt, hs, h6, n_steps, t_timeout, live, tc):
+def _plant_steps(st, width, tire, three_state, dt, hs, h6, n_steps, t_timeout, live, tc, kb, kd):
     """`plant_step` of lanes 0 .. width - 1 (a whole number of vectors); 1 if a live lane
     ended."""
     any_end = False
     for b in range(width // VECTOR):
         for j in range(VECTOR):
             any_end |= plant_step(
-                st, b * VECTOR + j, tire, three_state, dt, hs, h6, n_steps, t_timeout, live, tc
+                st,
+                b * VECTOR + j,
+                tire,
+                three_state,
+                dt,
+                hs,
+                h6,
+                n_steps,
+                t_timeout,
+                live,
+                tc,
+                kb,
+                kd,
             )
     return any_end
 
@@ -777,6 +816,7 @@ def _simulate(
     m = int(x[X_M])
     ts = m * dt
     three_state = x[X_VALVES] != 0.0
+    kb, kd = x[X_KB], x[X_KD]
     toothed = x[X_TOOTHED] != 0.0
     n_plant = plant.shape[0]
     st[:] = 0.0
@@ -794,22 +834,46 @@ def _simulate(
         for l in range(live):
             k = st[_at(R_STEP, l)]
             t = k * dt
-            if int(k) % m == 0:
+            if k == st[_at(R_TICK, l)] * m:
                 _tick(st, l, aux[l], lp[lane_of[l]], x, ts, t, tire, tc, table, grid, acc_noise)
             if three_state:
-                valve_pressures(st, l, t, hs, dt, x)
+                valve_switches(st, l, t, hs, dt, x)
         width = -(-live // VECTOR) * VECTOR
         if tire == KIND_BILINEAR:  # one copy of the vector loop per tire law
             ended = _plant_steps(
-                st, width, KIND_BILINEAR, three_state, dt, hs, h6, n_steps, t_timeout, live, tc
+                st,
+                width,
+                KIND_BILINEAR,
+                three_state,
+                dt,
+                hs,
+                h6,
+                n_steps,
+                t_timeout,
+                live,
+                tc,
+                kb,
+                kd,
             )
         elif tire == KIND_BURCKHARDT:
             ended = _plant_steps(
-                st, width, KIND_BURCKHARDT, three_state, dt, hs, h6, n_steps, t_timeout, live, tc
+                st,
+                width,
+                KIND_BURCKHARDT,
+                three_state,
+                dt,
+                hs,
+                h6,
+                n_steps,
+                t_timeout,
+                live,
+                tc,
+                kb,
+                kd,
             )
         else:
             ended = _plant_steps(
-                st, width, KIND_TABLE, three_state, dt, hs, h6, n_steps, t_timeout, live, tc
+                st, width, KIND_TABLE, three_state, dt, hs, h6, n_steps, t_timeout, live, tc, kb, kd
             )
         if toothed:
             for l in range(live):

@@ -145,8 +145,9 @@ LANE = Layout(
         Slot("pulse1_mode", "-", "current pulse: valve state"),
         Slot("pulse1_start_s", "s", "current pulse: start"),
         Slot("pulse1_on_s", "s", "current pulse: on-time"),
-        Slot("q_half", "preset unit", "exact pressure at t + dt/2 (three-state valves)"),
-        Slot("q_full", "preset unit", "exact pressure at t + dt (three-state valves)"),
+        Slot("q_switch", "-", "1 if a valve switches inside the step (three-state valves)"),
+        Slot("q_half", "preset unit", "pressure at t + dt/2 of a step with a switch"),
+        Slot("q_full", "preset unit", "pressure at t + dt of a step with a switch"),
         Slot("valve", "-", "valve state last accounted"),
         Slot("valve_change_s", "s", "time of the last valve state change (NaN: none)"),
         # metrics
