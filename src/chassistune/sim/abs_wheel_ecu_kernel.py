@@ -135,6 +135,7 @@ N_ECU_METRICS = len(EL.METRICS) - M_ECU_IAE
     R_SLIP,
     R_STEP,
     R_TICK,
+    R_V_START,
     R_THETA0,
     R_W0,
     R_H,
@@ -527,14 +528,13 @@ def _stage_pressures(st, l, t, hs, dt, kb, kd, q_max):
 
 
 @_inline
-def plant_step(st, l, tire, three_state, dt, hs, h6, n_steps, t_timeout, live, tc, kb, kd):
+def plant_step(st, l, tire, three_state, dt, hs, h6, tc, kb, kd):
     """One RK4 step of lane l from t = k dt under its held command (design.md 3.1; three-state
-    valves: the stages read the exact pressures), the wheel angle, the step's metrics (the ideal
-    kernel's quadrature; slip objectives and lock before the cut-out only) and end flags.
-    Straight-line code, the body of the vector loop; returns 1 if a live lane ended."""
+    valves: the stages read the exact pressures) and the wheel angle; keeps the step's start
+    for `step_metrics`. Straight-line code, a body of the vector loop."""
     v, w, q, r = st[_at(R_V, l)], st[_at(R_W, l)], st[_at(R_Q, l)], st[_at(R_R, l)]
     theta = st[_at(R_THETA, l)]
-    r_w, q_max, v_stop = st[_at(R_RW, l)], st[_at(R_QMAX, l)], st[_at(R_VSTOP, l)]
+    r_w, q_max = st[_at(R_RW, l)], st[_at(R_QMAX, l)]
     pr = (
         r_w,
         st[_at(R_FZ, l)],
@@ -546,9 +546,7 @@ def plant_step(st, l, tire, three_state, dt, hs, h6, n_steps, t_timeout, live, t
         q_max,
     )
     u0 = st[_at(R_U0, l)]
-    target = st[_at(R_TARGET, l)]
-    k = st[_at(R_STEP, l)]
-    t = k * dt
+    t = st[_at(R_STEP, l)] * dt
     qa, qb = _stage_pressures(st, l, t, hs, dt, kb, kd, q_max)
 
     x0 = (v, w, q, r)
@@ -560,11 +558,31 @@ def plant_step(st, l, tire, three_state, dt, hs, h6, n_steps, t_timeout, live, t
     x4 = _stage(rk4_point(x0, dt, k3), three_state, qb)
     k4 = _rates(tire, x4, u0, pr, tc)
     vn, wn, qn, rn = rk4_update(x0, h6, k1, k2, k3, k4)
-    wn = fmax(wn, 0.0)
-    qn = select(three_state, qb, clip(qn, 0.0, q_max))
-    rn = select(three_state, r, rn)
-    theta_n = rk4_update(theta, h6, w, x2[1], x3[1], x4[1])
+    st[_at(R_V_START, l)] = v
+    st[_at(R_THETA0, l)] = theta
+    st[_at(R_W0, l)] = w
+    st[_at(R_V, l)] = vn
+    st[_at(R_W, l)] = fmax(wn, 0.0)
+    st[_at(R_Q, l)] = select(three_state, qb, clip(qn, 0.0, q_max))
+    st[_at(R_R, l)] = select(three_state, r, rn)
+    st[_at(R_THETA, l)] = rk4_update(theta, h6, w, x2[1], x3[1], x4[1])
 
+
+@_inline
+def step_metrics(st, l, dt, n_steps, t_timeout, live):
+    """The metrics of lane l's step just taken (the ideal kernel's quadrature; the slip
+    objectives and the lock before the cut-out only) and its end flags. Straight-line code, a
+    body of the vector loop; returns 1 if a live lane ended."""
+    v, vn, wn, qn, rn = (
+        st[_at(R_V_START, l)],
+        st[_at(R_V, l)],
+        st[_at(R_W, l)],
+        st[_at(R_Q, l)],
+        st[_at(R_R, l)],
+    )
+    r_w, v_stop, target = st[_at(R_RW, l)], st[_at(R_VSTOP, l)], st[_at(R_TARGET, l)]
+    k = st[_at(R_STEP, l)]
+    t = k * dt
     working = st[_at(R_CUT, l)] == 0.0  # not cut out
     active = select(working, 1.0, 0.0)
     slip = st[_at(R_SLIP, l)]
@@ -606,13 +624,6 @@ def plant_step(st, l, tire, three_state, dt, hs, h6, n_steps, t_timeout, live, t
     st[_at(R_ENDED, l)] = select(ended, 1.0, 0.0)
     st[_at(R_STOP, l)] = select(stop, 1.0, 0.0)
     st[_at(R_H, l)] = h
-    st[_at(R_THETA0, l)] = theta
-    st[_at(R_W0, l)] = w
-    st[_at(R_V, l)] = vn
-    st[_at(R_W, l)] = wn
-    st[_at(R_Q, l)] = qn
-    st[_at(R_R, l)] = rn
-    st[_at(R_THETA, l)] = theta_n
     st[_at(R_SLIP, l)] = s_new
     st[_at(R_ITAE, l)] = itae
     st[_at(R_DIST, l)] = dist
@@ -622,26 +633,15 @@ def plant_step(st, l, tire, three_state, dt, hs, h6, n_steps, t_timeout, live, t
 
 @_inline
 def _plant_steps(st, width, tire, three_state, dt, hs, h6, n_steps, t_timeout, live, tc, kb, kd):
-    """`plant_step` of lanes 0 .. width - 1 (a whole number of vectors); 1 if a live lane
-    ended."""
+    """`plant_step`, then `step_metrics`, of lanes 0 .. width - 1 (a whole number of vectors);
+    1 if a live lane ended. Two vector loops: each body keeps its values in registers."""
+    for b in range(width // VECTOR):
+        for j in range(VECTOR):
+            plant_step(st, b * VECTOR + j, tire, three_state, dt, hs, h6, tc, kb, kd)
     any_end = False
     for b in range(width // VECTOR):
         for j in range(VECTOR):
-            any_end |= plant_step(
-                st,
-                b * VECTOR + j,
-                tire,
-                three_state,
-                dt,
-                hs,
-                h6,
-                n_steps,
-                t_timeout,
-                live,
-                tc,
-                kb,
-                kd,
-            )
+            any_end |= step_metrics(st, b * VECTOR + j, dt, n_steps, t_timeout, live)
     return any_end
 
 

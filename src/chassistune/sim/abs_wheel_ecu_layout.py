@@ -113,6 +113,7 @@ LANE = Layout(
         Slot("step", "-", "steps done (t = step dt)"),
         Slot("tick", "-", "ECU ticks done"),
         # the last step's start and end facts
+        Slot("v_start_m_s", "m/s", "vehicle speed at the start of the last step"),
         Slot("theta_start_rad", "rad", "wheel angle at the start of the last step"),
         Slot("w_start_rad_s", "rad/s", "wheel speed at the start of the last step"),
         Slot("h_s", "s", "length of the last step (up to v_stop)"),
