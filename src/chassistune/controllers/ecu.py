@@ -34,7 +34,7 @@ VALVE_DUMP = -1
 VALVE_HOLD = 0
 VALVE_BUILD = 1
 
-_BISECTIONS = 60
+CROSSING_ITERATIONS = 60
 """Most iterations of the edge-time search (a halving each at worst: float resolution)."""
 _EPS = 2.0**-52
 
@@ -82,33 +82,50 @@ def hermite_rate(s, theta0, theta1, w0, w1, dt):
 
 
 @_jit
+def crossing_start(target, theta0, theta1):
+    """Start of `crossing_fraction`'s search: (s, lo, hi, done), s the linear guess."""
+    s = min(max((target - theta0) / (theta1 - theta0), 0.0), 1.0)
+    return s, 0.0, 1.0, False
+
+
+@_jit
+def crossing_iteration(s, lo, hi, done, target, theta0, theta1, w0, w1, dt):
+    """One iteration of `crossing_fraction`'s search, branch-free (a finished search, `done`,
+    stays as it is): the bracket [lo, hi] narrowed at s; done there when the angle hits the
+    target or the bracket is at float resolution; else the Newton iterate, or the bracket's
+    middle when Newton would leave it, done when Newton moved by at most one ulp of 1."""
+    f = hermite_angle(s, theta0, theta1, w0, w1, dt) - target
+    below = f < 0.0
+    lo2 = select(below, s, lo)
+    hi2 = select(below, hi, s)
+    hit = (f == 0.0) | (hi2 - lo2 <= 4.0 * _EPS)
+    d = hermite_rate(s, theta0, theta1, w0, w1, dt)
+    newton = select(d > 0.0, s - f / d, -1.0)
+    inside = (lo2 < newton) & (newton < hi2)
+    nxt = select(inside, newton, 0.5 * (lo2 + hi2))
+    converged = inside & (abs(newton - s) <= _EPS)
+    return (
+        select(done | hit, s, nxt),
+        select(done, lo, lo2),
+        select(done, hi, hi2),
+        done | hit | converged,
+    )
+
+
+@_jit
 def crossing_fraction(target, theta0, theta1, w0, w1, dt):
     """Fraction s of the step where the interpolated angle reaches `target`: safeguarded
     Newton from the linear guess, inside a bracket [lo, hi] that every iterate narrows (a
-    bisection step whenever Newton would leave it), to float resolution (_BISECTIONS halvings
-    at most).
+    bisection step whenever Newton would leave it), to float resolution (at most
+    CROSSING_ITERATIONS halvings; `crossing_iteration`).
 
     theta0 < target <= theta1; the first crossing of a monotone interpolant (w0, w1 >= 0 and
     the angle increment between their bounds keep it monotone)."""
-    lo = 0.0
-    hi = 1.0
-    s = min(max((target - theta0) / (theta1 - theta0), 0.0), 1.0)
-    for _ in range(_BISECTIONS):
-        f = hermite_angle(s, theta0, theta1, w0, w1, dt) - target
-        if f < 0.0:
-            lo = s
-        else:
-            hi = s
-        if f == 0.0 or hi - lo <= 4.0 * _EPS:
+    s, lo, hi, done = crossing_start(target, theta0, theta1)
+    for _ in range(CROSSING_ITERATIONS):
+        s, lo, hi, done = crossing_iteration(s, lo, hi, done, target, theta0, theta1, w0, w1, dt)
+        if done:
             break
-        d = hermite_rate(s, theta0, theta1, w0, w1, dt)
-        nxt = s - f / d if d > 0.0 else -1.0
-        if not lo < nxt < hi:
-            nxt = 0.5 * (lo + hi)
-        elif abs(nxt - s) <= _EPS:
-            s = nxt
-            break
-        s = nxt
     return s
 
 
@@ -139,22 +156,43 @@ def sensor_step(
     k_first = int(k_next)
     if edge_angle(k_first, teeth, spacing) > theta1:
         return k_first, t_last, t_prev, w_est
+    k, k_end = edges_passed(k_first, theta1, teeth, spacing)
+    while k <= k_end:
+        s = crossing_fraction(edge_angle(k, teeth, spacing), theta0, theta1, w0, w1, dt)
+        t_prev = t_last
+        t_last = edge_capture(t0, s, dt, k, timer_s, jitter)
+        k += 1
+    return k_end + 1, t_last, t_prev, period_estimate(t_last, t_prev, w_est, teeth)
+
+
+@_jit
+def edges_passed(k_first, theta1, teeth, spacing):
+    """(k, k_end): the edges of a step from the next edge k_first up to the angle theta1 that
+    matter, the last two (edge k_first is passed: edge_angle(k_first) <= theta1)."""
     k_end = math.floor(theta1 * teeth / (2.0 * math.pi))
     while edge_angle(k_end + 1, teeth, spacing) <= theta1:
         k_end += 1
     while edge_angle(k_end, teeth, spacing) > theta1:
         k_end -= 1
-    k = max(k_first, k_end - 1)
-    while k <= k_end:
-        s = crossing_fraction(edge_angle(k, teeth, spacing), theta0, theta1, w0, w1, dt)
-        t_edge = t0 + s * dt + jitter[cyclic_index(k, jitter.shape[0])]
-        t_prev = t_last
-        t_last = math.floor(t_edge / timer_s) * timer_s
-        k += 1
+    return max(k_first, k_end - 1), k_end
+
+
+@_jit
+def edge_capture(t0, s, dt, k, timer_s, jitter):
+    """Captured time of edge k, crossed at the fraction s of the step from t0: jittered by
+    jitter[k mod len], floored to the timer."""
+    t_edge = t0 + s * dt + jitter[cyclic_index(k, jitter.shape[0])]
+    return math.floor(t_edge / timer_s) * timer_s
+
+
+@_jit
+def period_estimate(t_last, t_prev, w_est, teeth):
+    """The nominal pitch over the last captured period, or w_est held (no period yet, or a
+    non-positive one)."""
     period = t_last - t_prev
     if t_prev >= 0.0 and period > 0.0:
-        w_est = (2.0 * math.pi / teeth) / period
-    return k_end + 1, t_last, t_prev, w_est
+        return (2.0 * math.pi / teeth) / period
+    return w_est
 
 
 @_jit

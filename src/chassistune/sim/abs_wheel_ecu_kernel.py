@@ -645,34 +645,104 @@ def _plant_steps(st, width, tire, three_state, dt, hs, h6, n_steps, t_timeout, l
     return any_end
 
 
+EDGE_FIELDS = ("lane", "k", "target", "theta0", "theta1", "w0", "w1", "s", "lo", "hi", "done")
+"""Rows of the scratch `edges` (an edge crossed in a step, one per column; `sensor_edges`)."""
+E_LANE, E_K, E_TARGET, E_THETA0, E_THETA1, E_W0, E_W1, E_S, E_LO, E_HI, E_DONE = range(
+    len(EDGE_FIELDS)
+)
+
+
 @_inline
-def sensor_edges(st, l, dt, x, spacing, jitter):
-    """The toothed sensor over lane l's last step, when the wheel passed the next edge
-    (docs/ecu.md, Toothed-wheel sensor: `sensor_step`, which holds everything otherwise)."""
-    if st[_at(R_THETA, l)] < st[_at(R_EDGE_NEXT, l)]:
-        return
-    teeth = int(x[X_TEETH])
-    k_next, t_last, t_prev, w_est = E.sensor_step(
-        st[_at(R_THETA0, l)],
-        st[_at(R_THETA, l)],
-        st[_at(R_W0, l)],
-        st[_at(R_W, l)],
-        (st[_at(R_STEP, l)] - 1.0) * dt,
-        dt,
-        int(st[_at(R_KNEXT, l)]),
-        st[_at(R_TLAST, l)],
-        st[_at(R_TPREV, l)],
-        st[_at(R_WEST, l)],
-        teeth,
-        x[X_TIMER],
-        spacing,
-        jitter,
+def _lane_edges(st, l, teeth, spacing, edges, n):
+    """Append lane l's edges that matter in its last step (`edges_passed`) to `edges` from
+    column n, each with the start of its crossing search; the new column count. Without one,
+    the lane's sensor is settled here as `sensor_step` settles it."""
+    theta0, theta1 = st[_at(R_THETA0, l)], st[_at(R_THETA, l)]
+    w0, w1 = st[_at(R_W0, l)], st[_at(R_W, l)]
+    k, k_end = E.edges_passed(int(st[_at(R_KNEXT, l)]), theta1, teeth, spacing)
+    if k > k_end:
+        _settle_sensor(st, l, k_end, teeth, spacing)
+    while k <= k_end:
+        target = E.edge_angle(k, teeth, spacing)
+        s, lo, hi, done = E.crossing_start(target, theta0, theta1)
+        item = (
+            float(l),
+            float(k),
+            target,
+            theta0,
+            theta1,
+            w0,
+            w1,
+            s,
+            lo,
+            hi,
+            select(done, 1.0, 0.0),
+        )
+        for f in range(len(EDGE_FIELDS)):
+            edges[f, n] = item[f]
+        n += 1
+        k += 1
+    return n
+
+
+@_inline
+def _settle_sensor(st, l, k_end, teeth, spacing):
+    """Lane l's sensor after its last edge k_end of the step: the next edge, the estimate."""
+    st[_at(R_KNEXT, l)] = k_end + 1
+    st[_at(R_EDGE_NEXT, l)] = E.edge_angle(k_end + 1, teeth, spacing)
+    st[_at(R_WEST, l)] = E.period_estimate(
+        st[_at(R_TLAST, l)], st[_at(R_TPREV, l)], st[_at(R_WEST, l)], teeth
     )
-    st[_at(R_KNEXT, l)] = k_next
-    st[_at(R_EDGE_NEXT, l)] = E.edge_angle(k_next, teeth, spacing)
-    st[_at(R_TLAST, l)] = t_last
-    st[_at(R_TPREV, l)] = t_prev
-    st[_at(R_WEST, l)] = w_est
+
+
+@_inline
+def _search_crossings(edges, n, dt):
+    """`crossing_fraction` of the n edges in `edges`, in lockstep (`crossing_iteration`,
+    branch-free: a vector loop over the edges), until every search is done."""
+    for _ in range(E.CROSSING_ITERATIONS):
+        busy = False
+        for i in range(n):
+            s, lo, hi, done = E.crossing_iteration(
+                edges[E_S, i],
+                edges[E_LO, i],
+                edges[E_HI, i],
+                edges[E_DONE, i] != 0.0,
+                edges[E_TARGET, i],
+                edges[E_THETA0, i],
+                edges[E_THETA1, i],
+                edges[E_W0, i],
+                edges[E_W1, i],
+                dt,
+            )
+            edges[E_S, i] = s
+            edges[E_LO, i] = lo
+            edges[E_HI, i] = hi
+            edges[E_DONE, i] = select(done, 1.0, 0.0)
+            busy |= not done
+        if not busy:
+            return
+
+
+@_inline
+def sensor_edges(st, live, dt, x, spacing, jitter, edges):
+    """The toothed sensor over the last step of every live lane whose wheel passed its next
+    edge (docs/ecu.md, Toothed-wheel sensor; `sensor_step`, which holds everything otherwise,
+    in its pieces): the edges that matter, their crossings searched in lockstep across the
+    lanes, then each lane's captures in edge order and its estimate."""
+    teeth = int(x[X_TEETH])
+    n = 0
+    for l in range(live):
+        if st[_at(R_ENDED, l)] == 0.0 and st[_at(R_THETA, l)] >= st[_at(R_EDGE_NEXT, l)]:
+            n = _lane_edges(st, l, teeth, spacing, edges, n)
+    _search_crossings(edges, n, dt)
+    for i in range(n):
+        l = int(edges[E_LANE, i])
+        k = int(edges[E_K, i])
+        t0 = (st[_at(R_STEP, l)] - 1.0) * dt
+        st[_at(R_TPREV, l)] = st[_at(R_TLAST, l)]
+        st[_at(R_TLAST, l)] = E.edge_capture(t0, edges[E_S, i], dt, k, x[X_TIMER], jitter)
+        if i == n - 1 or edges[E_LANE, i + 1] != l:  # the lane's last edge
+            _settle_sensor(st, l, k, teeth, spacing)
 
 
 @_inline
@@ -798,6 +868,7 @@ def _simulate(
     st,
     lane_of,
     aux,
+    edges,
 ):
     """The lane loop (module docstring): candidate i runs law parameters lp[i] on plant row
     min(i, rows - 1), with the ECU vector x, on the tire of law `tire` with coefficients coef and
@@ -876,9 +947,7 @@ def _simulate(
                 st, width, KIND_TABLE, three_state, dt, hs, h6, n_steps, t_timeout, live, tc, kb, kd
             )
         if toothed:
-            for l in range(live):
-                if st[_at(R_ENDED, l)] == 0.0:
-                    sensor_edges(st, l, dt, x, spacing, jitter)
+            sensor_edges(st, live, dt, x, spacing, jitter, edges)
         if n_trace > 0 and rows < n_trace:  # one candidate, in lane 0
             _write_trace(trace[rows], st, dt, tire, tc, x)
             rows += 1
@@ -956,6 +1025,7 @@ def simulate_abs_wheel_ecu(
         np.empty(N_ROWS * LANES),
         np.empty(LANES, dtype=np.int64),
         np.empty((LANES, aux_width)),
+        np.empty((len(EDGE_FIELDS), 2 * LANES)),
     )
 
 
