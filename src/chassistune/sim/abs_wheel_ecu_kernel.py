@@ -632,9 +632,11 @@ def step_metrics(st, l, dt, n_steps, t_timeout, live):
 
 
 @_inline
-def _plant_steps(st, width, tire, three_state, dt, hs, h6, n_steps, t_timeout, live, tc, kb, kd):
+def _plant_steps(st, width, live, tire, three_state, step):
     """`plant_step`, then `step_metrics`, of lanes 0 .. width - 1 (a whole number of vectors);
-    1 if a live lane ended. Two vector loops: each body keeps its values in registers."""
+    1 if a live lane ended. Two vector loops: each body keeps its values in registers.
+    step = (dt, dt / 2, dt / 6, steps budget, timeout time, tire data, kb, kd)."""
+    dt, hs, h6, n_steps, t_timeout, tc, kb, kd = step
     for b in range(width // VECTOR):
         for j in range(VECTOR):
             plant_step(st, b * VECTOR + j, tire, three_state, dt, hs, h6, tc, kb, kd)
@@ -887,8 +889,8 @@ def _simulate(
     m = int(x[X_M])
     ts = m * dt
     three_state = x[X_VALVES] != 0.0
-    kb, kd = x[X_KB], x[X_KD]
     toothed = x[X_TOOTHED] != 0.0
+    step = (dt, hs, h6, n_steps, t_timeout, tc, x[X_KB], x[X_KD])
     n_plant = plant.shape[0]
     st[:] = 0.0
     lane_of[:] = -1
@@ -911,41 +913,11 @@ def _simulate(
                 valve_switches(st, l, t, hs, dt, x)
         width = -(-live // VECTOR) * VECTOR
         if tire == KIND_BILINEAR:  # one copy of the vector loop per tire law
-            ended = _plant_steps(
-                st,
-                width,
-                KIND_BILINEAR,
-                three_state,
-                dt,
-                hs,
-                h6,
-                n_steps,
-                t_timeout,
-                live,
-                tc,
-                kb,
-                kd,
-            )
+            ended = _plant_steps(st, width, live, KIND_BILINEAR, three_state, step)
         elif tire == KIND_BURCKHARDT:
-            ended = _plant_steps(
-                st,
-                width,
-                KIND_BURCKHARDT,
-                three_state,
-                dt,
-                hs,
-                h6,
-                n_steps,
-                t_timeout,
-                live,
-                tc,
-                kb,
-                kd,
-            )
+            ended = _plant_steps(st, width, live, KIND_BURCKHARDT, three_state, step)
         else:
-            ended = _plant_steps(
-                st, width, KIND_TABLE, three_state, dt, hs, h6, n_steps, t_timeout, live, tc, kb, kd
-            )
+            ended = _plant_steps(st, width, live, KIND_TABLE, three_state, step)
         if toothed:
             sensor_edges(st, live, dt, x, spacing, jitter, edges)
         if n_trace > 0 and rows < n_trace:  # one candidate, in lane 0
@@ -969,13 +941,9 @@ def _simulate(
         out[0, M_NTRACE] = rows
 
 
-_ENTRY_OPTIONS: dict[str, Any] = {
-    "cache": True,
-    "nogil": True,
-    "error_model": "numpy",
-    "_nrt": False,  # no reference counting (module docstring); numba's stubs omit the flag
-}
-_simulate = njit(**_ENTRY_OPTIONS)(_simulate)
+_NO_NRT: dict[str, Any] = {"_nrt": False}
+"""No reference counting (module docstring); numba's stubs omit the flag."""
+_simulate = njit(cache=True, nogil=True, error_model="numpy", **_NO_NRT)(_simulate)
 _NO_TABLE = table_tuples(np.array([0.0, 1.0]), np.array([0.0, 0.0]))
 
 
