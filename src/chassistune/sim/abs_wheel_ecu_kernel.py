@@ -9,7 +9,7 @@ speeds) for the toothed sensor. With three-state valves the pressure is not inte
 the exact orifice solution (`controllers.ecu.modulator_advance`) at the stage times.
 
 Each iteration of the lane loop, per lane, in the order of docs/ecu.md "The realistic kernel":
-- the ECU tick (every ecu_ts_s = m dt, before the step at t = k dt, k % m == 0), one named
+- the ECU tick (every ecu_ts_s = m dt, before the step at t = k dt, k a multiple of m), one named
   stage after the other: `sensor` (true wheel speed, or the toothed wheel's last edge period,
   held or bounded), `reference_speed` (true, slew-limited or accelerometer), `ecu_slip`
   ((vref - w_est R) / vref in [0, 1]), `cutout`, `schedule` (kp, kd times max(vref / v0,
@@ -18,19 +18,23 @@ Each iteration of the lane loop, per lane, in the order of docs/ecu.md "The real
   j + delay), `valves` (continuous: the held command u into K/(s(Ts+1)); three-state: a pulse,
   `duty_pulse` for the PID laws' pressure rate K u, `switching_pulse` for the switching laws,
   the driver's demand after the cut-out);
-- `valve_pressures`: the exact pressure at t + dt/2 and t + dt (three-state valves);
-- `plant_step`: one RK4 step with its metrics and end flags, straight-line code (selects, no
-  calls, no branches), vectorized across 8 lanes at a time (`_plant_steps`);
+- `valve_switches`: whether a valve switches inside the step (three-state valves), and then the
+  exact pressures through the switch (`modulator_advance`);
+- `plant_step`: one RK4 step (three-state valves: the stages read the one-state orifice
+  solution, or the pressures of a step with a switch), then `step_metrics`: its metrics and end
+  flags; straight-line code (selects, no calls, no branches) in two vector loops of 8 lanes
+  (`_plant_steps`), compiled once per tire law (a constant in each copy);
 - `sensor_edges`: the toothed sensor, for the lanes whose wheel passed an edge in the step
-  (`sensor_step` on the step's Hermite interpolant);
+  (`sensor_step` in its pieces, the edge-time searches of all those lanes in lockstep);
 - a finished run writes its metrics, and its lane takes the next candidate.
-The tick, the pressures and the edges are scalar passes over the lanes; each lane keeps its own
-step counter, so every number is what a one-candidate loop computes, bitwise independent of the
-lane, the population and the thread count.
+The tick, the switch test and the edges are scalar passes over the lanes; each lane keeps its
+own step counter, so every number is what a one-candidate loop computes, bitwise independent of
+the lane, the population and the thread count.
 
 No reference counting: the entry point is compiled without numba's runtime (`_nrt=False`); the
-caller passes the lane array `st`, `lane_of` and the per-lane scratch rows `aux` (the law's
-state, scheduled parameters and inputs, the delay line), and nothing is allocated.
+caller passes the lane array `st`, `lane_of`, the per-lane scratch rows `aux` (the law's
+state, scheduled parameters and inputs, the delay line) and the edge scratch `edges`, and
+nothing is allocated.
 
 Metrics: the ideal kernel's slots (same quadrature), the slip integrals and the lock time
 counting only before the cut-out; distance and time to v_stop; plus the ECU's (`ECU_METRICS`).
