@@ -101,6 +101,19 @@ def test_batch_row_equals_single_run_no_nan_physical_valves(controller: str) -> 
     assert np.all(m["valve_switches"] > 0)
 
 
+@pytest.mark.parametrize("controller", ["pid", "threshold"])
+def test_population_beyond_the_lanes_row_equals_single_run(controller: str) -> None:
+    """More candidates than lanes (lanes refilled from the queue, then closed): row i of the
+    batch is bitwise run i alone, with a toothed sensor whose teeth are uneven."""
+    sc = PLANT.scenario(
+        PRESET, "wet-asphalt", controller, {"ecu": "realistic", "sensor_spacing_error": 0.05}
+    )
+    g = _population(sc, 2 * EK.LANES + 7, 3)
+    batch = sc.raw(g, workers=1)
+    for i in range(0, len(g), 5):
+        assert sc.raw(g[i : i + 1], workers=1).tobytes() == batch[i : i + 1].tobytes()
+
+
 @pytest.mark.parametrize("controller", CONTROLLERS)
 def test_continuous_valves_random_gains_give_no_nan(controller: str) -> None:
     sc = PLANT.scenario(

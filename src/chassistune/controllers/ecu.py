@@ -28,11 +28,13 @@ import math
 
 import numba
 
+from chassistune._branchfree import clip, select
+
 VALVE_DUMP = -1
 VALVE_HOLD = 0
 VALVE_BUILD = 1
 
-_BISECTIONS = 60
+CROSSING_ITERATIONS = 60
 """Most iterations of the edge-time search (a halving each at worst: float resolution)."""
 _EPS = 2.0**-52
 
@@ -40,10 +42,19 @@ _jit = numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 
 
 @_jit
+def cyclic_index(k, n):
+    """k mod n in [0, n) (Python's modulo), by a mask when n is a power of two: the same index
+    without an integer division (the pre-drawn noise arrays have such lengths)."""
+    if n & (n - 1) == 0:
+        return k & (n - 1)
+    return k % n
+
+
+@_jit
 def edge_angle(k, teeth, spacing):
     """Wheel angle (rad) of edge k: k 2 pi / teeth + spacing[k mod len(spacing)] (k may be a
     whole float, as a kernel's state rows hold it)."""
-    return k * (2.0 * math.pi / teeth) + spacing[int(k) % spacing.shape[0]]
+    return k * (2.0 * math.pi / teeth) + spacing[cyclic_index(int(k), spacing.shape[0])]
 
 
 @_jit
@@ -71,33 +82,50 @@ def hermite_rate(s, theta0, theta1, w0, w1, dt):
 
 
 @_jit
+def crossing_start(target, theta0, theta1):
+    """Start of `crossing_fraction`'s search: (s, lo, hi, done), s the linear guess."""
+    s = min(max((target - theta0) / (theta1 - theta0), 0.0), 1.0)
+    return s, 0.0, 1.0, False
+
+
+@_jit
+def crossing_iteration(s, lo, hi, done, target, theta0, theta1, w0, w1, dt):
+    """One iteration of `crossing_fraction`'s search, branch-free (a finished search, `done`,
+    stays as it is): the bracket [lo, hi] narrowed at s; done there when the angle hits the
+    target or the bracket is at float resolution; else the Newton iterate, or the bracket's
+    middle when Newton would leave it, done when Newton moved by at most one ulp of 1."""
+    f = hermite_angle(s, theta0, theta1, w0, w1, dt) - target
+    below = f < 0.0
+    lo2 = select(below, s, lo)
+    hi2 = select(below, hi, s)
+    hit = (f == 0.0) | (hi2 - lo2 <= 4.0 * _EPS)
+    d = hermite_rate(s, theta0, theta1, w0, w1, dt)
+    newton = select(d > 0.0, s - f / d, -1.0)
+    inside = (lo2 < newton) & (newton < hi2)
+    nxt = select(inside, newton, 0.5 * (lo2 + hi2))
+    converged = inside & (abs(newton - s) <= _EPS)
+    return (
+        select(done | hit, s, nxt),
+        select(done, lo, lo2),
+        select(done, hi, hi2),
+        done | hit | converged,
+    )
+
+
+@_jit
 def crossing_fraction(target, theta0, theta1, w0, w1, dt):
     """Fraction s of the step where the interpolated angle reaches `target`: safeguarded
     Newton from the linear guess, inside a bracket [lo, hi] that every iterate narrows (a
-    bisection step whenever Newton would leave it), to float resolution (_BISECTIONS halvings
-    at most).
+    bisection step whenever Newton would leave it), to float resolution (at most
+    CROSSING_ITERATIONS halvings; `crossing_iteration`).
 
     theta0 < target <= theta1; the first crossing of a monotone interpolant (w0, w1 >= 0 and
     the angle increment between their bounds keep it monotone)."""
-    lo = 0.0
-    hi = 1.0
-    s = min(max((target - theta0) / (theta1 - theta0), 0.0), 1.0)
-    for _ in range(_BISECTIONS):
-        f = hermite_angle(s, theta0, theta1, w0, w1, dt) - target
-        if f < 0.0:
-            lo = s
-        else:
-            hi = s
-        if f == 0.0 or hi - lo <= 4.0 * _EPS:
+    s, lo, hi, done = crossing_start(target, theta0, theta1)
+    for _ in range(CROSSING_ITERATIONS):
+        s, lo, hi, done = crossing_iteration(s, lo, hi, done, target, theta0, theta1, w0, w1, dt)
+        if done:
             break
-        d = hermite_rate(s, theta0, theta1, w0, w1, dt)
-        nxt = s - f / d if d > 0.0 else -1.0
-        if not lo < nxt < hi:
-            nxt = 0.5 * (lo + hi)
-        elif abs(nxt - s) <= _EPS:
-            s = nxt
-            break
-        s = nxt
     return s
 
 
@@ -128,22 +156,43 @@ def sensor_step(
     k_first = int(k_next)
     if edge_angle(k_first, teeth, spacing) > theta1:
         return k_first, t_last, t_prev, w_est
+    k, k_end = edges_passed(k_first, theta1, teeth, spacing)
+    while k <= k_end:
+        s = crossing_fraction(edge_angle(k, teeth, spacing), theta0, theta1, w0, w1, dt)
+        t_prev = t_last
+        t_last = edge_capture(t0, s, dt, k, timer_s, jitter)
+        k += 1
+    return k_end + 1, t_last, t_prev, period_estimate(t_last, t_prev, w_est, teeth)
+
+
+@_jit
+def edges_passed(k_first, theta1, teeth, spacing):
+    """(k, k_end): the edges of a step from the next edge k_first up to the angle theta1 that
+    matter, the last two (edge k_first is passed: edge_angle(k_first) <= theta1)."""
     k_end = math.floor(theta1 * teeth / (2.0 * math.pi))
     while edge_angle(k_end + 1, teeth, spacing) <= theta1:
         k_end += 1
     while edge_angle(k_end, teeth, spacing) > theta1:
         k_end -= 1
-    k = max(k_first, k_end - 1)
-    while k <= k_end:
-        s = crossing_fraction(edge_angle(k, teeth, spacing), theta0, theta1, w0, w1, dt)
-        t_edge = t0 + s * dt + jitter[k % jitter.shape[0]]
-        t_prev = t_last
-        t_last = math.floor(t_edge / timer_s) * timer_s
-        k += 1
+    return max(k_first, k_end - 1), k_end
+
+
+@_jit
+def edge_capture(t0, s, dt, k, timer_s, jitter):
+    """Captured time of edge k, crossed at the fraction s of the step from t0: jittered by
+    jitter[k mod len], floored to the timer."""
+    t_edge = t0 + s * dt + jitter[cyclic_index(k, jitter.shape[0])]
+    return math.floor(t_edge / timer_s) * timer_s
+
+
+@_jit
+def period_estimate(t_last, t_prev, w_est, teeth):
+    """The nominal pitch over the last captured period, or w_est held (no period yet, or a
+    non-positive one)."""
     period = t_last - t_prev
     if t_prev >= 0.0 and period > 0.0:
-        w_est = (2.0 * math.pi / teeth) / period
-    return k_end + 1, t_last, t_prev, w_est
+        return (2.0 * math.pi / teeth) / period
+    return w_est
 
 
 @_jit
@@ -202,26 +251,27 @@ def vref_accel(
 @_jit
 def orifice_advance(p, mode, h, kb, kd, p_supply, p_return):
     """Pressure after h seconds in a fixed valve state, exact for dp/dt = k_b sqrt(p_s - p)
-    (build), -k_d sqrt(p - p_r) (dump), 0 (hold); clamped into [p_r, p_s] at the start."""
-    p = min(max(p, p_return), p_supply)
-    if mode == VALVE_BUILD:
-        r = math.sqrt(p_supply - p) - 0.5 * kb * h
-        return p_supply - r * r if r > 0.0 else p_supply
-    if mode == VALVE_DUMP:
-        r = math.sqrt(p - p_return) - 0.5 * kd * h
-        return p_return + r * r if r > 0.0 else p_return
-    return p
+    (build: p_s - r^2 with r = sqrt(p_s - p) - k_b h / 2, p_s once r <= 0), -k_d sqrt(p - p_r)
+    (dump, alike), 0 (hold); clamped into [p_r, p_s] at the start. Branch-free (one square
+    root, selects), so that a vector loop can run it."""
+    p = clip(float(p), p_return, p_supply)
+    build = mode == VALVE_BUILD
+    r = math.sqrt(select(build, p_supply - p, p - p_return)) - 0.5 * select(build, kb, kd) * h
+    rr = r * r
+    dumped = select(r > 0.0, p_return + rr, p_return)
+    held = select(mode == VALVE_DUMP, dumped, p)
+    return select(build, select(r > 0.0, p_supply - rr, p_supply), held)
 
 
 @_jit
 def valve_mode_at(t, prev_mode, prev_start, prev_on, mode, start, on):
     """Valve state at time t given the previous and the current pulse (state, start, length):
-    the current pulse rules from its start, the previous one before; after a pulse: hold."""
-    if t >= start:
-        return mode if t < start + on else VALVE_HOLD
-    if t >= prev_start and t < prev_start + prev_on:
-        return prev_mode
-    return VALVE_HOLD
+    the current pulse rules from its start, the previous one before; after a pulse: hold.
+    Branch-free (a float)."""
+    hold = float(VALVE_HOLD)
+    current = select(t < start + on, float(mode), hold)
+    previous = select((t >= prev_start) & (t < prev_start + prev_on), float(prev_mode), hold)
+    return select(t >= start, current, previous)
 
 
 @_jit

@@ -1,35 +1,56 @@
 """Compiled closed loop of the single-wheel ABS with an ECU-realistic controller
-(docs/ecu.md), over a population, one candidate after the other (no lanes).
+(docs/ecu.md), over a population, in persistent lanes like the ideal kernel's
+(`sim.abs_wheel_kernel`: one flat array `st` of rows of LANES values, declared by name in
+`abs_wheel_ecu_layout.LANE`; the live lanes packed at the front, refilled from the queue).
 
 Plant: the ideal kernel's (`sim.abs_wheel_model.wheel_rates`, `sim.abs_wheel_tires`), RK4 at
 the fixed step dt (`sim.integrate`), plus the wheel angle (dtheta/dt = w, RK4 on the stage
 speeds) for the toothed sensor. With three-state valves the pressure is not integrated: it is
 the exact orifice solution (`controllers.ecu.modulator_advance`) at the stage times.
 
-ECU tick every ecu_ts_s = m dt (before the step at t = k dt, k % m == 0), in this order:
-sensor read (true wheel speed, or the toothed wheel's last edge period, held or bounded),
-reference speed (true, slew-limited or accelerometer), ECU slip (vref - w_est R) / vref in
-[0, 1], cut-out latch, speed schedule (kp, kd times max(vref / v0, floor)), the DISCRETE law of
-`controllers.discrete` (the one `export` ships; none and bang-bang as in the ideal kernel), the
-delay line (the command of tick j applied at tick j + delay), then the actuator: continuous (the
-held command u into K/(s(Ts+1))) or a valve pulse (`duty_pulse` for the PID laws' pressure rate
-K u, `switching_pulse` for the switching laws; the driver's demand after the cut-out).
-The toothed sensor advances after each step (`sensor_step` on the step's Hermite interpolant).
+Each iteration of the lane loop, per lane, in the order of docs/ecu.md "The realistic kernel":
+- the ECU tick (every ecu_ts_s = m dt, before the step at t = k dt, k a multiple of m), one named
+  stage after the other: `sensor` (true wheel speed, or the toothed wheel's last edge period,
+  held or bounded), `reference_speed` (true, slew-limited or accelerometer), `ecu_slip`
+  ((vref - w_est R) / vref in [0, 1]), `cutout`, `schedule` (kp, kd times max(vref / v0,
+  floor)), `law` (the DISCRETE law of `controllers.discrete`, the one `export` ships; none and
+  bang-bang as in the ideal kernel), `delay_line` (the command of tick j applied at tick
+  j + delay), `valves` (continuous: the held command u into K/(s(Ts+1)); three-state: a pulse,
+  `duty_pulse` for the PID laws' pressure rate K u, `switching_pulse` for the switching laws,
+  the driver's demand after the cut-out);
+- `valve_switches`: whether a valve switches inside the step (three-state valves), and then the
+  exact pressures through the switch (`modulator_advance`);
+- `plant_step`: one RK4 step (three-state valves: the stages read the one-state orifice
+  solution, or the pressures of a step with a switch), then `step_metrics`: its metrics and end
+  flags; straight-line code (selects, no calls, no branches) in two vector loops of 8 lanes
+  (`_plant_steps`), compiled once per tire law (a constant in each copy);
+- `sensor_edges`: the toothed sensor, for the lanes whose wheel passed an edge in the step
+  (`sensor_step` in its pieces, the edge-time searches of all those lanes in lockstep);
+- a finished run writes its metrics, and its lane takes the next candidate.
+The tick, the switch test and the edges are scalar passes over the lanes; each lane keeps its
+own step counter, so every number is what a one-candidate loop computes, bitwise independent of
+the lane, the population and the thread count.
+
+No reference counting: the entry point is compiled without numba's runtime (`_nrt=False`); the
+caller passes the lane array `st`, `lane_of`, the per-lane scratch rows `aux` (the law's
+state, scheduled parameters and inputs, the delay line) and the edge scratch `edges`, and
+nothing is allocated.
 
 Metrics: the ideal kernel's slots (same quadrature), the slip integrals and the lock time
 counting only before the cut-out; distance and time to v_stop; plus the ECU's (`ECU_METRICS`).
-Each candidate is simulated on its own: row i of a population is bitwise the run of candidate i
-alone.
+dt and t_max are shared by the population (plant row 0); the other plant parameters and the
+target slip are per row.
 """
 
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numba import njit
 
-from chassistune._branchfree import clip
+from chassistune._branchfree import clip, fmax, fmin, select, stack_copy
 from chassistune.controllers import discrete as D
 from chassistune.controllers import ecu as E
 from chassistune.controllers.switching import bang_bang_command
@@ -65,13 +86,9 @@ from chassistune.sim.abs_wheel_kernel import (
     write_trace_row,
 )
 from chassistune.sim.abs_wheel_model import step_end, wheel_rates, wheel_slip
-from chassistune.sim.abs_wheel_tires import KIND_TABLE, table_tuples
-from chassistune.sim.integrate import (
-    error_integrals,
-    rk4_point,
-    rk4_update,
-    trapezoid,
-)
+from chassistune.sim.abs_wheel_tires import KIND_BILINEAR, KIND_BURCKHARDT, KIND_TABLE, table_tuples
+from chassistune.sim.integrate import error_integrals, rk4_point, rk4_update, trapezoid
+from chassistune.sim.lanes import close_lane
 
 (
     X_LAW,
@@ -110,17 +127,110 @@ if len(KL.METRICS) != M_ECU_IAE:  # pragma: no cover
 T_VREF, T_WEST, T_ECU_SLIP, T_VALVE, T_EDGE_PREV, T_EDGE_LAST = (
     EL.TRACE[n] for n in EL.TRACE.names[len(KL.TRACE) :]
 )
+N_ECU_METRICS = len(EL.METRICS) - M_ECU_IAE
+
+# lane rows (EL.LANE), in its order
+(
+    R_V,
+    R_W,
+    R_Q,
+    R_R,
+    R_THETA,
+    R_SLIP,
+    R_STEP,
+    R_TICK,
+    R_V_START,
+    R_THETA0,
+    R_W0,
+    R_H,
+    R_STOP,
+    R_STATUS,
+    R_TEND,
+    R_ENDED,
+    R_KNEXT,
+    R_EDGE_NEXT,
+    R_TLAST,
+    R_TPREV,
+    R_WEST,
+    R_READ_LAST,
+    R_READ_PREV,
+    R_VREF,
+    R_VW_PREV,
+    R_VW,
+    R_HELD,
+    R_ECU_SLIP,
+    R_CUT,
+    R_U0,
+    R_CMD,
+    R_RESID,
+    R_PM0,
+    R_PS0,
+    R_PO0,
+    R_PM1,
+    R_PS1,
+    R_PO1,
+    R_QSWITCH,
+    R_QA,
+    R_QB,
+    R_VALVE,
+    R_LAST_CHANGE,
+    R_DIST,
+    R_IAE,
+    R_ITAE,
+    R_ISE,
+    R_SINT,
+    R_ECU_IAE,
+    R_CUT_T,
+    R_NSW,
+    R_MIN_IV,
+    R_GAP,
+    R_QLO,
+    R_QHI,
+    R_LOW_ERR,
+    R_CLIP,
+    R_MINSLIP,
+    R_PEAK,
+    R_LOCKED,
+    R_LOCK_T,
+    R_RW,
+    R_FZ,
+    R_INV_M,
+    R_INV_I,
+    R_KQ,
+    R_GAIN,
+    R_INV_TAU,
+    R_QMAX,
+    R_V0,
+    R_VSTOP,
+    R_TARGET,
+    R_LOCK_RATIO,
+    R_HOPELESS,
+) = range(len(EL.LANE))
+N_ROWS = len(EL.LANE)
+
+LANES = 32
+"""Candidates in flight per kernel call (a multiple of VECTOR)."""
+VECTOR = 8
+"""Lanes per vector iteration of `_plant_steps`."""
 
 LOW_SPEED_BAND_M_S = (1.0, 9.0)
 """Speed band of `low_speed_slip_error` (fixed gains fail below about 9 m/s)."""
 
+_inline = njit(cache=True, nogil=True, error_model="numpy", inline="always")
 _jit = njit(cache=True, nogil=True, error_model="numpy")
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@_inline
+def _at(row, l):
+    """Index of row `row` of lane l in the lane array."""
+    return row * LANES + l
+
+
+@_inline
 def _rates(law, x, u, p, tire):
     """Derivatives of x = (v, w, q, r) of the wheel under the held command u, with the plant
-    p = (r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max) and the tire (c0 .. c3, xc, xs, ys)."""
+    p = (r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max) and the tire (c0 .. c3, xc, xs, ys)
+    (design.md 3.1)."""
     v, w, q, r = x
     r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max = p
     fx = tire_mu(law, wheel_slip(v, w, r_w), tire) * fz
@@ -128,16 +238,17 @@ def _rates(law, x, u, p, tire):
     return dv, dw, dq, dr
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@_inline
 def _stage(y, three_state, q):
     """The stage point y = (v, w, q, r), with three-state valves at the exact pressure q."""
-    return (y[0], y[1], q if three_state else y[2], y[3])
+    return (y[0], y[1], select(three_state, q, y[2]), y[3])
 
 
 @_jit
 def _scheduled(kind, base, params, f):
     """Write the law's parameters into `params` with kp and kd (or their table scales) times f."""
-    params[:] = base
+    for j in range(base.shape[0]):
+        params[j] = base[j]
     if kind == LAW_PID:
         params[D.PID_KP] = base[D.PID_KP] * f
         params[D.PID_KD] = base[D.PID_KD] * f
@@ -177,275 +288,666 @@ def _retire_pulse(mode, start, on, ts, t_lim, cur, last_t, n_sw, min_iv):
     return cur, last_t, n_sw, min_iv
 
 
-@_jit
-def _run(tire, lp, p, x, tc, table, grid, spacing, jitter, acc_noise, trace, out):
-    """One stop of one candidate (law parameters `lp`, plant row `p`, ECU vector `x`) on the
-    tire of law `tire` with coefficients and nodes tc = (c0, c1, c2, c3, xc, xs, ys)."""
-    kind = int(x[X_LAW])
-    m = int(x[X_M])
-    delay = int(x[X_DELAY])
-    toothed = x[X_TOOTHED] != 0.0
-    teeth = int(x[X_TEETH])
-    bound = x[X_BOUND] != 0.0
+@_inline
+def _account_pulse(st, l, ts, t_lim):
+    """Account lane l's current pulse's valve state changes up to t_lim (`_retire_pulse`)."""
+    valve, last_change, n_sw, min_iv = _retire_pulse(
+        st[_at(R_PM1, l)],
+        st[_at(R_PS1, l)],
+        st[_at(R_PO1, l)],
+        ts,
+        t_lim,
+        st[_at(R_VALVE, l)],
+        st[_at(R_LAST_CHANGE, l)],
+        st[_at(R_NSW, l)],
+        st[_at(R_MIN_IV, l)],
+    )
+    st[_at(R_VALVE, l)] = valve
+    st[_at(R_LAST_CHANGE, l)] = last_change
+    st[_at(R_NSW, l)] = n_sw
+    st[_at(R_MIN_IV, l)] = min_iv
+
+
+@_inline
+def sensor(st, l, t, x):
+    """Tick stage 1 (docs/ecu.md, the realistic kernel, 1): the wheel speed the ECU reads, the
+    true one or the toothed wheel's estimate held or bounded (`sensor_read`); records the edge
+    times behind it."""
+    st[_at(R_READ_LAST, l)] = st[_at(R_TLAST, l)]
+    st[_at(R_READ_PREV, l)] = st[_at(R_TPREV, l)]
+    if x[X_TOOTHED] == 0.0:
+        return st[_at(R_W, l)]
+    return E.sensor_read(
+        st[_at(R_WEST, l)], st[_at(R_TLAST, l)], t, int(x[X_TEETH]), x[X_BOUND] != 0.0
+    )
+
+
+@_inline
+def reference_speed(st, l, w_read, x, ts, tire, tc, acc_noise):
+    """Tick stage 2 (docs/ecu.md, the realistic kernel, 2; Reference speed): the true speed,
+    `vref_slew`, or `vref_accel` fed `accelerometer(a_true, bias, noise[tick])`."""
+    tick = int(st[_at(R_TICK, l)])
+    vw = w_read * st[_at(R_RW, l)]
+    a_wheel = (vw - st[_at(R_VW_PREV, l)]) / ts if tick > 0 else 0.0
+    st[_at(R_VW_PREV, l)] = vw
+    st[_at(R_VW, l)] = vw
     vref_mode = int(x[X_VREF])
-    three_state = x[X_VALVES] != 0.0
-    kb, kdv, dead, min_on = x[X_KB], x[X_KD], x[X_DEAD], x[X_MINON]
+    vref = st[_at(R_VREF, l)]
+    if vref_mode == 0:
+        vref = st[_at(R_V, l)]
+    elif vref_mode == 1:
+        vref = E.vref_slew(vref, vw, x[X_AMAX], ts)
+    elif tick > 0:
+        v, w, r_w = st[_at(R_V, l)], st[_at(R_W, l)], st[_at(R_RW, l)]
+        a_true = -tire_mu(tire, wheel_slip(v, w, r_w), tc) * st[_at(R_FZ, l)] * st[_at(R_INV_M, l)]
+        noise = acc_noise[E.cyclic_index(tick, acc_noise.shape[0])]
+        a_meas = E.accelerometer(a_true, x[X_BIAS], noise)
+        vref, held = E.vref_accel(
+            vref,
+            vw,
+            a_wheel,
+            a_meas,
+            ts,
+            x[X_AGREE],
+            x[X_AGREE_A],
+            st[_at(R_Q, l)] <= x[X_PFREE],
+            int(st[_at(R_HELD, l)]),
+            x[X_ANCHOR],
+        )
+        st[_at(R_HELD, l)] = held
+    st[_at(R_VREF, l)] = vref
+    return vref
+
+
+@_inline
+def ecu_slip(st, l, vref, w_read):
+    """Tick stage 3 (docs/ecu.md, the realistic kernel, 3): the slip the ECU computes,
+    (vref - w_est R) / vref clipped to [0, 1]."""
+    s = wheel_slip(vref, w_read, st[_at(R_RW, l)])
+    st[_at(R_ECU_SLIP, l)] = s
+    return s
+
+
+@_inline
+def cutout(st, l, vref, t, x):
+    """Tick stage 4 (docs/ecu.md, Low-speed cut-out): the latch (its time is a metric), and the
+    largest |v - vref| while the ABS works."""
+    was_cut = st[_at(R_CUT, l)] != 0.0
+    cut = E.cutout_latch(was_cut, vref, x[X_CUTOUT])
+    st[_at(R_CUT, l)] = 1.0 if cut else 0.0
+    if cut and not was_cut:
+        st[_at(R_CUT_T, l)] = t
+    if not cut:
+        st[_at(R_GAP, l)] = max(st[_at(R_GAP, l)], abs(st[_at(R_V, l)] - vref))
+    return cut
+
+
+@_inline
+def schedule(kind, base, params, vref, v0, x):
+    """Tick stage 5 (docs/ecu.md, Speed-scheduled gains): the law's parameters with kp and kd
+    times max(vref / v0, floor), or as tuned."""
+    f = E.speed_schedule(vref, v0, x[X_FLOOR]) if x[X_SCHED] != 0.0 else 1.0
+    _scheduled(kind, base, params, f)
+
+
+@_inline
+def law(kind, state, inputs, params, table, grid, amp, target):
+    """Tick stage 6 (docs/ecu.md, the realistic kernel, 4): the command of the law `kind`, the
+    discrete form of `controllers.discrete` (design.md 4), none and bang-bang (about `target`)
+    as in the ideal kernel. The one call site of the law dispatch."""
+    if kind == LAW_NONE:
+        return amp
+    if kind == LAW_BANGBANG:
+        return bang_bang_command(target - inputs[D.IN_SLIP], amp)
+    return D.discrete_step(kind, state, inputs, params, table, grid)
+
+
+@_inline
+def _law_inputs(kind, inputs, slip, w_read, q, q_max):
+    """The law's inputs (`controllers.discrete.LAWS`): the ECU slip, then the wheel speed
+    (threshold) or the pressure at its bounds."""
+    inputs[D.IN_SLIP] = slip
+    if kind == LAW_THRESHOLD:
+        inputs[D.IN_WHEEL_SPEED] = w_read
+    else:
+        inputs[D.IN_AT_MAX] = 1.0 if q >= q_max else 0.0
+        inputs[D.IN_AT_MIN] = 1.0 if q <= 0.0 else 0.0
+
+
+@_inline
+def delay_line(line, tick, delay, u):
+    """Tick stage 7 (docs/ecu.md, the realistic kernel, 5): the command of tick j - delay
+    (zero for the first ticks); u enters the line."""
+    if delay == 0:
+        return u
+    j = E.cyclic_index(tick, delay)
+    cmd = line[j]
+    line[j] = u
+    return cmd
+
+
+@_inline
+def valves(st, l, kind, cmd, cut, t, ts, x):
+    """Tick stage 8 (docs/ecu.md, Three-state modulator; the realistic kernel, 6): the held
+    command of the continuous actuator, or the next valve pulse from t + dead time
+    (`duty_pulse` of the PID laws' pressure rate K u, `switching_pulse` otherwise, build for the
+    whole period once cut out), after accounting the retiring pulse's state changes."""
+    st[_at(R_CMD, l)] = cmd
+    if x[X_VALVES] == 0.0:
+        st[_at(R_U0, l)] = cmd
+        return
+    if cut:
+        mode, on = E.VALVE_BUILD, ts
+    elif LAW_PID <= kind <= LAW_IMMUNE:  # the PID laws: a pressure rate
+        mode, on, resid = E.duty_pulse(
+            st[_at(R_GAIN, l)] * cmd,
+            st[_at(R_RESID, l)],
+            st[_at(R_Q, l)],
+            ts,
+            x[X_KB],
+            x[X_KD],
+            st[_at(R_QMAX, l)],
+            0.0,
+            x[X_MINON],
+        )
+        st[_at(R_RESID, l)] = resid
+    else:
+        mode, on = E.switching_pulse(cmd, x[X_AMP], ts, x[X_MINON])
+    if st[_at(R_TICK, l)] > 0.0:
+        _account_pulse(st, l, ts, np.inf)
+    st[_at(R_PM0, l)] = st[_at(R_PM1, l)]
+    st[_at(R_PS0, l)] = st[_at(R_PS1, l)]
+    st[_at(R_PO0, l)] = st[_at(R_PO1, l)]
+    st[_at(R_PM1, l)] = mode
+    st[_at(R_PS1, l)] = t + x[X_DEAD]
+    st[_at(R_PO1, l)] = on
+
+
+@_inline
+def _tick(st, l, aux, base, x, ts, t, tire, tc, table, grid, acc_noise):
+    """One ECU tick of lane l at t (docs/ecu.md, the realistic kernel): the tick stages in
+    order. aux: the lane's scratch row (law state, scheduled parameters, inputs, delay line);
+    base: its candidate's law parameters."""
+    kind = int(x[X_LAW])
     amp = x[X_AMP]
-    r_w, v0, gain = p[P_RADIUS], p[P_V0], p[P_K]
-    fz = p[P_LOAD] * p[P_MASS] * p[P_G]
-    inv_m, inv_i, inv_tau = 1.0 / p[P_MASS], 1.0 / p[P_INERTIA], 1.0 / p[P_TAU]
-    kq, q_max, v_stop, target = p[P_KQ], p[P_QMAX], p[P_VSTOP], p[P_TARGET]
-    dt = p[P_DT]
+    n_p = base.shape[0]
+    state = aux[: D.N_STATE]
+    params = aux[D.N_STATE : D.N_STATE + n_p]
+    inputs = aux[D.N_STATE + n_p : D.N_STATE + n_p + 3]
+    line = aux[D.N_STATE + n_p + 3 :]
+    w_read = sensor(st, l, t, x)
+    vref = reference_speed(st, l, w_read, x, ts, tire, tc, acc_noise)
+    slip = ecu_slip(st, l, vref, w_read)
+    cut = cutout(st, l, vref, t, x)
+    u = amp
+    if not cut:
+        schedule(kind, base, params, vref, st[_at(R_V0, l)], x)
+        _law_inputs(kind, inputs, slip, w_read, st[_at(R_Q, l)], st[_at(R_QMAX, l)])
+        u = law(kind, state, inputs, params, table, grid, amp, st[_at(R_TARGET, l)])
+    tick = int(st[_at(R_TICK, l)])
+    cmd = delay_line(line, tick, int(x[X_DELAY]), u)
+    valves(st, l, kind, amp if cut else cmd, cut, t, ts, x)
+    st[_at(R_TICK, l)] = tick + 1.0
+
+
+@_inline
+def valve_switches(st, l, t, hs, dt, x):
+    """Three-state valves (docs/ecu.md, Three-state modulator): whether a pulse boundary falls
+    inside the step from t; if so, the exact pressures at t + dt/2 and t + dt through it
+    (`modulator_advance`), which the step reads instead of its own one-state solution."""
+    pm0, ps0, po0 = st[_at(R_PM0, l)], st[_at(R_PS0, l)], st[_at(R_PO0, l)]
+    pm1, ps1, po1 = st[_at(R_PM1, l)], st[_at(R_PS1, l)], st[_at(R_PO1, l)]
+    t_end = t + dt
+    switch = False
+    for b in (ps0 + po0, ps1, ps1 + po1):
+        switch |= t < b < t_end
+    st[_at(R_QSWITCH, l)] = 1.0 if switch else 0.0
+    if switch:
+        q, kb, kd, q_max = st[_at(R_Q, l)], x[X_KB], x[X_KD], st[_at(R_QMAX, l)]
+        for row, h in ((R_QA, hs), (R_QB, dt)):
+            st[_at(row, l)] = E.modulator_advance(
+                q, t, h, pm0, ps0, po0, pm1, ps1, po1, kb, kd, q_max, 0.0
+            )
+
+
+@_inline
+def _stage_pressures(st, l, t, hs, dt, kb, kd, q_max):
+    """The three-state valves' pressures at t + dt/2 and t + dt (`modulator_advance`): one
+    valve state over the step, `orifice_advance` from q; a step with a switch reads those of
+    `valve_switches`. Branch-free."""
+    q = st[_at(R_Q, l)]
+    mode = E.valve_mode_at(
+        t,
+        st[_at(R_PM0, l)],
+        st[_at(R_PS0, l)],
+        st[_at(R_PO0, l)],
+        st[_at(R_PM1, l)],
+        st[_at(R_PS1, l)],
+        st[_at(R_PO1, l)],
+    )
+    qa = E.orifice_advance(q, mode, (t + hs) - t, kb, kd, q_max, 0.0)
+    qb = E.orifice_advance(q, mode, (t + dt) - t, kb, kd, q_max, 0.0)
+    switch = st[_at(R_QSWITCH, l)] != 0.0
+    return select(switch, st[_at(R_QA, l)], qa), select(switch, st[_at(R_QB, l)], qb)
+
+
+@_inline
+def plant_step(st, l, tire, three_state, dt, hs, h6, tc, kb, kd):
+    """One RK4 step of lane l from t = k dt under its held command (design.md 3.1; three-state
+    valves: the stages read the exact pressures) and the wheel angle; keeps the step's start
+    for `step_metrics`. Straight-line code, a body of the vector loop."""
+    v, w, q, r = st[_at(R_V, l)], st[_at(R_W, l)], st[_at(R_Q, l)], st[_at(R_R, l)]
+    theta = st[_at(R_THETA, l)]
+    r_w, q_max = st[_at(R_RW, l)], st[_at(R_QMAX, l)]
+    pr = (
+        r_w,
+        st[_at(R_FZ, l)],
+        st[_at(R_INV_M, l)],
+        st[_at(R_INV_I, l)],
+        st[_at(R_KQ, l)],
+        st[_at(R_GAIN, l)],
+        st[_at(R_INV_TAU, l)],
+        q_max,
+    )
+    u0 = st[_at(R_U0, l)]
+    t = st[_at(R_STEP, l)] * dt
+    qa, qb = _stage_pressures(st, l, t, hs, dt, kb, kd, q_max)
+
+    x0 = (v, w, q, r)
+    k1 = _rates(tire, x0, u0, pr, tc)
+    x2 = _stage(rk4_point(x0, hs, k1), three_state, qa)
+    k2 = _rates(tire, x2, u0, pr, tc)
+    x3 = _stage(rk4_point(x0, hs, k2), three_state, qa)
+    k3 = _rates(tire, x3, u0, pr, tc)
+    x4 = _stage(rk4_point(x0, dt, k3), three_state, qb)
+    k4 = _rates(tire, x4, u0, pr, tc)
+    vn, wn, qn, rn = rk4_update(x0, h6, k1, k2, k3, k4)
+    st[_at(R_V_START, l)] = v
+    st[_at(R_THETA0, l)] = theta
+    st[_at(R_W0, l)] = w
+    st[_at(R_V, l)] = vn
+    st[_at(R_W, l)] = fmax(wn, 0.0)
+    st[_at(R_Q, l)] = select(three_state, qb, clip(qn, 0.0, q_max))
+    st[_at(R_R, l)] = select(three_state, r, rn)
+    st[_at(R_THETA, l)] = rk4_update(theta, h6, w, x2[1], x3[1], x4[1])
+
+
+@_inline
+def step_metrics(st, l, dt, n_steps, t_timeout, live):
+    """The metrics of lane l's step just taken (the ideal kernel's quadrature; the slip
+    objectives and the lock before the cut-out only) and its end flags. Straight-line code, a
+    body of the vector loop; returns 1 if a live lane ended."""
+    v, vn, wn, qn, rn = (
+        st[_at(R_V_START, l)],
+        st[_at(R_V, l)],
+        st[_at(R_W, l)],
+        st[_at(R_Q, l)],
+        st[_at(R_R, l)],
+    )
+    r_w, v_stop, target = st[_at(R_RW, l)], st[_at(R_VSTOP, l)], st[_at(R_TARGET, l)]
+    k = st[_at(R_STEP, l)]
+    t = k * dt
+    working = st[_at(R_CUT, l)] == 0.0  # not cut out
+    active = select(working, 1.0, 0.0)
+    slip = st[_at(R_SLIP, l)]
+    s_raw, s_new, stop, h, s_end = step_end(v, vn, wn, r_w, v_stop, slip, dt)
+    dist = st[_at(R_DIST, l)] + trapezoid(v, select(stop, v_stop, vn), h)
+    d_iae, d_itae, d_ise = error_integrals(target - slip, target - s_end, t, h)
+    st[_at(R_IAE, l)] += active * d_iae
+    itae = st[_at(R_ITAE, l)] + active * d_itae
+    st[_at(R_ISE, l)] += active * d_ise
+    st[_at(R_ECU_IAE, l)] += active * h * abs(target - st[_at(R_ECU_SLIP, l)])
+    st[_at(R_SINT, l)] += trapezoid(slip, s_end, h)
+    st[_at(R_CLIP, l)] = fmax(st[_at(R_CLIP, l)], abs(s_raw - s_new))
+    st[_at(R_MINSLIP, l)] = fmin(st[_at(R_MINSLIP, l)], s_raw)
+    st[_at(R_PEAK, l)] = fmax(st[_at(R_PEAK, l)], s_new)
+    st[_at(R_QLO, l)] = fmin(st[_at(R_QLO, l)], qn)
+    st[_at(R_QHI, l)] = fmax(st[_at(R_QHI, l)], qn)
+    v_lo, v_hi = LOW_SPEED_BAND_M_S
+    low = working & (v_lo < vn) & (vn < v_hi)
+    low_err = st[_at(R_LOW_ERR, l)]
+    st[_at(R_LOW_ERR, l)] = select(low, fmax(low_err, abs(target - s_new)), low_err)
+    locked = working & (vn > v_stop) & (wn * r_w < st[_at(R_LOCK_RATIO, l)] * vn)
+    st[_at(R_LOCKED, l)] += select(locked, dt, 0.0)
+    lock_t = st[_at(R_LOCK_T, l)]
+    st[_at(R_LOCK_T, l)] = select(locked & (lock_t != lock_t), t + dt, lock_t)
+
+    check = vn + wn + qn + rn + itae + st[_at(R_CMD, l)]
+    diverged = check - check != 0.0
+    hopeless = dist > st[_at(R_HOPELESS, l)]
+    timeout = k + 1.0 >= n_steps
+    st[_at(R_STATUS, l)] = select(
+        diverged,
+        STATUS_DIVERGED,
+        select(stop, STATUS_STOPPED, select(hopeless, STATUS_HOPELESS, STATUS_TIMEOUT)),
+    )
+    st[_at(R_TEND, l)] = select(
+        diverged, t, select(stop, t + h, select(hopeless, t + dt, t_timeout))
+    )
+    ended = diverged | stop | hopeless | timeout
+    st[_at(R_ENDED, l)] = select(ended, 1.0, 0.0)
+    st[_at(R_STOP, l)] = select(stop, 1.0, 0.0)
+    st[_at(R_H, l)] = h
+    st[_at(R_SLIP, l)] = s_new
+    st[_at(R_ITAE, l)] = itae
+    st[_at(R_DIST, l)] = dist
+    st[_at(R_STEP, l)] = k + 1.0
+    return ended & (l < live)
+
+
+@_inline
+def _plant_steps(st, width, live, tire, three_state, step):
+    """`plant_step`, then `step_metrics`, of lanes 0 .. width - 1 (a whole number of vectors);
+    1 if a live lane ended. Two vector loops: each body keeps its values in registers.
+    step = (dt, dt / 2, dt / 6, steps budget, timeout time, tire data, kb, kd)."""
+    dt, hs, h6, n_steps, t_timeout, tc, kb, kd = step
+    for b in range(width // VECTOR):
+        for j in range(VECTOR):
+            plant_step(st, b * VECTOR + j, tire, three_state, dt, hs, h6, tc, kb, kd)
+    any_end = False
+    for b in range(width // VECTOR):
+        for j in range(VECTOR):
+            any_end |= step_metrics(st, b * VECTOR + j, dt, n_steps, t_timeout, live)
+    return any_end
+
+
+EDGE_FIELDS = ("lane", "k", "target", "theta0", "theta1", "w0", "w1", "s", "lo", "hi", "done")
+"""Rows of the scratch `edges` (an edge crossed in a step, one per column; `sensor_edges`)."""
+E_LANE, E_K, E_TARGET, E_THETA0, E_THETA1, E_W0, E_W1, E_S, E_LO, E_HI, E_DONE = range(
+    len(EDGE_FIELDS)
+)
+
+
+@_inline
+def _lane_edges(st, l, teeth, spacing, edges, n):
+    """Append lane l's edges that matter in its last step (`edges_passed`) to `edges` from
+    column n, each with the start of its crossing search; the new column count. Without one,
+    the lane's sensor is settled here as `sensor_step` settles it."""
+    theta0, theta1 = st[_at(R_THETA0, l)], st[_at(R_THETA, l)]
+    w0, w1 = st[_at(R_W0, l)], st[_at(R_W, l)]
+    k, k_end = E.edges_passed(int(st[_at(R_KNEXT, l)]), theta1, teeth, spacing)
+    if k > k_end:
+        _settle_sensor(st, l, k_end, teeth, spacing)
+    while k <= k_end:
+        target = E.edge_angle(k, teeth, spacing)
+        s, lo, hi, done = E.crossing_start(target, theta0, theta1)
+        item = (
+            float(l),
+            float(k),
+            target,
+            theta0,
+            theta1,
+            w0,
+            w1,
+            s,
+            lo,
+            hi,
+            select(done, 1.0, 0.0),
+        )
+        for f in range(len(EDGE_FIELDS)):
+            edges[f, n] = item[f]
+        n += 1
+        k += 1
+    return n
+
+
+@_inline
+def _settle_sensor(st, l, k_end, teeth, spacing):
+    """Lane l's sensor after its last edge k_end of the step: the next edge, the estimate."""
+    st[_at(R_KNEXT, l)] = k_end + 1
+    st[_at(R_EDGE_NEXT, l)] = E.edge_angle(k_end + 1, teeth, spacing)
+    st[_at(R_WEST, l)] = E.period_estimate(
+        st[_at(R_TLAST, l)], st[_at(R_TPREV, l)], st[_at(R_WEST, l)], teeth
+    )
+
+
+@_inline
+def _search_crossings(edges, n, dt):
+    """`crossing_fraction` of the n edges in `edges`, in lockstep (`crossing_iteration`,
+    branch-free: a vector loop over the edges), until every search is done."""
+    for _ in range(E.CROSSING_ITERATIONS):
+        busy = False
+        for i in range(n):
+            s, lo, hi, done = E.crossing_iteration(
+                edges[E_S, i],
+                edges[E_LO, i],
+                edges[E_HI, i],
+                edges[E_DONE, i] != 0.0,
+                edges[E_TARGET, i],
+                edges[E_THETA0, i],
+                edges[E_THETA1, i],
+                edges[E_W0, i],
+                edges[E_W1, i],
+                dt,
+            )
+            edges[E_S, i] = s
+            edges[E_LO, i] = lo
+            edges[E_HI, i] = hi
+            edges[E_DONE, i] = select(done, 1.0, 0.0)
+            busy |= not done
+        if not busy:
+            return
+
+
+@_inline
+def sensor_edges(st, live, dt, x, spacing, jitter, edges):
+    """The toothed sensor over the last step of every live lane whose wheel passed its next
+    edge (docs/ecu.md, Toothed-wheel sensor; `sensor_step`, which holds everything otherwise,
+    in its pieces): the edges that matter, their crossings searched in lockstep across the
+    lanes, then each lane's captures in edge order and its estimate."""
+    teeth = int(x[X_TEETH])
+    n = 0
+    for l in range(live):
+        if st[_at(R_ENDED, l)] == 0.0 and st[_at(R_THETA, l)] >= st[_at(R_EDGE_NEXT, l)]:
+            n = _lane_edges(st, l, teeth, spacing, edges, n)
+    _search_crossings(edges, n, dt)
+    for i in range(n):
+        l = int(edges[E_LANE, i])
+        k = int(edges[E_K, i])
+        t0 = (st[_at(R_STEP, l)] - 1.0) * dt
+        st[_at(R_TPREV, l)] = st[_at(R_TLAST, l)]
+        st[_at(R_TLAST, l)] = E.edge_capture(t0, edges[E_S, i], dt, k, x[X_TIMER], jitter)
+        if i == n - 1 or edges[E_LANE, i + 1] != l:  # the lane's last edge
+            _settle_sensor(st, l, k, teeth, spacing)
+
+
+@_inline
+def _fill_lane(st, l, aux, p, x, spacing):
+    """Start a candidate with plant row p in lane l: the initial state, zero metrics."""
+    for row in range(N_ROWS):
+        st[_at(row, l)] = 0.0
+    aux[l, :] = 0.0
+    r_w, v0 = p[P_RADIUS], p[P_V0]
+    st[_at(R_V, l)] = v0
+    st[_at(R_W, l)] = v0 / r_w
+    st[_at(R_WEST, l)] = v0 / r_w
+    for row in (R_TLAST, R_TPREV, R_READ_LAST, R_READ_PREV):
+        st[_at(row, l)] = -1.0
+    st[_at(R_VREF, l)] = v0
+    st[_at(R_VW_PREV, l)] = v0
+    st[_at(R_VW, l)] = v0
+    if x[X_TOOTHED] != 0.0:
+        teeth = int(x[X_TEETH])
+        k_next = E.sensor_first_edge(0.0, teeth, spacing)
+        st[_at(R_KNEXT, l)] = k_next
+        st[_at(R_EDGE_NEXT, l)] = E.edge_angle(k_next, teeth, spacing)
+    else:
+        st[_at(R_EDGE_NEXT, l)] = np.inf
+    for row in (R_PM0, R_PM1, R_VALVE):
+        st[_at(row, l)] = E.VALVE_HOLD
+    st[_at(R_LAST_CHANGE, l)] = np.nan
+    st[_at(R_MIN_IV, l)] = np.inf
+    st[_at(R_LOCK_T, l)] = np.nan
+    st[_at(R_CUT_T, l)] = np.nan
+    st[_at(R_RW, l)] = r_w
+    st[_at(R_FZ, l)] = p[P_LOAD] * p[P_MASS] * p[P_G]
+    st[_at(R_INV_M, l)] = 1.0 / p[P_MASS]
+    st[_at(R_INV_I, l)] = 1.0 / p[P_INERTIA]
+    st[_at(R_KQ, l)] = p[P_KQ]
+    st[_at(R_GAIN, l)] = p[P_K]
+    st[_at(R_INV_TAU, l)] = 1.0 / p[P_TAU]
+    st[_at(R_QMAX, l)] = p[P_QMAX]
+    st[_at(R_V0, l)] = v0
+    st[_at(R_VSTOP, l)] = p[P_VSTOP]
+    st[_at(R_TARGET, l)] = p[P_TARGET]
+    st[_at(R_LOCK_RATIO, l)] = p[P_LOCK_RATIO]
+    st[_at(R_HOPELESS, l)] = p[P_HOPELESS_M]
+
+
+@_inline
+def _finish_lane(st, l, out_row, ts, x):
+    """Write the metrics row of the run that ended in lane l (three-state valves: the last
+    pulse's changes up to the end of the run first)."""
+    r = st[l::LANES]  # lane l's rows
+    if x[X_VALVES] != 0.0:
+        _account_pulse(st, l, ts, r[R_TEND])
+    write_metrics(
+        out_row,
+        (r[R_STATUS], r[R_TEND], r[R_DIST], r[R_LOCK_T]),
+        (r[R_IAE], r[R_ITAE], r[R_ISE], r[R_SINT]),
+        (r[R_PEAK], r[R_LOCKED], r[R_CLIP], r[R_MINSLIP]),
+    )
+    for j in range(N_ECU_METRICS):  # the ECU's, in METRICS order (EL.LANE keeps it)
+        out_row[M_ECU_IAE + j] = r[R_ECU_IAE + j]
+
+
+@_inline
+def _write_trace(trace_row, st, dt, tire, tc, x):
+    """The trace row of lane 0's last step."""
+    r = st[0::LANES]  # lane 0's rows
+    t = (r[R_STEP] - 1.0) * dt
+    vn, wn, qn, s_new = r[R_V], r[R_W], r[R_Q], r[R_SLIP]
+    write_trace_row(
+        trace_row,
+        t + r[R_H],
+        max(vn, r[R_VSTOP]) if r[R_STOP] != 0.0 else vn,
+        wn * r[R_RW],
+        s_new,
+        r[R_TARGET],
+        qn,
+        r[R_KQ] * qn,
+        r[R_CMD],
+        r[R_DIST],
+        tire_mu(tire, s_new, tc),
+    )
+    trace_row[T_VREF] = r[R_VREF]
+    trace_row[T_WEST] = r[R_VW]
+    trace_row[T_ECU_SLIP] = r[R_ECU_SLIP]
+    trace_row[T_VALVE] = (
+        E.valve_mode_at(t + dt, r[R_PM0], r[R_PS0], r[R_PO0], r[R_PM1], r[R_PS1], r[R_PO1])
+        if x[X_VALVES] != 0.0
+        else 0.0
+    )
+    trace_row[T_EDGE_PREV] = r[R_READ_PREV]
+    trace_row[T_EDGE_LAST] = r[R_READ_LAST]
+
+
+@_inline
+def _first_trace_row(trace_row, v0, target):
+    """The trace row at t = 0."""
+    trace_row[:] = 0.0
+    trace_row[T_V] = v0
+    trace_row[T_WHEEL_V] = v0
+    trace_row[T_TARGET] = target
+    trace_row[T_VREF] = v0
+    trace_row[T_WEST] = v0
+    trace_row[T_EDGE_PREV] = -1.0
+    trace_row[T_EDGE_LAST] = -1.0
+
+
+def _simulate(
+    tire,
+    lp,
+    plant,
+    x,
+    coef,
+    xc_tuple,
+    xs_tuple,
+    ys_tuple,
+    table,
+    grid,
+    spacing,
+    jitter,
+    acc_noise,
+    trace,
+    out,
+    st,
+    lane_of,
+    aux,
+    edges,
+):
+    """The lane loop (module docstring): candidate i runs law parameters lp[i] on plant row
+    min(i, rows - 1), with the ECU vector x, on the tire of law `tire` with coefficients coef and
+    table nodes (xc, xs, ys)."""
+    xc = stack_copy(xc_tuple)
+    xs = stack_copy(xs_tuple)
+    ys = stack_copy(ys_tuple)
+    tc = (coef[0], coef[1], coef[2], coef[3], xc, xs, ys)
+    n = lp.shape[0]
+    p0 = plant[0]
+    dt = p0[P_DT]
     hs = 0.5 * dt
     h6 = dt / 6.0
-    ts = m * dt
-    n_steps = math.ceil(p[P_TMAX] / dt - 1e-9)
+    n_steps = math.ceil(p0[P_TMAX] / dt - 1e-9)
     t_timeout = n_steps * dt
-    v_lo, v_hi = LOW_SPEED_BAND_M_S
-    pr = (r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max)
-
-    state = np.zeros(D.N_STATE)
-    params = lp.copy()
-    inputs = np.zeros(3)
-    line = np.zeros(max(delay, 1))
-    v, w, theta, q, r = v0, v0 / r_w, 0.0, 0.0, 0.0
-    k_next = E.sensor_first_edge(0.0, teeth, spacing) if toothed else 0
-    t_last, t_prev, w_est = -1.0, -1.0, v0 / r_w
-    read_last, read_prev = -1.0, -1.0  # the edge times behind the estimate read at the tick
-    vref, vw_prev, vw, slip_ecu, held = v0, v0, v0, 0.0, 0
-    cut = False
-    u0, cmd, resid = 0.0, 0.0, 0.0
-    pm0, ps0, po0 = E.VALVE_HOLD, 0.0, 0.0  # previous pulse: mode, start, on-time
-    pm1, ps1, po1 = E.VALVE_HOLD, 0.0, 0.0  # current pulse
-    valve, last_change, n_sw, min_iv = E.VALVE_HOLD, np.nan, 0.0, np.inf
-    slip = 0.0
-    dist = iae = itae = ise = sint = ecu_iae = 0.0
-    clip_max, min_slip, peak, locked_s = 0.0, 0.0, 0.0, 0.0
-    lock_t, cut_t, gap, q_lo, q_hi, low_err = np.nan, np.nan, 0.0, 0.0, 0.0, 0.0
-    status, t_end = STATUS_TIMEOUT, t_timeout
+    m = int(x[X_M])
+    ts = m * dt
+    three_state = x[X_VALVES] != 0.0
+    toothed = x[X_TOOTHED] != 0.0
+    step = (dt, hs, h6, n_steps, t_timeout, tc, x[X_KB], x[X_KD])
+    n_plant = plant.shape[0]
+    st[:] = 0.0
+    lane_of[:] = -1
+    live = min(n, LANES)
+    for l in range(live):
+        _fill_lane(st, l, aux, plant[min(l, n_plant - 1)], x, spacing)
+        lane_of[l] = l
+    queued = live
     n_trace = trace.shape[0]
     rows = 1
     if n_trace > 0:
-        trace[0, :] = 0.0
-        trace[0, T_V] = v0
-        trace[0, T_WHEEL_V] = v0
-        trace[0, T_TARGET] = target
-        trace[0, T_VREF] = v0
-        trace[0, T_WEST] = v0
-        trace[0, T_EDGE_PREV] = -1.0
-        trace[0, T_EDGE_LAST] = -1.0
-    tick = 0
-    for k in range(n_steps):
-        t = k * dt
-        if k % m == 0:
-            wr = E.sensor_read(w_est, t_last, t, teeth, bound) if toothed else w
-            read_last, read_prev = t_last, t_prev
-            vw = wr * r_w
-            a_wheel = (vw - vw_prev) / ts if tick > 0 else 0.0
-            vw_prev = vw
-            if vref_mode == 0:
-                vref = v
-            elif vref_mode == 1:
-                vref = E.vref_slew(vref, vw, x[X_AMAX], ts)
-            elif tick > 0:
-                a_true = -tire_mu(tire, wheel_slip(v, w, r_w), tc) * fz * inv_m
-                a_meas = E.accelerometer(a_true, x[X_BIAS], acc_noise[tick % acc_noise.shape[0]])
-                vref, held = E.vref_accel(
-                    vref,
-                    vw,
-                    a_wheel,
-                    a_meas,
-                    ts,
-                    x[X_AGREE],
-                    x[X_AGREE_A],
-                    q <= x[X_PFREE],
-                    held,
-                    x[X_ANCHOR],
-                )
-            slip_ecu = wheel_slip(vref, wr, r_w)
-            was_cut = cut
-            cut = E.cutout_latch(cut, vref, x[X_CUTOUT])
-            if cut and not was_cut:
-                cut_t = t
-            if not cut:
-                gap = max(gap, abs(v - vref))
-                f = E.speed_schedule(vref, v0, x[X_FLOOR]) if x[X_SCHED] != 0.0 else 1.0
-                _scheduled(kind, lp, params, f)
-                inputs[0] = slip_ecu
-                if kind == LAW_THRESHOLD:
-                    inputs[1] = wr
-                else:
-                    inputs[1] = 1.0 if q >= q_max else 0.0
-                    inputs[2] = 1.0 if q <= 0.0 else 0.0
-                if kind == LAW_NONE:
-                    u = amp
-                elif kind == LAW_BANGBANG:
-                    u = bang_bang_command(target - slip_ecu, amp)
-                else:
-                    u = D.discrete_step(kind, state, inputs, params, table, grid)
-            else:
-                u = amp
-            cmd = u
-            if delay > 0:
-                cmd = line[tick % delay]
-                line[tick % delay] = u
-            if cut:
-                cmd = amp
-            if not three_state:
-                u0 = cmd
-            else:
-                if cut:
-                    mode, on = E.VALVE_BUILD, ts
-                elif LAW_PID <= kind <= LAW_IMMUNE:  # the PID laws: a pressure rate
-                    mode, on, resid = E.duty_pulse(
-                        gain * cmd, resid, q, ts, kb, kdv, q_max, 0.0, min_on
-                    )
-                else:
-                    mode, on = E.switching_pulse(cmd, amp, ts, min_on)
-                # the retiring pulse's state changes, then the new pulse's
-                if tick > 0:
-                    valve, last_change, n_sw, min_iv = _retire_pulse(
-                        pm1, ps1, po1, ts, np.inf, valve, last_change, n_sw, min_iv
-                    )
-                pm0, ps0, po0 = pm1, ps1, po1
-                pm1, ps1, po1 = mode, t + dead, on
-            tick += 1
-
-        # one RK4 step (u0 held; three-state: the exact pressure at the stage times)
-        if three_state:
-            qa = E.modulator_advance(q, t, hs, pm0, ps0, po0, pm1, ps1, po1, kb, kdv, q_max, 0.0)
-            qb = E.modulator_advance(q, t, dt, pm0, ps0, po0, pm1, ps1, po1, kb, kdv, q_max, 0.0)
+        _first_trace_row(trace[0], p0[P_V0], p0[P_TARGET])
+    while live > 0:
+        for l in range(live):
+            k = st[_at(R_STEP, l)]
+            t = k * dt
+            if k == st[_at(R_TICK, l)] * m:
+                _tick(st, l, aux[l], lp[lane_of[l]], x, ts, t, tire, tc, table, grid, acc_noise)
+            if three_state:
+                valve_switches(st, l, t, hs, dt, x)
+        width = -(-live // VECTOR) * VECTOR
+        if tire == KIND_BILINEAR:  # one copy of the vector loop per tire law
+            ended = _plant_steps(st, width, live, KIND_BILINEAR, three_state, step)
+        elif tire == KIND_BURCKHARDT:
+            ended = _plant_steps(st, width, live, KIND_BURCKHARDT, three_state, step)
         else:
-            qa = qb = q
-        x0 = (v, w, q, r)
-        k1 = _rates(tire, x0, u0, pr, tc)
-        x2 = _stage(rk4_point(x0, hs, k1), three_state, qa)
-        k2 = _rates(tire, x2, u0, pr, tc)
-        x3 = _stage(rk4_point(x0, hs, k2), three_state, qa)
-        k3 = _rates(tire, x3, u0, pr, tc)
-        x4 = _stage(rk4_point(x0, dt, k3), three_state, qb)
-        k4 = _rates(tire, x4, u0, pr, tc)
-        vn, wn, qn, rn = rk4_update(x0, h6, k1, k2, k3, k4)
-        wn = max(wn, 0.0)
-        if three_state:
-            qn = qb
-            rn = r
-        else:
-            qn = clip(qn, 0.0, q_max)
+            ended = _plant_steps(st, width, live, KIND_TABLE, three_state, step)
         if toothed:
-            theta_n = rk4_update(theta, h6, w, x2[1], x3[1], x4[1])
-            k_next, t_last, t_prev, w_est = E.sensor_step(
-                theta,
-                theta_n,
-                w,
-                wn,
-                t,
-                dt,
-                k_next,
-                t_last,
-                t_prev,
-                w_est,
-                teeth,
-                x[X_TIMER],
-                spacing,
-                jitter,
-            )
-            theta = theta_n
-
-        # metrics (the ideal kernel's quadrature); slip objectives and lock end at the cut-out
-        active = 0.0 if cut else 1.0
-        s_raw, s_new, stop, h, s_end = step_end(v, vn, wn, r_w, v_stop, slip, dt)
-        dist += trapezoid(v, v_stop if stop else vn, h)
-        d_iae, d_itae, d_ise = error_integrals(target - slip, target - s_end, t, h)
-        iae += active * d_iae
-        itae += active * d_itae
-        ise += active * d_ise
-        ecu_iae += active * h * abs(target - slip_ecu)
-        sint += trapezoid(slip, s_end, h)
-        clip_max = max(clip_max, abs(s_raw - s_new))
-        min_slip = min(min_slip, s_raw)
-        peak = max(peak, s_new)
-        q_lo = min(q_lo, qn)
-        q_hi = max(q_hi, qn)
-        if not cut and v_lo < vn < v_hi:
-            low_err = max(low_err, abs(target - s_new))
-        locked = (not cut) and vn > v_stop and wn * r_w < p[P_LOCK_RATIO] * vn
-        if locked:
-            locked_s += dt
-            if lock_t != lock_t:
-                lock_t = t + dt
-        check = vn + wn + qn + rn + itae + cmd
-        if n_trace > 0 and rows < n_trace:
-            write_trace_row(
-                trace[rows],
-                t + h,
-                max(vn, v_stop) if stop else vn,
-                wn * r_w,
-                s_new,
-                target,
-                qn,
-                kq * qn,
-                cmd,
-                dist,
-                tire_mu(tire, s_new, tc),
-            )
-            trace[rows, T_VREF] = vref
-            trace[rows, T_WEST] = vw
-            trace[rows, T_ECU_SLIP] = slip_ecu
-            trace[rows, T_VALVE] = (
-                E.valve_mode_at(t + dt, pm0, ps0, po0, pm1, ps1, po1) if three_state else 0.0
-            )
-            trace[rows, T_EDGE_PREV] = read_prev
-            trace[rows, T_EDGE_LAST] = read_last
+            sensor_edges(st, live, dt, x, spacing, jitter, edges)
+        if n_trace > 0 and rows < n_trace:  # one candidate, in lane 0
+            _write_trace(trace[rows], st, dt, tire, tc, x)
             rows += 1
-        v, w, q, r, slip = vn, wn, qn, rn, s_new
-        if check - check != 0.0:
-            status, t_end = STATUS_DIVERGED, t
-            break
-        if stop:
-            status, t_end = STATUS_STOPPED, t + h
-            break
-        if dist > p[P_HOPELESS_M]:
-            status, t_end = STATUS_HOPELESS, t + dt
-            break
-    if three_state:  # the last pulse's changes up to the end of the run
-        valve, last_change, n_sw, min_iv = _retire_pulse(
-            pm1, ps1, po1, ts, t_end, valve, last_change, n_sw, min_iv
-        )
-    write_metrics(
-        out,
-        (status, t_end, dist, lock_t),
-        (iae, itae, ise, sint),
-        (peak, locked_s, clip_max, min_slip),
-    )
-    out[M_NTRACE] = rows if n_trace > 0 else 0.0
-    ecu = (ecu_iae, cut_t, n_sw, min_iv, gap, q_lo, q_hi, low_err)  # the ECU's, in METRICS order
-    for j in range(len(ecu)):
-        out[M_ECU_IAE + j] = ecu[j]
+        if ended:
+            for l in range(live - 1, -1, -1):  # high to low: lanes moved down are done
+                if st[_at(R_ENDED, l)] == 0.0:
+                    continue
+                _finish_lane(st, l, out[lane_of[l]], ts, x)
+                if queued < n:
+                    _fill_lane(st, l, aux, plant[min(queued, n_plant - 1)], x, spacing)
+                    lane_of[l] = queued
+                    queued += 1
+                else:
+                    last = live - 1
+                    live = close_lane(st, l, live, lane_of, N_ROWS, LANES)
+                    for j in range(aux.shape[1]):
+                        aux[l, j] = aux[last, j]
+    if n_trace > 0:
+        out[0, M_NTRACE] = rows
 
 
-@_jit
-def _simulate(
-    tire, lp, plant, x, coef, xc, xs, ys, table, grid, spacing, jitter, acc_noise, trace, out
-):
-    """Every candidate in turn (row i of `lp`, plant row min(i, rows - 1))."""
-    for i in range(lp.shape[0]):
-        _run(
-            tire,
-            lp[i],
-            plant[min(i, plant.shape[0] - 1)],
-            x,
-            (coef[0], coef[1], coef[2], coef[3], xc, xs, ys),
-            table,
-            grid,
-            spacing,
-            jitter,
-            acc_noise,
-            trace,
-            out[i],
-        )
-
-
+_NO_NRT: dict[str, Any] = {"_nrt": False}
+"""No reference counting (module docstring); numba's stubs omit the flag."""
+_simulate = njit(cache=True, nogil=True, error_model="numpy", **_NO_NRT)(_simulate)
 _NO_TABLE = table_tuples(np.array([0.0, 1.0]), np.array([0.0, 0.0]))
 
 
@@ -466,19 +968,21 @@ def simulate_abs_wheel_ecu(
     """Simulate every row of `law_params` (n, P: the discrete law's parameter vector, in
     `controllers.discrete.LAWS` order; one column, unused, for none and bang-bang).
 
-    `plant`: PLANT rows (1 or n); `ecu`: the ECU vector (`abs_wheel_ecu_layout.pack_ecu`);
-    `tire_*`: `TireCurve.kernel_data()`; (table, grid): the ECU lookup table of a fuzzy law
-    (`discrete.ecu_table`) or `discrete.no_table()`; `noise`: (spacing_rad, jitter_s,
-    accel_noise_m_s2) of `EcuNoise`. Writes one ECU_METRICS row per candidate into `out`; when
-    `trace` has rows (n must be 1), the ECU_TRACE rows too.
+    `plant`: PLANT rows (1 or n; dt_s and t_max_s of row 0 for all); `ecu`: the ECU vector
+    (`abs_wheel_ecu_layout.pack_ecu`); `tire_*`: `TireCurve.kernel_data()`; (table, grid): the
+    ECU lookup table of a fuzzy law (`discrete.ecu_table`) or `discrete.no_table()`; `noise`:
+    (spacing_rad, jitter_s, accel_noise_m_s2) of `EcuNoise`. Writes one ECU_METRICS row per
+    candidate into `out`; when `trace` has rows (n must be 1), the ECU_TRACE rows too.
     """
     coef4 = np.zeros(4)
     coef4[: len(tire_coef)] = tire_coef
     xc, xs, ys = table_tuples(tire_xs, tire_ys) if tire_kind == KIND_TABLE else _NO_TABLE
     rows = np.ascontiguousarray(np.atleast_2d(plant), dtype=np.float64)
+    lp = np.ascontiguousarray(law_params, dtype=np.float64)
+    aux_width = D.N_STATE + lp.shape[1] + 3 + max(int(ecu[X_DELAY]), 1)
     _simulate(
         tire_kind,
-        np.ascontiguousarray(law_params, dtype=np.float64),
+        lp,
         rows,
         ecu,
         coef4,
@@ -490,7 +994,11 @@ def simulate_abs_wheel_ecu(
         *noise,
         trace,
         out,
+        np.empty(N_ROWS * LANES),
+        np.empty(LANES, dtype=np.int64),
+        np.empty((LANES, aux_width)),
+        np.empty((len(EDGE_FIELDS), 2 * LANES)),
     )
 
 
-__all__ = ["LOW_SPEED_BAND_M_S", "simulate_abs_wheel_ecu"]
+__all__ = ["LANES", "LOW_SPEED_BAND_M_S", "simulate_abs_wheel_ecu"]

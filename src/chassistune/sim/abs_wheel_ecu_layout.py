@@ -98,3 +98,85 @@ def decode_metrics(raw: np.ndarray) -> dict[str, np.ndarray]:
 def decode_trace(trace: np.ndarray, metrics_row: np.ndarray) -> dict[str, np.ndarray]:
     """The trace signals by name (the rows the kernel wrote)."""
     return TRACE.decode(trace[: int(metrics_row[METRICS["trace_rows"]])])
+
+
+LANE = Layout(
+    "abs-wheel ecu lane rows",
+    (
+        # plant state at the lane's step
+        Slot("v_m_s", "m/s", "vehicle speed"),
+        Slot("w_rad_s", "rad/s", "wheel speed"),
+        Slot("q", "preset unit", "brake pressure"),
+        Slot("r", "preset unit/s", "actuator rate (continuous actuator)"),
+        Slot("theta_rad", "rad", "wheel angle (toothed sensor)"),
+        Slot("slip", "-", "true slip at the last step end"),
+        Slot("step", "-", "steps done (t = step dt)"),
+        Slot("tick", "-", "ECU ticks done"),
+        # the last step's start and end facts
+        Slot("v_start_m_s", "m/s", "vehicle speed at the start of the last step"),
+        Slot("theta_start_rad", "rad", "wheel angle at the start of the last step"),
+        Slot("w_start_rad_s", "rad/s", "wheel speed at the start of the last step"),
+        Slot("h_s", "s", "length of the last step (up to v_stop)"),
+        Slot("stopped", "-", "1 if the last step crossed v_stop"),
+        Slot("status", "-", "end status (STATUS_NAMES) once ended"),
+        Slot("t_end_s", "s", "end time once ended"),
+        Slot("ended", "-", "1 once the run ended"),
+        # toothed sensor
+        Slot("edge_next", "-", "index of the next edge"),
+        Slot("edge_next_rad", "rad", "wheel angle of the next edge"),
+        Slot("edge_last_s", "s", "captured time of the last edge (-1: none)"),
+        Slot("edge_prev_s", "s", "captured time of the edge before (-1: none)"),
+        Slot("w_est_rad_s", "rad/s", "speed estimate from the last edge period"),
+        Slot("read_last_s", "s", "edge_last_s as read at the latest tick"),
+        Slot("read_prev_s", "s", "edge_prev_s as read at the latest tick"),
+        # reference speed, ECU slip, cut-out, command
+        Slot("vref_m_s", "m/s", "reference speed"),
+        Slot("vw_prev_m_s", "m/s", "wheel speed read at the tick before"),
+        Slot("vw_m_s", "m/s", "wheel speed read at the latest tick"),
+        Slot("anchor_held", "samples", "agreeing samples in a row (accelerometer reference)"),
+        Slot("ecu_slip", "-", "slip the ECU computed at the latest tick"),
+        Slot("cut", "-", "1 once cut out"),
+        Slot("u0", "-", "held command of the continuous actuator"),
+        Slot("cmd", "-", "command after the delay line and the cut-out"),
+        Slot("residual", "preset unit", "sigma-delta residual of the duty pulses"),
+        # valve pulses (previous and current) and their accounting
+        Slot("pulse0_mode", "-", "previous pulse: valve state"),
+        Slot("pulse0_start_s", "s", "previous pulse: start"),
+        Slot("pulse0_on_s", "s", "previous pulse: on-time"),
+        Slot("pulse1_mode", "-", "current pulse: valve state"),
+        Slot("pulse1_start_s", "s", "current pulse: start"),
+        Slot("pulse1_on_s", "s", "current pulse: on-time"),
+        Slot("q_switch", "-", "1 if a valve switches inside the step (three-state valves)"),
+        Slot("q_half", "preset unit", "pressure at t + dt/2 of a step with a switch"),
+        Slot("q_full", "preset unit", "pressure at t + dt of a step with a switch"),
+        Slot("valve", "-", "valve state last accounted"),
+        Slot("valve_change_s", "s", "time of the last valve state change (NaN: none)"),
+        # metrics
+        Slot("distance_m", "m"),
+        Slot("iae", "s"),
+        Slot("itae", "s^2"),
+        Slot("ise", "s"),
+        Slot("slip_integral", "s"),
+        *(METRICS.slots[METRICS[n]] for n in METRICS.names[len(KL.METRICS) :]),
+        Slot("clip_max", "-"),
+        Slot("min_slip", "-"),
+        Slot("peak_slip", "-"),
+        Slot("locked_s", "s"),
+        Slot("lock_time_s", "s", "NaN: never"),
+        # the lane's plant row
+        Slot("wheel_radius_m", "m"),
+        Slot("wheel_load_n", "N"),
+        Slot("inv_mass", "1/kg"),
+        Slot("inv_inertia", "1/(kg m^2)"),
+        Slot("brake_gain", "N m/preset unit"),
+        Slot("actuator_gain", "preset unit/s"),
+        Slot("inv_tau", "1/s"),
+        Slot("q_max", "preset unit"),
+        Slot("v0_m_s", "m/s"),
+        Slot("v_stop_m_s", "m/s"),
+        Slot("target_slip", "-"),
+        Slot("lock_ratio", "-"),
+        Slot("hopeless_distance_m", "m"),
+    ),
+)
+"""Rows of the realistic kernel's lane array: row r of lane l at r * LANES + l."""
