@@ -5,6 +5,7 @@ with its banner; every published time below its physical bound is flagged and no
 from __future__ import annotations
 
 import re
+from html import unescape
 from pathlib import Path
 
 import pandas as pd
@@ -102,11 +103,19 @@ def test_the_quick_page_opens_with_what_its_budget_can_decide(reproduced) -> Non
     record = full_run.last_full_run()
     start = html.index("Quick run: a few seeds")
     assert start < html.index('id="t1"')  # before the first table of the first section
-    banner = html[start : html.index("</p>", start)]
+    banner = unescape(html[start : html.index("</p>", start)])
     assert "cannot make a ranking of tuned runs significant" in banner
     assert f"Last full run: {record.date}" in banner and record.command in banner
+    assert record.current_claims
+    page = {(r.paper, r.claim): r.verdict for r in _verdicts(reproduced).itertuples()}
+    recorded = {(v.paper, v.claim): v for v in record.verdicts}
+    assert set(recorded) == {(c.paper, c.claim) for c in ALL_CLAIMS if c not in standard.CLAIMS}
+    # the record's quick verdicts are this build's: its sources judge as these do
+    assert {k: v.quick for k, v in recorded.items()} == {k: page[k] for k in recorded}
     differ = [v for v in record.verdicts if v.full != v.quick]
-    assert len(differ) == 3  # Fig. 7, Table 5, and 004's shortest stop
+    assert differ and all(v.quick == common.UNDECIDED for v in differ)
+    assert f"decided {len(differ)} that the quick run leaves undecided" in banner
+    assert "reversed" not in banner
     for v in differ:
         assert v.claim in banner
     undecided = (_verdicts(reproduced)["verdict"] == common.UNDECIDED).sum()

@@ -74,11 +74,25 @@ def quick_banner(verdicts: Sequence[Verdict]) -> str:
     record = last_full_run()
     undecided = sum(v.verdict == UNDECIDED for v in verdicts)
     differ = decided_differently(record, verdicts)
-    listed = "; ".join(
-        f"{r.paper}: '{r.claim}' (full: {VERDICT_MARKS[r.full]} {r.full}, quick: "
-        f"{VERDICT_MARKS[r.quick]} {r.quick})"
-        for r in differ
-    )
+    decided = [r for r in differ if r.quick == UNDECIDED]
+    changed = [r for r in differ if r.quick != UNDECIDED]
+    parts = []
+    if decided:
+        parts.append(
+            f"decided {len(decided)} that the quick run leaves undecided: "
+            + "; ".join(
+                f"{r.paper}: '{r.claim}' ({VERDICT_MARKS[r.full]} {r.full})" for r in decided
+            )
+        )
+    if changed:
+        parts.append(
+            f"reversed {len(changed)} that the quick run decides: "
+            + "; ".join(
+                f"{r.paper}: '{r.claim}' (full: {VERDICT_MARKS[r.full]} {r.full}, quick: "
+                f"{VERDICT_MARKS[r.quick]} {r.quick})"
+                for r in changed
+            )
+        )
     return (
         "Quick run: a few seeds and iterations. This budget decides what does not depend on "
         "it (the physical bounds of the published numbers, wheel lock counts) and comparisons "
@@ -88,8 +102,9 @@ def quick_banner(verdicts: Sequence[Verdict]) -> str:
         f"({undecided} here), not 'does not hold'. Last full run: {record.date}, "
         f"`{record.command}`, {record.sources}. {record.note} "
         + (
-            f"The full protocol decided {len(differ)} of its {len(record.verdicts)} verdicts "
-            f"differently from the quick run: {listed}."
+            f"Of its {len(record.verdicts)} verdicts, the full protocol "
+            + "; and it ".join(parts)
+            + "."
             if differ
             else "The full protocol decided every recorded verdict as the quick run did."
         )
