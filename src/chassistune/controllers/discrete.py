@@ -317,14 +317,17 @@ def threshold_step(state, inputs, params, table, grid):
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def discrete_step(kind, state, inputs, params, table, grid):
-    """One sample of the law `kind` (K_*): the command u; `state` is updated in place."""
+    """One sample of the law `kind` (K_*): the command u; `state` is updated in place. An
+    unknown kind runs no law: its command is NaN (the run diverges)."""
     if kind == K_PID:
         return pid_step(state, inputs, params, table, grid)
     if kind == K_FUZZY_PID:
         return fuzzy_pid_step(state, inputs, params, table, grid)
     if kind == K_IMMUNE:
         return immune_step(state, inputs, params, table, grid)
-    return threshold_step(state, inputs, params, table, grid)
+    if kind == K_THRESHOLD:
+        return threshold_step(state, inputs, params, table, grid)
+    return np.nan
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

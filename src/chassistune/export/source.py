@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from chassistune.controllers import discrete
+from chassistune.controllers import discrete, laws
 from chassistune.controllers.ecu_params import EcuParams
 from chassistune.errors import InputError
 from chassistune.fuzzy.loader import load_rulebase
@@ -46,12 +46,13 @@ DEFAULT_ECU_TS_S = EcuParams().ecu_ts_s
 EXPORT_PARAMS = ("ecu_ts_s", "fuzzy_table_points")
 PLANTS = ("abs-wheel",)
 REFUSED_PLANTS = {
-    "abs-vehicle": "its kernel runs the wheel laws in continuous time with the target slip of "
-    "the surface under each wheel (no discrete ECU form to test an export "
-    "against); export the single wheel (abs-wheel), whose law the vehicle repeats "
-    "per wheel",
+    "abs-vehicle": "its wheel laws with a discrete form ({laws}) run once per wheel, but the "
+    "export records its test vectors in a single wheel's closed loop (`closed_loop`) and the "
+    "vehicle has no discrete closed loop to record them in; export the single wheel "
+    "(abs-wheel), whose law the vehicle repeats per wheel",
 }
-"""Plants that name controllers with a discrete form but cannot be exported, and why."""
+"""Plants that name controllers with a discrete form but cannot be exported, and what is missing
+({laws}: the plant's laws that have a discrete form)."""
 IDEAL_ECU: dict[str, object] = {
     "ecu": "realistic",
     "sensor": "ideal",
@@ -241,20 +242,21 @@ def resolve(
     origin = _origin(source, plant, controller)
     field = "plant" if source is None else "source"
     if origin.plant in REFUSED_PLANTS:
-        raise InputError(
-            field, f"cannot export from plant {origin.plant!r}: {REFUSED_PLANTS[origin.plant]}"
-        )
+        discrete_laws = [s.name for s in laws.for_plant(origin.plant) if laws.get(s.name).discrete]
+        why = REFUSED_PLANTS[origin.plant].format(laws=", ".join(discrete_laws))
+        raise InputError(field, f"cannot export from plant {origin.plant!r}: {why}")
     if origin.plant not in PLANTS:
         raise InputError(
             field,
             f"no discrete controllers for plant {origin.plant!r} (exportable: {', '.join(PLANTS)})",
         )
-    law = discrete.law(origin.controller)
+    law = laws.get(origin.controller).discrete if origin.controller in laws.names() else None
     if law is None:
+        exportable = [n for n in laws.names() if laws.get(n).discrete is not None]
         raise InputError(
             "controller" if source is None else "source",
             f"{origin.controller!r} has no discrete form to export "
-            f"(exportable: {', '.join(discrete.LAWS)})",
+            f"(exportable: {', '.join(exportable)})",
         )
     fixed = sorted((ECU_PARAM_NAMES | {"ecu"}) & set(overrides))
     if fixed:
