@@ -6,8 +6,10 @@ module declares, printed by the export, reproduces the ideal kernel's commands b
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -15,7 +17,8 @@ from helpers import CLaw, needs_cc, write_c
 from numba import njit
 
 from chassistune.controllers import laws
-from chassistune.controllers.discrete import DiscreteLaw, no_table
+from chassistune.controllers.discrete import no_table
+from chassistune.controllers.discrete_laws import DiscreteLaw
 from chassistune.controllers.laws import forms as F
 from chassistune.controllers.laws.shared import AMPLITUDE, SAMPLE_PERIOD, per_wheel
 from chassistune.controllers.specs import ControllerSpec, GainSpec
@@ -38,32 +41,30 @@ WHEEL = ControllerSpec(
 G_K = F.gains(WHEEL)["k_sat"]
 
 
-@njit(**F.FORM)
-def start(g, g0, c):  # type: ignore[no-untyped-def]
-    return 0.0, 0.0, 0.0, 0.0
+def kernel_forms() -> tuple[Any, Any]:
+    """(start, tick): at rest at the start; the saturated command at each sample."""
 
+    @njit(**F.FORM)
+    def command(k_sat, e, amplitude):  # type: ignore[no-untyped-def]
+        u = k_sat * e
+        if u > 1.0:
+            u = 1.0
+        if u < -1.0:
+            u = -1.0
+        return amplitude * u
 
-@njit(**F.FORM)
-def command(k_sat, e, amplitude):  # type: ignore[no-untyped-def]
-    u = k_sat * e
-    if u > 1.0:
-        u = 1.0
-    if u < -1.0:
-        u = -1.0
-    return amplitude * u
+    @njit(**F.FORM)
+    def tick(sig, held, mem, g, g0, c, table, ts, first):  # type: ignore[no-untyped-def]
+        u0 = command(g[g0 + G_K], sig[F.SIG_SLIP_ERROR], c[F.P_AMPLITUDE])
+        return (u0, held[F.H_KP], held[F.H_KI], held[F.H_KD]), mem
 
-
-@njit(**F.FORM)
-def tick(sig, held, mem, g, g0, c, table, ts, first):  # type: ignore[no-untyped-def]
-    u0 = command(g[g0 + G_K], sig[F.SIG_SLIP_ERROR], c[F.P_AMPLITUDE])
-    return (u0, held[F.H_KP], held[F.H_KI], held[F.H_KD]), mem
+    return None, tick
 
 
 LAW = laws.Law(
     NAME,
     (WHEEL, per_wheel(WHEEL)),
-    start,
-    tick,
+    functools.cache(kernel_forms),
     discrete=DiscreteLaw(
         NAME,
         -1,

@@ -1316,7 +1316,7 @@ def _tick(st, l, i, k, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts):
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _fill_lane(st, l, i, gains, col0, laws_key, ctrl_kind, c, kc, srf, v0):
     """Start candidate i in lane l: wheels rolling freely at v0, zero metrics, the law's held
-    values at the start (`Law.start`: the PID's gains, the driver's command without ABS), the
+    values at the start (`Law.forms`: the PID's gains, the driver's command without ABS), the
     surfaces under the wheels at t = 0 and the derivative filters at e(0) (no kick); inlined
     into the entry point, which keys its cache on the registered laws."""
     for row in range(N_ROWS):

@@ -354,7 +354,7 @@ def _lane_steps(st, width, law, method, dt, hs, h6, target, n_steps, t_timeout, 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _fill_lane(st, l, i, gains, plant, laws_key, ctrl_kind, c, target):
     """Start candidate i in lane l: initial state, zero metrics, the law's held values at the
-    start (`Law.start`), its plant row."""
+    start (`Law.forms`), its plant row."""
     p = plant[min(i, plant.shape[0] - 1)]
     for row in range(N_ROWS):
         st[row * LANES + l] = 0.0

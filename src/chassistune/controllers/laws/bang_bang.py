@@ -3,26 +3,29 @@ every ts_s (`controllers.switching.bang_bang_command`). Single wheel only; no di
 
 from __future__ import annotations
 
-from numba import njit
+import functools
+from typing import Any
 
 from chassistune.controllers.laws.forms import FORM, H_KD, H_KI, H_KP, P_AMPLITUDE, SIG_SLIP_ERROR
 from chassistune.controllers.laws.registry import ABS_WHEEL, Law
 from chassistune.controllers.laws.shared import AMPLITUDE, SAMPLE_PERIOD
 from chassistune.controllers.specs import ControllerSpec
-from chassistune.controllers.switching import bang_bang_command
 
 
-@njit(**FORM)
-def start(g, g0, c):
-    """Nothing held before the first sample; no gains."""
-    return 0.0, 0.0, 0.0, 0.0
+@functools.cache
+def kernel_forms() -> tuple[Any, Any]:
+    """(start, tick) for the kernels: at rest; u0 = amplitude sign(e) at each sample
+    (`controllers.switching.bang_bang_command`)."""
+    from numba import njit
 
+    from chassistune.controllers.switching import bang_bang_command
 
-@njit(**FORM)
-def tick(sig, held, mem, g, g0, c, table, ts, first):
-    """u0 = amplitude sign(e) (`controllers.switching.bang_bang_command`)."""
-    u0 = bang_bang_command(sig[SIG_SLIP_ERROR], c[P_AMPLITUDE])
-    return (u0, held[H_KP], held[H_KI], held[H_KD]), mem
+    @njit(**FORM)
+    def tick(sig, held, mem, g, g0, c, table, ts, first):
+        u0 = bang_bang_command(sig[SIG_SLIP_ERROR], c[P_AMPLITUDE])
+        return (u0, held[H_KP], held[H_KI], held[H_KD]), mem
+
+    return None, tick
 
 
 LAW = Law(
@@ -35,6 +38,5 @@ LAW = Law(
             params=(AMPLITUDE, SAMPLE_PERIOD),
         ),
     ),
-    start,
-    tick,
+    kernel_forms,
 )

@@ -1,8 +1,8 @@
 """The one dispatch of the control laws in the kernels: `law_start`, `law_tick`, `law_sampled`.
 
 Each is a numba overload whose implementation is generated from the registry when a kernel is
-compiled: an if-chain over the registered kinds, each branch the law's own form (`Law.start`,
-`Law.tick`) inlined into it. The chain compiles as a function of its own (inlining it whole at
+compiled: an if-chain over the registered kinds, each branch the law's own form (`Law.forms`:
+start, tick) inlined into it. The chain compiles as a function of its own (inlining it whole at
 numba's IR level trips numba's SSA checks), with the kernel's options: no reference counting
 under an entry point compiled without it. A kind no law holds runs no law: its held values are
 NaN, so that the run diverges (the scenarios refuse unknown names before a kernel runs).
@@ -54,6 +54,11 @@ def _no_start(kind, g, g0, c):
 
 
 @njit(**FORM)
+def _at_rest(g, g0, c):
+    return 0.0, 0.0, 0.0, 0.0
+
+
+@njit(**FORM)
 def _no_tick(kind, sig, held, mem, g, g0, c, table, ts, first):
     return _NAN4, (np.nan, np.nan)
 
@@ -92,7 +97,8 @@ def _law_start(laws_key, kind, g, g0, c):
     _literal(laws_key)
     chain = _no_start
     for k, law in reversed(list(enumerate(_kinds()))):
-        chain = _start_link(k, law.start, chain)
+        start = law.forms()[0]
+        chain = _start_link(k, _at_rest if start is None else start, chain)
 
     def impl(laws_key, kind, g, g0, c):
         return chain(kind, g, g0, c)
@@ -105,8 +111,9 @@ def _law_tick(laws_key, kind, sig, held, mem, g, g0, c, table, ts, first):
     _literal(laws_key)
     chain = _no_tick
     for k, law in reversed(list(enumerate(_kinds()))):
-        if law.tick is not None:
-            chain = _tick_link(k, law.tick, chain)
+        tick = law.forms()[1]
+        if tick is not None:
+            chain = _tick_link(k, tick, chain)
 
     def impl(laws_key, kind, sig, held, mem, g, g0, c, table, ts, first):
         return chain(kind, sig, held, mem, g, g0, c, table, ts, first)
@@ -117,7 +124,7 @@ def _law_tick(laws_key, kind, sig, held, mem, g, g0, c, table, ts, first):
 @overload(law_sampled, prefer_literal=True)
 def _law_sampled(laws_key, kind):
     _literal(laws_key)
-    sampled = tuple(k for k, law in enumerate(_kinds()) if law.tick is not None)
+    sampled = tuple(k for k, law in enumerate(_kinds()) if law.forms()[1] is not None)
 
     def impl(laws_key, kind):
         hit = False

@@ -1,4 +1,4 @@
-"""The arguments of a law's kernel forms (`Law.start`, `Law.tick`), declared by name.
+"""The arguments of a law's kernel forms (`Law.forms`: start, tick), declared by name.
 
 A kernel hands a sampled law its signals at a sample instant as the tuple `sig` (`SIGNALS`),
 the held values of the continuous PID as `held` (`HELD`: the command u0 the sampled laws hold

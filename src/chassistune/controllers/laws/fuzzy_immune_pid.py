@@ -4,12 +4,11 @@ kp1 = k_immune (1 - eta f(e, de/dt)) a one-output rule base suppresses
 
 from __future__ import annotations
 
-from numba import njit
+import functools
+from typing import Any
 
-from chassistune.controllers import discrete
-from chassistune.controllers.immune_pid import immune_pid_step
+from chassistune.controllers.discrete_laws import LAWS as DISCRETE
 from chassistune.controllers.laws import forms as F
-from chassistune.controllers.laws.bang_bang import start
 from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, Law
 from chassistune.controllers.laws.shared import RULEBASE_NOTE, SAMPLE_PERIOD
 from chassistune.controllers.specs import ControllerSpec, GainSpec, ParamSpec
@@ -80,38 +79,46 @@ G_K, G_ETA, G_KI, G_KD, G_KE, G_KEC = (
 )
 
 
-@njit(**F.FORM)
-def tick(sig, held, mem, g, g0, c, table, ts, first):
-    """The incremental law's next command (`immune_pid_step`); before the first sample the
-    errors are taken as e(0) = the target (the wheel rolls freely: no kick)."""
-    e = sig[F.SIG_SLIP_ERROR]
-    e1 = sig[F.SIG_TARGET] if first else mem[M_E1]
-    e2 = sig[F.SIG_TARGET] if first else mem[M_E2]
-    u0 = immune_pid_step(
-        table,
-        e,
-        e1,
-        e2,
-        held[F.H_U0],
-        ts,
-        first,
-        g[g0 + G_K],
-        g[g0 + G_ETA],
-        g[g0 + G_KI],
-        g[g0 + G_KD],
-        g[g0 + G_KE],
-        g[g0 + G_KEC],
-    )
-    return (u0, held[F.H_KP], held[F.H_KI], held[F.H_KD]), (e, e1)
+@functools.cache
+def kernel_forms() -> tuple[Any, Any]:
+    """(start, tick) for the kernels: at rest at the start; at each sample the incremental law's
+    next command (`immune_pid_step`), the errors before the first sample taken as e(0) = the
+    target (the wheel rolls freely: no kick)."""
+    from numba import njit
+
+    from chassistune.controllers.immune_pid import immune_pid_step
+
+    @njit(**F.FORM)
+    def tick(sig, held, mem, g, g0, c, table, ts, first):
+        e = sig[F.SIG_SLIP_ERROR]
+        e1 = sig[F.SIG_TARGET] if first else mem[M_E1]
+        e2 = sig[F.SIG_TARGET] if first else mem[M_E2]
+        u0 = immune_pid_step(
+            table,
+            e,
+            e1,
+            e2,
+            held[F.H_U0],
+            ts,
+            first,
+            g[g0 + G_K],
+            g[g0 + G_ETA],
+            g[g0 + G_KI],
+            g[g0 + G_KD],
+            g[g0 + G_KE],
+            g[g0 + G_KEC],
+        )
+        return (u0, held[F.H_KP], held[F.H_KI], held[F.H_KD]), (e, e1)
+
+    return None, tick
 
 
 LAW = Law(
     "fuzzy-immune-pid",
     (WHEEL,),
-    start,
-    tick,
+    kernel_forms,
     STATE,
-    discrete=discrete.LAWS["fuzzy-immune-pid"],
+    discrete=DISCRETE["fuzzy-immune-pid"],
     c=CForm(
         (
             "- `fuzzy-immune-pid` (Ding 2023 eqs. 6-10, the kernel's arithmetic): "

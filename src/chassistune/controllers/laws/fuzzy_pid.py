@@ -8,12 +8,11 @@ centred on the vehicle PID (`laws.pid`): kp in [700, 1700], kd in [15, 25], ki 0
 
 from __future__ import annotations
 
-from numba import njit
+import functools
+from typing import Any
 
-from chassistune.controllers import discrete
-from chassistune.controllers.fuzzy_pid import fuzzy_pid_gains
+from chassistune.controllers.discrete_laws import LAWS as DISCRETE
 from chassistune.controllers.laws import forms as F
-from chassistune.controllers.laws.bang_bang import start
 from chassistune.controllers.laws.pid import C_HELPERS
 from chassistune.controllers.laws.pid import EQUATIONS as PID_EQUATIONS
 from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, Law
@@ -87,31 +86,39 @@ G_KE, G_KEC, G_KUP, G_KUI, G_KUD, G_KP0, G_KI0, G_KD0 = (
 )
 
 
-@njit(**F.FORM)
-def tick(sig, held, mem, g, g0, c, table, ts, first):
-    """The PID's gains scheduled from e and the filtered de/dt (`fuzzy_pid_gains`)."""
-    kp, ki, kd = fuzzy_pid_gains(
-        table,
-        sig[F.SIG_SLIP_ERROR],
-        sig[F.SIG_ERROR_RATE],
-        g[g0 + G_KE],
-        g[g0 + G_KEC],
-        g[g0 + G_KUP],
-        g[g0 + G_KUI],
-        g[g0 + G_KUD],
-        g[g0 + G_KP0],
-        g[g0 + G_KI0],
-        g[g0 + G_KD0],
-    )
-    return (held[F.H_U0], kp, ki, kd), mem
+@functools.cache
+def kernel_forms() -> tuple[Any, Any]:
+    """(start, tick) for the kernels: at rest at the start; at each sample the PID's gains
+    scheduled from e and the filtered de/dt (`controllers.fuzzy_pid.fuzzy_pid_gains`)."""
+    from numba import njit
+
+    from chassistune.controllers.fuzzy_pid import fuzzy_pid_gains
+
+    @njit(**F.FORM)
+    def tick(sig, held, mem, g, g0, c, table, ts, first):
+        kp, ki, kd = fuzzy_pid_gains(
+            table,
+            sig[F.SIG_SLIP_ERROR],
+            sig[F.SIG_ERROR_RATE],
+            g[g0 + G_KE],
+            g[g0 + G_KEC],
+            g[g0 + G_KUP],
+            g[g0 + G_KUI],
+            g[g0 + G_KUD],
+            g[g0 + G_KP0],
+            g[g0 + G_KI0],
+            g[g0 + G_KD0],
+        )
+        return (held[F.H_U0], kp, ki, kd), mem
+
+    return None, tick
 
 
 LAW = Law(
     "fuzzy-pid",
     (WHEEL, per_wheel(WHEEL, gains=rescaled(WHEEL.gains, VEHICLE_DEFAULTS, VEHICLE_BOUNDS))),
-    start,
-    tick,
-    discrete=discrete.LAWS["fuzzy-pid"],
+    kernel_forms,
+    discrete=DISCRETE["fuzzy-pid"],
     c=CForm(
         (
             *PID_EQUATIONS,

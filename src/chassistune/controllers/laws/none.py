@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-from numba import njit
+import functools
+from typing import Any
 
 from chassistune.controllers.laws.forms import FORM, P_AMPLITUDE
 from chassistune.controllers.laws.registry import ABS_VEHICLE, ABS_WHEEL, Law
 from chassistune.controllers.laws.shared import AMPLITUDE
 from chassistune.controllers.specs import ControllerSpec
-from chassistune.controllers.switching import no_abs_command
 
 WHEEL = ControllerSpec(
     ABS_WHEEL,
@@ -18,10 +18,19 @@ WHEEL = ControllerSpec(
 )
 
 
-@njit(**FORM)
-def start(g, g0, c):
-    """The driver's constant command, held for the whole run; no gains."""
-    return no_abs_command(c[P_AMPLITUDE]), 0.0, 0.0, 0.0
+@functools.cache
+def kernel_forms() -> tuple[Any, Any]:
+    """(start, tick) for the kernels: the driver's constant command, held for the whole run; no
+    gains, no tick."""
+    from numba import njit
+
+    from chassistune.controllers.switching import no_abs_command
+
+    @njit(**FORM)
+    def start(g, g0, c):
+        return no_abs_command(c[P_AMPLITUDE]), 0.0, 0.0, 0.0
+
+    return start, None
 
 
 LAW = Law(
@@ -32,5 +41,5 @@ LAW = Law(
             ABS_VEHICLE, "none", WHEEL.description + " (all four wheels)", params=(AMPLITUDE,)
         ),
     ),
-    start,
+    kernel_forms,
 )

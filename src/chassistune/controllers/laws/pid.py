@@ -8,9 +8,10 @@ than no ABS), so the vehicle PID defaults to kp 1200, ki 0, kd 20 (design.md 3.3
 
 from __future__ import annotations
 
-from numba import njit
+import functools
+from typing import Any
 
-from chassistune.controllers import discrete
+from chassistune.controllers.discrete_laws import LAWS as DISCRETE
 from chassistune.controllers.laws.forms import FORM, gains
 from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, Law
 from chassistune.controllers.laws.shared import N_FILTER, per_wheel
@@ -102,17 +103,24 @@ static double ct_pid_output(ct_state *s, const double *in, double e, double d, d
 G_KP, G_KI, G_KD = (gains(WHEEL)[n] for n in ("kp", "ki", "kd"))
 
 
-@njit(**FORM)
-def start(g, g0, c):
-    """The gains of the continuous PID (`controllers.pid.pid_step`), fixed for the run."""
-    return 0.0, g[g0 + G_KP], g[g0 + G_KI], g[g0 + G_KD]
+@functools.cache
+def kernel_forms() -> tuple[Any, Any]:
+    """(start, tick) for the kernels: the gains of the continuous PID (`controllers.pid.pid_step`),
+    fixed for the run; no tick."""
+    from numba import njit
+
+    @njit(**FORM)
+    def start(g, g0, c):
+        return 0.0, g[g0 + G_KP], g[g0 + G_KI], g[g0 + G_KD]
+
+    return start, None
 
 
 LAW = Law(
     "pid",
     (WHEEL, per_wheel(WHEEL, gains=VEHICLE_GAINS)),
-    start,
-    discrete=discrete.LAWS["pid"],
+    kernel_forms,
+    discrete=DISCRETE["pid"],
     c=CForm(
         EQUATIONS,
         """\

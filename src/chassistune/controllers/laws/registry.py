@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import hashlib
 import inspect
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -19,7 +20,7 @@ from chassistune._registry import Registry
 from chassistune.controllers.specs import ControllerSpec
 
 if TYPE_CHECKING:
-    from chassistune.controllers.discrete import DiscreteLaw
+    from chassistune.controllers.discrete_laws import DiscreteLaw
 
 ABS_WHEEL = "abs-wheel"
 ABS_VEHICLE = "abs-vehicle"
@@ -43,17 +44,17 @@ class Law:
     ideal kernels, its discrete form (what an ECU runs and `export` ships; None without one),
     its C text and how many outputs it reads from a rule base (0: none).
 
-    The kernels' forms (numba functions, `controllers.laws.forms` names their arguments):
-    `start(g, g0, c) -> held`, the held values (u0, kp, ki, kd) of the continuous PID at the
-    start of a run, and `tick(sig, held, mem, g, g0, c, table, ts, first) -> (held, mem)`, the
-    update at each sample instant (None: the law is not sampled), with `mem` the law's memory
-    (`state`, at most `forms.MEMORY` slots, zero at the start).
+    The kernels' forms are numba functions that `forms()` builds on first use (numba is heavy
+    to import; the specs are not), `controllers.laws.forms` names their arguments: `start(g,
+    g0, c) -> held`, the held values (u0, kp, ki, kd) of the continuous PID at the start of a
+    run (None: all zero, the law at rest), and `tick(sig, held, mem, g, g0, c, table, ts,
+    first) -> (held, mem)`, the update at each sample instant (None: the law is not sampled),
+    with `mem` the law's memory (`state`, at most `MEMORY` slots, zero at the start).
     """
 
     name: str
     specs: tuple[ControllerSpec, ...]
-    start: Any
-    tick: Any = None
+    forms: Callable[[], tuple[Any, Any]]
     state: tuple[str, ...] = ()
     discrete: DiscreteLaw | None = None
     c: CForm | None = None
@@ -78,7 +79,7 @@ def register(law: Law) -> Law:
     if len(law.state) > MEMORY:
         raise ValueError(f"law {law.name!r} keeps {len(law.state)} memory slots (at most {MEMORY})")
     _LAWS.register(law.name, law)
-    module = inspect.getmodule(law.start.py_func)
+    module = inspect.getmodule(law.forms)
     source = inspect.getsource(module) if module is not None else law.name
     _DIGESTS[law.name] = hashlib.sha1(source.encode()).hexdigest()
     return law

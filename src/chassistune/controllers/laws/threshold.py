@@ -4,15 +4,14 @@ the kernels and the ECU (`controllers.discrete.threshold_step`)."""
 
 from __future__ import annotations
 
-from numba import njit
+import functools
+from typing import Any
 
-from chassistune.controllers import discrete
+from chassistune.controllers.discrete_laws import LAWS as DISCRETE
 from chassistune.controllers.laws import forms as F
-from chassistune.controllers.laws.bang_bang import start
 from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, Law
 from chassistune.controllers.laws.shared import AMPLITUDE, REAR, SAMPLE_PERIOD, per_wheel
 from chassistune.controllers.specs import ControllerSpec, ParamSpec
-from chassistune.controllers.switching import threshold_step, wheel_deceleration_sample
 
 STATE = ("phase", "wheel_accel_m_s2")
 """The law's memory: its phase and the wheel acceleration over the last sample period."""
@@ -96,36 +95,44 @@ double ct_step(ct_state *s, const double *in)
 """`controllers.discrete.threshold_step` in C, in the same operation order."""
 
 
-@njit(**F.FORM)
-def tick(sig, held, mem, g, g0, c, table, ts, first):
-    """The wheel acceleration over the last sample (none at the first), then the phase
-    machine's command (`controllers.switching.threshold_step`)."""
-    aw = mem[M_ACCEL]
-    if not first:
-        aw = wheel_deceleration_sample(
-            sig[F.SIG_WHEEL_SPEED], sig[F.SIG_WHEEL_SPEED_PREV], sig[F.SIG_RADIUS], ts
+@functools.cache
+def kernel_forms() -> tuple[Any, Any]:
+    """(start, tick) for the kernels: at rest at the start; at each sample the wheel
+    acceleration over the last one (none at the first), then the phase machine's command
+    (`controllers.switching.threshold_step`)."""
+    from numba import njit
+
+    from chassistune.controllers.switching import threshold_step, wheel_deceleration_sample
+
+    @njit(**F.FORM)
+    def tick(sig, held, mem, g, g0, c, table, ts, first):
+        aw = mem[M_ACCEL]
+        if not first:
+            aw = wheel_deceleration_sample(
+                sig[F.SIG_WHEEL_SPEED], sig[F.SIG_WHEEL_SPEED_PREV], sig[F.SIG_RADIUS], ts
+            )
+        u0, phase = threshold_step(
+            int(mem[M_PHASE]),
+            sig[F.SIG_SLIP],
+            sig[F.SIG_TARGET],
+            aw,
+            c[F.P_AMPLITUDE],
+            c[F.P_DECEL],
+            c[F.P_ACCEL],
+            c[F.P_SLIP_MARGIN],
+            c[F.P_SLOW],
         )
-    u0, phase = threshold_step(
-        int(mem[M_PHASE]),
-        sig[F.SIG_SLIP],
-        sig[F.SIG_TARGET],
-        aw,
-        c[F.P_AMPLITUDE],
-        c[F.P_DECEL],
-        c[F.P_ACCEL],
-        c[F.P_SLIP_MARGIN],
-        c[F.P_SLOW],
-    )
-    return (u0, held[F.H_KP], held[F.H_KI], held[F.H_KD]), (float(phase), aw)
+        return (u0, held[F.H_KP], held[F.H_KI], held[F.H_KD]), (float(phase), aw)
+
+    return None, tick
 
 
 LAW = Law(
     "threshold",
     (WHEEL, per_wheel(WHEEL, params=(*WHEEL.params, REAR))),
-    start,
-    tick,
+    kernel_forms,
     STATE,
-    discrete=discrete.LAWS["threshold"],
+    discrete=DISCRETE["threshold"],
     c=CForm(
         (
             "- `threshold` (design.md 4's rule-based ABS, the kernel's phases): "
