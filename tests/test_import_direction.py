@@ -145,14 +145,6 @@ def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
     return sorted(found)
 
 
-KNOWN_CYCLES = {
-    ("chassistune.controllers.catalogue", "chassistune.controllers.vehicle_specs"): (
-        "the catalogue and the vehicle specs import each other until their shared specs move"
-    ),
-}
-"""Cycles not yet ended, each with why it stands; delete an entry when its cycle goes."""
-
-
 def _violation(importer: str, path: Path, target: str) -> str | None:
     """Why importing `target` from a module of package `importer` breaks the direction."""
     if target.split(".")[0] == "matplotlib":
@@ -269,11 +261,9 @@ def test_a_module_importing_itself_is_a_cycle() -> None:
     assert cycles({"p.a": {"p.a"}, "p.b": {"p.a"}}) == [["p.a"]]
 
 
-def test_no_import_cycle_but_the_known_ones() -> None:
-    found = {tuple(c) for c in cycles(import_graph(SRC))}
-    assert found <= KNOWN_CYCLES.keys(), "import cycles:\n" + "\n".join(
-        " <-> ".join(c) for c in sorted(found - KNOWN_CYCLES.keys())
-    )
+def test_no_import_cycle() -> None:
+    found = cycles(import_graph(SRC))
+    assert found == [], "import cycles:\n" + "\n".join(" <-> ".join(c) for c in found)
 
 
 def test_no_module_imports_the_package_init() -> None:

@@ -12,13 +12,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from chassistune.controllers import laws
 from chassistune.export import c99, source, vectors
 from chassistune.export.source import ExportedController
 from chassistune.scenarios.abs_wheel import AbsWheelScenario
 from chassistune.scenarios.registry import get_plant
 
-LAWS = ("pid", "fuzzy-pid", "fuzzy-immune-pid", "threshold")
-CONTINUOUS = ("pid", "fuzzy-pid", "fuzzy-immune-pid")
+LAWS = tuple(n for n in laws.names() if laws.get(n).c is not None)
+"""Every law with a C form (`controllers.laws`)."""
+CONTINUOUS = tuple(n for n in LAWS if not c99.c_form(n).switching)
+"""The exportable laws without a discrete decision (an FMA build stays close)."""
 CC = shutil.which("cc")
 needs_cc = pytest.mark.skipif(CC is None, reason="no C compiler (cc) on this machine")
 

@@ -106,6 +106,14 @@ def test_backward_euler_filter_has_no_kick_and_is_stable_at_any_sample_time(ts: 
     assert np.all(u[3:] > -1e-13 * expected[0])  # no oscillation
 
 
+def test_an_unknown_kind_runs_no_law_its_command_is_nan() -> None:
+    table, grid = discrete.no_table()
+    rows = np.array([[0.2, 0.0, 0.0]] * 3)
+    params = _pid_params(1.0, 0.0, 0.0, 100.0, 0.01)
+    assert np.all(np.isnan(discrete.run_vectors(99, rows, params, table, grid)))
+    assert np.all(np.isfinite(discrete.run_vectors(discrete.K_PID, rows, params, table, grid)))
+
+
 def test_immune_incremental_law_equals_the_positional_pid_at_fixed_gain() -> None:
     """eta = 0: u_k = kp e_k + ki ts sum(e) + kd (e_k - e_k-1) / ts, with e_-1 = e_0."""
     ec = case("fuzzy-immune-pid").ec

@@ -219,7 +219,8 @@ def test_abs_vehicle_refusal_says_why(cli: Callable[..., object], tmp_path: Path
         str(tmp_path / "out"),
     )
     assert res.code == 2
-    assert "continuous time" in res.err and "abs-wheel" in res.err
+    assert "(pid, threshold, fuzzy-pid)" in res.err and "no discrete closed loop" in res.err
+    assert "abs-wheel" in res.err
 
 
 def test_a_realistic_source_keeps_its_sample_time_and_gets_the_ideal_ecu(

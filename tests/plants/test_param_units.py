@@ -8,12 +8,12 @@ import dataclasses
 import pytest
 
 from chassistune.export.closed_loop import LOOP
+from chassistune.layout import Layout
 from chassistune.params import unit_of
 from chassistune.plants.abs_vehicle_params import SteeringParams, VehicleParams
 from chassistune.plants.abs_wheel import AbsWheelParams
 from chassistune.sim.abs_vehicle_kernel import PLANT_LAYOUT
 from chassistune.sim.abs_wheel_layout import PLANT
-from chassistune.sim.layout import Layout
 from chassistune.units import PRESSURE
 
 PAIRS = [

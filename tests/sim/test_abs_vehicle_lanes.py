@@ -15,6 +15,8 @@ sys.path.insert(0, str(Path(__file__).parent))
 
 import abs_vehicle_pins as pins
 
+from chassistune.controllers import laws
+
 PINNED = json.loads(pins.PINNED.read_text())
 
 
@@ -27,6 +29,14 @@ def test_every_case_is_pinned(computed):
     assert sorted(computed) == sorted(PINNED)
     n_arrays = sum(len(case["raw"]) + len(case) - 1 for case in PINNED.values())
     assert len(PINNED) == 28 and n_arrays > 900
+
+
+@pytest.mark.parametrize("law", laws.names())
+def test_every_vehicle_law_is_pinned(law):
+    """A law of the vehicle without pinned runs could change unseen."""
+    if laws.get(law).spec(laws.ABS_VEHICLE) is None:
+        pytest.skip(f"{law} does not run on the vehicle")
+    assert law in pins.CONTROLLERS
 
 
 @pytest.mark.parametrize("key", sorted(PINNED))
@@ -76,7 +86,7 @@ def test_lane_step_vectorizes():
     from chassistune.scenarios.abs_vehicle import PLANT
     from chassistune.sim import abs_vehicle_kernel as K
 
-    entry = K.simulate_abs_vehicle
+    entry = K.entry_point()
     options = {k: v for k, v in entry.targetoptions.items() if k not in ("cache", "nopython")}
     fresh = numba.njit(**options)(entry.py_func)
     sc = PLANT.scenario(None, "dry-concrete", "pid")

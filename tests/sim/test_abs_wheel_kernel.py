@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from chassistune._branchfree import stack_copy
+from chassistune.controllers import laws
 from chassistune.plants.tire_kernel import tire_mu
 from chassistune.plants.tires import KIND_BILINEAR, KIND_BURCKHARDT, KIND_TABLE
 from chassistune.scenarios.abs_wheel import PLANT, AbsWheelScenario
@@ -27,7 +28,7 @@ ROADS = {
     KIND_BURCKHARDT: ("paper-derlsp-ao", "burckhardt-wet-asphalt"),
     KIND_TABLE: ("sldemo", "sldemo-table"),
 }
-CONTROLLERS = ["pid", "none", "bang-bang", "threshold", "fuzzy-pid", "fuzzy-immune-pid"]
+CONTROLLERS = [s.name for s in laws.for_plant(laws.ABS_WHEEL)]
 
 
 def _population(sc: AbsWheelScenario, n: int, seed: int) -> np.ndarray:
@@ -53,6 +54,16 @@ def test_batch_row_equals_single_run_and_threads_agree(law: int, controller: str
     for i in range(0, n, 4):
         assert sc.raw(g[i : i + 1], workers=1).tobytes() == batch[i : i + 1].tobytes()
     assert sc.raw(g, workers=2).tobytes() == batch.tobytes()
+
+
+def test_an_unknown_law_kind_runs_no_law_and_diverges() -> None:
+    sc = PLANT.scenario("paper-derlsp-ao", "dry-concrete", "bang-bang")
+    p, kind, coef, xs, ys, _, c, table = sc._kernel_args
+    out = np.zeros((1, len(KL.METRICS)))
+    unknown = len(laws.names())
+    empty = np.zeros((0, len(KL.TRACE)))
+    K.simulate_abs_wheel(np.zeros((1, 0)), p, kind, coef, xs, ys, unknown, c, table, empty, out)
+    assert KL.STATUS_NAMES[int(out[0, KL.METRICS["status"]])] == "diverged"
 
 
 def test_diverging_candidates_end_diverged_with_finite_penalty() -> None:
@@ -117,7 +128,7 @@ def _has_avx() -> bool:
 def test_entry_points_vectorize(law: int) -> None:
     """Packed double arithmetic on ymm/zmm registers in the compiled entry point: a call or a
     branch chain added to the lane step would silently fall back to scalar code."""
-    entry = K.ENTRY_POINTS[law]
+    entry = K.entry_points()[law]
     options = {k: v for k, v in entry.targetoptions.items() if k not in ("cache", "nopython")}
     fresh = numba.njit(**options)(entry.py_func)
     sc = PLANT.scenario(*ROADS[law], "pid")
@@ -155,7 +166,7 @@ from chassistune.sim import abs_wheel_kernel as K
 for preset, road in %r:
     PLANT.scenario(preset, road, "pid").raw(np.array([[5000.0, 0.0, 230.0]]), workers=1)
 stats = {str(k): [sum(f.stats.cache_hits.values()), sum(f.stats.cache_misses.values())]
-         for k, f in K.ENTRY_POINTS.items()}
+         for k, f in K.entry_points().items()}
 print(json.dumps({"cache_dir": os.environ["NUMBA_CACHE_DIR"], "stats": stats}))
 """
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from chassistune.sim.layout import Layout, Slot
+from chassistune.layout import Layout, Slot
 
 
 def test_pack_and_decode_by_name() -> None:

@@ -14,14 +14,14 @@ def _warm_rest() -> None:
     law and the fuzzy engine of each built-in rule base (`fuzzy eval`)."""
     import numpy as np
 
-    from chassistune.controllers import discrete
+    from chassistune.controllers import laws
     from chassistune.export import vectors
     from chassistune.export.source import exportable_plants, resolve
     from chassistune.fuzzy.engine import evaluate
     from chassistune.fuzzy.loader import builtin_names, load_rulebase
 
     for plant in exportable_plants():
-        for law in discrete.LAWS:
+        for law in (s.name for s in laws.for_plant(plant) if laws.get(s.name).discrete):
             ec = resolve(None, plant, law, {}, {})
             inputs, _ = vectors.record(ec)
             vectors.replay(ec, inputs[:2])

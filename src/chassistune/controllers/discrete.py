@@ -46,12 +46,18 @@ like 1/n across the cells' remaining kinks). Tested in tests/export/test_discret
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
+from chassistune.controllers.discrete_laws import (
+    K_FUZZY_PID,
+    K_IMMUNE,
+    K_PID,
+    K_THRESHOLD,
+    LAWS,
+    DiscreteLaw,
+)
 from chassistune.controllers.immune_pid import incremental_pid_du
 from chassistune.controllers.switching import threshold_step as threshold_phase_step
 from chassistune.controllers.switching import wheel_deceleration_sample
@@ -61,7 +67,6 @@ from chassistune.fuzzy.rulebase import RuleBase
 DEFAULT_TABLE_POINTS = 49
 """`fuzzy_table_points`: nodes per input of the ECU lookup table (see the module docstring)."""
 
-K_PID, K_FUZZY_PID, K_IMMUNE, K_THRESHOLD = 1, 2, 3, 4
 
 # parameter slots, per law (gains first, in registry order)
 PID_KP, PID_KI, PID_KD, PID_N, PID_TARGET, PID_TS = range(6)
@@ -85,82 +90,6 @@ INPUT_DESCRIPTIONS = {
     "pressure_at_max": "1 while the brake pressure sits at its maximum q_max, else 0",
     "pressure_at_min": "1 while the brake pressure is 0, else 0",
     "wheel_speed_rad_s": "wheel angular speed (rad/s)",
-}
-
-
-@dataclass(frozen=True)
-class DiscreteLaw:
-    """Names of a discrete law's inputs, parameters and state entries (vector order)."""
-
-    controller: str
-    kind: int
-    inputs: tuple[str, ...]
-    params: tuple[str, ...]
-    state: tuple[str, ...]
-    table_outputs: int  # outputs read from the rule base's lookup table (0: no table)
-    form: str  # the discrete form, named
-
-
-_PID_INPUTS = ("slip", "pressure_at_max", "pressure_at_min")
-LAWS: dict[str, DiscreteLaw] = {
-    "pid": DiscreteLaw(
-        "pid",
-        K_PID,
-        _PID_INPUTS,
-        ("kp", "ki", "kd", "n_filter", "target_slip", "ts_s"),
-        ("started", "integral", "filter"),
-        0,
-        "parallel PID, forward-Euler integrator, backward-Euler derivative filter",
-    ),
-    "fuzzy-pid": DiscreteLaw(
-        "fuzzy-pid",
-        K_FUZZY_PID,
-        _PID_INPUTS,
-        (
-            "ke",
-            "kec",
-            "ku_p",
-            "ku_i",
-            "ku_d",
-            "kp0",
-            "ki0",
-            "kd0",
-            "n_filter",
-            "target_slip",
-            "ts_s",
-        ),
-        ("started", "integral", "filter"),
-        3,
-        "parallel PID with table-scheduled gains, forward-Euler integrator, backward-Euler "
-        "derivative filter",
-    ),
-    "fuzzy-immune-pid": DiscreteLaw(
-        "fuzzy-immune-pid",
-        K_IMMUNE,
-        ("slip",),
-        ("k_immune", "eta", "ki", "kd", "ke", "kec", "target_slip", "ts_s"),
-        ("started", "u_prev", "e_prev", "e_prev2"),
-        1,
-        "incremental (velocity) PID with table-scheduled proportional gain",
-    ),
-    "threshold": DiscreteLaw(
-        "threshold",
-        K_THRESHOLD,
-        ("slip", "wheel_speed_rad_s"),
-        (
-            "amplitude",
-            "decel_threshold_m_s2",
-            "accel_threshold_m_s2",
-            "slip_margin",
-            "slow_fraction",
-            "target_slip",
-            "ts_s",
-            "wheel_radius_m",
-        ),
-        ("started", "phase", "wheel_speed_prev", "wheel_accel"),
-        0,
-        "sampled phase machine (build, hold, dump, recover, slow build)",
-    ),
 }
 
 
@@ -317,14 +246,17 @@ def threshold_step(state, inputs, params, table, grid):
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def discrete_step(kind, state, inputs, params, table, grid):
-    """One sample of the law `kind` (K_*): the command u; `state` is updated in place."""
+    """One sample of the law `kind` (K_*): the command u; `state` is updated in place. An
+    unknown kind runs no law: its command is NaN (the run diverges)."""
     if kind == K_PID:
         return pid_step(state, inputs, params, table, grid)
     if kind == K_FUZZY_PID:
         return fuzzy_pid_step(state, inputs, params, table, grid)
     if kind == K_IMMUNE:
         return immune_step(state, inputs, params, table, grid)
-    return threshold_step(state, inputs, params, table, grid)
+    if kind == K_THRESHOLD:
+        return threshold_step(state, inputs, params, table, grid)
+    return np.nan
 
 
 @njit(cache=True, nogil=True, error_model="numpy")

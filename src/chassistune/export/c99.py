@@ -1,6 +1,8 @@
 """C99 source of an exported discrete controller: controller.h and controller.c.
 
-The C prints the arithmetic of `chassistune.controllers.discrete` in the same operation order, so
+Each law's C (its `ct_step`, helpers and equations) is data of its module (`controllers.laws`,
+`Law.c`); this module prints the parts every law shares around it. The C prints the arithmetic
+of `chassistune.controllers.discrete` in the same operation order, so
 that `cc -std=c99 -O2 -ffp-contract=off` (no FMA contraction) reproduces the numba law bit for
 bit. Every number is printed with "%.17g", which reads back to the same double. The state is a
 complete struct (`ct_state`, with the parameters in `ct_state.p`, tunable between steps); the
@@ -16,16 +18,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from chassistune._version import __version__
-from chassistune.controllers import discrete
+from chassistune.controllers import discrete, laws
+from chassistune.controllers.laws import CForm
 from chassistune.export.source import ExportedController
 
 HEADER = "controller.h"
 SOURCE = "controller.c"
 CHECK = "ct_check.c"
 BITWISE_FLAGS = ("-std=c99", "-O2", "-ffp-contract=off")
-SWITCHING = ("threshold",)
-"""Laws with discrete decisions: a build with FMA contraction may flip a phase; only the bitwise
-build is supported for them."""
 
 
 def c_double(x: float) -> str:
@@ -55,127 +55,6 @@ def _table_macro(table: NDArray[np.float64]) -> str:
     rows = [_list(row, "    ", 4).replace("\n", "\n  ") for row in table]
     return "{ \\\n  " + ", \\\n  ".join(rows) + " }"
 
-
-_STEP = {
-    "pid": """\
-double ct_step(ct_state *s, const double *in)
-{
-    double e = s->p.target_slip - in[CT_IN_SLIP];
-    double d = ct_filtered_derivative(s, e, s->p.n_filter, s->p.ts_s);
-    return ct_pid_output(s, in, e, d, s->p.kp, s->p.ki, s->p.kd, s->p.ts_s);
-}
-""",
-    "fuzzy-pid": """\
-double ct_step(ct_state *s, const double *in)
-{
-    double e = s->p.target_slip - in[CT_IN_SLIP];
-    double d = ct_filtered_derivative(s, e, s->p.n_filter, s->p.ts_s);
-    ct_cell c = ct_table_cell(s->p.ke * e, s->p.kec * d);
-    double kp = s->p.kp0 + s->p.ku_p * ct_lookup(ct_table_{0}, c);
-    double ki = s->p.ki0 + s->p.ku_i * ct_lookup(ct_table_{1}, c);
-    double kd = s->p.kd0 + s->p.ku_d * ct_lookup(ct_table_{2}, c);
-    return ct_pid_output(s, in, e, d, kp, ki, kd, s->p.ts_s);
-}
-""",
-    "fuzzy-immune-pid": """\
-/* fuzzy-immune-abs eq. 10 as DESIGN 4 reads it: the increment of the incremental PID */
-static double ct_incremental_du(double kp1, double ki, double kd, double ts, double e0,
-                                double e1, double e2)
-{
-    return kp1 * (e0 - e1) + ki * ts * e0 + kd * (e0 - 2.0 * e1 + e2) / ts;
-}
-
-double ct_step(ct_state *s, const double *in)
-{
-    double ts = s->p.ts_s;
-    double e = s->p.target_slip - in[CT_IN_SLIP];
-    int first = s->started == 0.0;
-    double ec = first ? 0.0 : (e - s->e_prev) / ts;
-    double f = ct_lookup(ct_table_{0}, ct_table_cell(s->p.ke * e, s->p.kec * ec));
-    double kp1 = s->p.k_immune * (1.0 - s->p.eta * f);
-    double u;
-    if (first) {
-        u = s->u_prev + ct_incremental_du(kp1, s->p.ki, 0.0, ts, e, 0.0, 0.0);
-        s->e_prev2 = e;
-    } else {
-        u = s->u_prev + ct_incremental_du(kp1, s->p.ki, s->p.kd, ts, e, s->e_prev, s->e_prev2);
-        s->e_prev2 = s->e_prev;
-    }
-    s->e_prev = e;
-    s->u_prev = u;
-    s->started = 1.0;
-    return u;
-}
-""",
-    "threshold": """\
-enum { CT_BUILD = 0, CT_HOLD = 1, CT_DUMP = 2, CT_RECOVER = 3, CT_SLOW = 4 };
-
-static int ct_next_phase(int ph, double slip, double aw, double s_high, double a_minus,
-                         double a_plus)
-{
-    if (ph == CT_BUILD && aw < -a_minus) return CT_HOLD;
-    if (ph == CT_HOLD) {
-        if (slip > s_high) return CT_DUMP;
-        if (aw > -a_minus) return CT_SLOW;
-    } else if (ph == CT_DUMP && aw > 0.0) {
-        return CT_RECOVER;
-    } else if (ph == CT_RECOVER && aw < a_plus && slip < s_high) {
-        return CT_SLOW;
-    } else if (ph == CT_SLOW) {
-        if (slip > s_high) return CT_DUMP;
-        if (aw < -a_minus) return CT_HOLD;
-    }
-    return ph;
-}
-
-double ct_step(ct_state *s, const double *in)
-{
-    double w = in[CT_IN_WHEEL_SPEED_RAD_S];
-    int ph;
-    if (s->started != 0.0) {
-        s->wheel_accel = (w - s->wheel_speed_prev) * s->p.wheel_radius_m / s->p.ts_s;
-    }
-    s->wheel_speed_prev = w;
-    s->started = 1.0;
-    ph = ct_next_phase((int)s->phase, in[CT_IN_SLIP], s->wheel_accel,
-                       s->p.target_slip + s->p.slip_margin, s->p.decel_threshold_m_s2,
-                       s->p.accel_threshold_m_s2);
-    s->phase = (double)ph;
-    if (ph == CT_BUILD) return s->p.amplitude;
-    if (ph == CT_DUMP) return -s->p.amplitude;
-    if (ph == CT_SLOW) return s->p.amplitude * s->p.slow_fraction;
-    return 0.0;
-}
-""",
-}
-
-_PID_HELPERS = """\
-/* backward-Euler derivative filter: xf_k = (xf_k-1 + ts N e_k) / (1 + ts N), d = N (e - xf) */
-static double ct_filtered_derivative(ct_state *s, double e, double n_filter, double ts)
-{
-    if (s->started == 0.0) {
-        s->filter = e;
-    } else {
-        double a = ts * n_filter;
-        s->filter = (s->filter + a * e) / (1.0 + a);
-    }
-    return n_filter * (e - s->filter);
-}
-
-/* u = kp e + ki z + kd d; forward-Euler integral with conditional integration (anti-windup) */
-static double ct_pid_output(ct_state *s, const double *in, double e, double d, double kp,
-                            double ki, double kd, double ts)
-{
-    double u = kp * e + ki * s->integral + kd * d;
-    int at_max = in[CT_IN_PRESSURE_AT_MAX] != 0.0;
-    int at_min = in[CT_IN_PRESSURE_AT_MIN] != 0.0;
-    if (!((at_max && e > 0.0) || (at_min && e < 0.0))) {
-        s->integral = s->integral + ts * e;
-    }
-    s->started = 1.0;
-    return u;
-}
-"""
 
 _LOOKUP = """\
 /* cell index and fraction of x on a uniform grid, clipped to it */
@@ -220,21 +99,18 @@ static double ct_lookup(const double tab[CT_TABLE_ROWS][CT_TABLE_COLS], ct_cell 
 """
 
 
-def _equations(controller: str) -> list[str]:
-    """The law's equations, from the discrete module's docstring (the fuzzy PID adds the PID's)."""
-    doc = discrete.__doc__ or ""
-    names = ("pid", "fuzzy-pid") if controller == "fuzzy-pid" else (controller,)
-    out = []
-    for name in names:
-        start = doc.index(f"- `{name}`")
-        ends = [i for i in (doc.find("\n- `", start + 1), doc.find("\n\n", start)) if i > 0]
-        out += doc[start : min(ends)].strip().splitlines()
-    return out
+def c_form(controller: str) -> CForm:
+    """The C text of law `controller` (ValueError for a law without one)."""
+    form = laws.get(controller).c
+    if form is None:
+        raise ValueError(f"law {controller!r} has no C form")
+    return form
 
 
 def header(ec: ExportedController) -> str:
     """The text of controller.h."""
     law = ec.law
+    form = c_form(law.controller)
     sc = ec.scenario
     lines = [
         f"/* controller.h: {law.controller} ABS controller exported by chassistune {__version__}",
@@ -247,7 +123,7 @@ def header(ec: ExportedController) -> str:
         " * next call. Parameters may be changed in ct_state.p between calls.",
         " *",
         " * Equations (e = target_slip - slip):",
-        *(f" *   {line.strip()}" for line in _equations(law.controller)),
+        *(f" *   {line}" for line in form.equations),
         " *",
         " * Numbers are printed with %.17g: each reads back to the exact double.",
         " * Bit-exact build: cc " + " ".join(BITWISE_FLAGS) + " (no FMA contraction)",
@@ -255,7 +131,7 @@ def header(ec: ExportedController) -> str:
         + (
             " Only that build is supported: with FMA contraction a"
             " rounding difference may switch a phase."
-            if law.controller in SWITCHING
+            if form.switching
             else " With FMA contraction the commands stay within 1e-9 (relative)."
         ),
         " */",
@@ -336,12 +212,12 @@ def source(ec: ExportedController) -> str:
         parts.append("\n" + _LOOKUP)
     else:
         parts.append("")
-    if law.controller in ("pid", "fuzzy-pid"):
-        parts.append(_PID_HELPERS)
+    form = c_form(law.controller)
+    parts += form.helpers
     init = [f"    s->p.{n} = CT_P_{c_name(n)};" for n in law.params]
     init += [f"    s->{n} = 0.0;" for n in law.state]
     parts.append("void ct_init(ct_state *s)\n{\n" + "\n".join(init) + "\n}\n")
-    step = _STEP[law.controller]
+    step = form.step
     for k, o in enumerate(outs):
         step = step.replace("{" + str(k) + "}", o)
     parts.append(step)

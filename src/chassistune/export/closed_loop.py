@@ -28,12 +28,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from chassistune._branchfree import clip, fmax, select
+from chassistune.layout import Layout, Slot
 from chassistune.scenarios.abs_wheel import AbsWheelScenario
 from chassistune.sim.abs_wheel_layout import STATUS_NAMES
 from chassistune.sim.abs_wheel_model import wheel_rates, wheel_slip
 from chassistune.sim.abs_wheel_tires import KIND_TABLE, table_tuples, tire_law_mu
 from chassistune.sim.integrate import crossing_fraction, rk4_point, rk4_update, trapezoid
-from chassistune.sim.layout import Layout, Slot
 
 Controller = Callable[[NDArray[np.float64]], float]
 """A sampled controller: the command u for one row of inputs (it keeps its own state)."""

@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from chassistune.controllers import discrete
+from chassistune.controllers import discrete, laws
 from chassistune.controllers.ecu_params import EcuParams
 from chassistune.errors import InputError
 from chassistune.fuzzy.loader import load_rulebase
@@ -239,19 +239,22 @@ def resolve(
     field = "plant" if source is None else "source"
     spec = plant_spec(origin.plant)
     if spec.export_refusal:
-        raise InputError(field, f"cannot export from plant {origin.plant!r}: {spec.export_refusal}")
+        discrete_laws = [s.name for s in laws.for_plant(origin.plant) if laws.get(s.name).discrete]
+        why = spec.export_refusal.format(laws=", ".join(discrete_laws))
+        raise InputError(field, f"cannot export from plant {origin.plant!r}: {why}")
     if not spec.exportable:
         raise InputError(
             field,
             f"no discrete controllers for plant {origin.plant!r} "
             f"(exportable: {', '.join(exportable_plants())})",
         )
-    law = discrete.law(origin.controller)
+    law = laws.get(origin.controller).discrete if origin.controller in laws.names() else None
     if law is None:
+        exportable = [n for n in laws.names() if laws.get(n).discrete is not None]
         raise InputError(
             "controller" if source is None else "source",
             f"{origin.controller!r} has no discrete form to export "
-            f"(exportable: {', '.join(discrete.LAWS)})",
+            f"(exportable: {', '.join(exportable)})",
         )
     fixed = sorted((ECU_PARAM_NAMES | {"ecu"}) & set(overrides))
     if fixed:

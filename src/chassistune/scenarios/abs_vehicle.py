@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from chassistune.controllers import vehicle_specs
+from chassistune.controllers import laws, vehicle_specs
 from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
 from chassistune.params import as_dict, implausible, override, positive, validate
@@ -45,7 +45,7 @@ from chassistune.plants.vehicle_roads import (
     VehicleRoad,
     make_road,
 )
-from chassistune.scenarios.abs_wheel import FUZZY_OUTPUTS, _no_surface, fuzzy_table
+from chassistune.scenarios.abs_wheel import _no_surface, fuzzy_table
 from chassistune.scenarios.base import PENALTY, Plant, Scenario, Trace, json_scalar, pick_preset
 from chassistune.scenarios.controller_params import kernel_gains, resolve_controller_params
 from chassistune.scenarios.registry import ABS_VEHICLE
@@ -239,8 +239,12 @@ class AbsVehicleScenario(Scenario):
             }
         )
         base = self.controller.name
-        table = fuzzy_table(base, str(cp["rulebase"])) if base in FUZZY_OUTPUTS else _no_surface()
-        return p, geo, surfs, K.CONTROLLER_KINDS.index(base), c, table
+        table = (
+            fuzzy_table(base, str(cp["rulebase"]))
+            if laws.get(base).rulebase_outputs
+            else _no_surface()
+        )
+        return p, geo, surfs, laws.kind(base), c, table
 
     @property
     def fuzzy_surface(self) -> tuple[Any, ...]:

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from chassistune.controllers import catalogue
+from chassistune.controllers import catalogue, laws
 from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
 from chassistune.params import as_dict, implausible, override, to_float, validate
@@ -57,11 +57,6 @@ class Scoring:
     """Stop a candidate early once its distance exceeds this many times the bound."""
 
 
-KERNEL_KIND = {name: i for i, name in enumerate(KL.CONTROLLER_KINDS)}
-FUZZY_OUTPUTS = {"fuzzy-pid": 3, "fuzzy-immune-pid": 1}
-"""How many outputs each fuzzy controller reads from its rule base (two inputs: e, de/dt)."""
-
-
 def _no_surface() -> tuple[Any, ...]:
     """A placeholder surface of the kernel's table type, for controllers without a rule base."""
     return (
@@ -83,7 +78,7 @@ def fuzzy_table(controller: str, rulebase: str) -> tuple[Any, ...]:
     from chassistune.fuzzy.surface import compiled
 
     rb = load_rulebase(rulebase, "params.rulebase")
-    need = FUZZY_OUTPUTS[controller]
+    need = laws.get(controller).rulebase_outputs
     if len(rb.inputs) != 2 or len(rb.outputs) != need:
         raise InputError(
             "params.rulebase",
@@ -173,10 +168,10 @@ class AbsWheelScenario(Scenario):
         name = self.controller.name
         table = (
             fuzzy_table(name, str(self.controller_params["rulebase"]))
-            if name in FUZZY_OUTPUTS
+            if laws.get(name).rulebase_outputs
             else _no_surface()
         )
-        return p, kind, coef, xs, ys, KERNEL_KIND[name], c, table
+        return p, kind, coef, xs, ys, laws.kind(name), c, table
 
     @property
     def pressure_unit(self) -> str:

@@ -66,9 +66,10 @@ ABS_VEHICLE = PlantSpec(
         Panel("distance_m", "distance [m]"),
     ),
     refinable=True,
-    export_refusal="its kernel runs the wheel laws in continuous time with the target slip of "
-    "the surface under each wheel (no discrete ECU form to test an export against); export the "
-    "single wheel (abs-wheel), whose law the vehicle repeats per wheel",
+    export_refusal="its wheel laws with a discrete form ({laws}) run once per wheel, but the "
+    "export records its test vectors in a single wheel's closed loop (`closed_loop`) and the "
+    "vehicle has no discrete closed loop to record them in; export the single wheel "
+    "(abs-wheel), whose law the vehicle repeats per wheel",
     varied=("plant_params",),
     varied_scales=("mu_scale",),
 )

@@ -1,6 +1,7 @@
 """Compiled closed loop of the 7-DOF vehicle ABS (design.md 3.3) over a population of candidates.
 
-One kernel serves every wheel controller (an integer selects the law) and both paths: a batch of
+One kernel serves every wheel controller (the law's kind selects it, through the one dispatch
+generated from the registry, `controllers.laws.dispatch`) and both paths: a batch of
 n gain rows, or one row with a trace (a single run is a batch of one).
 
 Plant (`chassistune.plants.abs_vehicle`): body (vx, vy, r), position and heading (X, Y, psi), an
@@ -38,9 +39,9 @@ population. Sampled laws tick in a scalar pass before the step at each lane's ow
 instants; a finished lane is refilled from the queue or, when it is empty, filled with the last
 live lane (live lanes stay packed in front).
 
-No reference counting. `simulate_abs_vehicle` and its scalar passes (the functions not inlined)
-are compiled without numba's runtime (`_nrt=False`): the caller passes every array the kernel
-works in as one tuple (`scratch()`), the kernel resets it, and nothing is allocated. With the
+No reference counting. The entry point (`entry_point`) and its scalar passes (the functions not
+inlined) are compiled without numba's runtime (`_nrt=False`): the caller passes every array the
+kernel works in as one tuple (`scratch()`), the kernel resets it, and nothing is allocated. With the
 runtime, every inlined call that took arrays (a sampled law's tick, the general step, a trace
 row) paid an atomic increment and decrement per array (141 and 262 such calls in the compiled
 code, none now): fuzzy PID 590 -> 940 sims/s, threshold 930 -> 2190 on one core (paper-deffao,
@@ -56,13 +57,10 @@ import numba
 import numpy as np
 
 from chassistune._branchfree import clip, fmax, fmin, select
-from chassistune.controllers.fuzzy_pid import fuzzy_pid_gains
+from chassistune.controllers.laws import registry as laws
+from chassistune.controllers.laws.dispatch import law_sampled, law_start, law_tick
 from chassistune.controllers.pid import pid_step
-from chassistune.controllers.switching import (
-    no_abs_command,
-    threshold_step,
-    wheel_deceleration_sample,
-)
+from chassistune.layout import Layout, Slot
 from chassistune.plants.abs_vehicle import (
     GEO_A,
     GEO_B,
@@ -95,7 +93,6 @@ from chassistune.sim.integrate import (
     trapezoid,
 )
 from chassistune.sim.lanes import close_lane
-from chassistune.sim.layout import Layout, Slot
 
 _NO_REFCOUNT: dict[str, Any] = {
     "cache": True,
@@ -107,17 +104,9 @@ _NO_REFCOUNT: dict[str, Any] = {
 numba's runtime, hence no reference counting (`_nrt` is not in numba's type stubs)."""
 
 WHEELS = ("fl", "fr", "rl", "rr")
-CONTROLLER_KINDS = ("none", "pid", "threshold", "fuzzy-pid")
-"""The kernel's runtime switch of the wheel law: controller name -> its index here."""
-C_NONE, C_PID, C_THRESHOLD, C_FUZZY_PID = range(len(CONTROLLER_KINDS))
 CONTROLLER_LAYOUT = WL.CONTROLLER
 """The controller vector: the single wheel's (sample period, amplitude, threshold settings)."""
 Q_TS = CONTROLLER_LAYOUT["ts_s"]
-Q_AMPLITUDE = CONTROLLER_LAYOUT["amplitude"]
-Q_DECEL = CONTROLLER_LAYOUT["decel_threshold_m_s2"]
-Q_ACCEL = CONTROLLER_LAYOUT["accel_threshold_m_s2"]
-Q_SLIP_MARGIN = CONTROLLER_LAYOUT["slip_margin"]
-Q_SLOW = CONTROLLER_LAYOUT["slow_fraction"]
 
 PLANT_LAYOUT = Layout(
     "abs-vehicle plant",
@@ -371,7 +360,9 @@ VECTOR = 8
 
 # Lane rows (row r of lane l at r * LANES + l): the state (STATE_LAYOUT order), the last step's
 # k4 (stage 1 is x + 0 k4, as in a stage-by-stage RK4), the wheel laws (kp, ki, kd, u0 per wheel),
-# the surface under each wheel (1.0: the road's second surface), then metrics and bookkeeping.
+# the surface under each wheel (1.0: the road's second surface), then metrics and bookkeeping;
+# the law's memory (`Law.state`) in MEMORY blocks of four wheels, the wheel speeds at the last
+# sample.
 R_K4 = N_STATE
 R_KP = R_K4 + N_STATE
 R_KI = R_KP + 4
@@ -383,9 +374,8 @@ R_SINT = R_SLIP + 4
 R_LOCK_T = R_SINT + 4
 R_LOCK_M0 = R_LOCK_T + 4
 R_LOCK_M1 = R_LOCK_M0 + 4
-R_AW = R_LOCK_M1 + 4
-R_PHASE = R_AW + 4
-R_WS = R_PHASE + 4
+R_MEM = R_LOCK_M1 + 4
+R_WS = R_MEM + 4 * laws.MEMORY
 (
     R_DIST,
     R_SPEED,
@@ -1273,51 +1263,40 @@ def _channel_errors(e0, e1, e2, e3, select_low):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _tick_wheel(st, l, i, k, j, src, e, gains, col0, ctrl_kind, c, table, kc, srf, ts):
-    """Wheel j's part of `_tick`: its channel error e, read from wheel src (select-low)."""
-    if ctrl_kind == C_FUZZY_PID:
-        ec = kc[KC_NF] * (e - _get(st, S_XF + j, l))
-        g0 = col0[j]
-        kp_s, ki_s, kd_s = fuzzy_pid_gains(
-            table,
-            e,
-            ec,
-            gains[i, g0],
-            gains[i, g0 + 1],
-            gains[i, g0 + 2],
-            gains[i, g0 + 3],
-            gains[i, g0 + 4],
-            gains[i, g0 + 5],
-            gains[i, g0 + 6],
-            gains[i, g0 + 7],
-        )
-        st[(R_KP + j) * LANES + l] = kp_s
-        st[(R_KI + j) * LANES + l] = ki_s
-        st[(R_KD + j) * LANES + l] = kd_s
-    elif ctrl_kind == C_THRESHOLD:
-        if k > 0:
-            st[(R_AW + j) * LANES + l] = wheel_deceleration_sample(
-                _get(st, S_W + src, l), _get(st, R_WS + src, l), kc[KC_RW], ts
-            )
-        u0_s, ph = threshold_step(
-            int(_get(st, R_PHASE + j, l)),
-            _get(st, R_SLIP + src, l),
-            _target(st, src, l, srf),
-            _get(st, R_AW + j, l),
-            c[Q_AMPLITUDE],
-            c[Q_DECEL],
-            c[Q_ACCEL],
-            c[Q_SLIP_MARGIN],
-            c[Q_SLOW],
-        )
-        st[(R_U0 + j) * LANES + l] = u0_s
-        st[(R_PHASE + j) * LANES + l] = ph
+def _tick_wheel(st, l, i, k, j, src, e, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts):
+    """Wheel j's part of `_tick`: the law's tick (`law_tick`) on its channel error e, with the
+    signals of wheel src (itself, or under select-low the rear wheel whose error it took)."""
+    sig = (
+        e,
+        _get(st, R_SLIP + src, l),
+        _target(st, src, l, srf),
+        _get(st, S_W + src, l),
+        _get(st, R_WS + src, l),
+        kc[KC_RW],
+        kc[KC_NF] * (e - _get(st, S_XF + j, l)),
+    )
+    held = (
+        _get(st, R_U0 + j, l),
+        _get(st, R_KP + j, l),
+        _get(st, R_KI + j, l),
+        _get(st, R_KD + j, l),
+    )
+    mem = (_get(st, R_MEM + j, l), _get(st, R_MEM + 4 + j, l))
+    (u0, kp, ki, kd), (m0, m1) = law_tick(
+        laws_key, ctrl_kind, sig, held, mem, gains[i], col0[j], c, table, ts, k == 0
+    )
+    st[(R_U0 + j) * LANES + l] = u0
+    st[(R_KP + j) * LANES + l] = kp
+    st[(R_KI + j) * LANES + l] = ki
+    st[(R_KD + j) * LANES + l] = kd
+    st[(R_MEM + j) * LANES + l] = m0
+    st[(R_MEM + 4 + j) * LANES + l] = m1
 
 
-@numba.njit(**_NO_REFCOUNT)
-def _tick(st, l, i, k, gains, col0, ctrl_kind, c, table, kc, srf, ts):
-    """A sampled law's update of lane l (candidate i) at its step k, a sample instant: the fuzzy
-    PID's gain schedule or the threshold law's phase and command."""
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _tick(st, l, i, k, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts):
+    """A sampled law's update of lane l (candidate i) at its step k, a sample instant (inlined
+    into the entry point, which keys its cache on the registered laws)."""
     sel = kc[KC_SELECT_LOW] != 0.0
     err0 = _target(st, 0, l, srf) - _get(st, R_SLIP, l)
     err1 = _target(st, 1, l, srf) - _get(st, R_SLIP + 1, l)
@@ -1325,23 +1304,21 @@ def _tick(st, l, i, k, gains, col0, ctrl_kind, c, table, kc, srf, ts):
     err3 = _target(st, 3, l, srf) - _get(st, R_SLIP + 3, l)
     e0, e1, e2, e3 = _channel_errors(err0, err1, err2, err3, sel)
     rear = 3 if (sel and err3 < err2) else 2  # select-low: the rear wheel whose error it took
-    _tick_wheel(st, l, i, k, 0, 0, e0, gains, col0, ctrl_kind, c, table, kc, srf, ts)
-    _tick_wheel(st, l, i, k, 1, 1, e1, gains, col0, ctrl_kind, c, table, kc, srf, ts)
-    _tick_wheel(
-        st, l, i, k, 2, rear if sel else 2, e2, gains, col0, ctrl_kind, c, table, kc, srf, ts
-    )
-    _tick_wheel(
-        st, l, i, k, 3, rear if sel else 3, e3, gains, col0, ctrl_kind, c, table, kc, srf, ts
-    )
+    _tick_wheel(st, l, i, k, 0, 0, e0, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts)
+    _tick_wheel(st, l, i, k, 1, 1, e1, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts)
+    src2, src3 = (rear, rear) if sel else (2, 3)
+    _tick_wheel(st, l, i, k, 2, src2, e2, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts)
+    _tick_wheel(st, l, i, k, 3, src3, e3, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts)
     for j in range(4):
         st[(R_WS + j) * LANES + l] = _get(st, S_W + j, l)
 
 
-@numba.njit(**_NO_REFCOUNT)
-def _fill_lane(st, l, i, gains, col0, ctrl_kind, c, kc, srf, v0):
-    """Start candidate i in lane l: wheels rolling freely at v0, zero metrics, its gains (or
-    the driver's constant command without ABS), the surfaces under the wheels at t = 0 and the
-    derivative filters at e(0) (no kick)."""
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _fill_lane(st, l, i, gains, col0, laws_key, ctrl_kind, c, kc, srf, v0):
+    """Start candidate i in lane l: wheels rolling freely at v0, zero metrics, the law's held
+    values at the start (`Law.forms`: the PID's gains, the driver's command without ABS), the
+    surfaces under the wheels at t = 0 and the derivative filters at e(0) (no kick); inlined
+    into the entry point, which keys its cache on the registered laws."""
     for row in range(N_ROWS):
         st[row * LANES + l] = 0.0
     st[S_VX * LANES + l] = v0
@@ -1349,12 +1326,11 @@ def _fill_lane(st, l, i, gains, col0, ctrl_kind, c, kc, srf, v0):
         st[(S_W + j) * LANES + l] = v0 / kc[KC_RW]
         st[(R_WS + j) * LANES + l] = v0 / kc[KC_RW]
         st[(R_LOCK_T + j) * LANES + l] = np.nan
-        if ctrl_kind == C_PID:
-            st[(R_KP + j) * LANES + l] = gains[i, col0[j]]
-            st[(R_KI + j) * LANES + l] = gains[i, col0[j] + 1]
-            st[(R_KD + j) * LANES + l] = gains[i, col0[j] + 2]
-        elif ctrl_kind == C_NONE:
-            st[(R_U0 + j) * LANES + l] = no_abs_command(c[Q_AMPLITUDE])
+        u0, kp, ki, kd = law_start(laws_key, ctrl_kind, gains[i], col0[j], c)
+        st[(R_U0 + j) * LANES + l] = u0
+        st[(R_KP + j) * LANES + l] = kp
+        st[(R_KI + j) * LANES + l] = ki
+        st[(R_KD + j) * LANES + l] = kd
         st[(R_SURF + j) * LANES + l] = _surface_flag(0.0, 0.0, 0.0, 1.0, 0.0, j, kc)
     # e(0): the wheels roll freely
     e = _channel_errors(
@@ -1416,8 +1392,8 @@ def _finish_lane(st, l, out_row, dt):
     out_row[M_ITER] = _get(st, R_ITER, l)
 
 
-@numba.njit(**_NO_REFCOUNT)
-def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out, scratch):
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, scratch):
     """Simulate every row of `gains` (n, G): the wheel law's gains in catalogue order, twice
     (front, then rear) when p[axle_gains] is 1.
 
@@ -1450,6 +1426,7 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out, 
         col0[j] = n_g if p[P_AXLE] != 0.0 else 0
     steps_per_sample = max(1, round(c[Q_TS] / dt))
     ts = steps_per_sample * dt
+    sampled = law_sampled(laws_key, ctrl_kind)
     # scratch of the scalar passes
     x[:] = 0.0
     ks[:] = 0.0
@@ -1469,7 +1446,7 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out, 
     lane_of[:] = -1  # candidate in each lane
     live = min(n, LANES)
     for l in range(live):
-        _fill_lane(st, l, l, gains, col0, ctrl_kind, c, kc, srf, p[P_V0])
+        _fill_lane(st, l, l, gains, col0, laws_key, ctrl_kind, c, kc, srf, p[P_V0])
         lane_of[l] = l
     queued = live  # next candidate to start
     n_trace = trace.shape[0]
@@ -1478,11 +1455,12 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out, 
         _trace_row(trace, 0, 0.0, st, 0, p, geo, surfs, law, sidx, guess, sc, y, dy, wbuf, tgt, inv)
         rows = 1
     while live > 0:
-        if ctrl_kind in (C_FUZZY_PID, C_THRESHOLD):  # sampled laws: at each lane's instants
+        if sampled:  # at each lane's own sample instants
             for l in range(live):
                 k = int(_get(st, R_STEP, l))
                 if k % steps_per_sample == 0:
-                    _tick(st, l, lane_of[l], k, gains, col0, ctrl_kind, c, table, kc, srf, ts)
+                    i = lane_of[l]
+                    _tick(st, l, i, k, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts)
         width = -(-live // VECTOR) * VECTOR
         ended = _lane_steps(st, width, kc, srf, live)
         for l in range(live):
@@ -1538,13 +1516,52 @@ def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out, 
                 i = lane_of[l]
                 _finish_lane(st, l, out[i], dt)
                 if queued < n:
-                    _fill_lane(st, l, queued, gains, col0, ctrl_kind, c, kc, srf, p[P_V0])
+                    _fill_lane(st, l, queued, gains, col0, laws_key, ctrl_kind, c, kc, srf, p[P_V0])
                     lane_of[l] = queued
                     queued += 1
                 else:
                     live = close_lane(st, l, live, lane_of, N_ROWS, LANES)
     if n_trace > 0 and n > 0:
         out[0, M_NTRACE] = rows
+
+
+def _entry_point(laws_key):
+    """The cached entry point for the registered control laws named by `laws_key`
+    (`controllers.laws.registry.fingerprint`, as an integer: a closure variable, on which numba
+    keys the disk cache; the law dispatch is generated from the registry when it compiles)."""
+
+    def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out, scratch):
+        _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, scratch)
+
+    simulate_abs_vehicle.__doc__ = _simulate.py_func.__doc__
+    return numba.njit(**_NO_REFCOUNT)(simulate_abs_vehicle)
+
+
+_ENTRY_POINTS: dict[str, Any] = {}
+
+
+def entry_point() -> Any:
+    """The compiled entry point for the laws registered now."""
+    key = laws.fingerprint()
+    if key not in _ENTRY_POINTS:
+        _ENTRY_POINTS[key] = _entry_point(int(key[:15], 16))
+    return _ENTRY_POINTS[key]
+
+
+def simulate_abs_vehicle(
+    gains: np.ndarray,
+    p: np.ndarray,
+    geo: np.ndarray,
+    surfs: np.ndarray,
+    ctrl_kind: int,
+    c: np.ndarray,
+    table: tuple[np.ndarray, ...],
+    trace: np.ndarray,
+    out: np.ndarray,
+    scratch: tuple[np.ndarray, ...],
+) -> None:
+    """`_simulate` through the entry point of the registered laws (`entry_point`)."""
+    entry_point()(gains, p, geo, surfs, ctrl_kind, c, table, trace, out, scratch)
 
 
 @numba.njit(**_NO_REFCOUNT)

@@ -10,8 +10,8 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from chassistune.layout import Layout, Slot
 from chassistune.sim import abs_wheel_layout as KL
-from chassistune.sim.layout import Layout, Slot
 
 LAW_KINDS = ("none", "pid", "fuzzy-pid", "fuzzy-immune-pid", "threshold", "bang-bang")
 """The ECU kernel's runtime law switch; indices 1-4 are `controllers.discrete`'s K_* codes."""

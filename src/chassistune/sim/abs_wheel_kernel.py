@@ -49,9 +49,10 @@ row per candidate (robust tuning): a lane takes its row when it is filled, and t
 reads only lane rows (`R_RW` ... `R_HOPELESS`). dt, t_max, the target slip and the tire are
 shared. Per-row plant parameters cost nothing extra in the vector loop.
 
-Entry points: one cached compiled function per tire law (`ENTRY_POINTS`); `simulate_abs_wheel`
-picks one and allocates the
-scratch. The controller kind is a runtime integer.
+Entry points: one cached compiled function per tire law (`entry_points`); `simulate_abs_wheel`
+picks one and allocates the scratch. The control law is a runtime integer, its kind
+(`controllers.laws`), run through the one dispatch generated from the registry
+(`controllers.laws.dispatch`): its held values at a run's start and its tick at each sample.
 """
 
 from __future__ import annotations
@@ -63,15 +64,9 @@ import numpy as np
 from numba import njit
 
 from chassistune._branchfree import clip, fmax, fmin, select, stack_copy
-from chassistune.controllers.fuzzy_pid import fuzzy_pid_gains
-from chassistune.controllers.immune_pid import immune_pid_step
+from chassistune.controllers.laws import registry as laws
+from chassistune.controllers.laws.dispatch import law_sampled, law_start, law_tick
 from chassistune.controllers.pid import pid_step
-from chassistune.controllers.switching import (
-    bang_bang_command,
-    no_abs_command,
-    threshold_step,
-    wheel_deceleration_sample,
-)
 from chassistune.sim import abs_wheel_layout as L
 from chassistune.sim.abs_wheel_model import step_end, wheel_rates, wheel_slip
 from chassistune.sim.abs_wheel_tires import (
@@ -107,21 +102,7 @@ P_HOPELESS_M, P_LOCK_RATIO, P_NFILTER = (
     L.PLANT[n] for n in ("hopeless_distance_m", "lock_ratio", "n_filter")
 )
 
-C_NONE, C_PID, C_BANGBANG, C_THRESHOLD, C_FUZZY_PID, C_IMMUNE = (
-    L.CONTROLLER_KINDS.index(n)
-    for n in ("none", "pid", "bang-bang", "threshold", "fuzzy-pid", "fuzzy-immune-pid")
-)
-Q_TS, Q_AMPLITUDE, Q_DECEL, Q_ACCEL, Q_SLIP_HIGH, Q_SLOW = (
-    L.CONTROLLER[n]
-    for n in (
-        "ts_s",
-        "amplitude",
-        "decel_threshold_m_s2",
-        "accel_threshold_m_s2",
-        "slip_margin",
-        "slow_fraction",
-    )
-)
+Q_TS = L.CONTROLLER["ts_s"]
 
 M_NTRACE = L.METRICS["trace_rows"]
 METRIC_SLOTS = tuple(L.METRICS[n] for n in L.METRICS.names if n != "trace_rows")
@@ -185,11 +166,7 @@ RK3, RK4 = 3, 4
     R_KI,
     R_KD,
     R_U0,
-    R_E1,
-    R_E2,
-    R_AW,
     R_WS,
-    R_PHASE,
     R_RW,
     R_FZ,
     R_INV_M,
@@ -207,8 +184,10 @@ RK3, RK4 = 3, 4
     R_EB,
     R_ET,
     R_EH,
-) = range(48)
-N_ROWS = 48
+    R_MEM,
+) = range(45)
+N_ROWS = R_MEM + laws.MEMORY
+"""Rows of a lane; the last `MEMORY` hold the law's memory (`Law.state`)."""
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -373,23 +352,23 @@ def _lane_steps(st, width, law, method, dt, hs, h6, target, n_steps, t_timeout, 
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _fill_lane(st, l, i, gains, plant, ctrl_kind, target):
-    """Start candidate i in lane l: initial state, zero metrics, its gains and plant row."""
+def _fill_lane(st, l, i, gains, plant, laws_key, ctrl_kind, c, target):
+    """Start candidate i in lane l: initial state, zero metrics, the law's held values at the
+    start (`Law.forms`), its plant row."""
     p = plant[min(i, plant.shape[0] - 1)]
     for row in range(N_ROWS):
         st[row * LANES + l] = 0.0
     r_w = p[P_RADIUS]
     st[R_V * LANES + l] = p[P_V0]
     st[R_W * LANES + l] = p[P_V0] / r_w
-    st[R_WS * LANES + l] = p[P_V0] / r_w  # wheel speed at the last sample (threshold law)
+    st[R_WS * LANES + l] = p[P_V0] / r_w  # wheel speed at the last sample
     st[R_XF * LANES + l] = target  # derivative filter starts at e(0): no derivative kick
-    st[R_E1 * LANES + l] = target  # immune PID: e(k-1), e(k-2) start at e(0): no kick
-    st[R_E2 * LANES + l] = target
     st[R_LOCK_T * LANES + l] = np.nan
-    if ctrl_kind == C_PID:
-        st[R_KP * LANES + l] = gains[i, 0]
-        st[R_KI * LANES + l] = gains[i, 1]
-        st[R_KD * LANES + l] = gains[i, 2]
+    u0, kp, ki, kd = law_start(laws_key, ctrl_kind, gains[i], 0, c)
+    st[R_U0 * LANES + l] = u0
+    st[R_KP * LANES + l] = kp
+    st[R_KI * LANES + l] = ki
+    st[R_KD * LANES + l] = kd
     st[R_RW * LANES + l] = r_w
     st[R_FZ * LANES + l] = p[P_LOAD] * p[P_MASS] * p[P_G]
     st[R_INV_M * LANES + l] = 1.0 / p[P_MASS]
@@ -449,55 +428,32 @@ def _finish_lane(st, l, out_row):
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _tick(st, l, gains, i, ctrl_kind, c, table, target, ts, first):
-    """A sampled controller's update in lane l (candidate i) at a sample instant."""
+def _tick(st, l, gains, i, laws_key, ctrl_kind, c, table, target, ts, first):
+    """The sampled law's update in lane l (candidate i) at a sample instant (`law_tick`): its
+    signals (`controllers.laws.forms.SIGNALS`), held values and memory."""
     slip = st[R_SLIP * LANES + l]
     e = target - slip
-    if ctrl_kind == C_FUZZY_PID:
-        ec = st[R_NF * LANES + l] * (e - st[R_XF * LANES + l])  # filtered de/dt
-        g = gains[i]
-        kp, ki, kd = fuzzy_pid_gains(table, e, ec, g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7])
-        st[R_KP * LANES + l] = kp
-        st[R_KI * LANES + l] = ki
-        st[R_KD * LANES + l] = kd
-    elif ctrl_kind == C_IMMUNE:
-        e1 = st[R_E1 * LANES + l]
-        e2 = st[R_E2 * LANES + l]
-        u0 = st[R_U0 * LANES + l]
-        g = gains[i]
-        u0 = immune_pid_step(table, e, e1, e2, u0, ts, first, g[0], g[1], g[2], g[3], g[4], g[5])
-        st[R_U0 * LANES + l] = u0
-        st[R_E2 * LANES + l] = e1
-        st[R_E1 * LANES + l] = e
-    elif ctrl_kind == C_BANGBANG:
-        st[R_U0 * LANES + l] = bang_bang_command(e, c[Q_AMPLITUDE])
-    elif ctrl_kind == C_THRESHOLD:
-        w = st[R_W * LANES + l]
-        if not first:
-            st[R_AW * LANES + l] = wheel_deceleration_sample(
-                w, st[R_WS * LANES + l], st[R_RW * LANES + l], ts
-            )
-        st[R_WS * LANES + l] = w
-        u0, phase = threshold_step(
-            int(st[R_PHASE * LANES + l]),
-            slip,
-            target,
-            st[R_AW * LANES + l],
-            c[Q_AMPLITUDE],
-            c[Q_DECEL],
-            c[Q_ACCEL],
-            c[Q_SLIP_HIGH],
-            c[Q_SLOW],
-        )
-        st[R_U0 * LANES + l] = u0
-        st[R_PHASE * LANES + l] = phase
-    else:
-        st[R_U0 * LANES + l] = no_abs_command(c[Q_AMPLITUDE])
+    w = st[R_W * LANES + l]
+    ec = st[R_NF * LANES + l] * (e - st[R_XF * LANES + l])  # filtered de/dt
+    sig = (e, slip, target, w, st[R_WS * LANES + l], st[R_RW * LANES + l], ec)
+    held = (_get(st, R_U0, l), _get(st, R_KP, l), _get(st, R_KI, l), _get(st, R_KD, l))
+    mem = (_get(st, R_MEM, l), _get(st, R_MEM + 1, l))
+    (u0, kp, ki, kd), (m0, m1) = law_tick(
+        laws_key, ctrl_kind, sig, held, mem, gains[i], 0, c, table, ts, first
+    )
+    st[R_U0 * LANES + l] = u0
+    st[R_KP * LANES + l] = kp
+    st[R_KI * LANES + l] = ki
+    st[R_KD * LANES + l] = kd
+    st[R_MEM * LANES + l] = m0
+    st[(R_MEM + 1) * LANES + l] = m1
+    st[R_WS * LANES + l] = w
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _simulate(
     law,
+    laws_key,
     gains,
     plant,
     coef,
@@ -512,7 +468,8 @@ def _simulate(
     st,
     lane_of,
 ):
-    """The lane loop (see the module docstring); `law` is a constant of each entry point."""
+    """The lane loop (see the module docstring); the tire law `law` and `laws_key` (the
+    registered control laws, `_entry_point`) are constants of each entry point."""
     xc = stack_copy(xc_tuple)
     xs = stack_copy(xs_tuple)
     ys = stack_copy(ys_tuple)
@@ -527,12 +484,13 @@ def _simulate(
     steps_per_sample = max(1, round(c[Q_TS] / dt))
     ts = steps_per_sample * dt
     tire = (coef[0], coef[1], coef[2], coef[3], xc, xs, ys)
-    rk3 = (ctrl_kind == C_PID) | (ctrl_kind == C_NONE)
+    sampled = law_sampled(laws_key, ctrl_kind)
+    rk3 = not sampled  # RK4 for the sampled laws (module docstring)
     st[:] = 0.0
     lane_of[:] = -1  # candidate in each lane
     live = min(n, LANES)
     for l in range(live):
-        _fill_lane(st, l, l, gains, plant, ctrl_kind, target)
+        _fill_lane(st, l, l, gains, plant, laws_key, ctrl_kind, c, target)
         lane_of[l] = l
     queued = live  # next candidate to start
     n_trace = trace.shape[0]
@@ -545,11 +503,13 @@ def _simulate(
     trace_status = float(STATUS_TIMEOUT)
     trace_t_end = t_timeout
     while live > 0:
-        if ctrl_kind != C_PID:  # sampled laws: each lane at its own sample instants
+        if sampled:  # each lane at its own sample instants
             for l in range(live):
                 k = int(st[R_STEP * LANES + l])
                 if steps_per_sample == 1 or k % steps_per_sample == 0:
-                    _tick(st, l, gains, lane_of[l], ctrl_kind, c, table, target, ts, k == 0)
+                    _tick(
+                        st, l, gains, lane_of[l], laws_key, ctrl_kind, c, table, target, ts, k == 0
+                    )
         width = -(-live // VECTOR) * VECTOR
         if rk3:  # two copies of the vector loop, each with its method
             ended = _lane_steps(
@@ -569,7 +529,7 @@ def _simulate(
                     trace_status = st[R_STATUS * LANES + l]
                     trace_t_end = st[R_TEND * LANES + l]
                 if queued < n:
-                    _fill_lane(st, l, queued, gains, plant, ctrl_kind, target)
+                    _fill_lane(st, l, queued, gains, plant, laws_key, ctrl_kind, c, target)
                     lane_of[l] = queued
                     queued += 1
                 else:
@@ -604,26 +564,42 @@ _ENTRY_OPTIONS: dict[str, Any] = {
 }
 
 
-def _entry_point(law, doc):
+def _entry_point(law, laws_key, doc):
     """The cached entry point of tire law `law`, a constant inside (numba freezes a closure's
-    variables and keys its disk cache on them). Each law has its own name, hence its own cache
-    index file, so that two processes may compile two laws at once (`chassistune warmup`)
-    without one overwriting the other's index entry."""
+    variables and keys its disk cache on them), for the registered control laws named by
+    `laws_key` (`controllers.laws.registry.fingerprint`, as an integer: the law dispatch is
+    generated from the registry when the entry compiles). Each tire law has its own name, hence
+    its own cache index file, so that two processes may compile two tire laws at once
+    (`chassistune warmup`) without one overwriting the other's index entry."""
 
-    def simulate(gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out, st, lane_of):
-        _simulate(law, gains, plant, coef, xc, xs, ys, ctrl_kind, c, table, trace, out, st, lane_of)
+    def simulate(gains, plant, coef, xc, xs, ys, kind, c, table, trace, out, st, lane_of):
+        _simulate(
+            law, laws_key, gains, plant, coef, xc, xs, ys, kind, c, table, trace, out, st, lane_of
+        )
 
     simulate.__doc__ = doc
     simulate.__qualname__ = f"simulate_tire_law_{law}"
     return njit(**_ENTRY_OPTIONS)(simulate)
 
 
-ENTRY_POINTS = {
-    KIND_BILINEAR: _entry_point(KIND_BILINEAR, "A bilinear tire (derlsp-ao-abs eq. 5)."),
-    KIND_BURCKHARDT: _entry_point(KIND_BURCKHARDT, "A Burckhardt tire."),
-    KIND_TABLE: _entry_point(KIND_TABLE, "A piecewise-linear table tire (sldemo)."),
+_TIRE_DOCS = {
+    KIND_BILINEAR: "A bilinear tire (derlsp-ao-abs eq. 5).",
+    KIND_BURCKHARDT: "A Burckhardt tire.",
+    KIND_TABLE: "A piecewise-linear table tire (sldemo).",
 }
-"""`simulate_abs_wheel`'s compiled loop for each tire law."""
+_ENTRY_POINTS: dict[str, dict[int, Any]] = {}
+
+
+def entry_points() -> dict[int, Any]:
+    """`simulate_abs_wheel`'s compiled loop for each tire law, for the laws registered now."""
+    key = laws.fingerprint()
+    if key not in _ENTRY_POINTS:
+        _ENTRY_POINTS[key] = {
+            k: _entry_point(k, int(key[:15], 16), doc) for k, doc in _TIRE_DOCS.items()
+        }
+    return _ENTRY_POINTS[key]
+
+
 _NO_TABLE = table_tuples(np.array([0.0, 1.0]), np.array([0.0, 0.0]))
 
 
@@ -643,11 +619,12 @@ def simulate_abs_wheel(
     """Simulate every row of `gains` (n, G: the controller's gains in registry order).
 
     `plant`: the PLANT vector (N,) or rows (1 or n, N); `tire_*`: `TireCurve.kernel_data()`;
-    `ctrl_kind`: index in CONTROLLER_KINDS; `c`: the CONTROLLER vector; `table`: a compiled fuzzy
-    surface (`CompiledSurface.table`) for the fuzzy laws, any surface otherwise. Fuzzy PID gains:
-    ke, kec, ku_p, ku_i, ku_d, kp0, ki0, kd0; fuzzy immune PID gains: k_immune, eta, ki, kd, ke,
-    kec. Writes the metrics row of each candidate into `out` (n, N_METRICS); when `trace` has
-    rows (n must be 1), also the time series (TRACE columns), one row per step.
+    `ctrl_kind`: the law's kind (`controllers.laws.kind`); `c`: the CONTROLLER vector; `table`:
+    a compiled fuzzy surface (`CompiledSurface.table`) for the fuzzy laws, any surface
+    otherwise. Fuzzy PID gains: ke, kec, ku_p, ku_i, ku_d, kp0, ki0, kd0; fuzzy immune PID
+    gains: k_immune, eta, ki, kd, ke, kec. Writes the metrics row of each candidate into `out`
+    (n, N_METRICS); when `trace` has rows (n must be 1), also the time series (TRACE columns),
+    one row per step.
     """
     coef4 = np.zeros(4)
     coef4[: len(tire_coef)] = tire_coef
@@ -655,9 +632,9 @@ def simulate_abs_wheel(
     rows = np.ascontiguousarray(np.atleast_2d(plant), dtype=np.float64)
     st = np.empty(N_ROWS * LANES)
     lane_of = np.empty(LANES, dtype=np.int64)
-    ENTRY_POINTS[tire_kind](
+    entry_points()[tire_kind](
         gains, rows, coef4, xc, xs, ys, ctrl_kind, c, table, trace, out, st, lane_of
     )
 
 
-__all__ = ["ENTRY_POINTS", "LANES", "TABLE_CAP", "simulate_abs_wheel"]
+__all__ = ["LANES", "TABLE_CAP", "entry_points", "simulate_abs_wheel"]

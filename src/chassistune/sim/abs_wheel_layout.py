@@ -13,7 +13,8 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from chassistune.sim.layout import Layout, Slot
+from chassistune.controllers.laws.forms import PARAMS
+from chassistune.layout import Layout, Slot
 
 PLANT = Layout(
     "abs-wheel plant",
@@ -38,20 +39,8 @@ PLANT = Layout(
     ),
 )
 
-CONTROLLER = Layout(
-    "abs-wheel controller",
-    (
-        Slot("ts_s", "s", "sample period of the sampled laws"),
-        Slot("amplitude", "-", "command magnitude of the switching laws"),
-        Slot("decel_threshold_m_s2", "m/s^2", "threshold ABS: -a"),
-        Slot("accel_threshold_m_s2", "m/s^2", "threshold ABS: +a"),
-        Slot("slip_margin", "-", "threshold ABS: dump above target + margin"),
-        Slot("slow_fraction", "-", "threshold ABS: slow build rate / amplitude"),
-    ),
-)
-
-CONTROLLER_KINDS = ("none", "pid", "bang-bang", "threshold", "fuzzy-pid", "fuzzy-immune-pid")
-"""The kernel's runtime controller switch: controller name -> its index here."""
+CONTROLLER = PARAMS
+"""The controller vector: the laws' fixed numeric parameters (`controllers.laws.forms`)."""
 
 STATUS_NAMES = ("stopped", "hopeless", "timeout", "diverged")
 """How a run ended: the code in the metrics' `status` column indexes this tuple."""

@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from chassistune.layout import Layout, Slot
 from chassistune.plants.iso_roads import NOISE_INTENSITY
 from chassistune.plants.quarter_car import (
     MAX_STATES,
@@ -28,7 +29,6 @@ from chassistune.plants.quarter_car import (
     OUT_TRAVEL,
     closed_loop,
 )
-from chassistune.sim.layout import Layout, Slot
 from chassistune.sim.quarter_car_kernel import RMS_SLOTS
 
 W_ROAD = NOISE_INTENSITY

@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from chassistune.layout import Layout, Slot
 from chassistune.plants.quarter_car import (
     MAX_STATES,
     N_OUT,
@@ -23,7 +24,6 @@ from chassistune.plants.quarter_car import (
     PLANT_SLOTS,
     closed_loop,
 )
-from chassistune.sim.layout import Layout, Slot
 from chassistune.sim.lti import discretize_zoh
 
 PLANT = Layout("quarter-car plant vector", tuple(Slot(*s) for s in PLANT_SLOTS))

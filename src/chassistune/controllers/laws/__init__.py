@@ -1,0 +1,46 @@
+"""The ABS control laws, one module per law (design.md 4), each a `Law` of `registry`.
+
+The built-in laws are registered here, in this order (a law's kind is its position); a new law
+is one module whose `LAW` is registered with `registry.register` (a test law registers itself).
+"""
+
+from __future__ import annotations
+
+from chassistune.controllers.laws import (
+    bang_bang,
+    fuzzy_immune_pid,
+    fuzzy_pid,
+    none,
+    pid,
+    threshold,
+)
+from chassistune.controllers.laws.registry import (
+    ABS_VEHICLE,
+    ABS_WHEEL,
+    CForm,
+    Law,
+    by_kind,
+    for_plant,
+    get,
+    kind,
+    names,
+    register,
+    unregister,
+)
+
+for _module in (none, pid, bang_bang, threshold, fuzzy_pid, fuzzy_immune_pid):
+    register(_module.LAW)
+
+__all__ = [
+    "ABS_VEHICLE",
+    "ABS_WHEEL",
+    "CForm",
+    "Law",
+    "by_kind",
+    "for_plant",
+    "get",
+    "kind",
+    "names",
+    "register",
+    "unregister",
+]

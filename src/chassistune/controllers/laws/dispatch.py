@@ -1,0 +1,135 @@
+"""The one dispatch of the control laws in the kernels: `law_start`, `law_tick`, `law_sampled`.
+
+Each is a numba overload whose implementation is generated from the registry when a kernel is
+compiled: an if-chain over the registered kinds, each branch the law's own form (`Law.forms`:
+start, tick) inlined into it. The chain compiles as a function of its own (inlining it whole at
+numba's IR level trips numba's SSA checks), with the kernel's options: no reference counting
+under an entry point compiled without it. A kind no law holds runs no law: its held values are
+NaN, so that the run diverges (the scenarios refuse unknown names before a kernel runs).
+
+The first argument `laws_key` is `registry.fingerprint()` as an integer constant of the kernel's
+entry point (a closure variable): numba keys its disk cache on it, and the overloads are typed
+on its literal value (`prefer_literal`), so that a law registered or changed, in this process
+or another, compiles the kernel anew instead of reusing a dispatch without it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from numba import njit, types
+from numba.core.errors import TypingError
+from numba.extending import overload
+
+from chassistune.controllers.laws import registry
+from chassistune.controllers.laws.forms import FORM
+
+_NAN4 = (np.nan, np.nan, np.nan, np.nan)
+
+
+def law_start(laws_key, kind, g, g0, c):
+    """The held values (u0, kp, ki, kd) of law `kind` at a run's start (in compiled code)."""
+    raise NotImplementedError("law_start runs in compiled code only")
+
+
+def law_tick(laws_key, kind, sig, held, mem, g, g0, c, table, ts, first):
+    """(held, mem) of law `kind` after a sample instant (in compiled code)."""
+    raise NotImplementedError("law_tick runs in compiled code only")
+
+
+def law_sampled(laws_key, kind):
+    """Whether law `kind` has a tick (in compiled code)."""
+    raise NotImplementedError("law_sampled runs in compiled code only")
+
+
+def _kinds() -> list[registry.Law]:
+    return [registry.by_kind(k) for k in range(len(registry.names()))]
+
+
+@njit(**FORM)
+def _no_start(kind, g, g0, c):
+    return _NAN4
+
+
+@njit(**FORM)
+def _at_rest(g, g0, c):
+    return 0.0, 0.0, 0.0, 0.0
+
+
+@njit(**FORM)
+def _no_tick(kind, sig, held, mem, g, g0, c, table, ts, first):
+    return _NAN4, (np.nan, np.nan)
+
+
+_LINK = {**FORM, "cache": False}
+"""A link of a chain is built per compilation (a closure over the law's form): not cached."""
+
+
+def _start_link(k: int, start: Any, rest: Any) -> Callable[..., Any]:
+    @njit(**_LINK)
+    def link(kind, g, g0, c):
+        if kind == k:
+            return start(g, g0, c)
+        return rest(kind, g, g0, c)
+
+    return link
+
+
+def _tick_link(k: int, tick: Any, rest: Any) -> Callable[..., Any]:
+    @njit(**_LINK)
+    def link(kind, sig, held, mem, g, g0, c, table, ts, first):
+        if kind == k:
+            return tick(sig, held, mem, g, g0, c, table, ts, first)
+        return rest(kind, sig, held, mem, g, g0, c, table, ts, first)
+
+    return link
+
+
+def _literal(laws_key: Any) -> None:
+    if not isinstance(laws_key, types.IntegerLiteral):
+        raise TypingError("laws_key must be a compile-time constant (the registry's fingerprint)")
+
+
+@overload(law_start, prefer_literal=True)
+def _law_start(laws_key, kind, g, g0, c):
+    _literal(laws_key)
+    chain = _no_start
+    for k, law in reversed(list(enumerate(_kinds()))):
+        start = law.forms()[0]
+        chain = _start_link(k, _at_rest if start is None else start, chain)
+
+    def impl(laws_key, kind, g, g0, c):
+        return chain(kind, g, g0, c)
+
+    return impl
+
+
+@overload(law_tick, prefer_literal=True)
+def _law_tick(laws_key, kind, sig, held, mem, g, g0, c, table, ts, first):
+    _literal(laws_key)
+    chain = _no_tick
+    for k, law in reversed(list(enumerate(_kinds()))):
+        tick = law.forms()[1]
+        if tick is not None:
+            chain = _tick_link(k, tick, chain)
+
+    def impl(laws_key, kind, sig, held, mem, g, g0, c, table, ts, first):
+        return chain(kind, sig, held, mem, g, g0, c, table, ts, first)
+
+    return impl
+
+
+@overload(law_sampled, prefer_literal=True)
+def _law_sampled(laws_key, kind):
+    _literal(laws_key)
+    sampled = tuple(k for k, law in enumerate(_kinds()) if law.forms()[1] is not None)
+
+    def impl(laws_key, kind):
+        hit = False
+        for k in sampled:
+            hit |= kind == k
+        return hit
+
+    return impl

@@ -1,0 +1,84 @@
+"""The arguments of a law's kernel forms (`Law.forms`: start, tick), declared by name.
+
+A kernel hands a sampled law its signals at a sample instant as the tuple `sig` (`SIGNALS`),
+the held values of the continuous PID as `held` (`HELD`: the command u0 the sampled laws hold
+and the gains kp, ki, kd it integrates with), the law's memory `mem` (`registry.MEMORY` floats,
+zero at the start), its gain row `g` with the first column `g0` of its gains (a vehicle with
+per-axle gains reads the rear wheels' from column g0 = n_gains), and the controller vector `c`
+(`PARAMS`). A law reads each by name: `sig[SIG_SLIP_ERROR]`, `c[P_AMPLITUDE]`,
+`g[g0 + gains(SPEC)["kp"]]`.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from chassistune.controllers.specs import ControllerSpec
+from chassistune.layout import Layout, Slot
+
+FORM: dict[str, Any] = {"cache": True, "nogil": True, "error_model": "numpy", "inline": "always"}
+"""numba options of a law's kernel forms (inlined into the kernels)."""
+
+SIGNALS = Layout(
+    "law signals",
+    (
+        Slot("slip_error", "-", "e = S_target - S of the law's channel"),
+        Slot("slip", "-", "the channel's wheel slip S"),
+        Slot("target_slip", "-", "the channel's target slip S_target"),
+        Slot("wheel_speed_rad_s", "rad/s", "the channel's wheel speed w"),
+        Slot("wheel_speed_prev_rad_s", "rad/s", "w at the last sample instant"),
+        Slot("wheel_radius_m", "m", "R"),
+        Slot("slip_error_rate", "1/s", "filtered de/dt = N (e - xf) of the PID's filter state"),
+    ),
+)
+(
+    SIG_SLIP_ERROR,
+    SIG_SLIP,
+    SIG_TARGET,
+    SIG_WHEEL_SPEED,
+    SIG_WHEEL_SPEED_PREV,
+    SIG_RADIUS,
+    SIG_ERROR_RATE,
+) = range(len(SIGNALS))
+
+HELD = Layout(
+    "held values of the continuous law",
+    (
+        Slot("u0", "-", "command held between samples, added to the PID's output"),
+        Slot("kp", "1/(slip)", "proportional gain of the continuous PID"),
+        Slot("ki", "1/(slip s)", "integral gain of the continuous PID"),
+        Slot("kd", "s/(slip)", "derivative gain of the continuous PID"),
+    ),
+)
+H_U0, H_KP, H_KI, H_KD = range(len(HELD))
+
+PARAMS = Layout(
+    "abs controller",
+    (
+        Slot("ts_s", "s", "sample period of the sampled laws"),
+        Slot("amplitude", "-", "command magnitude of the switching laws"),
+        Slot("decel_threshold_m_s2", "m/s^2", "threshold ABS: -a"),
+        Slot("accel_threshold_m_s2", "m/s^2", "threshold ABS: +a"),
+        Slot("slip_margin", "-", "threshold ABS: dump above target + margin"),
+        Slot("slow_fraction", "-", "threshold ABS: slow build rate / amplitude"),
+    ),
+)
+"""The controller vector `c` of the ideal kernels: the laws' fixed numeric parameters."""
+P_TS, P_AMPLITUDE, P_DECEL, P_ACCEL, P_SLIP_MARGIN, P_SLOW = (
+    PARAMS[n]
+    for n in (
+        "ts_s",
+        "amplitude",
+        "decel_threshold_m_s2",
+        "accel_threshold_m_s2",
+        "slip_margin",
+        "slow_fraction",
+    )
+)
+
+
+def gains(spec: ControllerSpec) -> Layout:
+    """The gain columns of a law's spec, by name (registry order)."""
+    return Layout(
+        f"{spec.plant} {spec.name} gains", tuple(Slot(g.name, g.unit) for g in spec.gains)
+    )

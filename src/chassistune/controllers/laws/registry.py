@@ -1,0 +1,130 @@
+"""The registry of ABS control laws: a law's kind is its position in registration order.
+
+A leaf: it knows no law. Each law is one module of `controllers.laws` (a `Law` declaring its
+specs per plant family, its compiled forms, its discrete form and its C), registered once;
+kernels and scenarios number laws through `kind`, look them up through `get` and run them
+through one dispatch (`controllers.laws.dispatch`), so that no module keeps a list of law names.
+An unknown name or kind fails loudly (InputError naming the field, or ValueError for a kind no
+law holds), never runs another law.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import inspect
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from chassistune._registry import Registry
+from chassistune.controllers.specs import ControllerSpec
+
+if TYPE_CHECKING:
+    from chassistune.controllers.discrete_laws import DiscreteLaw
+
+ABS_WHEEL = "abs-wheel"
+ABS_VEHICLE = "abs-vehicle"
+
+
+@dataclass(frozen=True)
+class CForm:
+    """A law's C99 text for `export`: its equations (printed in controller.h), `ct_step` with any
+    static helpers it needs (`{k}` names the table of rule-base output k), the shared helper
+    blocks it calls, and whether a discrete decision (a phase) makes FMA contraction unsafe."""
+
+    equations: tuple[str, ...]
+    step: str
+    helpers: tuple[str, ...] = ()
+    switching: bool = False
+
+
+@dataclass(frozen=True)
+class Law:
+    """One control law: its specs (one per plant family it runs on), its sampled forms for the
+    ideal kernels, its discrete form (what an ECU runs and `export` ships; None without one),
+    its C text and how many outputs it reads from a rule base (0: none).
+
+    The kernels' forms are numba functions that `forms()` builds on first use (numba is heavy
+    to import; the specs are not), `controllers.laws.forms` names their arguments: `start(g,
+    g0, c) -> held`, the held values (u0, kp, ki, kd) of the continuous PID at the start of a
+    run (None: all zero, the law at rest), and `tick(sig, held, mem, g, g0, c, table, ts,
+    first) -> (held, mem)`, the update at each sample instant (None: the law is not sampled),
+    with `mem` the law's memory (`state`, at most `MEMORY` slots, zero at the start).
+    """
+
+    name: str
+    specs: tuple[ControllerSpec, ...]
+    forms: Callable[[], tuple[Any, Any]]
+    state: tuple[str, ...] = ()
+    discrete: DiscreteLaw | None = None
+    c: CForm | None = None
+    rulebase_outputs: int = 0
+
+    def spec(self, plant: str) -> ControllerSpec | None:
+        """The law's spec on `plant`, or None when it does not run there."""
+        return next((s for s in self.specs if s.plant == plant), None)
+
+
+MEMORY = 2
+"""Slots of a law's memory in the kernels' lanes (the largest `Law.state`)."""
+
+_LAWS: Registry[Law] = Registry("controller")
+_DIGESTS: dict[str, str] = {}
+
+
+def register(law: Law) -> Law:
+    """Add `law` under its name (its kind: the next number); a name registered twice is refused."""
+    if any(s.name != law.name for s in law.specs):
+        raise ValueError(f"law {law.name!r} declares a spec of another name")
+    if len(law.state) > MEMORY:
+        raise ValueError(f"law {law.name!r} keeps {len(law.state)} memory slots (at most {MEMORY})")
+    _LAWS.register(law.name, law)
+    module = inspect.getmodule(law.forms)
+    source = inspect.getsource(module) if module is not None else law.name
+    _DIGESTS[law.name] = hashlib.sha1(source.encode()).hexdigest()
+    return law
+
+
+def unregister(name: str) -> None:
+    """Remove the law `name` (a test registering a temporary law cleans up with it); a law
+    registered after it would change kind, so only the last one may go."""
+    if _LAWS.names()[-1:] != [name]:
+        raise ValueError(f"only the last registered law may be removed, not {name!r}")
+    _LAWS.unregister(name)
+    del _DIGESTS[name]
+
+
+def fingerprint() -> str:
+    """Names the registered laws and their modules' sources: a compiled kernel that dispatches
+    over the registry is valid while it is unchanged (kernels key their disk cache on it)."""
+    return hashlib.sha1(repr([(n, _DIGESTS[n]) for n in names()]).encode()).hexdigest()[:16]
+
+
+def names() -> list[str]:
+    """Every law, in registration (kind) order."""
+    return _LAWS.names()
+
+
+def get(name: str, where: str = "") -> Law:
+    """The law `name`, or InputError (field `controller`) listing the known laws."""
+    return _LAWS.get(name, where)
+
+
+def kind(name: str) -> int:
+    """The law's kind: its position in registration order (InputError for an unknown name)."""
+    get(name)
+    return names().index(name)
+
+
+def by_kind(k: int) -> Law:
+    """The law of kind k; ValueError for a kind no law holds."""
+    all_names = names()
+    if not 0 <= k < len(all_names):
+        raise ValueError(f"no control law of kind {k} (kinds 0 .. {len(all_names) - 1})")
+    return get(all_names[k])
+
+
+def for_plant(plant: str) -> list[ControllerSpec]:
+    """The specs of every law that runs on `plant`, in kind order."""
+    specs = (get(n).spec(plant) for n in names())
+    return [s for s in specs if s is not None]

@@ -1,0 +1,80 @@
+"""The registry of control laws: kinds numbered once by registration, unknown names and kinds
+refused loudly, the catalogue's ABS entries a view of it, the C of each law its module's."""
+
+from __future__ import annotations
+
+import pytest
+
+from chassistune.controllers import catalogue, laws, vehicle_specs
+from chassistune.controllers.laws import registry
+from chassistune.errors import InputError
+from chassistune.export import c99
+
+
+def test_kinds_are_registration_positions() -> None:
+    for k, name in enumerate(laws.names()):
+        assert laws.kind(name) == k and laws.by_kind(k).name == name
+
+
+def test_an_unknown_law_is_refused_naming_the_known_ones() -> None:
+    with pytest.raises(InputError) as err:
+        laws.kind("lqr")
+    assert err.value.field == "controller" and "known: none, pid" in err.value.problem
+    with pytest.raises(ValueError, match="no control law of kind 99"):
+        laws.by_kind(99)
+    with pytest.raises(ValueError, match="no control law of kind -1"):
+        laws.by_kind(-1)
+
+
+def test_a_law_is_registered_once_and_only_the_last_may_go() -> None:
+    with pytest.raises(ValueError, match="registered already"):
+        laws.register(laws.get("pid"))
+    with pytest.raises(ValueError, match="only the last registered law"):
+        laws.unregister("pid")
+
+
+@pytest.mark.parametrize("plant", [laws.ABS_WHEEL, laws.ABS_VEHICLE])
+def test_the_catalogue_lists_the_laws_of_each_abs_plant(plant: str) -> None:
+    specs = catalogue.for_plant(plant)
+    assert specs == laws.for_plant(plant)
+    assert [s.name for s in specs] == [n for n in laws.names() if laws.get(n).spec(plant)]
+    for spec in specs:
+        assert catalogue.get(plant, spec.name) is laws.get(spec.name).spec(plant)
+
+
+def test_vehicle_specs_are_the_laws_vehicle_entries() -> None:
+    assert vehicle_specs.names() == [s.name for s in laws.for_plant(laws.ABS_VEHICLE)]
+    pid = vehicle_specs.get("pid")
+    assert pid.default_gains() == {"kp": 1200.0, "ki": 0.0, "kd": 20.0}
+    doubled = ("kp_f", "ki_f", "kd_f", "kp_r", "ki_r", "kd_r")
+    assert vehicle_specs.per_axle(pid).gain_names == doubled
+
+
+def test_an_abs_controller_outside_a_law_is_refused() -> None:
+    spec = laws.get("pid").spec(laws.ABS_WHEEL)
+    assert spec is not None
+    with pytest.raises(ValueError, match="is a control law"):
+        catalogue.register(type(spec)(laws.ABS_WHEEL, "lqr", "not a law"))
+
+
+@pytest.mark.parametrize("name", laws.names())
+def test_a_law_with_a_discrete_form_has_its_c_and_the_reverse(name: str) -> None:
+    law = laws.get(name)
+    assert (law.discrete is None) == (law.c is None)
+    if law.c is not None:
+        assert c99.c_form(name) is law.c and "double ct_step(" in law.c.step
+        assert law.c.equations and all(line == line.strip() for line in law.c.equations)
+        assert law.discrete is not None and law.discrete.controller == name
+    else:
+        with pytest.raises(ValueError, match="has no C form"):
+            c99.c_form(name)
+
+
+@pytest.mark.parametrize("name", laws.names())
+def test_a_laws_memory_fits_the_kernels_lanes(name: str) -> None:
+    assert len(laws.get(name).state) <= registry.MEMORY
+
+
+def test_the_fingerprint_names_the_registered_laws() -> None:
+    before = registry.fingerprint()
+    assert before == registry.fingerprint() and len(before) == 16
