@@ -840,7 +840,6 @@ def _first_trace_row(trace_row, v0, target):
     trace_row[T_EDGE_LAST] = -1.0
 
 
-@_inline
 def _simulate(
     laws_key,
     tire,
@@ -935,6 +934,7 @@ def _simulate(
 
 _NO_NRT: dict[str, Any] = {"_nrt": False}
 """No reference counting (module docstring); numba's stubs omit the flag."""
+_simulate = njit(cache=True, nogil=True, error_model="numpy", **_NO_NRT)(_simulate)
 
 
 def _entry_point(laws_key):
@@ -986,7 +986,7 @@ def _entry_point(laws_key):
             edges,
         )
 
-    simulate_abs_wheel_ecu.__doc__ = _simulate.py_func.__doc__
+    simulate_abs_wheel_ecu.__doc__ = _simulate.__doc__
     return njit(cache=True, nogil=True, error_model="numpy", **_NO_NRT)(simulate_abs_wheel_ecu)
 
 
