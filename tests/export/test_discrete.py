@@ -8,7 +8,7 @@ import pytest
 from helpers import CONTINUOUS, case, gain_rows, ideal_mode
 from numba import njit
 
-from chassistune.controllers import discrete
+from chassistune.controllers import discrete, laws
 from chassistune.export import closed_loop, source, vectors
 from chassistune.fuzzy.engine import evaluate
 from chassistune.fuzzy.loader import load_rulebase
@@ -72,20 +72,20 @@ def test_pid_forward_euler_integral_and_conditional_integration() -> None:
     slip = 0.2 - e
     free = np.tile([slip, 0.0, 0.0], (50, 1))
     u = discrete.run_vectors(
-        discrete.K_PID, free, _pid_params(100.0, 30.0, 0.0, 100.0, ts), table, grid
+        laws.kind("pid"), free, _pid_params(100.0, 30.0, 0.0, 100.0, ts), table, grid
     )
     k = np.arange(50)
     np.testing.assert_allclose(u, 100.0 * e + 30.0 * ts * e * k, rtol=1e-12)
     # pressure at q_max and e > 0: the integral holds (no windup); at q = 0 and e > 0 it runs
     held = np.tile([slip, 1.0, 0.0], (50, 1))
     u_held = discrete.run_vectors(
-        discrete.K_PID, held, _pid_params(100.0, 30.0, 0.0, 100.0, ts), table, grid
+        laws.kind("pid"), held, _pid_params(100.0, 30.0, 0.0, 100.0, ts), table, grid
     )
     assert np.all(u_held == u_held[0])
     at_min = np.tile([slip, 0.0, 1.0], (50, 1))
     assert np.array_equal(
         discrete.run_vectors(
-            discrete.K_PID, at_min, _pid_params(100.0, 30.0, 0.0, 100.0, ts), table, grid
+            laws.kind("pid"), at_min, _pid_params(100.0, 30.0, 0.0, 100.0, ts), table, grid
         ),
         u,
     )
@@ -98,7 +98,7 @@ def test_backward_euler_filter_has_no_kick_and_is_stable_at_any_sample_time(ts: 
     table, grid = discrete.no_table()
     n = 100.0
     rows = np.array([[0.2, 0.0, 0.0]] * 3 + [[0.1, 0.0, 0.0]] * 40)  # e: 0, 0, 0, then 0.1
-    u = discrete.run_vectors(discrete.K_PID, rows, _pid_params(0.0, 0.0, 1.0, n, ts), table, grid)
+    u = discrete.run_vectors(laws.kind("pid"), rows, _pid_params(0.0, 0.0, 1.0, n, ts), table, grid)
     assert np.all(u[:3] == 0.0)  # no derivative kick at the start
     a = ts * n
     expected = n * 0.1 * (1.0 / (1.0 + a)) ** np.arange(1, 41)
@@ -106,12 +106,13 @@ def test_backward_euler_filter_has_no_kick_and_is_stable_at_any_sample_time(ts: 
     assert np.all(u[3:] > -1e-13 * expected[0])  # no oscillation
 
 
-def test_an_unknown_kind_runs_no_law_its_command_is_nan() -> None:
+def test_an_unknown_kind_runs_no_law_it_is_refused() -> None:
     table, grid = discrete.no_table()
     rows = np.array([[0.2, 0.0, 0.0]] * 3)
     params = _pid_params(1.0, 0.0, 0.0, 100.0, 0.01)
-    assert np.all(np.isnan(discrete.run_vectors(99, rows, params, table, grid)))
-    assert np.all(np.isfinite(discrete.run_vectors(discrete.K_PID, rows, params, table, grid)))
+    with pytest.raises(ValueError, match="no control law of kind 99"):
+        discrete.run_vectors(99, rows, params, table, grid)
+    assert np.all(np.isfinite(discrete.run_vectors(laws.kind("pid"), rows, params, table, grid)))
 
 
 def test_immune_incremental_law_equals_the_positional_pid_at_fixed_gain() -> None:
@@ -124,7 +125,9 @@ def test_immune_incremental_law_equals_the_positional_pid_at_fixed_gain() -> Non
         params[names.index(name)] = value
     rng = np.random.default_rng(3)
     slip = rng.uniform(0.0, 0.4, 60)
-    u = discrete.run_vectors(discrete.K_IMMUNE, slip[:, None], params, ec.table, ec.grid)
+    u = discrete.run_vectors(
+        laws.kind("fuzzy-immune-pid"), slip[:, None], params, ec.table, ec.grid
+    )
     e = 0.2 - slip
     e_prev = np.concatenate([[e[0]], e[:-1]])
     positional = kp * e + ki * ts * np.cumsum(e) + kd * (e - e_prev) / ts

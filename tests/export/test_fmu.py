@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 from helpers import LAWS, CLaw, case, needs_cc, write_c
 
+from chassistune.controllers import laws
 from chassistune.export import c99, fmu
 from chassistune.export.write import files
 
@@ -125,7 +126,9 @@ def test_gains_are_tunable_parameters_and_the_step_is_the_sample_time(tmp_path: 
     params[c.ec.law.params.index("kd")] = 77.0
     from chassistune.controllers import discrete
 
-    expected = discrete.run_vectors(c.ec.law.kind, c.inputs[:200], params, c.ec.table, c.ec.grid)
+    expected = discrete.run_vectors(
+        laws.kind(c.ec.law.controller), c.inputs[:200], params, c.ec.table, c.ec.grid
+    )
     assert np.array_equal(got, expected)
     with pytest.raises(Exception, match="fmi2DoStep"):
         slave.doStep(currentCommunicationPoint=1.0, communicationStepSize=0.5 * c.ec.ts_s)

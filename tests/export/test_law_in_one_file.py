@@ -1,13 +1,14 @@
 """A control law added in this one file, no other file edited: a saturated proportional slip law
 u0 = amplitude clip(k_sat e, -1, 1) (e = S_target - S), sampled every ts_s and held (the
 continuous PID's gains stay zero). Registered for this module's tests and removed after them, it
-runs on the single wheel and on the vehicle, passes the conformance check, tunes, and the C its
-module declares, printed by the export, reproduces the ideal kernel's commands bit for bit."""
+runs on the single wheel (ideal and realistic ECU) and on the vehicle, passes the conformance
+check, tunes, and the C its module declares, printed by the export (also through `chassistune
+export`), reproduces the ideal kernel's and the ECU's commands bit for bit."""
 
 from __future__ import annotations
 
 import functools
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -22,7 +23,7 @@ from chassistune.controllers.discrete_laws import DiscreteLaw
 from chassistune.controllers.laws import forms as F
 from chassistune.controllers.laws.shared import AMPLITUDE, SAMPLE_PERIOD, per_wheel
 from chassistune.controllers.specs import ControllerSpec, GainSpec
-from chassistune.export import c99
+from chassistune.export import c99, vectors
 from chassistune.export.source import ExportedController
 from chassistune.scenarios.abs_wheel import AbsWheelScenario
 from chassistune.scenarios.base import PENALTY
@@ -41,8 +42,10 @@ WHEEL = ControllerSpec(
 G_K = F.gains(WHEEL)["k_sat"]
 
 
-def kernel_forms() -> tuple[Any, Any]:
-    """(start, tick): at rest at the start; the saturated command at each sample."""
+@functools.cache
+def compiled_forms() -> tuple[Any, Any]:
+    """(tick, step): the saturated command at each sample of the ideal kernels, and the ECU's
+    discrete step on (state, inputs (slip,), params (k_sat, amplitude, target_slip, ts_s))."""
 
     @njit(**F.FORM)
     def command(k_sat, e, amplitude):  # type: ignore[no-untyped-def]
@@ -58,7 +61,22 @@ def kernel_forms() -> tuple[Any, Any]:
         u0 = command(g[g0 + G_K], sig[F.SIG_SLIP_ERROR], c[F.P_AMPLITUDE])
         return (u0, held[F.H_KP], held[F.H_KI], held[F.H_KD]), mem
 
-    return None, tick
+    @njit(**F.FORM)
+    def step(state, inputs, params, table, grid):  # type: ignore[no-untyped-def]
+        state[0] = 1.0
+        return command(params[0], params[2] - inputs[0], params[1])
+
+    return tick, step
+
+
+def kernel_forms() -> tuple[Any, Any]:
+    """(start, tick): at rest at the start; the saturated command at each sample."""
+    return None, compiled_forms()[0]
+
+
+def ecu_step() -> Any:
+    """The ECU's step: the same command of the ECU's slip (the discrete form the C prints)."""
+    return compiled_forms()[1]
 
 
 LAW = laws.Law(
@@ -67,13 +85,13 @@ LAW = laws.Law(
     functools.cache(kernel_forms),
     discrete=DiscreteLaw(
         NAME,
-        -1,
         ("slip",),
         ("k_sat", "amplitude", "target_slip", "ts_s"),
         ("started",),
         0,
         "sampled saturated proportional law",
     ),
+    ecu=laws.EcuForm(ecu_step, ("slip",)),
     c=laws.CForm(
         ("u_k = amplitude clip(k_sat e_k, -1, 1)",),
         """\
@@ -171,3 +189,28 @@ def test_the_added_laws_c_reproduces_the_ideal_kernel_bit_for_bit(tmp_path: Path
     folder = write_c(_export(sc), tmp_path)
     assert "u_k = amplitude clip(k_sat e_k, -1, 1)" in c99.header(_export(sc))
     assert np.array_equal(CLaw(folder, c99.BITWISE_FLAGS).run(inputs), expected)
+
+
+def test_the_added_law_runs_in_the_realistic_ecu() -> None:
+    p = get_plant("abs-wheel")
+    distance = {}
+    for name in (NAME, "none"):
+        sc = p.scenario(None, "ice", name, {"ecu": "realistic"}, 0)
+        m = sc.metrics(sc.gains_array(None)[None, :])
+        assert m["status"][0] == "stopped"
+        distance[name] = float(m["stop_distance_m"][0])
+    assert distance[NAME] < distance["none"]
+
+
+@needs_cc
+def test_the_cli_exports_the_added_law_and_its_c_replays_the_vectors_bit_for_bit(
+    cli: Callable[..., Any], tmp_path: Path
+) -> None:
+    out = tmp_path / "c"
+    res = cli("export", "--controller", NAME, "--format", "c", "--out", str(out))
+    assert res.code == 0, res.err
+    names, data = vectors.read_csv(str(out / "test_vectors.csv"))
+    assert names == ("slip", "u")
+    inputs, u = data[:, :-1], data[:, -1]
+    assert len(u) > 100 and np.unique(u).size > 10  # saturated and linear samples
+    assert np.array_equal(CLaw(out, c99.BITWISE_FLAGS).run(inputs), u)

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from test_abs_wheel_kernel import CONTROLLERS, _population
 
-from chassistune.controllers import discrete as D
+from chassistune.controllers import laws
 from chassistune.errors import InputError
 from chassistune.scenarios.abs_wheel import PLANT
 from chassistune.sim import abs_wheel_ecu_kernel as EK
@@ -38,10 +38,23 @@ def _distance(road: str, params: dict[str, object]) -> float:
     )
 
 
-def test_law_codes_are_the_discrete_laws() -> None:
-    assert [
-        EL.LAW_KINDS.index(n) for n in ("pid", "fuzzy-pid", "fuzzy-immune-pid", "threshold")
-    ] == [D.K_PID, D.K_FUZZY_PID, D.K_IMMUNE, D.K_THRESHOLD]
+def test_the_ecu_runs_the_registrys_kind_and_refuses_an_unknown_one() -> None:
+    for name in CONTROLLERS:
+        sc = PLANT.scenario(PRESET, "ice", name, {"ecu": "realistic"})
+        assert sc.ecu is not None and sc.ecu.vector[EL.ECU["law"]] == laws.kind(name)
+    unknown = sc.ecu.vector.copy()
+    unknown[EL.ECU["law"]] = len(laws.names())
+    with pytest.raises(ValueError, match="no control law of kind"):
+        EK.simulate_abs_wheel_ecu(
+            np.zeros((1, 1)),
+            np.zeros((1, 1)),
+            unknown,
+            0,
+            *([np.zeros(1)] * 5),
+            (),
+            np.zeros((0, 1)),
+            np.zeros((1, 1)),
+        )
     assert EL.METRICS.names[: len(KL.METRICS)] == KL.METRICS.names
     assert EL.TRACE.names[: len(KL.TRACE)] == KL.TRACE.names
 

@@ -8,9 +8,10 @@ ts with the inputs as an ECU sees them; it updates `state` in place and returns 
 
 `table` (n_out, n0, n1) and `grid` (lo0, step0, lo1, step1) are the ECU lookup table of the fuzzy
 laws (`ecu_table`), ignored by the others. Names and order of the inputs, parameters and state
-entries are declared once per law in `LAWS`; the C99 export prints the same arithmetic in the same
-operation order, so that a C build without FMA contraction reproduces it bit for bit. Nothing here
-contracts a*b + c into an fma (numba compiles without fastmath) or reorders a sum.
+entries are declared once per law (`controllers.discrete_laws`); the C99 export prints the same
+arithmetic in the same operation order, so that a C build without FMA contraction reproduces it
+bit for bit. Nothing here contracts a*b + c into an fma (numba compiles without fastmath) or
+reorders a sum.
 
 The laws (e = target_slip - slip throughout):
 - `pid` (design.md 4 in discrete time; Simulink's discrete PID, parallel form, forward-Euler
@@ -46,19 +47,18 @@ like 1/n across the cells' remaining kinks). Tested in tests/export/test_discret
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from chassistune.controllers.discrete_laws import (
-    K_FUZZY_PID,
-    K_IMMUNE,
-    K_PID,
-    K_THRESHOLD,
-    LAWS,
-    DiscreteLaw,
-)
+from chassistune.controllers.discrete_laws import LAWS as LAWS  # the built-in declarations
+from chassistune.controllers.discrete_laws import DiscreteLaw
 from chassistune.controllers.immune_pid import incremental_pid_du
+from chassistune.controllers.laws import registry
+from chassistune.controllers.laws.dispatch import law_ecu_step
+from chassistune.controllers.laws.forms import ECU_SIGNALS
 from chassistune.controllers.switching import threshold_step as threshold_phase_step
 from chassistune.controllers.switching import wheel_deceleration_sample
 from chassistune.fuzzy.engine import evaluate
@@ -94,8 +94,8 @@ INPUT_DESCRIPTIONS = {
 
 
 def law(controller: str) -> DiscreteLaw | None:
-    """The discrete law of an ABS controller, or None when it has no discrete form."""
-    return LAWS.get(controller)
+    """The discrete law of a registered ABS controller, or None when it has no discrete form."""
+    return registry.get(controller).discrete
 
 
 def ecu_table(
@@ -244,29 +244,71 @@ def threshold_step(state, inputs, params, table, grid):
     return u
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
-def discrete_step(kind, state, inputs, params, table, grid):
-    """One sample of the law `kind` (K_*): the command u; `state` is updated in place. An
-    unknown kind runs no law: its command is NaN (the run diverges)."""
-    if kind == K_PID:
-        return pid_step(state, inputs, params, table, grid)
-    if kind == K_FUZZY_PID:
-        return fuzzy_pid_step(state, inputs, params, table, grid)
-    if kind == K_IMMUNE:
-        return immune_step(state, inputs, params, table, grid)
-    if kind == K_THRESHOLD:
-        return threshold_step(state, inputs, params, table, grid)
-    return np.nan
+def _steps_entry(laws_key: int) -> Any:
+    """The compiled loop of `run_from` for the laws registered now, named by `laws_key`
+    (`registry.fingerprint` as an integer: a closure variable, on which numba keys the disk
+    cache; the law dispatch is generated from the registry when it compiles)."""
+
+    def steps(kind, state, signals, params, table, grid):
+        inputs = np.zeros(registry.ECU_INPUTS)
+        out = np.empty(signals.shape[0])
+        for k in range(signals.shape[0]):
+            out[k] = law_ecu_step(laws_key, kind, state, inputs, signals[k], params, table, grid)
+        return out
+
+    return njit(cache=True, nogil=True, error_model="numpy")(steps)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
-def run_vectors(kind, inputs, params, table, grid):
+_STEPS: dict[str, Any] = {}
+
+
+def run_from(
+    kind: int,
+    state: NDArray[np.float64],
+    inputs: NDArray[np.float64],
+    params: NDArray[np.float64],
+    table: NDArray[np.float64],
+    grid: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """The commands u (m,) of the law of the registry's `kind` (its ECU form, the one step the
+    ECU kernel runs) fed the input rows (m, n_inputs, in its inputs' order) from `state`
+    (N_STATE floats, updated in place). ValueError for a kind no law holds or a law without an
+    ECU form."""
+    law = registry.by_kind(kind)
+    if law.ecu is None:
+        raise ValueError(f"control law {law.name!r} has no discrete form")
+    rows = np.atleast_2d(inputs)
+    signals = np.zeros((rows.shape[0], len(ECU_SIGNALS)))
+    for j, name in enumerate(law.ecu.inputs):
+        signals[:, ECU_SIGNALS[name]] = rows[:, j]
+    key = registry.fingerprint()
+    if key not in _STEPS:
+        _STEPS[key] = _steps_entry(int(key[:15], 16))
+    return np.asarray(_STEPS[key](kind, state, signals, params, table, grid))
+
+
+def discrete_step(
+    kind: int,
+    state: NDArray[np.float64],
+    inputs: NDArray[np.float64],
+    params: NDArray[np.float64],
+    table: NDArray[np.float64],
+    grid: NDArray[np.float64],
+) -> float:
+    """One sample of the law of the registry's `kind`: the command u; `state` is updated in
+    place (`run_from`)."""
+    return float(run_from(kind, state, inputs, params, table, grid)[0])
+
+
+def run_vectors(
+    kind: int,
+    inputs: NDArray[np.float64],
+    params: NDArray[np.float64],
+    table: NDArray[np.float64],
+    grid: NDArray[np.float64],
+) -> NDArray[np.float64]:
     """The commands u (m,) of a law started from rest and fed the input rows (m, n_inputs)."""
-    state = np.zeros(N_STATE)
-    out = np.empty(inputs.shape[0])
-    for k in range(inputs.shape[0]):
-        out[k] = discrete_step(kind, state, inputs[k], params, table, grid)
-    return out
+    return run_from(kind, np.zeros(N_STATE), inputs, params, table, grid)
 
 
 def no_table() -> tuple[NDArray[np.float64], NDArray[np.float64]]:

@@ -1,12 +1,11 @@
 """The discrete laws' declarations: names and order of each law's inputs, parameters and state
-entries, and its kind in `controllers.discrete.discrete_step` (the numba forms are there; this
-module imports no numba, so that the law modules declaring them stay light to import)."""
+entries (the numba forms are in `controllers.discrete`; this module imports no numba, so that the
+law modules declaring them stay light to import). A law's kind is its registry's
+(`controllers.laws.kind`)."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-
-K_PID, K_FUZZY_PID, K_IMMUNE, K_THRESHOLD = 1, 2, 3, 4
 
 
 @dataclass(frozen=True)
@@ -14,7 +13,6 @@ class DiscreteLaw:
     """Names of a discrete law's inputs, parameters and state entries (vector order)."""
 
     controller: str
-    kind: int
     inputs: tuple[str, ...]
     params: tuple[str, ...]
     state: tuple[str, ...]
@@ -26,7 +24,6 @@ _PID_INPUTS = ("slip", "pressure_at_max", "pressure_at_min")
 LAWS: dict[str, DiscreteLaw] = {
     "pid": DiscreteLaw(
         "pid",
-        K_PID,
         _PID_INPUTS,
         ("kp", "ki", "kd", "n_filter", "target_slip", "ts_s"),
         ("started", "integral", "filter"),
@@ -35,7 +32,6 @@ LAWS: dict[str, DiscreteLaw] = {
     ),
     "fuzzy-pid": DiscreteLaw(
         "fuzzy-pid",
-        K_FUZZY_PID,
         _PID_INPUTS,
         (
             "ke",
@@ -57,7 +53,6 @@ LAWS: dict[str, DiscreteLaw] = {
     ),
     "fuzzy-immune-pid": DiscreteLaw(
         "fuzzy-immune-pid",
-        K_IMMUNE,
         ("slip",),
         ("k_immune", "eta", "ki", "kd", "ke", "kec", "target_slip", "ts_s"),
         ("started", "u_prev", "e_prev", "e_prev2"),
@@ -66,7 +61,6 @@ LAWS: dict[str, DiscreteLaw] = {
     ),
     "threshold": DiscreteLaw(
         "threshold",
-        K_THRESHOLD,
         ("slip", "wheel_speed_rad_s"),
         (
             "amplitude",

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from chassistune.controllers import discrete
+from chassistune.controllers import discrete, laws
 from chassistune.export import closed_loop
 from chassistune.export.source import ExportedController
 
@@ -16,12 +16,13 @@ class LawController:
 
     def __init__(self, ec: ExportedController) -> None:
         self._ec = ec
+        self._kind = laws.kind(ec.law.controller)
         self.state = np.zeros(discrete.N_STATE)
 
     def __call__(self, inputs: NDArray[np.float64]) -> float:
         ec = self._ec
         return float(
-            discrete.discrete_step(ec.law.kind, self.state, inputs, ec.params, ec.table, ec.grid)
+            discrete.discrete_step(self._kind, self.state, inputs, ec.params, ec.table, ec.grid)
         )
 
 
@@ -39,7 +40,11 @@ def record(ec: ExportedController) -> tuple[NDArray[np.float64], NDArray[np.floa
 def replay(ec: ExportedController, inputs: NDArray[np.float64]) -> NDArray[np.float64]:
     """The numba law's commands for recorded input rows, started from rest."""
     return discrete.run_vectors(
-        ec.law.kind, np.ascontiguousarray(inputs, dtype=np.float64), ec.params, ec.table, ec.grid
+        laws.kind(ec.law.controller),
+        np.ascontiguousarray(inputs, dtype=np.float64),
+        ec.params,
+        ec.table,
+        ec.grid,
     )
 
 

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from chassistune.controllers import discrete
+from chassistune.controllers import discrete, laws
 from chassistune.controllers.ecu_params import EcuParams, draw_noise, ecu_params, orifice_gains
 from chassistune.errors import InputError
 from chassistune.params import to_float
@@ -84,6 +84,8 @@ def ecu_setup(
     p, _ = ecu_params(
         {k: v for k, v in values.items() if k in ECU_PARAM_NAMES and k != "fuzzy_table_points"}
     )
+    if laws.get(controller).ecu is None:
+        raise InputError("controller", f"{controller!r} has no form in the realistic ECU")
     m = round(p.ecu_ts_s / plant.dt_s)
     if m < 1 or abs(m * plant.dt_s - p.ecu_ts_s) > 1e-9 * p.ecu_ts_s:
         raise InputError(
@@ -94,7 +96,7 @@ def ecu_setup(
     amplitude = ctrl_values.get("amplitude", plant.q_max / (0.15 * plant.actuator_gain))
     vector = EL.pack_ecu(
         {
-            "law": EL.LAW_KINDS.index(controller),
+            "law": laws.kind(controller),
             "steps_per_tick": m,
             "delay_samples": p.ecu_delay_samples,
             "toothed": p.sensor == "toothed",

@@ -13,11 +13,12 @@ Each iteration of the lane loop, per lane, in the order of docs/ecu.md "The real
   stage after the other: `sensor` (true wheel speed, or the toothed wheel's last edge period,
   held or bounded), `reference_speed` (true, slew-limited or accelerometer), `ecu_slip`
   ((vref - w_est R) / vref in [0, 1]), `cutout`, `schedule` (kp, kd times max(vref / v0,
-  floor)), `law` (the DISCRETE law of `controllers.discrete`, the one `export` ships; none and
-  bang-bang as in the ideal kernel), `delay_line` (the command of tick j applied at tick
-  j + delay), `valves` (continuous: the held command u into K/(s(Ts+1)); three-state: a pulse,
-  `duty_pulse` for the PID laws' pressure rate K u, `switching_pulse` for the switching laws,
-  the driver's demand after the cut-out);
+  floor)), `law` (the law's ECU form from the registry, `controllers.laws.dispatch`: the
+  discrete form `export` ships; none and bang-bang as in the ideal kernel), `delay_line` (the
+  command of tick j applied at tick j + delay), `valves` (continuous: the held command u into
+  K/(s(Ts+1)); three-state: a pulse, `duty_pulse` for a law whose command is a pressure rate
+  K u (the PID laws), `switching_pulse` for the switching laws, the driver's demand after the
+  cut-out);
 - `valve_switches`: whether a valve switches inside the step (three-state valves), and then the
   exact pressures through the switch (`modulator_advance`);
 - `plant_step`: one RK4 step (three-state valves: the stages read the one-state orifice
@@ -27,6 +28,8 @@ Each iteration of the lane loop, per lane, in the order of docs/ecu.md "The real
 - `sensor_edges`: the toothed sensor, for the lanes whose wheel passed an edge in the step
   (`sensor_step` in its pieces, the edge-time searches of all those lanes in lockstep);
 - a finished run writes its metrics, and its lane takes the next candidate.
+The law is the registry's kind in the ECU vector; the entry point is compiled per registry
+fingerprint (`entry_point`), like the ideal kernels'.
 The tick, the switch test and the edges are scalar passes over the lanes; each lane keeps its
 own step counter, so every number is what a one-candidate loop computes, bitwise independent of
 the lane, the population and the thread count.
@@ -53,7 +56,9 @@ from numba import njit
 from chassistune._branchfree import clip, fmax, fmin, select, stack_copy
 from chassistune.controllers import discrete as D
 from chassistune.controllers import ecu as E
-from chassistune.controllers.switching import bang_bang_command
+from chassistune.controllers.laws import registry as laws
+from chassistune.controllers.laws.dispatch import law_ecu_rate, law_ecu_schedule, law_ecu_step
+from chassistune.controllers.laws.forms import ECU_SIGNALS
 from chassistune.sim import abs_wheel_ecu_layout as EL
 from chassistune.sim import abs_wheel_layout as KL
 from chassistune.sim.abs_wheel_kernel import (
@@ -116,9 +121,15 @@ from chassistune.sim.lanes import close_lane
     X_AMP,
 ) = (EL.ECU[n] for n in EL.ECU.names)
 
-LAW_NONE, LAW_PID, LAW_FUZZY_PID, LAW_IMMUNE, LAW_THRESHOLD, LAW_BANGBANG = (
-    EL.LAW_KINDS.index(n) for n in EL.LAW_KINDS
-)
+if ECU_SIGNALS.names != (  # pragma: no cover
+    "slip",
+    "wheel_speed_rad_s",
+    "pressure_at_max",
+    "pressure_at_min",
+    "target_slip",
+    "amplitude",
+):
+    raise RuntimeError("the ECU tick builds the law signals in ECU_SIGNALS order")
 
 # the ideal kernel's metric and trace slots come first, at the same columns (ECU layouts)
 M_ECU_IAE = EL.METRICS["ecu_slip_iae"]
@@ -245,24 +256,6 @@ def _stage(y, three_state, q):
 
 
 @_jit
-def _scheduled(kind, base, params, f):
-    """Write the law's parameters into `params` with kp and kd (or their table scales) times f."""
-    for j in range(base.shape[0]):
-        params[j] = base[j]
-    if kind == LAW_PID:
-        params[D.PID_KP] = base[D.PID_KP] * f
-        params[D.PID_KD] = base[D.PID_KD] * f
-    elif kind == LAW_FUZZY_PID:
-        params[D.FP_KP0] = base[D.FP_KP0] * f
-        params[D.FP_KUP] = base[D.FP_KUP] * f
-        params[D.FP_KD0] = base[D.FP_KD0] * f
-        params[D.FP_KUD] = base[D.FP_KUD] * f
-    elif kind == LAW_IMMUNE:
-        params[D.IM_K] = base[D.IM_K] * f
-        params[D.IM_KD] = base[D.IM_KD] * f
-
-
-@_jit
 def _valve_change(mode, t, cur, last_t, n_sw, min_iv):
     """Account a valve state `mode` from time t: (state, time of the last change, changes,
     shortest interval between changes)."""
@@ -383,35 +376,25 @@ def cutout(st, l, vref, t, x):
 
 
 @_inline
-def schedule(kind, base, params, vref, v0, x):
-    """Tick stage 5 (docs/ecu.md, Speed-scheduled gains): the law's parameters with kp and kd
-    times max(vref / v0, floor), or as tuned."""
+def schedule(laws_key, kind, base, params, vref, v0, x):
+    """Tick stage 5 (docs/ecu.md, Speed-scheduled gains): the law's parameters with its
+    scheduled ones (kp and kd, or their table scales: `EcuForm.scheduled`) times
+    max(vref / v0, floor), or as tuned."""
     f = E.speed_schedule(vref, v0, x[X_FLOOR]) if x[X_SCHED] != 0.0 else 1.0
-    _scheduled(kind, base, params, f)
+    law_ecu_schedule(laws_key, kind, base, params, f)
 
 
 @_inline
-def law(kind, state, inputs, params, table, grid, amp, target):
-    """Tick stage 6 (docs/ecu.md, the realistic kernel, 4): the command of the law `kind`, the
-    discrete form of `controllers.discrete` (design.md 4), none and bang-bang (about `target`)
-    as in the ideal kernel. The one call site of the law dispatch."""
-    if kind == LAW_NONE:
-        return amp
-    if kind == LAW_BANGBANG:
-        return bang_bang_command(target - inputs[D.IN_SLIP], amp)
-    return D.discrete_step(kind, state, inputs, params, table, grid)
-
-
-@_inline
-def _law_inputs(kind, inputs, slip, w_read, q, q_max):
-    """The law's inputs (`controllers.discrete.LAWS`): the ECU slip, then the wheel speed
-    (threshold) or the pressure at its bounds."""
-    inputs[D.IN_SLIP] = slip
-    if kind == LAW_THRESHOLD:
-        inputs[D.IN_WHEEL_SPEED] = w_read
-    else:
-        inputs[D.IN_AT_MAX] = 1.0 if q >= q_max else 0.0
-        inputs[D.IN_AT_MIN] = 1.0 if q <= 0.0 else 0.0
+def law(laws_key, kind, state, inputs, params, table, grid, slip, w_read, q, q_max, target, amp):
+    """Tick stage 6 (docs/ecu.md, the realistic kernel, 4): the command of the law `kind`, its
+    ECU form from the registry (`controllers.laws.dispatch.law_ecu_step`: the discrete form of
+    design.md 4; none and bang-bang as in the ideal kernel), fed the signals it names
+    (`forms.ECU_SIGNALS`: the ECU slip, the wheel speed read, the pressure at its bounds, the
+    target slip, the amplitude). The one call site of the law dispatch."""
+    at_max = 1.0 if q >= q_max else 0.0
+    at_min = 1.0 if q <= 0.0 else 0.0
+    sig = (slip, w_read, at_max, at_min, target, amp)
+    return law_ecu_step(laws_key, kind, state, inputs, sig, params, table, grid)
 
 
 @_inline
@@ -427,7 +410,7 @@ def delay_line(line, tick, delay, u):
 
 
 @_inline
-def valves(st, l, kind, cmd, cut, t, ts, x):
+def valves(st, l, rate, cmd, cut, t, ts, x):
     """Tick stage 8 (docs/ecu.md, Three-state modulator; the realistic kernel, 6): the held
     command of the continuous actuator, or the next valve pulse from t + dead time
     (`duty_pulse` of the PID laws' pressure rate K u, `switching_pulse` otherwise, build for the
@@ -438,7 +421,7 @@ def valves(st, l, kind, cmd, cut, t, ts, x):
         return
     if cut:
         mode, on = E.VALVE_BUILD, ts
-    elif LAW_PID <= kind <= LAW_IMMUNE:  # the PID laws: a pressure rate
+    elif rate:  # the PID laws: a pressure rate
         mode, on, resid = E.duty_pulse(
             st[_at(R_GAIN, l)] * cmd,
             st[_at(R_RESID, l)],
@@ -464,7 +447,7 @@ def valves(st, l, kind, cmd, cut, t, ts, x):
 
 
 @_inline
-def _tick(st, l, aux, base, x, ts, t, tire, tc, table, grid, acc_noise):
+def _tick(st, l, aux, base, x, ts, t, tire, tc, table, grid, acc_noise, laws_key):
     """One ECU tick of lane l at t (docs/ecu.md, the realistic kernel): the tick stages in
     order. aux: the lane's scratch row (law state, scheduled parameters, inputs, delay line);
     base: its candidate's law parameters."""
@@ -473,20 +456,22 @@ def _tick(st, l, aux, base, x, ts, t, tire, tc, table, grid, acc_noise):
     n_p = base.shape[0]
     state = aux[: D.N_STATE]
     params = aux[D.N_STATE : D.N_STATE + n_p]
-    inputs = aux[D.N_STATE + n_p : D.N_STATE + n_p + 3]
-    line = aux[D.N_STATE + n_p + 3 :]
+    inputs = aux[D.N_STATE + n_p : D.N_STATE + n_p + laws.ECU_INPUTS]
+    line = aux[D.N_STATE + n_p + laws.ECU_INPUTS :]
     w_read = sensor(st, l, t, x)
     vref = reference_speed(st, l, w_read, x, ts, tire, tc, acc_noise)
     slip = ecu_slip(st, l, vref, w_read)
     cut = cutout(st, l, vref, t, x)
     u = amp
     if not cut:
-        schedule(kind, base, params, vref, st[_at(R_V0, l)], x)
-        _law_inputs(kind, inputs, slip, w_read, st[_at(R_Q, l)], st[_at(R_QMAX, l)])
-        u = law(kind, state, inputs, params, table, grid, amp, st[_at(R_TARGET, l)])
+        schedule(laws_key, kind, base, params, vref, st[_at(R_V0, l)], x)
+        q, q_max, target = st[_at(R_Q, l)], st[_at(R_QMAX, l)], st[_at(R_TARGET, l)]
+        u = law(
+            laws_key, kind, state, inputs, params, table, grid, slip, w_read, q, q_max, target, amp
+        )
     tick = int(st[_at(R_TICK, l)])
     cmd = delay_line(line, tick, int(x[X_DELAY]), u)
-    valves(st, l, kind, amp if cut else cmd, cut, t, ts, x)
+    valves(st, l, law_ecu_rate(laws_key, kind), amp if cut else cmd, cut, t, ts, x)
     st[_at(R_TICK, l)] = tick + 1.0
 
 
@@ -856,6 +841,7 @@ def _first_trace_row(trace_row, v0, target):
 
 
 def _simulate(
+    laws_key,
     tire,
     lp,
     plant,
@@ -912,7 +898,8 @@ def _simulate(
             k = st[_at(R_STEP, l)]
             t = k * dt
             if k == st[_at(R_TICK, l)] * m:
-                _tick(st, l, aux[l], lp[lane_of[l]], x, ts, t, tire, tc, table, grid, acc_noise)
+                base = lp[lane_of[l]]
+                _tick(st, l, aux[l], base, x, ts, t, tire, tc, table, grid, acc_noise, laws_key)
             if three_state:
                 valve_switches(st, l, t, hs, dt, x)
         width = -(-live // VECTOR) * VECTOR
@@ -948,6 +935,72 @@ def _simulate(
 _NO_NRT: dict[str, Any] = {"_nrt": False}
 """No reference counting (module docstring); numba's stubs omit the flag."""
 _simulate = njit(cache=True, nogil=True, error_model="numpy", **_NO_NRT)(_simulate)
+
+
+def _entry_point(laws_key):
+    """The cached entry point for the registered control laws named by `laws_key`
+    (`controllers.laws.registry.fingerprint`, as an integer: a closure variable, on which numba
+    keys the disk cache; the law dispatch is generated from the registry when it compiles)."""
+
+    def simulate_abs_wheel_ecu(
+        tire,
+        lp,
+        plant,
+        x,
+        coef,
+        xc,
+        xs,
+        ys,
+        table,
+        grid,
+        spacing,
+        jitter,
+        acc_noise,
+        trace,
+        out,
+        st,
+        lane_of,
+        aux,
+        edges,
+    ):
+        _simulate(
+            laws_key,
+            tire,
+            lp,
+            plant,
+            x,
+            coef,
+            xc,
+            xs,
+            ys,
+            table,
+            grid,
+            spacing,
+            jitter,
+            acc_noise,
+            trace,
+            out,
+            st,
+            lane_of,
+            aux,
+            edges,
+        )
+
+    simulate_abs_wheel_ecu.__doc__ = _simulate.__doc__
+    return njit(cache=True, nogil=True, error_model="numpy", **_NO_NRT)(simulate_abs_wheel_ecu)
+
+
+_ENTRY_POINTS: dict[str, Any] = {}
+
+
+def entry_point() -> Any:
+    """The compiled loop for the laws registered now."""
+    key = laws.fingerprint()
+    if key not in _ENTRY_POINTS:
+        _ENTRY_POINTS[key] = _entry_point(int(key[:15], 16))
+    return _ENTRY_POINTS[key]
+
+
 _NO_TABLE = table_tuples(np.array([0.0, 1.0]), np.array([0.0, 0.0]))
 
 
@@ -966,21 +1019,25 @@ def simulate_abs_wheel_ecu(
     out: np.ndarray,
 ) -> None:
     """Simulate every row of `law_params` (n, P: the discrete law's parameter vector, in
-    `controllers.discrete.LAWS` order; one column, unused, for none and bang-bang).
+        `controllers.discrete.LAWS` order; one column, unused, for none and bang-bang), with the law
+    of the registry's kind in `ecu` (`controllers.laws.kind`).
 
-    `plant`: PLANT rows (1 or n; dt_s and t_max_s of row 0 for all); `ecu`: the ECU vector
-    (`abs_wheel_ecu_layout.pack_ecu`); `tire_*`: `TireCurve.kernel_data()`; (table, grid): the
-    ECU lookup table of a fuzzy law (`discrete.ecu_table`) or `discrete.no_table()`; `noise`:
-    (spacing_rad, jitter_s, accel_noise_m_s2) of `EcuNoise`. Writes one ECU_METRICS row per
-    candidate into `out`; when `trace` has rows (n must be 1), the ECU_TRACE rows too.
+        `plant`: PLANT rows (1 or n; dt_s and t_max_s of row 0 for all); `ecu`: the ECU vector
+        (`abs_wheel_ecu_layout.pack_ecu`); `tire_*`: `TireCurve.kernel_data()`; (table, grid): the
+        ECU lookup table of a fuzzy law (`discrete.ecu_table`) or `discrete.no_table()`; `noise`:
+        (spacing_rad, jitter_s, accel_noise_m_s2) of `EcuNoise`. Writes one ECU_METRICS row per
+        candidate into `out`; when `trace` has rows (n must be 1), the ECU_TRACE rows too.
     """
+    law = laws.by_kind(int(ecu[X_LAW]))
+    if law.ecu is None:
+        raise ValueError(f"control law {law.name!r} has no form in the realistic ECU")
     coef4 = np.zeros(4)
     coef4[: len(tire_coef)] = tire_coef
     xc, xs, ys = table_tuples(tire_xs, tire_ys) if tire_kind == KIND_TABLE else _NO_TABLE
     rows = np.ascontiguousarray(np.atleast_2d(plant), dtype=np.float64)
     lp = np.ascontiguousarray(law_params, dtype=np.float64)
-    aux_width = D.N_STATE + lp.shape[1] + 3 + max(int(ecu[X_DELAY]), 1)
-    _simulate(
+    aux_width = D.N_STATE + lp.shape[1] + laws.ECU_INPUTS + max(int(ecu[X_DELAY]), 1)
+    entry_point()(
         tire_kind,
         lp,
         rows,

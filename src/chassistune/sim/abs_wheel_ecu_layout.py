@@ -13,13 +13,10 @@ import numpy as np
 from chassistune.layout import Layout, Slot
 from chassistune.sim import abs_wheel_layout as KL
 
-LAW_KINDS = ("none", "pid", "fuzzy-pid", "fuzzy-immune-pid", "threshold", "bang-bang")
-"""The ECU kernel's runtime law switch; indices 1-4 are `controllers.discrete`'s K_* codes."""
-
 ECU = Layout(
     "abs-wheel ecu",
     (
-        Slot("law", "-", "index into LAW_KINDS"),
+        Slot("law", "-", "the law's kind (`controllers.laws.kind`)"),
         Slot("steps_per_tick", "-", "ecu_ts_s / dt_s (a whole number)"),
         Slot("delay_samples", "samples", "computation delay"),
         Slot("toothed", "-", "1: toothed-wheel sensor, 0: the true wheel speed"),

@@ -1,5 +1,6 @@
 """Bang-bang ABS (sldemo's controller, design.md 4): u = amplitude sign(S_target - S), sampled
-every ts_s (`controllers.switching.bang_bang_command`). Single wheel only; no discrete ECU form."""
+every ts_s (`controllers.switching.bang_bang_command`). Single wheel only; in the
+realistic ECU the same command of the ECU's slip, not exported (no discrete form)."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ import functools
 from typing import Any
 
 from chassistune.controllers.laws.forms import FORM, H_KD, H_KI, H_KP, P_AMPLITUDE, SIG_SLIP_ERROR
-from chassistune.controllers.laws.registry import ABS_WHEEL, Law
+from chassistune.controllers.laws.registry import ABS_WHEEL, EcuForm, Law
 from chassistune.controllers.laws.shared import AMPLITUDE, SAMPLE_PERIOD
 from chassistune.controllers.specs import ControllerSpec
 
@@ -28,6 +29,21 @@ def kernel_forms() -> tuple[Any, Any]:
     return None, tick
 
 
+@functools.cache
+def ecu_step() -> Any:
+    """The law's step in the realistic ECU: u = amplitude sign(S_target - S) of its inputs
+    (slip, target_slip, amplitude)."""
+    from numba import njit
+
+    from chassistune.controllers.switching import bang_bang_command
+
+    @njit(**FORM)
+    def step(state, inputs, params, table, grid):
+        return bang_bang_command(inputs[1] - inputs[0], inputs[2])
+
+    return step
+
+
 LAW = Law(
     "bang-bang",
     (
@@ -39,4 +55,5 @@ LAW = Law(
         ),
     ),
     kernel_forms,
+    ecu=EcuForm(ecu_step, ("slip", "target_slip", "amplitude")),
 )

@@ -1,11 +1,13 @@
-"""The one dispatch of the control laws in the kernels: `law_start`, `law_tick`, `law_sampled`.
+"""The one dispatch of the control laws in the kernels: `law_start`, `law_tick`, `law_sampled`
+in the ideal kernels, `law_ecu_step`, `law_ecu_schedule`, `law_ecu_rate` in the realistic ECU.
 
 Each is a numba overload whose implementation is generated from the registry when a kernel is
 compiled: an if-chain over the registered kinds, each branch the law's own form (`Law.forms`:
 start, tick) inlined into it. The chain compiles as a function of its own (inlining it whole at
 numba's IR level trips numba's SSA checks), with the kernel's options: no reference counting
 under an entry point compiled without it. A kind no law holds runs no law: its held values are
-NaN, so that the run diverges (the scenarios refuse unknown names before a kernel runs).
+NaN (in the ECU: its command), so that the run diverges (the scenarios refuse unknown names
+before a kernel runs).
 
 The first argument `laws_key` is `registry.fingerprint()` as an integer constant of the kernel's
 entry point (a closure variable): numba keys its disk cache on it, and the overloads are typed
@@ -24,7 +26,7 @@ from numba.core.errors import TypingError
 from numba.extending import overload
 
 from chassistune.controllers.laws import registry
-from chassistune.controllers.laws.forms import FORM
+from chassistune.controllers.laws.forms import ECU_SIGNALS, FORM
 
 _NAN4 = (np.nan, np.nan, np.nan, np.nan)
 
@@ -44,6 +46,23 @@ def law_sampled(laws_key, kind):
     raise NotImplementedError("law_sampled runs in compiled code only")
 
 
+def law_ecu_step(laws_key, kind, state, inputs, sig, params, table, grid):
+    """The ECU command u of law `kind` at a tick, its inputs taken from the signals `sig`
+    (`forms.ECU_SIGNALS`); `state` is updated in place (in compiled code)."""
+    raise NotImplementedError("law_ecu_step runs in compiled code only")
+
+
+def law_ecu_schedule(laws_key, kind, base, params, f):
+    """Write law `kind`'s parameters `base` into `params`, its scheduled ones times f (in
+    compiled code)."""
+    raise NotImplementedError("law_ecu_schedule runs in compiled code only")
+
+
+def law_ecu_rate(laws_key, kind):
+    """Whether law `kind`'s ECU command is a pressure rate (in compiled code)."""
+    raise NotImplementedError("law_ecu_rate runs in compiled code only")
+
+
 def _kinds() -> list[registry.Law]:
     return [registry.by_kind(k) for k in range(len(registry.names()))]
 
@@ -61,6 +80,16 @@ def _at_rest(g, g0, c):
 @njit(**FORM)
 def _no_tick(kind, sig, held, mem, g, g0, c, table, ts, first):
     return _NAN4, (np.nan, np.nan)
+
+
+@njit(**FORM)
+def _no_ecu_step(kind, state, inputs, sig, params, table, grid):
+    return np.nan
+
+
+@njit(**FORM)
+def _no_schedule(kind, base, params, f):
+    return None
 
 
 _LINK = {**FORM, "cache": False}
@@ -83,6 +112,30 @@ def _tick_link(k: int, tick: Any, rest: Any) -> Callable[..., Any]:
         if kind == k:
             return tick(sig, held, mem, g, g0, c, table, ts, first)
         return rest(kind, sig, held, mem, g, g0, c, table, ts, first)
+
+    return link
+
+
+def _ecu_link(k: int, step: Any, picks: tuple[int, ...], rest: Any) -> Callable[..., Any]:
+    @njit(**_LINK)
+    def link(kind, state, inputs, sig, params, table, grid):
+        if kind == k:
+            for j in range(len(picks)):
+                inputs[j] = sig[picks[j]]
+            return step(state, inputs, params, table, grid)
+        return rest(kind, state, inputs, sig, params, table, grid)
+
+    return link
+
+
+def _schedule_link(k: int, scaled: tuple[int, ...], rest: Any) -> Callable[..., Any]:
+    @njit(**_LINK)
+    def link(kind, base, params, f):
+        if kind == k:
+            for j in range(len(scaled)):
+                params[scaled[j]] = base[scaled[j]] * f
+        else:
+            rest(kind, base, params, f)
 
     return link
 
@@ -129,6 +182,52 @@ def _law_sampled(laws_key, kind):
     def impl(laws_key, kind):
         hit = False
         for k in sampled:
+            hit |= kind == k
+        return hit
+
+    return impl
+
+
+@overload(law_ecu_step, prefer_literal=True)
+def _law_ecu_step(laws_key, kind, state, inputs, sig, params, table, grid):
+    _literal(laws_key)
+    chain = _no_ecu_step
+    for k, law in reversed(list(enumerate(_kinds()))):
+        if law.ecu is not None:
+            picks = tuple(ECU_SIGNALS[n] for n in law.ecu.inputs)
+            chain = _ecu_link(k, law.ecu.step(), picks, chain)
+
+    def impl(laws_key, kind, state, inputs, sig, params, table, grid):
+        return chain(kind, state, inputs, sig, params, table, grid)
+
+    return impl
+
+
+@overload(law_ecu_schedule, prefer_literal=True)
+def _law_ecu_schedule(laws_key, kind, base, params, f):
+    _literal(laws_key)
+    chain = _no_schedule
+    for k, law in reversed(list(enumerate(_kinds()))):
+        if law.ecu is not None and law.ecu.scheduled and law.discrete is not None:
+            scaled = tuple(law.discrete.params.index(n) for n in law.ecu.scheduled)
+            chain = _schedule_link(k, scaled, chain)
+
+    def impl(laws_key, kind, base, params, f):
+        for j in range(base.shape[0]):
+            params[j] = base[j]
+        chain(kind, base, params, f)
+
+    return impl
+
+
+@overload(law_ecu_rate, prefer_literal=True)
+def _law_ecu_rate(laws_key, kind):
+    _literal(laws_key)
+    rates = tuple(k for k, law in enumerate(_kinds()) if law.ecu is not None and law.ecu.rate)
+
+    def impl(laws_key, kind):
+        hit = False
+        for k in rates:
             hit |= kind == k
         return hit
 

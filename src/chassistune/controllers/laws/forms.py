@@ -41,6 +41,20 @@ SIGNALS = Layout(
     SIG_ERROR_RATE,
 ) = range(len(SIGNALS))
 
+ECU_SIGNALS = Layout(
+    "ecu law signals",
+    (
+        Slot("slip", "-", "the ECU's slip (vref - w R) / vref in [0, 1]"),
+        Slot("wheel_speed_rad_s", "rad/s", "the wheel speed as the sensor reads it"),
+        Slot("pressure_at_max", "-", "1 while the brake pressure sits at q_max, else 0"),
+        Slot("pressure_at_min", "-", "1 while the brake pressure is 0, else 0"),
+        Slot("target_slip", "-", "the target slip S_target"),
+        Slot("amplitude", "-", "command magnitude of the switching laws"),
+    ),
+)
+"""The signals the ECU kernel hands a law's `EcuForm` at a tick, in this order (`sig`); the
+law's inputs are the ones its form names."""
+
 HELD = Layout(
     "held values of the continuous law",
     (

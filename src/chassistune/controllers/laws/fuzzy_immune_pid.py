@@ -9,7 +9,7 @@ from typing import Any
 
 from chassistune.controllers.discrete_laws import LAWS as DISCRETE
 from chassistune.controllers.laws import forms as F
-from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, Law
+from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, EcuForm, Law
 from chassistune.controllers.laws.shared import RULEBASE_NOTE, SAMPLE_PERIOD
 from chassistune.controllers.specs import ControllerSpec, GainSpec, ParamSpec
 
@@ -113,12 +113,21 @@ def kernel_forms() -> tuple[Any, Any]:
     return None, tick
 
 
+def ecu_step() -> Any:
+    """The law\'s step in the realistic ECU: its discrete form
+    (`controllers.discrete.immune_step`)."""
+    from chassistune.controllers.discrete import immune_step
+
+    return immune_step
+
+
 LAW = Law(
     "fuzzy-immune-pid",
     (WHEEL,),
     kernel_forms,
     STATE,
     discrete=DISCRETE["fuzzy-immune-pid"],
+    ecu=EcuForm(ecu_step, DISCRETE["fuzzy-immune-pid"].inputs, ("k_immune", "kd"), rate=True),
     c=CForm(
         (
             "- `fuzzy-immune-pid` (Ding 2023 eqs. 6-10, the kernel's arithmetic): "

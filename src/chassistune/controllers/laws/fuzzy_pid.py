@@ -15,7 +15,7 @@ from chassistune.controllers.discrete_laws import LAWS as DISCRETE
 from chassistune.controllers.laws import forms as F
 from chassistune.controllers.laws.pid import C_HELPERS
 from chassistune.controllers.laws.pid import EQUATIONS as PID_EQUATIONS
-from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, Law
+from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, EcuForm, Law
 from chassistune.controllers.laws.shared import (
     N_FILTER,
     RULEBASE_NOTE,
@@ -114,11 +114,20 @@ def kernel_forms() -> tuple[Any, Any]:
     return None, tick
 
 
+def ecu_step() -> Any:
+    """The law\'s step in the realistic ECU: its discrete form
+    (`controllers.discrete.fuzzy_pid_step`)."""
+    from chassistune.controllers.discrete import fuzzy_pid_step
+
+    return fuzzy_pid_step
+
+
 LAW = Law(
     "fuzzy-pid",
     (WHEEL, per_wheel(WHEEL, gains=rescaled(WHEEL.gains, VEHICLE_DEFAULTS, VEHICLE_BOUNDS))),
     kernel_forms,
     discrete=DISCRETE["fuzzy-pid"],
+    ecu=EcuForm(ecu_step, DISCRETE["fuzzy-pid"].inputs, ("kp0", "ku_p", "kd0", "ku_d"), rate=True),
     c=CForm(
         (
             *PID_EQUATIONS,

@@ -6,7 +6,7 @@ import functools
 from typing import Any
 
 from chassistune.controllers.laws.forms import FORM, P_AMPLITUDE
-from chassistune.controllers.laws.registry import ABS_VEHICLE, ABS_WHEEL, Law
+from chassistune.controllers.laws.registry import ABS_VEHICLE, ABS_WHEEL, EcuForm, Law
 from chassistune.controllers.laws.shared import AMPLITUDE
 from chassistune.controllers.specs import ControllerSpec
 
@@ -33,6 +33,20 @@ def kernel_forms() -> tuple[Any, Any]:
     return start, None
 
 
+@functools.cache
+def ecu_step() -> Any:
+    """The law's step in the realistic ECU: the driver's command, its input (amplitude)."""
+    from numba import njit
+
+    from chassistune.controllers.switching import no_abs_command
+
+    @njit(**FORM)
+    def step(state, inputs, params, table, grid):
+        return no_abs_command(inputs[0])
+
+    return step
+
+
 LAW = Law(
     "none",
     (
@@ -42,4 +56,5 @@ LAW = Law(
         ),
     ),
     kernel_forms,
+    ecu=EcuForm(ecu_step, ("amplitude",)),
 )

@@ -13,7 +13,7 @@ from typing import Any
 
 from chassistune.controllers.discrete_laws import LAWS as DISCRETE
 from chassistune.controllers.laws.forms import FORM, gains
-from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, Law
+from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, EcuForm, Law
 from chassistune.controllers.laws.shared import N_FILTER, per_wheel
 from chassistune.controllers.specs import ControllerSpec, GainSpec
 
@@ -116,11 +116,20 @@ def kernel_forms() -> tuple[Any, Any]:
     return start, None
 
 
+def ecu_step() -> Any:
+    """The law\'s step in the realistic ECU: its discrete form
+    (`controllers.discrete.pid_step`)."""
+    from chassistune.controllers.discrete import pid_step
+
+    return pid_step
+
+
 LAW = Law(
     "pid",
     (WHEEL, per_wheel(WHEEL, gains=VEHICLE_GAINS)),
     kernel_forms,
     discrete=DISCRETE["pid"],
+    ecu=EcuForm(ecu_step, DISCRETE["pid"].inputs, ("kp", "kd"), rate=True),
     c=CForm(
         EQUATIONS,
         """\

@@ -39,10 +39,26 @@ class CForm:
 
 
 @dataclass(frozen=True)
+class EcuForm:
+    """A law's form in the realistic ECU (`sim.abs_wheel_ecu_kernel`, docs/ecu.md): `step()`
+    builds its numba step `u = step(state, inputs, params, table, grid)` (the signature of
+    `controllers.discrete`), fed the ECU signals named in `inputs` (`forms.ECU_SIGNALS`) in that
+    order; the parameters named in `scheduled` (of its discrete form's `params`) scale with the
+    speed schedule; `rate`: the command is a pressure rate (three-state valves: a duty pulse),
+    else a switching command."""
+
+    step: Callable[[], Any]
+    inputs: tuple[str, ...]
+    scheduled: tuple[str, ...] = ()
+    rate: bool = False
+
+
+@dataclass(frozen=True)
 class Law:
     """One control law: its specs (one per plant family it runs on), its sampled forms for the
     ideal kernels, its discrete form (what an ECU runs and `export` ships; None without one),
-    its C text and how many outputs it reads from a rule base (0: none).
+    its form in the realistic ECU (None: it does not run there), its C text and how many outputs
+    it reads from a rule base (0: none).
 
     The kernels' forms are numba functions that `forms()` builds on first use (numba is heavy
     to import; the specs are not), `controllers.laws.forms` names their arguments: `start(g,
@@ -57,6 +73,7 @@ class Law:
     forms: Callable[[], tuple[Any, Any]]
     state: tuple[str, ...] = ()
     discrete: DiscreteLaw | None = None
+    ecu: EcuForm | None = None
     c: CForm | None = None
     rulebase_outputs: int = 0
 
@@ -68,6 +85,9 @@ class Law:
 MEMORY = 2
 """Slots of a law's memory in the kernels' lanes (the largest `Law.state`)."""
 
+ECU_INPUTS = 3
+"""Slots of a law's inputs in the ECU kernel's lanes (the most `EcuForm.inputs`)."""
+
 _LAWS: Registry[Law] = Registry("controller")
 _DIGESTS: dict[str, str] = {}
 
@@ -78,6 +98,8 @@ def register(law: Law) -> Law:
         raise ValueError(f"law {law.name!r} declares a spec of another name")
     if len(law.state) > MEMORY:
         raise ValueError(f"law {law.name!r} keeps {len(law.state)} memory slots (at most {MEMORY})")
+    if law.ecu is not None and not 0 < len(law.ecu.inputs) <= ECU_INPUTS:
+        raise ValueError(f"law {law.name!r} reads 1 to {ECU_INPUTS} ECU inputs")
     _LAWS.register(law.name, law)
     module = inspect.getmodule(law.forms)
     source = inspect.getsource(module) if module is not None else law.name

@@ -9,7 +9,7 @@ from typing import Any
 
 from chassistune.controllers.discrete_laws import LAWS as DISCRETE
 from chassistune.controllers.laws import forms as F
-from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, Law
+from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, EcuForm, Law
 from chassistune.controllers.laws.shared import AMPLITUDE, REAR, SAMPLE_PERIOD, per_wheel
 from chassistune.controllers.specs import ControllerSpec, ParamSpec
 
@@ -127,12 +127,21 @@ def kernel_forms() -> tuple[Any, Any]:
     return None, tick
 
 
+def ecu_step() -> Any:
+    """The law\'s step in the realistic ECU: its discrete form
+    (`controllers.discrete.threshold_step`)."""
+    from chassistune.controllers.discrete import threshold_step
+
+    return threshold_step
+
+
 LAW = Law(
     "threshold",
     (WHEEL, per_wheel(WHEEL, params=(*WHEEL.params, REAR))),
     kernel_forms,
     STATE,
     discrete=DISCRETE["threshold"],
+    ecu=EcuForm(ecu_step, DISCRETE["threshold"].inputs),
     c=CForm(
         (
             "- `threshold` (design.md 4's rule-based ABS, the kernel's phases): "
