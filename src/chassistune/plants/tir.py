@@ -69,8 +69,34 @@ class _Entry:
     """The line of the same name in a later section (0: none)."""
 
 
+@dataclass(frozen=True)
+class TirFile:
+    """A TIR file as read: its coefficients, its Magic Formula version, and the names of the
+    coefficients it sets that the equations ignore, and of those it lacks (neutral values)."""
+
+    tire: MagicFormulaTire
+    fittyp: int
+    version: str
+    ignored: tuple[str, ...]
+    absent: tuple[str, ...]
+
+
 def read_tir(path: str, lateral: bool = False) -> MagicFormulaTire:
-    """The MF coefficients of the TIR file at `path` (the lateral ones only if `lateral`)."""
+    """The MF coefficients of the TIR file at `path` (the lateral ones only if `lateral`), with
+    one `TirWarning` each for the ignored and the absent coefficients."""
+    contents = read_tir_file(path, lateral)
+    for names, what in ((contents.ignored, "ignored (camber, pressure, moments, turn slip, ...)"),
+                        (contents.absent, "absent, their neutral values used")):  # fmt: skip
+        if names:
+            warnings.warn(
+                TirWarning(f"{path}: {len(names)} coefficients {what}: {' '.join(names)}"),
+                stacklevel=2,
+            )
+    return contents.tire
+
+
+def read_tir_file(path: str, lateral: bool = False) -> TirFile:
+    """The TIR file at `path` as read, without warnings (`read_tir` gives them)."""
     try:
         with open(path, encoding="utf-8", errors="replace") as fh:
             lines = fh.read().splitlines()
@@ -118,14 +144,8 @@ def read_tir(path: str, lateral: bool = False) -> MagicFormulaTire:
         and not (name in LATERAL_ONLY and not lateral)
         and entry.value != neutral(name)
     )
-    for names, what in ((ignored, "ignored (camber, pressure, moments, turn slip, ...)"),
-                        (absent, "absent, their neutral values used")):  # fmt: skip
-        if names:
-            warnings.warn(
-                TirWarning(f"{path}: {len(names)} coefficients {what}: {' '.join(names)}"),
-                stacklevel=2,
-            )
-    return tire
+    version = FITTYP_VERSIONS[int(fittyp)]
+    return TirFile(tire, int(fittyp), version, tuple(ignored), tuple(absent))
 
 
 def _si_factor(name: str, length_m: float, force_n: float) -> float:
