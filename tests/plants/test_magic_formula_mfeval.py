@@ -16,6 +16,8 @@ import numpy as np
 import pytest
 
 from chassistune.plants import magic_formula as mf
+from chassistune.plants.mf_arrays import forces_n
+from chassistune.plants.mf_coefficients import MagicFormulaTire
 from chassistune.plants.mf_relaxation import longitudinal_relaxation_length_m
 from chassistune.plants.tir import read_tir
 
@@ -32,26 +34,41 @@ def rows(tyre: str) -> list[dict[str, float]]:
         ]
 
 
-def coefficients(tyre: str) -> np.ndarray:
+def read(tyre: str) -> MagicFormulaTire:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # camber, pressure and moment terms: ignored
-        return read_tir(str(DATA / f"{tyre}.tir"), lateral=True).kernel_array()
+        return read_tir(str(DATA / f"{tyre}.tir"), lateral=True)
+
+
+def coefficients(tyre: str) -> np.ndarray:
+    return read(tyre).kernel_array()
 
 
 @pytest.mark.parametrize(
     ("tyre", "n_rows"), [("MagicFormula61_Parameters", 81), ("HMMWV_Pac02Tire", 10)]
 )
 def test_forces_equal_mfeval(tyre: str, n_rows: int) -> None:
-    c = coefficients(tyre)
     points = rows(tyre)
     assert len(points) == n_rows
-    worst_x = worst_y = 0.0
-    for p in points:
-        fz, kappa, alpha = p["fz_n"], p["kappa"], math.tan(p["alpha_rad"])
-        worst_x = max(worst_x, abs(mf.longitudinal_force_n(c, kappa, alpha, fz) - p["fx_n"]) / fz)
-        worst_y = max(worst_y, abs(mf.lateral_force_n(c, kappa, alpha, fz) - p["fy_n"]) / fz)
-    assert worst_x <= REL_TOL
-    assert worst_y <= REL_TOL
+    fz, kappa, alpha, fx, fy = (
+        np.array([p[k] for p in points]) for k in ("fz_n", "kappa", "alpha_rad", "fx_n", "fy_n")
+    )
+    ours_x, ours_y = forces_n(read(tyre), kappa, np.tan(alpha), fz)
+    assert np.max(np.abs(ours_x - fx) / fz) <= REL_TOL
+    assert np.max(np.abs(ours_y - fy) / fz) <= REL_TOL
+
+
+def test_the_array_forces_are_the_scalar_functions_bit_for_bit() -> None:
+    tire = read("MagicFormula61_Parameters")
+    c = tire.kernel_array()
+    kappa = np.linspace(-1.0, 1.0, 21)[:, None]
+    alpha = np.linspace(-0.4, 0.4, 9)[None, :]
+    fx, fy = forces_n(tire, kappa, alpha, 5000.0)
+    assert fx.shape == fy.shape == (21, 9)
+    for i, k in enumerate(kappa[:, 0]):
+        for j, a in enumerate(alpha[0]):
+            assert fx[i, j] == mf.longitudinal_force_n(c, k, a, 5000.0)
+            assert fy[i, j] == mf.lateral_force_n(c, k, a, 5000.0)
 
 
 @pytest.mark.parametrize("tyre", ["MagicFormula61_Parameters", "HMMWV_Pac02Tire"])
