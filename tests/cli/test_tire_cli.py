@@ -41,6 +41,22 @@ def test_an_mf61_file_with_lateral_coefficients(cli) -> None:
     assert "ignored (80): PDX3 " in r.out and "absent, neutral values used (0): -" in r.out
 
 
+def test_a_file_named_like_a_field_is_named_as_given(
+    cli, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """`params.tir` is a file, not the parameter `tir` (`cli_field` leaves a file's line alone)."""
+    monkeypatch.chdir(tmp_path)
+    Path("params.tir").write_text(SAMPLE.replace("PDX1                     = 1.1739", "PDX1 = x"))
+    r = cli("tire", "params.tir")
+    assert r.code == 2
+    assert r.err.startswith(f"chassistune: error: params.tir:{line_of(SAMPLE, 'PDX1')}: PDX1 = ")
+    r = cli("tire", "absent.tir")
+    assert r.code == 2
+    assert (
+        r.err == "chassistune: error: tire: cannot read 'absent.tir': No such file or directory\n"
+    )
+
+
 @pytest.mark.parametrize(
     ("edit", "bad_line", "problem"),
     [

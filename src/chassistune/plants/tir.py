@@ -101,7 +101,7 @@ def read_tir_file(path: str, lateral: bool = False) -> TirFile:
         with open(path, encoding="utf-8", errors="replace") as fh:
             lines = fh.read().splitlines()
     except OSError as exc:
-        raise InputError(path, f"cannot read: {exc.strerror or exc}") from None
+        raise InputError("tire", f"cannot read {path!r}: {exc.strerror or exc}") from None
     entries, sections = _parse(path, lines)
     end = f"{path}:{len(lines)}"
     for section in (*REQUIRED_SECTIONS, *(("LATERAL_COEFFICIENTS",) if lateral else ())):
