@@ -19,6 +19,7 @@ from chassistune.cli.common import cli_field
         ("out", "export", "--out"),
         ("params.ecu_ts_s", "export", "--param ecu_ts_s"),
         ("bounds.kp", "tune", "bounds.kp"),  # no command-line word: the path itself
+        ("params.tir:12", "tire", "params.tir:12"),  # a file's line, not a field
     ],
 )
 def test_field_paths_become_the_commands_words(field: str, command: str | None, words: str) -> None:

@@ -23,6 +23,7 @@ COMMANDS = {
     "reproduce",
     "warmup",
     "bbob",
+    "tire",
 }
 
 PROBE = """

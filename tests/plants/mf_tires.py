@@ -10,6 +10,7 @@ from chassistune.plants.mf_coefficients import MagicFormulaTire, neutral, tir_na
 from chassistune.plants.tir import read_tir
 
 SAMPLE_TIR = str(files("chassistune") / "data" / "tires" / "commonroad_pac2002.tir")
+CHRONO_TIR = str(files("chassistune") / "data" / "tires" / "chrono_185_80R14_pac2002.tir")
 
 
 def sample_tire() -> MagicFormulaTire:
@@ -17,6 +18,13 @@ def sample_tire() -> MagicFormulaTire:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return read_tir(SAMPLE_TIR)
+
+
+def chrono_tire() -> MagicFormulaTire:
+    """The shipped Project Chrono 185/80 R14 (PAC2002, load terms, lateral coefficients)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return read_tir(CHRONO_TIR, lateral=True)
 
 
 def neutral_tire(**values: float) -> MagicFormulaTire:

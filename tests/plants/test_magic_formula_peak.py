@@ -7,14 +7,14 @@ import math
 
 import numpy as np
 import pytest
-from mf_tires import load_sensitive_tire, sample_tire
+from mf_tires import chrono_tire, load_sensitive_tire, sample_tire
 from scipy.optimize import minimize_scalar
 
 from chassistune.plants import magic_formula as mf
 from chassistune.plants.mf_peak import braking_friction_peak, braking_peak, scaled_to_road
 
 LOADS_N = (1000.0, 4000.0, 7000.0)
-TIRES = {"sample": sample_tire, "load-sensitive": load_sensitive_tire}
+TIRES = {"sample": sample_tire, "load-sensitive": load_sensitive_tire, "chrono": chrono_tire}
 
 
 def brute_force_peak(c: np.ndarray, fz_n: float) -> tuple[float, float]:
@@ -61,9 +61,10 @@ def test_longitudinal_slope_at_zero_shifted_slip_is_kx(name: str, fz_n: float) -
     assert slope == pytest.approx(kx, rel=1e-6)
 
 
+@pytest.mark.parametrize("name", ["load-sensitive", "chrono"])
 @pytest.mark.parametrize("fz_n", LOADS_N)
-def test_lateral_slope_at_zero_shifted_slip_is_ky(fz_n: float) -> None:
-    tire = load_sensitive_tire()
+def test_lateral_slope_at_zero_shifted_slip_is_ky(name: str, fz_n: float) -> None:
+    tire = TIRES[name]()
     c = tire.kernel_array()
     fz0 = tire.fnomin_n * tire.lfzo
     dfz = (fz_n - fz0) / fz0

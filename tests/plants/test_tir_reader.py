@@ -138,3 +138,30 @@ def test_other_malformed_files(tmp_path: Path, edit: tuple[str, str], problem: s
     path = write(tmp_path, SAMPLE.replace(*edit))
     message = refused(path)
     assert message.startswith(f"{path}:") and problem in message
+
+
+def test_a_pac2002_file_without_fittyp_is_mf52_and_names_may_recur_across_sections(
+    tmp_path: Path,
+) -> None:
+    text = SAMPLE.replace("FITTYP                   = 6                $ MF 5.2 / PAC2002",
+                          "PROPERTY_FILE_FORMAT = 'PAC2002'")  # fmt: skip
+    text = text.replace("[VERTICAL]\n", "[INERTIA]\nMASS = 9.3\n[VERTICAL]\n")  # and in [UNITS]
+    tire, _ = read_recording(write(tmp_path, text))
+    assert tire == read_recording(SAMPLE_TIR)[0]
+
+
+def test_an_unknown_property_file_format_without_fittyp(tmp_path: Path) -> None:
+    text = SAMPLE.replace("FITTYP                   = 6                $ MF 5.2 / PAC2002",
+                          "PROPERTY_FILE_FORMAT = 'MF_TYRE_99'")  # fmt: skip
+    path = write(tmp_path, text)
+    message = refused(path)
+    assert message.startswith(f"{path}:{line_of(SAMPLE, 'FITTYP')}: ")
+    assert "PROPERTY_FILE_FORMAT" in message and "MF_TYRE_99" in message
+
+
+def test_a_force_coefficient_in_two_sections(tmp_path: Path) -> None:
+    text = SAMPLE.replace("[LATERAL_COEFFICIENTS]\n", "[LATERAL_COEFFICIENTS]\nPKX1 = 20\n")
+    path = write(tmp_path, text)
+    message = refused(path)
+    assert message.startswith(f"{path}:{line_of(text, 'PKX1 = 20')}: ")
+    assert f"first on line {line_of(SAMPLE, 'PKX1')}" in message

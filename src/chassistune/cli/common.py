@@ -52,10 +52,11 @@ _COMMAND_FLAGS = {"export": {"plant": "--plant"}}
 def cli_field(field: str, command: str | None = None) -> str:
     """The command-line words for a domain field path (the one mapping): `params.v0_m_s` ->
     `--param v0_m_s`, `gains.kp` -> `--gains kp`, `roads` -> `--road`, `plant` -> `PLANT` (or
-    `--plant` in the command `export`); others unchanged."""
+    `--plant` in the command `export`); others unchanged, among them a file's location such as
+    `params.tir:12` (its tail is no field name)."""
     head, dot, rest = field.partition(".")
     flag = _COMMAND_FLAGS.get(command or "", {}).get(head) or _FLAGS.get(head)
-    if flag is None:
+    if flag is None or (dot and not all(name.isidentifier() for name in rest.split("."))):
         return field
     return f"{flag} {rest}" if dot else flag
 

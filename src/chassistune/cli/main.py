@@ -25,6 +25,7 @@ from chassistune.cli.optimize import optimize_command
 from chassistune.cli.reproduce import reproduce_command
 from chassistune.cli.simulate import simulate_command
 from chassistune.cli.study import study_group
+from chassistune.cli.tire import tire_command
 from chassistune.cli.tune import tune_command
 from chassistune.cli.warmup import warmup_command
 from chassistune.errors import InputError
@@ -53,6 +54,7 @@ for _command in (
     reproduce_command,
     warmup_command,
     bbob_command,
+    tire_command,
 ):
     cli.add_command(_command)
 

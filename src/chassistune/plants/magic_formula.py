@@ -1,5 +1,5 @@
 """Magic Formula 6.1 tire forces (Pacejka, "Tire and Vehicle Dynamics", 3rd ed., 2012, sec. 4.3.2,
-eqs. 4.E1-4.E67) at zero camber, without turn slip, at the nominal inflation pressure.
+eqs. 4.E1-4.E30, 4.E50-4.E67) at zero camber, without turn slip, at the nominal inflation pressure.
 
 Scalar, compiled, inlined functions of the coefficient array `c` (`MagicFormulaTire.kernel_array`),
 the longitudinal slip kappa (positive when driving), the lateral slip alpha* = tan(alpha) and the

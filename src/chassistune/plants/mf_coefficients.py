@@ -20,7 +20,7 @@ import numpy as np
 @dataclass(frozen=True)
 class MagicFormulaTire:
     """MF 6.1 coefficients for longitudinal, lateral and combined slip at zero camber, no turn
-    slip and nominal inflation pressure (Pacejka 2012, eqs. 4.E1-4.E67)."""
+    slip and nominal inflation pressure (Pacejka 2012, eqs. 4.E1-4.E30, 4.E50-4.E67)."""
 
     fnomin_n: float
     unloaded_radius_m: float

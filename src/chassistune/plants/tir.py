@@ -4,13 +4,16 @@ The format: `[SECTION]` headers; `NAME = value` lines, the value a number or a q
 comments from `$` or `!` to the end of the line; `{...}` headers opening tables of bare numbers
 (read over). `[UNITS]` names the length and force units (converted to SI); angles must be
 radians. `[MODEL] FITTYP` names the Magic Formula version: 61 (MF 6.1), or 6 and 21 (MF 5.2 /
-PAC2002, whose force equations at zero camber and nominal pressure are 6.1's with PKY4 = 2).
+PAC2002, whose force equations at zero camber and nominal pressure are 6.1's with PKY4 = 2); a
+file without FITTYP whose `PROPERTY_FILE_FORMAT` is 'PAC2002' (as Adams and Project Chrono write
+them) is MF 5.2. A name may recur in another section (MASS in [UNITS] and [INERTIA]) unless the
+forces read it.
 
 Refused (InputError "FILE:LINE: problem", no warnings): a malformed line, a non-numeric value, a
-duplicate name, an unknown version or unit, a missing required section or coefficient, a
-negative or inverted load range. Accepted files warn once (`TirWarning`) about the coefficients
-they set that our equations ignore, and once about the coefficients they lack, which take their
-neutral values (`mf_coefficients.neutral`).
+name given twice in a section (or in two, for a coefficient the forces read), an unknown version
+or unit, a missing required section or coefficient, a negative or inverted load range. Accepted
+files warn once (`TirWarning`) about the coefficients they set that our equations ignore, and
+once about the coefficients they lack, which take their neutral values (`mf_coefficients.neutral`).
 """
 
 from __future__ import annotations
@@ -32,6 +35,9 @@ from chassistune.plants.mf_coefficients import (
 
 FITTYP_VERSIONS = {61: "MF 6.1", 6: "MF 5.2", 21: "MF 5.2"}
 """FITTYP values accepted, and the version each names (all evaluated by the MF 6.1 equations)."""
+
+FORMAT_FITTYP = {"PAC2002": 6}
+"""The FITTYP a file without one has, by its PROPERTY_FILE_FORMAT."""
 
 LENGTH_UNITS_M = {"meter": 1.0, "m": 1.0, "mm": 1e-3, "millimeter": 1e-3, "cm": 1e-2,
                   "centimeter": 1e-2, "inch": 0.0254, "in": 0.0254}  # fmt: skip
@@ -59,21 +65,49 @@ class _Entry:
     value: float | str
     line: int
     section: str
+    repeated_at: int = 0
+    """The line of the same name in a later section (0: none)."""
+
+
+@dataclass(frozen=True)
+class TirFile:
+    """A TIR file as read: its coefficients, its Magic Formula version, and the names of the
+    coefficients it sets that the equations ignore, and of those it lacks (neutral values)."""
+
+    tire: MagicFormulaTire
+    fittyp: int
+    version: str
+    ignored: tuple[str, ...]
+    absent: tuple[str, ...]
 
 
 def read_tir(path: str, lateral: bool = False) -> MagicFormulaTire:
-    """The MF coefficients of the TIR file at `path` (the lateral ones only if `lateral`)."""
+    """The MF coefficients of the TIR file at `path` (the lateral ones only if `lateral`), with
+    one `TirWarning` each for the ignored and the absent coefficients."""
+    contents = read_tir_file(path, lateral)
+    for names, what in ((contents.ignored, "ignored (camber, pressure, moments, turn slip, ...)"),
+                        (contents.absent, "absent, their neutral values used")):  # fmt: skip
+        if names:
+            warnings.warn(
+                TirWarning(f"{path}: {len(names)} coefficients {what}: {' '.join(names)}"),
+                stacklevel=2,
+            )
+    return contents.tire
+
+
+def read_tir_file(path: str, lateral: bool = False) -> TirFile:
+    """The TIR file at `path` as read, without warnings (`read_tir` gives them)."""
     try:
         with open(path, encoding="utf-8", errors="replace") as fh:
             lines = fh.read().splitlines()
     except OSError as exc:
-        raise InputError(path, f"cannot read: {exc.strerror or exc}") from None
+        raise InputError("tire", f"cannot read {path!r}: {exc.strerror or exc}") from None
     entries, sections = _parse(path, lines)
     end = f"{path}:{len(lines)}"
     for section in (*REQUIRED_SECTIONS, *(("LATERAL_COEFFICIENTS",) if lateral else ())):
         if section not in sections:
             raise InputError(end, f"end of file without a [{section}] section")
-    fittyp = _number(path, entries, "FITTYP", end)
+    fittyp = _version(path, entries, end)
     if fittyp not in FITTYP_VERSIONS:
         known = ", ".join(f"{k} ({v})" for k, v in FITTYP_VERSIONS.items())
         raise InputError(_at(path, entries["FITTYP"]), f"FITTYP = {fittyp:g} is not a Magic "
@@ -90,6 +124,7 @@ def read_tir(path: str, lateral: bool = False) -> MagicFormulaTire:
             values[f.name] = neutral(name)
             continue
         read.add(name)
+        _check_unique(path, entries, name)
         if name == "PKY4" and mf52:
             values[f.name] = neutral(name)  # MF 5.2's constant 2
         elif name in entries:
@@ -109,14 +144,8 @@ def read_tir(path: str, lateral: bool = False) -> MagicFormulaTire:
         and not (name in LATERAL_ONLY and not lateral)
         and entry.value != neutral(name)
     )
-    for names, what in ((ignored, "ignored (camber, pressure, moments, turn slip, ...)"),
-                        (absent, "absent, their neutral values used")):  # fmt: skip
-        if names:
-            warnings.warn(
-                TirWarning(f"{path}: {len(names)} coefficients {what}: {' '.join(names)}"),
-                stacklevel=2,
-            )
-    return tire
+    version = FITTYP_VERSIONS[int(fittyp)]
+    return TirFile(tire, int(fittyp), version, tuple(ignored), tuple(absent))
 
 
 def _si_factor(name: str, length_m: float, force_n: float) -> float:
@@ -163,11 +192,37 @@ def _parse(path: str, lines: list[str]) -> tuple[dict[str, _Entry], set[str]]:
             raise InputError(where, f"{name} before the first [SECTION] header")
         if not name.replace("_", "").isalnum():
             raise InputError(where, f"malformed name {name!r}")
-        if name in entries:
-            first = entries[name].line
-            raise InputError(where, f"{name} given twice (first on line {first})")
-        entries[name] = _Entry(_value(where, name, value.strip()), number, section)
+        entry = _Entry(_value(where, name, value.strip()), number, section)
+        first = entries.get(name)
+        if first is None:
+            entries[name] = entry
+        elif first.section == section:
+            raise InputError(where, f"{name} given twice (first on line {first.line})")
+        elif not first.repeated_at:
+            entries[name] = dataclasses.replace(first, repeated_at=number)
     return entries, sections
+
+
+def _check_unique(path: str, entries: dict[str, _Entry], name: str) -> None:
+    """InputError if `name`, which the forces read, is given in two sections."""
+    entry = entries.get(name)
+    if entry is not None and entry.repeated_at:
+        raise InputError(f"{path}:{entry.repeated_at}", f"{name} given again in another section "
+                         f"(first on line {entry.line}, in [{entry.section}])")  # fmt: skip
+
+
+def _version(path: str, entries: dict[str, _Entry], end: str) -> float:
+    """FITTYP, or the one PROPERTY_FILE_FORMAT implies when FITTYP is absent."""
+    file_format = entries.get("PROPERTY_FILE_FORMAT")
+    if "FITTYP" not in entries and file_format is not None:
+        fittyp = FORMAT_FITTYP.get(str(file_format.value).strip().upper())
+        if fittyp is None:
+            known = ", ".join(FORMAT_FITTYP)
+            raise InputError(_at(path, file_format), f"no FITTYP, and PROPERTY_FILE_FORMAT = "
+                             f"{file_format.value!r} names no Magic Formula version read here "
+                             f"(known: {known})")  # fmt: skip
+        return float(fittyp)
+    return _number(path, entries, "FITTYP", end)
 
 
 def _strip_comment(line: str) -> str:
