@@ -37,10 +37,11 @@ Measured (tests/controllers/test_slip_mpc_qp.py: 60 random instances per horizon
 the MPC law's own QPs, half generic): `ITERATIONS_MEASURED` iterations with `POLISH_STEPS`
 polish steps bring every instance within 1e-8 (in units of its largest move limit; the largest
 absolute error 1.4e-8 pressure units on moves of up to 100) of the exact solution (an active-set
-enumeration in the test); `IPM_ITERATIONS` keeps a margin. One N = 5 solve costs about
-`NS_PER_SOLVE` ns (numba, one core of the shared 2-core test machine, called from Python: most
-of it is the small arrays each solve allocates; an allocation-free form for the kernels is
-left to the law's kernel form).
+enumeration in the test); `IPM_ITERATIONS` keeps a margin. One N = 5 solve with those counts
+costs about `NS_PER_SOLVE` ns inside compiled code (N = 1: about 6,000 ns), measured on the
+shared 2-core test machine under a load of 5, so an idle core needs perhaps half: mostly the
+divisions of the slack and multiplier updates. The caller allocates the scratch once
+(`scratch`); a solve allocates nothing and makes no array view in its loop.
 """
 
 from __future__ import annotations
@@ -57,8 +58,8 @@ POLISH_STEPS = 2
 """Augmented-Lagrangian steps of the polish on the identified active set."""
 ITERATIONS_MEASURED = 16
 """The fewest iterations (with POLISH_STEPS) that met 1e-8 on every instance of the test."""
-NS_PER_SOLVE = 50_000.0
-"""Measured cost of one N = 5 solve with IPM_ITERATIONS, ns."""
+NS_PER_SOLVE = 26_000.0
+"""Measured cost of one N = 5 solve with IPM_ITERATIONS inside compiled code, ns."""
 
 MU_FLOOR = 1e-12
 """Smallest complementarity target (scaled units): the iterates settle on the central path at
@@ -71,7 +72,41 @@ POLISH_RHO = 1e6
 """Penalty of the polish (scaled units: the largest entry of H is 1)."""
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+(
+    V_F,
+    V_BASE,
+    V_DX,
+    V_X,
+    V_RHS,
+    V_Y,
+    V_LO,
+    V_HI,
+    V_SU,
+    V_SL,
+    V_LU,
+    V_LL,
+    V_DSU,
+    V_DSL,
+    V_DLU,
+    V_DLL,
+    V_TU,
+    V_TL,
+    V_CX,
+    V_W,
+    V_ROWS_RHS,
+    V_NU,
+    V_BOUND,
+    N_VECTORS,
+) = range(24)
+"""Rows of the vector scratch `vec` (each 2N long; the first six use N)."""
+
+
+def scratch(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The scratch of one solve of horizon n: (mat, vec), allocated once by the caller."""
+    return np.empty((3, n, n)), np.empty((N_VECTORS, 2 * n))
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def clamp(x: float, lo: float, hi: float) -> float:  # pragma: no cover - compiled
     """x clamped into [lo, hi] (hi wins if lo > hi)."""
     return min(max(x, lo), hi)
@@ -86,43 +121,43 @@ def horizon1_move(
     return clamp(-f / h, max(move_lo, -q0), min(move_hi, q_max - q0))
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
-def _cholesky_solve(k: np.ndarray, rhs: np.ndarray, out: np.ndarray) -> None:  # pragma: no cover
-    """out = k^-1 rhs for a small symmetric positive definite k (k = R'R, two triangular solves),
-    the operation order fixed by the size."""
-    n = k.shape[0]
-    r = np.zeros((n, n))
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _cholesky_solve(
+    mat: np.ndarray, vec: np.ndarray, n: int, out: np.ndarray
+) -> None:  # pragma: no cover - compiled
+    """out = K^-1 rhs for the small symmetric positive definite K = mat[1] (K = R'R, R in mat[2],
+    two triangular solves through vec[V_Y]) and rhs = vec[V_RHS], the operation order fixed by
+    the size. Indexes the scratch directly: no array view is made in the loop."""
     for j in range(n):
-        d = k[j, j]
+        d = mat[1, j, j]
         for i in range(j):
-            d -= r[i, j] * r[i, j]
+            d -= mat[2, i, j] * mat[2, i, j]
         d = np.sqrt(d)
-        r[j, j] = d
+        mat[2, j, j] = d
         for i in range(j + 1, n):
-            s = k[j, i]
+            s = mat[1, j, i]
             for m in range(j):
-                s -= r[m, j] * r[m, i]
-            r[j, i] = s / d
-    y = np.empty(n)
+                s -= mat[2, m, j] * mat[2, m, i]
+            mat[2, j, i] = s / d
     for i in range(n):
-        s = rhs[i]
+        s = vec[V_RHS, i]
         for m in range(i):
-            s -= r[m, i] * y[m]
-        y[i] = s / r[i, i]
+            s -= mat[2, m, i] * vec[V_Y, m]
+        vec[V_Y, i] = s / mat[2, i, i]
     for i in range(n - 1, -1, -1):
-        s = y[i]
+        s = vec[V_Y, i]
         for m in range(i + 1, n):
-            s -= r[i, m] * out[m]
-        out[i] = s / r[i, i]
+            s -= mat[2, i, m] * out[m]
+        out[i] = s / mat[2, i, i]
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _span(row: int, n: int) -> tuple[int, int]:  # pragma: no cover - compiled
     """The variables row `row` of C = [I; L] sums: (first, last) inclusive."""
     return (row, row) if row < n else (0, row - n)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _row_value(row: int, n: int, z: np.ndarray) -> float:  # pragma: no cover - compiled
     """C_row z."""
     first, last = _span(row, n)
@@ -132,24 +167,32 @@ def _row_value(row: int, n: int, z: np.ndarray) -> float:  # pragma: no cover - 
     return s
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _weighted_solve(
-    h: np.ndarray, w: np.ndarray, rows_rhs: np.ndarray, base: np.ndarray, out: np.ndarray
+    n: int,
+    w: np.ndarray,
+    rows_rhs: np.ndarray,
+    base: np.ndarray,
+    out: np.ndarray,
+    mat: np.ndarray,
+    vec: np.ndarray,
 ) -> None:  # pragma: no cover - compiled
-    """out = (H + sum_r w_r C_r' C_r)^-1 (base - sum_r C_r' rows_rhs_r)."""
-    n = base.shape[0]
-    k = h.copy()
-    rhs = base.copy()
+    """out = (H + sum_r w_r C_r' C_r)^-1 (base - sum_r C_r' rows_rhs_r) with H = mat[0]; the
+    matrix is formed in mat[1], the right-hand side in vec[V_RHS]."""
+    for a in range(n):
+        vec[V_RHS, a] = base[a]
+        for b in range(n):
+            mat[1, a, b] = mat[0, a, b]
     for row in range(2 * n):
         first, last = _span(row, n)
         for a in range(first, last + 1):
-            rhs[a] -= rows_rhs[row]
+            vec[V_RHS, a] -= rows_rhs[row]
             for b in range(first, last + 1):
-                k[a, b] += w[row]
-    _cholesky_solve(k, rhs, out)
+                mat[1, a, b] += w[row]
+    _cholesky_solve(mat, vec, n, out)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _longest_step(x: float, dx: float, a: float) -> float:  # pragma: no cover - compiled
     """min(a, the step that takes x > 0 to 0 along dx)."""
     return min(a, -x / dx if dx < 0.0 else a)
@@ -179,10 +222,12 @@ def solve_moves(
     iterations: int,
     polish_steps: int,
     z: np.ndarray,
+    mat: np.ndarray,
+    vec: np.ndarray,
 ) -> None:  # pragma: no cover - compiled
     """Writes into z (length N) the QP's moves: `iterations` predictor-corrector steps, then
     `polish_steps` of the polish, then the clamp (module docstring). h: N x N positive definite;
-    f, move_lo, move_hi: length N."""
+    f, move_lo, move_hi: length N; mat, vec: the scratch of `scratch(N)` (no allocation here)."""
     n = f.shape[0]
     m = 2 * n
     # scale: moves in units of the largest move limit, the cost so that max |H| = 1
@@ -192,29 +237,31 @@ def solve_moves(
         scale = max(scale, abs(move_lo[j]), abs(move_hi[j]))
         for k in range(n):
             hmax = max(hmax, abs(h[j, k]))
-    hs = h * (1.0 / hmax)
-    fs = f * (1.0 / (hmax * scale))
-    lo = np.empty(m)
-    hi = np.empty(m)
+    hs = mat[0]
+    fs, base, dx, x = vec[V_F, :n], vec[V_BASE, :n], vec[V_DX, :n], vec[V_X, :n]
+    lo, hi, su, sl, lu, ll = vec[V_LO], vec[V_HI], vec[V_SU], vec[V_SL], vec[V_LU], vec[V_LL]
+    dsu, dsl, dlu, dll = vec[V_DSU], vec[V_DSL], vec[V_DLU], vec[V_DLL]
+    tu, tl = vec[V_TU], vec[V_TL]  # complementarity right-hand sides
+    cx, w, rows_rhs = vec[V_CX], vec[V_W], vec[V_ROWS_RHS]
+    nu, bound = vec[V_NU], vec[V_BOUND]
+    for j in range(n):
+        fs[j] = f[j] * (1.0 / (hmax * scale))
+        for k in range(n):
+            hs[j, k] = h[j, k] * (1.0 / hmax)
     for j in range(n):
         lo[j], hi[j] = move_lo[j] / scale, move_hi[j] / scale
         lo[n + j], hi[n + j] = -q0 / scale, (q_max - q0) / scale
     # start at x = 0 (feasible when move_lo <= 0 <= move_hi and 0 <= q0 <= q_max), slacks its
     # distances to the bounds (at least START_SLACK), multipliers on the central path at mu0
-    x = np.zeros(n)
+    x[:] = 0.0
     mu0 = 1.0
     for j in range(n):
         mu0 = max(mu0, abs(fs[j]))
-    su, sl, lu, ll = np.empty(m), np.empty(m), np.empty(m), np.empty(m)
     for row in range(m):
         su[row] = max(hi[row], START_SLACK)
         sl[row] = max(-lo[row], START_SLACK)
         lu[row] = mu0 / su[row]
         ll[row] = mu0 / sl[row]
-    dsu, dsl, dlu, dll = np.empty(m), np.empty(m), np.empty(m), np.empty(m)
-    tu, tl = np.empty(m), np.empty(m)  # complementarity right-hand sides
-    cx, w, rows_rhs = np.empty(m), np.empty(m), np.empty(m)
-    base, dx = np.empty(n), np.empty(n)
     for _ in range(iterations):
         # residuals: dual rd = H x + f + C'(lu - ll); primal rpu = Cx + su - hi, rpl = lo - Cx + sl
         for a in range(n):
@@ -240,7 +287,7 @@ def solve_moves(
                 rpl = lo[row] - cx[row] + sl[row]
                 w[row] = wu + wl
                 rows_rhs[row] = tu[row] / su[row] + wu * rpu - tl[row] / sl[row] - wl * rpl
-            _weighted_solve(hs, w, rows_rhs, base, dx)
+            _weighted_solve(n, w, rows_rhs, base, dx, mat, vec)
             step = 1.0
             for row in range(m):
                 cd = _row_value(row, n, dx)
@@ -271,8 +318,6 @@ def solve_moves(
             ll[row] += step * dll[row]
     # polish: the rows whose multiplier exceeds their slack are active at their bound; on them,
     # augmented-Lagrangian steps reach the equality-constrained minimiser
-    nu = np.empty(m)
-    bound = np.empty(m)
     for row in range(m):
         up = lu[row] > su[row]
         down = ll[row] > sl[row]
@@ -284,7 +329,7 @@ def solve_moves(
             base[a] = -fs[a]
         for row in range(m):
             rows_rhs[row] = w[row] * (nu[row] / POLISH_RHO - bound[row])
-        _weighted_solve(hs, w, rows_rhs, base, x)
+        _weighted_solve(n, w, rows_rhs, base, x, mat, vec)
         for row in range(m):
             nu[row] += w[row] * (_row_value(row, n, x) - bound[row])
     for j in range(n):
