@@ -12,7 +12,7 @@ convergence, no early exit, only selects (min, max, a ? b : c) on the data.
 
 1. Scaling: moves in units of the largest move limit, the cost divided so that max |H| = 1.
 2. `iterations` steps of Mehrotra's predictor-corrector interior-point method (Nocedal and
-   Wright, "Numerical Optimization", 2nd ed., Springer 2006, algorithm 16.4 for QPs; the fixed
+   Wright, "Numerical Optimization", 2nd ed., Springer 2006, section 16.6 for QPs; the fixed
    iteration count as in Wang and Boyd, "Fast model predictive control using online
    optimization", IEEE Trans. Control Syst. Technol. 18(2), 2010): slacks su = u - Cz,
    sl = Cz - l and multipliers lu, ll, started at z = 0 (feasible for move_lo <= 0 <= move_hi,
@@ -39,8 +39,8 @@ polish steps bring every instance within 1e-8 (in units of its largest move limi
 absolute error 1.4e-8 pressure units on moves of up to 100) of the exact solution (an active-set
 enumeration in the test); `IPM_ITERATIONS` keeps a margin. One N = 5 solve with those counts
 costs about `NS_PER_SOLVE` ns inside compiled code (N = 1: about 6,000 ns), measured on the
-shared 2-core test machine under a load of 5, so an idle core needs perhaps half: mostly the
-divisions of the slack and multiplier updates. The caller allocates the scratch once
+shared 2-core test machine under a load of 5 (an idle core was not available to measure on);
+mostly the divisions of the slack and multiplier updates. The caller allocates the scratch once
 (`scratch`); a solve allocates nothing and makes no array view in its loop.
 """
 
@@ -321,7 +321,7 @@ def solve_moves(
     for row in range(m):
         up = lu[row] > su[row]
         down = ll[row] > sl[row]
-        w[row] = POLISH_RHO if up or down else 0.0
+        w[row] = POLISH_RHO if up | down else 0.0
         bound[row] = hi[row] if up else lo[row]
         nu[row] = lu[row] - ll[row]
     for _ in range(polish_steps):
