@@ -3,13 +3,10 @@ scipy's SLSQP on random instances, its constraints, and its horizon-1 closed for
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import pytest
 from literature_laws_reference import mpc_qp
 from literature_laws_reference import qp_by_enumeration as exact
-from numba import njit
 from scipy.optimize import minimize
 
 from chassistune.controllers import slip_mpc_qp as qp
@@ -139,24 +136,3 @@ def test_horizon_one_is_the_clamp() -> None:
         closed = qp.horizon1_move(h[0, 0], f[0], lo[0], hi[0], q0, q_max)
         assert abs(z[0] - closed) <= 1e-9 * (1.0 + abs(closed))
         assert z[0] == pytest.approx(exact(h, f, lo, hi, q0, q_max)[0], abs=1e-9)
-
-
-@njit(nogil=True, error_model="numpy")  # uncached: a cache would not see solve_moves change
-def _repeat(h, f, lo, hi, q0, q_max, reps, z, mat, vec):
-    for _ in range(reps):
-        qp.solve_moves(h, f, lo, hi, q0, q_max, qp.IPM_ITERATIONS, qp.POLISH_STEPS, z, mat, vec)
-
-
-def test_cost_per_solve_is_as_stated() -> None:
-    """The docstring's cost per N = 5 solve (inside compiled code, scratch reused), within a
-    factor 3 (a shared machine)."""
-    cs = instances(5, 20, 3)
-    z = np.empty(5)
-    mat, vec = qp.scratch(5)
-    _repeat(*cs[0], 1, z, mat, vec)
-    reps = 200
-    t0 = time.perf_counter()
-    for case in cs:
-        _repeat(*case, reps, z, mat, vec)
-    ns = (time.perf_counter() - t0) / (reps * len(cs)) * 1e9
-    assert ns < 3.0 * qp.NS_PER_SOLVE

@@ -38,7 +38,7 @@ the MPC law's own QPs, half generic): `ITERATIONS_MEASURED` iterations with `POL
 polish steps bring every instance within 1e-8 (in units of its largest move limit; the largest
 absolute error 1.4e-8 pressure units on moves of up to 100) of the exact solution (an active-set
 enumeration in the test); `IPM_ITERATIONS` keeps a margin. One N = 5 solve with those counts
-costs about `NS_PER_SOLVE` ns inside compiled code (N = 1: about 6,000 ns), measured on the
+costs about 26,000 ns inside compiled code (N = 1: about 6,000 ns), measured on the
 shared 2-core test machine under a load of 5 (an idle core was not available to measure on);
 mostly the divisions of the slack and multiplier updates. The caller allocates the scratch once
 (`scratch`); a solve allocates nothing and makes no array view in its loop.
@@ -58,8 +58,6 @@ POLISH_STEPS = 2
 """Augmented-Lagrangian steps of the polish on the identified active set."""
 ITERATIONS_MEASURED = 16
 """The fewest iterations (with POLISH_STEPS) that met 1e-8 on every instance of the test."""
-NS_PER_SOLVE = 26_000.0
-"""Measured cost of one N = 5 solve with IPM_ITERATIONS inside compiled code, ns."""
 
 MU_FLOOR = 1e-12
 """Smallest complementarity target (scaled units): the iterates settle on the central path at
