@@ -1,10 +1,13 @@
 """How the cost grows (`chassistune bench --only scaling`; not part of the default bench).
 
 - Thread CPU ns per candidate-step on one core against the population (1, 10, 50, 200, 1000):
-  the single-wheel PID (`perf.abs.population_costs`), the 7-DOF vehicle's straight path (the
-  fuzzy PID of `perf.vehicle`, paper-deffao, dry concrete) and the quarter car (the PID of
-  `perf.suspension`, paper-iabc, iso-b, 10 s at 1 ms). Steps: stop time / dt per candidate for
-  the ABS models, duration / dt for the quarter car.
+  the single-wheel PID (`perf.abs.population_costs`), the 7-DOF vehicle (the fuzzy PID and
+  population of `perf.vehicle`, paper-deffao) on its straight path (dry concrete) and on its
+  general path (split-mu with the steering fixed, and with the counter-steering driver), and the
+  quarter car (the PID of `perf.suspension`, paper-iabc, iso-b, 10 s at 1 ms). Steps: stop time /
+  dt per candidate for the ABS models, duration / dt for the quarter car. The general path is
+  timed once at populations of 200 and more (each run takes seconds), the others at best of 3
+  there and of 7 below.
 - A tuning run (DERLSP-AO on the wheel's PID, dry concrete, seed 0, both cores) against the
   population at 100 iterations and against the iterations at population 50: wall time and the
   process's CPU time (both threads).
@@ -30,27 +33,42 @@ from chassistune.tuning.tune import tune
 POPULATIONS = (1, 10, 50, 200, 1000)
 TUNE_POPULATIONS = (10, 50, 200, 1000)
 TUNE_ITERATIONS = (50, 100, 200, 500)
-MODELS = ("abs_wheel", "vehicle_straight", "quarter_car")
+VEHICLE_PATHS = {
+    "vehicle_straight": ("dry-concrete", {}),
+    "vehicle_split_mu": ("split-mu", {}),
+    "vehicle_split_mu_driver": ("split-mu", {"steering": "driver"}),
+}
+"""The vehicle's curves: road and overrides (the last two run on the kernel's general path)."""
+MODELS = ("abs_wheel", *VEHICLE_PATHS, "quarter_car")
 NAME = re.compile(r"scaling_(\w+?)_ns_per_candidate_step_pop_(\d+)")
 TUNE_NAME = re.compile(r"scaling_tune_(wall|cpu)_s_pop_(\d+)_iter_(\d+)")
 
 
-def _ns_per_step(run: Callable[[np.ndarray], object], gains: np.ndarray, steps: float) -> float:
-    """Best thread CPU ns per candidate-step of run(gains) that takes `steps` steps in all."""
+def _ns_per_step(
+    run: Callable[[np.ndarray], object], gains: np.ndarray, steps: float, repeats: int = 0
+) -> float:
+    """Best thread CPU ns per candidate-step of run(gains) that takes `steps` steps in all, over
+    `repeats` runs (0: 3 at a population of 200 and more, else 7)."""
     run(gains[:1])  # compile / load the cache outside the timing
-    return 1e9 * best_cpu_time(lambda: run(gains), 3 if len(gains) >= 200 else 7) / steps
+    repeats = repeats or (3 if len(gains) >= 200 else 7)
+    return 1e9 * best_cpu_time(lambda: run(gains), repeats) / steps
 
 
-def vehicle_costs() -> dict[int, float]:
-    """ns per candidate-step of the vehicle's straight path against the population."""
-    sc = VEHICLE.scenario("paper-deffao", "dry-concrete", "fuzzy-pid")
+def vehicle_costs(path: str) -> dict[int, float]:
+    """ns per candidate-step of the vehicle on one of VEHICLE_PATHS against the population."""
+    road, overrides = VEHICLE_PATHS[path]
+    sc = VEHICLE.scenario("paper-deffao", road, "fuzzy-pid", overrides)
     base = vehicle.bench_population(sc)
+    general = road != "dry-concrete"
     out = {}
     for n in POPULATIONS:
         gains = np.resize(base, (n, base.shape[1]))
         t_stop = sc.raw(gains, workers=1)[:, VK.METRIC_LAYOUT["stop_time_s"]]
         out[n] = _ns_per_step(
-            lambda g: sc.raw(g, workers=1), gains, float(np.sum(t_stop)) / sc.plant_params.dt_s
+            lambda g: sc.raw(g, workers=1),
+            gains,
+            float(np.sum(t_stop)) / sc.plant_params.dt_s,
+            1 if general and n >= 200 else 0,
         )
     return out
 
@@ -86,7 +104,7 @@ def figures(quick: bool = False) -> dict[str, float]:
     """The curves as flat figures (`quick`: the per-step costs only)."""
     costs = {
         "abs_wheel": abs_perf.population_costs(POPULATIONS),
-        "vehicle_straight": vehicle_costs(),
+        **{path: vehicle_costs(path) for path in VEHICLE_PATHS},
         "quarter_car": quarter_car_costs(),
     }
     out = {
