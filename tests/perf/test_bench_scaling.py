@@ -1,6 +1,7 @@
-"""`chassistune bench --plot` draws the scaling sweeps: without `--only scaling` it is refused
-before anything is measured. The sweep measures every model at every population and the tuning
-run at every population and iteration count asked for (shortened here; no speed is asserted)."""
+"""`chassistune bench --plot` draws the scaling sweeps: with `--only` areas that leave them out it
+is refused before anything is measured. The sweep measures every model at every population and
+the tuning run at every population and iteration count asked for (shortened here; no speed is
+asserted)."""
 
 from __future__ import annotations
 

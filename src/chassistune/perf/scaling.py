@@ -1,7 +1,8 @@
-"""How the cost grows (`chassistune bench --only scaling`; not part of the default bench).
+"""How the cost grows (`chassistune bench`'s last area, alone with `--only scaling`).
 
 - Thread CPU ns per candidate-step on one core against the population (1, 10, 50, 200, 1000):
-  the single-wheel PID (`perf.abs.population_costs`), the 7-DOF vehicle (the fuzzy PID and
+  the single-wheel PID (the bench population of `perf.abs`, paper-derlsp-ao, dry concrete),
+  the 7-DOF vehicle (the fuzzy PID and
   population of `perf.vehicle`, paper-deffao) on its straight path (dry concrete) and on its
   general path (split-mu with the steering fixed, and with the counter-steering driver), and the
   quarter car (the PID of `perf.suspension`, paper-iabc, iso-b, 10 s at 1 ms). Steps: stop time /
@@ -26,8 +27,12 @@ from chassistune.perf import abs as abs_perf
 from chassistune.perf import suspension, vehicle
 from chassistune.perf.timing import best_cpu_time
 from chassistune.scenarios.abs_vehicle import PLANT as VEHICLE
+from chassistune.scenarios.abs_vehicle import AbsVehicleScenario
+from chassistune.scenarios.abs_wheel import PLANT as WHEEL
+from chassistune.scenarios.abs_wheel import AbsWheelScenario
 from chassistune.scenarios.quarter_car import PLANT as QUARTER_CAR
 from chassistune.sim import abs_vehicle_kernel as VK
+from chassistune.sim import abs_wheel_layout as KL
 from chassistune.tuning.tune import tune
 
 POPULATIONS = (1, 10, 50, 200, 1000)
@@ -54,23 +59,37 @@ def _ns_per_step(
     return 1e9 * best_cpu_time(lambda: run(gains), repeats) / steps
 
 
-def vehicle_costs(path: str) -> dict[int, float]:
-    """ns per candidate-step of the vehicle on one of VEHICLE_PATHS against the population."""
-    road, overrides = VEHICLE_PATHS[path]
-    sc = VEHICLE.scenario("paper-deffao", road, "fuzzy-pid", overrides)
-    base = vehicle.bench_population(sc)
-    general = road != "dry-concrete"
+def _stop_costs(
+    sc: AbsWheelScenario | AbsVehicleScenario, base: np.ndarray, stop_col: int, repeats_large: int
+) -> dict[int, float]:
+    """ns per candidate-step of an ABS scenario run to v_stop on the `base` gain rows tiled to
+    each population (`repeats_large` timed runs from 200 on; 0: `_ns_per_step`'s default)."""
     out = {}
     for n in POPULATIONS:
         gains = np.resize(base, (n, base.shape[1]))
-        t_stop = sc.raw(gains, workers=1)[:, VK.METRIC_LAYOUT["stop_time_s"]]
+        t_stop = sc.raw(gains, workers=1)[:, stop_col]
         out[n] = _ns_per_step(
             lambda g: sc.raw(g, workers=1),
             gains,
             float(np.sum(t_stop)) / sc.plant_params.dt_s,
-            1 if general and n >= 200 else 0,
+            repeats_large if n >= 200 else 0,
         )
     return out
+
+
+def wheel_costs() -> dict[int, float]:
+    """ns per candidate-step of the single wheel's PID against the population."""
+    sc = WHEEL.scenario("paper-derlsp-ao", "dry-concrete", "pid")
+    return _stop_costs(sc, abs_perf.bench_population(), KL.METRICS["stop_time_s"], 0)
+
+
+def vehicle_costs(path: str) -> dict[int, float]:
+    """ns per candidate-step of the vehicle on one of VEHICLE_PATHS against the population."""
+    road, overrides = VEHICLE_PATHS[path]
+    sc = VEHICLE.scenario("paper-deffao", road, "fuzzy-pid", overrides)
+    general = path != "vehicle_straight"
+    stop_col = VK.METRIC_LAYOUT["stop_time_s"]
+    return _stop_costs(sc, vehicle.bench_population(sc), stop_col, 1 if general else 0)
 
 
 def quarter_car_costs() -> dict[int, float]:
@@ -103,7 +122,7 @@ def tuning_times(pop_size: int, iterations: int) -> tuple[float, float]:
 def figures(quick: bool = False) -> dict[str, float]:
     """The curves as flat figures (`quick`: the per-step costs only)."""
     costs = {
-        "abs_wheel": abs_perf.population_costs(POPULATIONS),
+        "abs_wheel": wheel_costs(),
         **{path: vehicle_costs(path) for path in VEHICLE_PATHS},
         "quarter_car": quarter_car_costs(),
     }

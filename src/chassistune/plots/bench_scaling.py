@@ -1,5 +1,5 @@
 """The bench's scaling curves: cost per candidate-step against population, and a tuning run's
-time against population x iterations (`chassistune bench --only scaling --plot FILE`)."""
+time against population x iterations (`chassistune bench [--only scaling] --plot FILE`)."""
 
 from __future__ import annotations
 
