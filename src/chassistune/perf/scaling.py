@@ -6,9 +6,9 @@
   population of `perf.vehicle`, paper-deffao) on its straight path (dry concrete) and on its
   general path (split-mu with the steering fixed, and with the counter-steering driver), and the
   quarter car (the PID of `perf.suspension`, paper-iabc, iso-b, 10 s at 1 ms). Steps: stop time /
-  dt per candidate for the ABS models, duration / dt for the quarter car. The general path is
-  timed once at populations of 200 and more (each run takes seconds), the others at best of 3
-  there and of 7 below.
+  dt per candidate for the ABS models, duration / dt for the quarter car. Best of 7 timed runs
+  below a population of 200 and of 3 from 200 (`quick`: 3 and 1); the general path once from
+  200 (each run takes seconds).
 - A tuning run (DERLSP-AO on the wheel's PID, dry concrete, seed 0, both cores) against the
   population at 100 iterations and against the iterations at population 50: wall time and the
   process's CPU time (both threads).
@@ -49,21 +49,30 @@ NAME = re.compile(r"scaling_(\w+?)_ns_per_candidate_step_pop_(\d+)")
 TUNE_NAME = re.compile(r"scaling_tune_(wall|cpu)_s_pop_(\d+)_iter_(\d+)")
 
 
+def _repeats(n: int, quick: bool, slow: bool = False) -> int:
+    """Timed runs at population n (see the module docstring; `slow`: the general path)."""
+    if n >= 200:
+        return 1 if quick or slow else 3
+    return 3 if quick else 7
+
+
 def _ns_per_step(
-    run: Callable[[np.ndarray], object], gains: np.ndarray, steps: float, repeats: int = 0
+    run: Callable[[np.ndarray], object], gains: np.ndarray, steps: float, repeats: int
 ) -> float:
-    """Best thread CPU ns per candidate-step of run(gains) that takes `steps` steps in all, over
-    `repeats` runs (0: 3 at a population of 200 and more, else 7)."""
+    """Best thread CPU ns per candidate-step of run(gains) that takes `steps` steps in all."""
     run(gains[:1])  # compile / load the cache outside the timing
-    repeats = repeats or (3 if len(gains) >= 200 else 7)
     return 1e9 * best_cpu_time(lambda: run(gains), repeats) / steps
 
 
 def _stop_costs(
-    sc: AbsWheelScenario | AbsVehicleScenario, base: np.ndarray, stop_col: int, repeats_large: int
+    sc: AbsWheelScenario | AbsVehicleScenario,
+    base: np.ndarray,
+    stop_col: int,
+    quick: bool,
+    slow: bool = False,
 ) -> dict[int, float]:
     """ns per candidate-step of an ABS scenario run to v_stop on the `base` gain rows tiled to
-    each population (`repeats_large` timed runs from 200 on; 0: `_ns_per_step`'s default)."""
+    each population."""
     out = {}
     for n in POPULATIONS:
         gains = np.resize(base, (n, base.shape[1]))
@@ -72,34 +81,37 @@ def _stop_costs(
             lambda g: sc.raw(g, workers=1),
             gains,
             float(np.sum(t_stop)) / sc.plant_params.dt_s,
-            repeats_large if n >= 200 else 0,
+            _repeats(n, quick, slow),
         )
     return out
 
 
-def wheel_costs() -> dict[int, float]:
+def wheel_costs(quick: bool) -> dict[int, float]:
     """ns per candidate-step of the single wheel's PID against the population."""
     sc = WHEEL.scenario("paper-derlsp-ao", "dry-concrete", "pid")
-    return _stop_costs(sc, abs_perf.bench_population(), KL.METRICS["stop_time_s"], 0)
+    return _stop_costs(sc, abs_perf.bench_population(), KL.METRICS["stop_time_s"], quick)
 
 
-def vehicle_costs(path: str) -> dict[int, float]:
+def vehicle_costs(path: str, quick: bool) -> dict[int, float]:
     """ns per candidate-step of the vehicle on one of VEHICLE_PATHS against the population."""
     road, overrides = VEHICLE_PATHS[path]
     sc = VEHICLE.scenario("paper-deffao", road, "fuzzy-pid", overrides)
     general = path != "vehicle_straight"
     stop_col = VK.METRIC_LAYOUT["stop_time_s"]
-    return _stop_costs(sc, vehicle.bench_population(sc), stop_col, 1 if general else 0)
+    return _stop_costs(sc, vehicle.bench_population(sc), stop_col, quick, general)
 
 
-def quarter_car_costs() -> dict[int, float]:
+def quarter_car_costs(quick: bool) -> dict[int, float]:
     """ns per candidate-step of the quarter car's simulated objective against the population."""
     sc = QUARTER_CAR.scenario("paper-iabc", "iso-b", "pid", {"duration_s": 10.0})
     out = {}
     for n in POPULATIONS:
         gains = suspension.bench_population(n)
         out[n] = _ns_per_step(
-            lambda g: sc.cost(g, "rms-ratio", workers=1), gains, n * sc.solver.n_steps
+            lambda g: sc.cost(g, "rms-ratio", workers=1),
+            gains,
+            n * sc.solver.n_steps,
+            _repeats(n, quick),
         )
     return out
 
@@ -122,9 +134,9 @@ def tuning_times(pop_size: int, iterations: int) -> tuple[float, float]:
 def figures(quick: bool = False) -> dict[str, float]:
     """The curves as flat figures (`quick`: the per-step costs only)."""
     costs = {
-        "abs_wheel": wheel_costs(),
-        **{path: vehicle_costs(path) for path in VEHICLE_PATHS},
-        "quarter_car": quarter_car_costs(),
+        "abs_wheel": wheel_costs(quick),
+        **{path: vehicle_costs(path, quick) for path in VEHICLE_PATHS},
+        "quarter_car": quarter_car_costs(quick),
     }
     out = {
         f"scaling_{model}_ns_per_candidate_step_pop_{n}": ns
