@@ -1,9 +1,12 @@
-"""`chassistune bench --plot` draws the scaling sweeps: without `--only scaling` it is refused
-before anything is measured."""
+"""`chassistune bench --plot` draws the scaling sweeps: with `--only` areas that leave them out it
+is refused before anything is measured. The sweep measures every model at every population and
+the tuning run at every population and iteration count asked for (shortened here; no speed is
+asserted)."""
 
 from __future__ import annotations
 
 import importlib
+import math
 
 import pytest
 from click.testing import CliRunner
@@ -48,3 +51,20 @@ def test_the_sweeps_figures_become_curves_and_an_image(tmp_path) -> None:
     path = tmp_path / "curves.png"
     plot_scaling(per_step, tuning, str(path))
     assert path.read_bytes().startswith(b"\x89PNG")
+
+
+def test_the_sweep_measures_every_model_and_tuning_run(monkeypatch: pytest.MonkeyPatch) -> None:
+    from chassistune.perf import scaling
+
+    monkeypatch.setattr(scaling, "POPULATIONS", (1, 3))
+    monkeypatch.setattr(scaling, "TUNE_POPULATIONS", (10,))
+    monkeypatch.setattr(scaling, "TUNE_ITERATIONS", (2, 4))
+    figures = scaling.figures()
+    assert all(math.isfinite(v) and v > 0.0 for v in figures.values())
+    per_step, tuning = scaling.curves(figures)
+    assert set(per_step) == {model.replace("_", " ") for model in scaling.MODELS}
+    assert {"vehicle split mu", "vehicle split mu driver"} <= set(per_step)
+    assert all([n for n, _ in pts] == [1, 3] for pts in per_step.values())
+    assert len(figures) == 2 * len(scaling.MODELS) + 2 * 3  # runs 10 x 100, 50 x 2, 50 x 4
+    assert [n for n, _ in tuning["wall: iterations, N = 50"]] == [100, 200]
+    assert [n for n, _ in tuning["cpu: population, 100 iterations"]] == [1000]

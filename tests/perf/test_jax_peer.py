@@ -1,15 +1,22 @@
 """The JAX peer of the bench (`perf.jax_abs`) simulates the same closed loop as our kernel: the
 same runs stop, at stop distances equal to 1e-6 relative, on a bilinear and a Burckhardt road.
 (Slip ITAE is not compared: a chattering run's ITAE is ill-conditioned, docs/abs.md Numerics, and
-rounding differences of 1e-16 move it by 1e-4 on the Burckhardt road.)"""
+rounding differences of 1e-16 move it by 1e-4 on the Burckhardt road.) The bench reports the
+peer's figures under their names, JAX held to one CPU and agreeing on the timed populations; no
+speed is asserted."""
 
 from __future__ import annotations
 
+import json
+import math
+
 import numpy as np
 import pytest
+from click.testing import CliRunner
 
 pytest.importorskip("jax", reason="jax (the bench extra, chassistune[bench]) not installed")
 
+from chassistune.cli.bench import bench_command
 from chassistune.perf.abs import box_population
 from chassistune.perf.jax_abs import simulate
 from chassistune.scenarios.abs_wheel import PLANT
@@ -28,3 +35,22 @@ def test_jax_peer_matches_kernel_on_stop_distance(road: str) -> None:
     np.testing.assert_array_equal(peer[:, 2] == 1.0, stopped)
     ref = ours[stopped, KL.METRICS["stop_distance_m"]]
     np.testing.assert_allclose(peer[stopped, 0], ref, rtol=1e-6)
+
+
+JAX_FIGURES = {
+    "jax_compile_s",
+    *(
+        f"{name}{suffix}"
+        for name in ("abs_speedup_vs_jax", "abs_jax_sims_per_s_cpu", "abs_jax_max_rel_err")
+        for suffix in ("", "_pop1000")
+    ),
+}
+
+
+def test_bench_reports_the_jax_figures() -> None:
+    result = CliRunner().invoke(bench_command, ["--only", "jax_peer", "--quick", "--json"])
+    assert result.exit_code == 0, result.output
+    out = json.loads(result.output)
+    assert set(out) == JAX_FIGURES  # no "notes": measured, and the child ran on one CPU
+    assert all(math.isfinite(v) and v > 0.0 for k, v in out.items() if "max_rel_err" not in k)
+    assert out["abs_jax_max_rel_err"] <= 1e-6 and out["abs_jax_max_rel_err_pop1000"] <= 1e-6

@@ -1,5 +1,5 @@
 """ABS figures (design.md 8): speed, accuracy over presets and the tuning box, speed of the fuzzy
-controllers, cost per candidate-step against the population size.
+controllers (the cost per candidate-step against the population size: `perf.scaling`).
 
 Population (`bench_population`): 50 gain triples 10 ** U(log10 lo, log10 hi) with (lo, hi) =
 (10, 3162), (1, 1000), (0.01, 10) for kp, ki, kd from make_rng(12345); preset
@@ -127,25 +127,6 @@ def accuracy_figures(box: bool) -> dict[str, float]:
     }
 
 
-def population_costs(sizes: tuple[int, ...] = (1, 10, 50, 200, 1000)) -> dict[int, float]:
-    """Thread CPU ns per candidate-step of the PID on dry concrete against the population size
-    (the bench population tiled)."""
-    sc = PLANT.scenario("paper-derlsp-ao", "dry-concrete", "pid")
-    base = bench_population()
-    out = {}
-    for n in sizes:
-        gains = np.resize(base, (n, 3))
-        steps = float(np.sum(sc.raw(gains, workers=1)[:, KL.METRICS["stop_time_s"]])) / (
-            sc.plant_params.dt_s
-        )
-
-        def run(g: np.ndarray = gains) -> None:
-            sc.raw(g, workers=1)
-
-        out[n] = 1e9 * best_cpu_time(run, 3 if n >= 200 else 7) / steps
-    return out
-
-
 def _controller_speed(controller: str, repeats: int) -> tuple[float, float]:
     """(wall, cpu) sims/s of 50 gain rows uniform in the controller's bounds (dry concrete)."""
     sc = PLANT.scenario("paper-derlsp-ao", "dry-concrete", controller)
@@ -209,7 +190,7 @@ def figures(quick: bool = False) -> dict[str, float]:
     t_ivp = best_time(lambda: [solve_ivp_run(sc, g) for g in subset], 1) / len(subset)
     fuzzy_wall, fuzzy_cpu = _controller_speed("fuzzy-pid", repeats)
     immune_wall, immune_cpu = _controller_speed("fuzzy-immune-pid", repeats)
-    out = {
+    return {
         "abs_sims_per_s": sims_per_s,
         "abs_sims_per_s_cpu": cpu,
         "abs_max_rel_err": float(np.nanmax(rel_errors(sc, gains)[0])),
@@ -222,7 +203,3 @@ def figures(quick: bool = False) -> dict[str, float]:
         "abs_immune_sims_per_s": immune_wall,
         "abs_immune_sims_per_s_cpu": immune_cpu,
     }
-    if not quick:
-        for n, ns in population_costs().items():
-            out[f"abs_ns_per_candidate_step_pop_{n}"] = ns
-    return out

@@ -87,6 +87,8 @@ def figures(quick: bool = False) -> dict[str, float]:
     """Speedups of our kernel (thread CPU, one core) over JAX (process CPU, one core) at the
     bench population and at 1000, JAX's compile time and its largest stop-distance difference."""
     jax = _child(quick)
+    if len(jax["cpus"]) != 1:
+        raise RuntimeError(f"the JAX child was not held to one CPU: it ran on {jax['cpus']}")
     sc = _scenario()
     out: dict[str, float] = {"jax_compile_s": float(jax["compile_s_50"])}
     for n in POPULATIONS:
@@ -111,7 +113,8 @@ def figures(quick: bool = False) -> dict[str, float]:
 def _main() -> None:
     """The child: hold this process to its first allowed CPU, then measure and print JSON."""
     os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
-    print(json.dumps(measure_jax("--quick" in sys.argv)))
+    out = measure_jax("--quick" in sys.argv)
+    print(json.dumps({**out, "cpus": sorted(os.sched_getaffinity(0))}))
 
 
 if __name__ == "__main__":

@@ -1,5 +1,5 @@
 """The bench's scaling curves: cost per candidate-step against population, and a tuning run's
-time against population x iterations (`chassistune bench --only scaling --plot FILE`)."""
+time against population x iterations (`chassistune bench [--only scaling] --plot FILE`)."""
 
 from __future__ import annotations
 
@@ -20,13 +20,14 @@ def plot_scaling(
         if pts:
             left.plot(*zip(*pts, strict=True), marker="o", label=model)
     left.set(xscale="log", yscale="log", xlabel="population", ylabel="CPU ns per candidate-step")
-    left.legend()
+    above = {"fontsize": 8, "loc": "lower center", "bbox_to_anchor": (0.5, 1.0), "ncol": 3}
+    left.legend(**above)
     for label, pts in tuning.items():
         right.plot(
             *zip(*pts, strict=True), marker="o" if label.startswith("wall") else "s", label=label
         )
     right.set(xscale="log", yscale="log", xlabel="population x iterations", ylabel="tuning run, s")
     if tuning:
-        right.legend(fontsize=8)
+        right.legend(**{**above, "ncol": 2})
     fig.tight_layout()
     save(fig, path)
