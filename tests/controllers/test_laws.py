@@ -3,6 +3,8 @@ refused loudly, the catalogue's ABS entries a view of it, the C of each law its 
 
 from __future__ import annotations
 
+import dataclasses
+
 import pytest
 
 from chassistune.controllers import catalogue, laws, vehicle_specs
@@ -78,3 +80,44 @@ def test_a_laws_memory_fits_the_kernels_lanes(name: str) -> None:
 def test_the_fingerprint_names_the_registered_laws() -> None:
     before = registry.fingerprint()
     assert before == registry.fingerprint() and len(before) == 16
+
+
+@pytest.mark.parametrize("name", laws.names())
+def test_a_law_names_its_ecu_inputs_once(name: str) -> None:
+    law = laws.get(name)
+    if law.ecu is None:
+        assert law.ecu_inputs == ()
+    elif law.discrete is not None:
+        assert law.ecu.inputs == () and law.ecu_inputs == law.discrete.inputs
+    else:
+        assert law.ecu_inputs == law.ecu.inputs != ()
+
+
+def test_ecu_inputs_named_beside_a_discrete_form_are_refused() -> None:
+    pid = laws.get("pid")
+    assert pid.ecu is not None
+    twice = dataclasses.replace(
+        pid, name="pid-twice", specs=(), ecu=dataclasses.replace(pid.ecu, inputs=("slip",))
+    )
+    with pytest.raises(ValueError, match="names its ECU inputs twice"):
+        laws.register(twice)
+    assert "pid-twice" not in laws.names()
+
+
+def test_code_compiled_over_the_registry_is_built_once_per_fingerprint() -> None:
+    keys: list[int] = []
+
+    def build(key: int) -> list[int]:
+        keys.append(key)
+        return [key]
+
+    for_laws_now = registry.per_fingerprint(build)
+    first = for_laws_now()
+    assert for_laws_now() is first and keys == [int(registry.fingerprint()[:15], 16)]
+    bang = laws.get("bang-bang")
+    laws.register(dataclasses.replace(bang, name="bang-bang-copy", specs=()))
+    try:
+        assert for_laws_now() is not first and len(set(keys)) == 2
+    finally:
+        laws.unregister("bang-bang-copy")
+    assert for_laws_now() is first and len(keys) == 2

@@ -197,17 +197,11 @@ def test_immune_loop_converges_to_the_ideal_kernel_as_the_table_is_refined() -> 
 
 
 def test_slot_constants_match_the_declared_names() -> None:
-    """The numba slots (module integers) and the names the exports print agree."""
+    """The numba slots the fuzzy laws number by hand (module integers) and the names the exports
+    print agree; the PID's and the threshold law's slots are their names' positions, and the
+    fuzzy PID, which runs the PID's filter and output, keeps the PID's state and inputs."""
     d = discrete
     params = {
-        "pid": {
-            "kp": d.PID_KP,
-            "ki": d.PID_KI,
-            "kd": d.PID_KD,
-            "n_filter": d.PID_N,
-            "target_slip": d.PID_TARGET,
-            "ts_s": d.PID_TS,
-        },
         "fuzzy-pid": {
             "ke": d.FP_KE,
             "kec": d.FP_KEC,
@@ -231,45 +225,30 @@ def test_slot_constants_match_the_declared_names() -> None:
             "target_slip": d.IM_TARGET,
             "ts_s": d.IM_TS,
         },
-        "threshold": {
-            "amplitude": d.TH_AMP,
-            "decel_threshold_m_s2": d.TH_DECEL,
-            "accel_threshold_m_s2": d.TH_ACCEL,
-            "slip_margin": d.TH_MARGIN,
-            "slow_fraction": d.TH_SLOW,
-            "target_slip": d.TH_TARGET,
-            "ts_s": d.TH_TS,
-            "wheel_radius_m": d.TH_RADIUS,
-        },
     }
     state = {
-        "pid": {"started": d.ST_STARTED, "integral": d.PS_INTEGRAL, "filter": d.PS_FILTER},
         "fuzzy-immune-pid": {
             "started": d.ST_STARTED,
             "u_prev": d.IS_U,
             "e_prev": d.IS_E1,
             "e_prev2": d.IS_E2,
         },
-        "threshold": {
-            "started": d.ST_STARTED,
-            "phase": d.TS_PHASE,
-            "wheel_speed_prev": d.TS_W_PREV,
-            "wheel_accel": d.TS_AW,
-        },
     }
-    state["fuzzy-pid"] = state["pid"]
-    inputs = {
-        "pid": {"slip": d.IN_SLIP, "pressure_at_max": d.IN_AT_MAX, "pressure_at_min": d.IN_AT_MIN},
-        "fuzzy-immune-pid": {"slip": d.IN_SLIP},
-        "threshold": {"slip": d.IN_SLIP, "wheel_speed_rad_s": d.IN_WHEEL_SPEED},
+    declared = {
+        n: laws.get(n).discrete for n in ("pid", "fuzzy-pid", "fuzzy-immune-pid", "threshold")
     }
-    inputs["fuzzy-pid"] = inputs["pid"]
-    for name, law in d.LAWS.items():
-        assert {n: law.params.index(n) for n in law.params} == params[name]
-        assert {n: law.state.index(n) for n in law.state} == state[name]
-        assert {n: law.inputs.index(n) for n in law.inputs} == inputs[name]
-        assert len(law.state) <= d.N_STATE
+    for name, law in declared.items():
+        assert law is not None
+        if name in params:
+            assert {n: law.params.index(n) for n in law.params} == params[name]
+        if name in state:
+            assert {n: law.state.index(n) for n in law.state} == state[name]
+        assert law.state[d.ST_STARTED] == "started" and len(law.state) <= d.N_STATE
         assert law.params[: len(spec_gains(name))] == spec_gains(name)
+    fuzzy, pid = declared["fuzzy-pid"], declared["pid"]
+    assert fuzzy is not None and pid is not None
+    assert fuzzy.state == pid.state and fuzzy.inputs == pid.inputs
+    assert all(law is not None and law.inputs[d.IN_SLIP] == "slip" for law in declared.values())
 
 
 def spec_gains(controller: str) -> tuple[str, ...]:

@@ -91,7 +91,7 @@ LAW = laws.Law(
         0,
         "sampled saturated proportional law",
     ),
-    ecu=laws.EcuForm(ecu_step, ("slip",)),
+    ecu=laws.EcuForm(ecu_step),
     c=laws.CForm(
         ("u_k = amplitude clip(k_sat e_k, -1, 1)",),
         """\

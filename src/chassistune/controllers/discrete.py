@@ -1,26 +1,21 @@
 """Discrete (sampled) forms of the ABS controllers: what an ECU runs and what `export` ships.
 
-Every law is one numba step function on explicit float vectors, called once per sample period
-ts with the inputs as an ECU sees them; it updates `state` in place and returns the command u
-(the actuator input, held until the next sample):
+Every law's discrete form is one numba step function on explicit float vectors, called once per
+sample period ts with the inputs as an ECU sees them; it updates `state` (N_STATE floats) in
+place and returns the command u (the actuator input, held until the next sample):
 
     u = step(state, inputs, params, table, grid)
 
-`table` (n_out, n0, n1) and `grid` (lo0, step0, lo1, step1) are the ECU lookup table of the fuzzy
-laws (`ecu_table`), ignored by the others. Names and order of the inputs, parameters and state
-entries are declared once per law (`controllers.discrete_laws`); the C99 export prints the same
-arithmetic in the same operation order, so that a C build without FMA contraction reproduces it
-bit for bit. Nothing here contracts a*b + c into an fma (numba compiles without fastmath) or
-reorders a sum.
+A law's step is its module's (`controllers.laws`, `EcuForm.step`: `laws.pid` the discrete PID,
+`laws.threshold` the sampled phase machine); `run_from` runs any law's through the registry's
+dispatch. `table` (n_out, n0, n1) and `grid` (lo0, step0, lo1, step1) are the ECU lookup table
+of the fuzzy laws (`ecu_table`), ignored by the others. Names and order of the inputs,
+parameters and state entries are declared once per law (`controllers.discrete_laws`); the C99
+export prints the same arithmetic in the same operation order, so that a C build without FMA
+contraction reproduces it bit for bit. Nothing here contracts a*b + c into an fma (numba
+compiles without fastmath) or reorders a sum.
 
-The laws (e = target_slip - slip throughout):
-- `pid` (design.md 4 in discrete time; Simulink's discrete PID, parallel form, forward-Euler
-  integrator, backward-Euler derivative filter: stable at any ts, unlike a forward-Euler filter,
-  which needs N ts < 2):
-      xf_0 = e_0,  xf_k = (xf_k-1 + ts N e_k) / (1 + ts N)         (backward Euler, no kick)
-      d_k = N (e_k - xf_k)                                           (filtered de/dt)
-      u_k = kp e_k + ki z_k + kd d_k
-      z_k+1 = z_k + ts e_k, unless (pressure_at_max and e_k > 0) or (pressure_at_min and e_k < 0)
+The fuzzy laws' steps (e = target_slip - slip throughout):
 - `fuzzy-pid` (Tian 2025): the same PID with kp, ki, kd scheduled every sample from the table at
   (ke e_k, kec d_k): kp = kp0 + ku_p T_kp(ke e_k, kec d_k), likewise ki, kd.
 - `fuzzy-immune-pid` (Ding 2023 eqs. 6-10, the kernel's arithmetic): ec_k = (e_k - e_k-1) / ts
@@ -28,9 +23,6 @@ The laws (e = target_slip - slip throughout):
       u_k = u_k-1 + kp1 (e_k - e_k-1) + ki ts e_k + kd (e_k - 2 e_k-1 + e_k-2) / ts,
   starting from rest (u = 0, e = 0 before k = 0, no derivative term at k = 0); after k = 0,
   e_k-1 = e_k-2 = e_0 (the kernel's start, where the slip is 0 at the first sample).
-- `threshold` (design.md 4's rule-based ABS, the kernel's phases): aw_k = (w_k - w_k-1) R / ts
-  (0 at k = 0), then the phase machine build -> hold -> dump -> recover -> slow build, with
-  u = +amplitude (build), 0 (hold, recover), -amplitude (dump), slow_fraction amplitude (slow).
 
 Lookup (fuzzy laws): a uniform grid of `fuzzy_table_points` nodes per input over the rule base's
 universes, values exact Mamdani inference at the nodes (`chassistune.fuzzy.engine`), bilinear
@@ -53,14 +45,11 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from chassistune.controllers.discrete_laws import LAWS as LAWS  # the built-in declarations
 from chassistune.controllers.discrete_laws import DiscreteLaw
 from chassistune.controllers.immune_pid import incremental_pid_du
-from chassistune.controllers.laws import registry
+from chassistune.controllers.laws import pid, registry
 from chassistune.controllers.laws.dispatch import law_ecu_step
 from chassistune.controllers.laws.forms import ECU_SIGNALS
-from chassistune.controllers.switching import threshold_step as threshold_phase_step
-from chassistune.controllers.switching import wheel_deceleration_sample
 from chassistune.fuzzy.engine import evaluate
 from chassistune.fuzzy.rulebase import RuleBase
 
@@ -68,22 +57,18 @@ DEFAULT_TABLE_POINTS = 49
 """`fuzzy_table_points`: nodes per input of the ECU lookup table (see the module docstring)."""
 
 
-# parameter slots, per law (gains first, in registry order)
-PID_KP, PID_KI, PID_KD, PID_N, PID_TARGET, PID_TS = range(6)
+# parameter slots of the fuzzy laws (gains first, in registry order)
 FP_KE, FP_KEC, FP_KUP, FP_KUI, FP_KUD, FP_KP0, FP_KI0, FP_KD0, FP_N, FP_TARGET, FP_TS = range(11)
 IM_K, IM_ETA, IM_KI, IM_KD, IM_KE, IM_KEC, IM_TARGET, IM_TS = range(8)
-TH_AMP, TH_DECEL, TH_ACCEL, TH_MARGIN, TH_SLOW, TH_TARGET, TH_TS, TH_RADIUS = range(8)
 
 # state slots (N_STATE floats, enough for every law)
 N_STATE = 4
 ST_STARTED = 0  # every law: 0 before the first sample, 1 after
-PS_INTEGRAL, PS_FILTER = 1, 2
 IS_U, IS_E1, IS_E2 = 1, 2, 3
-TS_PHASE, TS_W_PREV, TS_AW = 1, 2, 3
 
-# input slots
-IN_SLIP, IN_AT_MAX, IN_AT_MIN = 0, 1, 2
-IN_WHEEL_SPEED = 1  # threshold: (slip, wheel_speed_rad_s)
+IN_SLIP = 0  # the fuzzy laws' first input
+
+_filtered_derivative, _pid_output, _ = pid.ecu_forms()  # the fuzzy PID's, the PID's own
 
 INPUT_DESCRIPTIONS = {
     "slip": "wheel slip (v - w R) / v against the reference speed, in [0, 1]",
@@ -152,39 +137,6 @@ def table_value(table, k, cell):
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _filtered_derivative(state, e, n_filter, ts):
-    """Backward-Euler derivative filter: xf_k = (xf_k-1 + ts N e_k) / (1 + ts N), d = N (e - xf)."""
-    if state[ST_STARTED] == 0.0:
-        state[PS_FILTER] = e
-    else:
-        a = ts * n_filter
-        state[PS_FILTER] = (state[PS_FILTER] + a * e) / (1.0 + a)
-    return n_filter * (e - state[PS_FILTER])
-
-
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _pid_output(state, inputs, e, d, kp, ki, kd, ts):
-    """u = kp e + ki z + kd d, then the forward-Euler integral with conditional integration."""
-    u = kp * e + ki * state[PS_INTEGRAL] + kd * d
-    at_max = inputs[IN_AT_MAX] != 0.0
-    at_min = inputs[IN_AT_MIN] != 0.0
-    if not ((at_max and e > 0.0) or (at_min and e < 0.0)):
-        state[PS_INTEGRAL] = state[PS_INTEGRAL] + ts * e
-    state[ST_STARTED] = 1.0
-    return u
-
-
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def pid_step(state, inputs, params, table, grid):
-    """Discrete PID (module docstring, `pid`)."""
-    e = params[PID_TARGET] - inputs[IN_SLIP]
-    d = _filtered_derivative(state, e, params[PID_N], params[PID_TS])
-    return _pid_output(
-        state, inputs, e, d, params[PID_KP], params[PID_KI], params[PID_KD], params[PID_TS]
-    )
-
-
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def fuzzy_pid_step(state, inputs, params, table, grid):
     """Discrete fuzzy self-tuning PID (module docstring, `fuzzy-pid`)."""
     e = params[FP_TARGET] - inputs[IN_SLIP]
@@ -219,31 +171,6 @@ def immune_step(state, inputs, params, table, grid):
     return u
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def threshold_step(state, inputs, params, table, grid):
-    """Sampled threshold ABS (module docstring, `threshold`): the kernel's phase machine
-    (`controllers.switching`) fed the wheel acceleration over the last sample."""
-    w = inputs[IN_WHEEL_SPEED]
-    ts = params[TH_TS]
-    if state[ST_STARTED] != 0.0:
-        state[TS_AW] = wheel_deceleration_sample(w, state[TS_W_PREV], params[TH_RADIUS], ts)
-    state[TS_W_PREV] = w
-    state[ST_STARTED] = 1.0
-    u, ph = threshold_phase_step(
-        int(state[TS_PHASE]),
-        inputs[IN_SLIP],
-        params[TH_TARGET],
-        state[TS_AW],
-        params[TH_AMP],
-        params[TH_DECEL],
-        params[TH_ACCEL],
-        params[TH_MARGIN],
-        params[TH_SLOW],
-    )
-    state[TS_PHASE] = ph
-    return u
-
-
 def _steps_entry(laws_key: int) -> Any:
     """The compiled loop of `run_from` for the laws registered now, named by `laws_key`
     (`registry.fingerprint` as an integer: a closure variable, on which numba keys the disk
@@ -259,7 +186,7 @@ def _steps_entry(laws_key: int) -> Any:
     return njit(cache=True, nogil=True, error_model="numpy")(steps)
 
 
-_STEPS: dict[str, Any] = {}
+_steps = registry.per_fingerprint(_steps_entry)
 
 
 def run_from(
@@ -279,12 +206,9 @@ def run_from(
         raise ValueError(f"control law {law.name!r} has no discrete form")
     rows = np.atleast_2d(inputs)
     signals = np.zeros((rows.shape[0], len(ECU_SIGNALS)))
-    for j, name in enumerate(law.ecu.inputs):
+    for j, name in enumerate(law.ecu_inputs):
         signals[:, ECU_SIGNALS[name]] = rows[:, j]
-    key = registry.fingerprint()
-    if key not in _STEPS:
-        _STEPS[key] = _steps_entry(int(key[:15], 16))
-    return np.asarray(_STEPS[key](kind, state, signals, params, table, grid))
+    return np.asarray(_steps()(kind, state, signals, params, table, grid))
 
 
 def discrete_step(

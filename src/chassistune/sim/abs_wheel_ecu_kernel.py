@@ -990,15 +990,8 @@ def _entry_point(laws_key):
     return njit(cache=True, nogil=True, error_model="numpy", **_NO_NRT)(simulate_abs_wheel_ecu)
 
 
-_ENTRY_POINTS: dict[str, Any] = {}
-
-
-def entry_point() -> Any:
-    """The compiled loop for the laws registered now."""
-    key = laws.fingerprint()
-    if key not in _ENTRY_POINTS:
-        _ENTRY_POINTS[key] = _entry_point(int(key[:15], 16))
-    return _ENTRY_POINTS[key]
+entry_point = laws.per_fingerprint(_entry_point)
+"""The compiled loop for the laws registered now."""
 
 
 _NO_TABLE = table_tuples(np.array([0.0, 1.0]), np.array([0.0, 0.0]))
@@ -1019,7 +1012,7 @@ def simulate_abs_wheel_ecu(
     out: np.ndarray,
 ) -> None:
     """Simulate every row of `law_params` (n, P: the discrete law's parameter vector, in
-        `controllers.discrete.LAWS` order; one column, unused, for none and bang-bang), with the law
+        its `DiscreteLaw.params` order; one column, unused, for none and bang-bang), with the law
     of the registry's kind in `ecu` (`controllers.laws.kind`).
 
         `plant`: PLANT rows (1 or n; dt_s and t_max_s of row 0 for all); `ecu`: the ECU vector

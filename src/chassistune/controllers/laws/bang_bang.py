@@ -55,5 +55,5 @@ LAW = Law(
         ),
     ),
     kernel_forms,
-    ecu=EcuForm(ecu_step, ("slip", "target_slip", "amplitude")),
+    ecu=EcuForm(ecu_step, inputs=("slip", "target_slip", "amplitude")),
 )

@@ -194,7 +194,7 @@ def _law_ecu_step(laws_key, kind, state, inputs, sig, params, table, grid):
     chain = _no_ecu_step
     for k, law in reversed(list(enumerate(_kinds()))):
         if law.ecu is not None:
-            picks = tuple(ECU_SIGNALS[n] for n in law.ecu.inputs)
+            picks = tuple(ECU_SIGNALS[n] for n in law.ecu_inputs)
             chain = _ecu_link(k, law.ecu.step(), picks, chain)
 
     def impl(laws_key, kind, state, inputs, sig, params, table, grid):

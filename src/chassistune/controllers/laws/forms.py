@@ -53,7 +53,7 @@ ECU_SIGNALS = Layout(
     ),
 )
 """The signals the ECU kernel hands a law's `EcuForm` at a tick, in this order (`sig`); the
-law's inputs are the ones its form names."""
+law's inputs are the ones it names (`Law.ecu_inputs`)."""
 
 HELD = Layout(
     "held values of the continuous law",

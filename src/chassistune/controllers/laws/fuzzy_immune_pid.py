@@ -127,7 +127,7 @@ LAW = Law(
     kernel_forms,
     STATE,
     discrete=DISCRETE["fuzzy-immune-pid"],
-    ecu=EcuForm(ecu_step, DISCRETE["fuzzy-immune-pid"].inputs, ("k_immune", "kd"), rate=True),
+    ecu=EcuForm(ecu_step, scheduled=("k_immune", "kd"), rate=True),
     c=CForm(
         (
             "- `fuzzy-immune-pid` (Ding 2023 eqs. 6-10, the kernel's arithmetic): "

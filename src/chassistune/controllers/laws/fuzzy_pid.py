@@ -127,7 +127,7 @@ LAW = Law(
     (WHEEL, per_wheel(WHEEL, gains=rescaled(WHEEL.gains, VEHICLE_DEFAULTS, VEHICLE_BOUNDS))),
     kernel_forms,
     discrete=DISCRETE["fuzzy-pid"],
-    ecu=EcuForm(ecu_step, DISCRETE["fuzzy-pid"].inputs, ("kp0", "ku_p", "kd0", "ku_d"), rate=True),
+    ecu=EcuForm(ecu_step, scheduled=("kp0", "ku_p", "kd0", "ku_d"), rate=True),
     c=CForm(
         (
             *PID_EQUATIONS,

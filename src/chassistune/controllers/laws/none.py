@@ -56,5 +56,5 @@ LAW = Law(
         ),
     ),
     kernel_forms,
-    ecu=EcuForm(ecu_step, ("amplitude",)),
+    ecu=EcuForm(ecu_step, inputs=("amplitude",)),
 )

@@ -1,5 +1,6 @@
 """The slip PID (design.md 4, derlsp-ao-abs eq. 12): continuous in the ideal kernels
-(`controllers.pid`), sampled in the ECU and the export (`controllers.discrete.pid_step`).
+(`controllers.pid`), sampled in the ECU and the export (`ecu_forms`: the discrete PID of the
+`EQUATIONS`, whose filter and output the fuzzy PID shares).
 
 Vehicle defaults of their own: with J = 0.6 kg m^2 the rear wheels carry about 1230 N while
 braking, and the single wheel's PID 5000/0/230 makes them lock-cycle (mu-jump 98.35 m, no better
@@ -11,7 +12,7 @@ from __future__ import annotations
 import functools
 from typing import Any
 
-from chassistune.controllers.discrete_laws import LAWS as DISCRETE
+from chassistune.controllers.discrete_laws import LAWS as DISCRETE_LAWS
 from chassistune.controllers.laws.forms import FORM, gains
 from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, EcuForm, Law
 from chassistune.controllers.laws.shared import N_FILTER, per_wheel
@@ -69,7 +70,7 @@ EQUATIONS = (
     "u_k = kp e_k + ki z_k + kd d_k",
     "z_k+1 = z_k + ts e_k, unless (pressure_at_max and e_k > 0) or (pressure_at_min and e_k < 0)",
 )
-"""The discrete PID (`controllers.discrete.pid_step`), as controller.h prints it."""
+"""The discrete PID (`ecu_forms`), as controller.h prints it."""
 
 C_HELPERS = """\
 /* backward-Euler derivative filter: xf_k = (xf_k-1 + ts N e_k) / (1 + ts N), d = N (e - xf) */
@@ -102,6 +103,17 @@ static double ct_pid_output(ct_state *s, const double *in, double e, double d, d
 
 G_KP, G_KI, G_KD = (gains(WHEEL)[n] for n in ("kp", "ki", "kd"))
 
+DISCRETE = DISCRETE_LAWS["pid"]
+D_KP, D_KI, D_KD, D_N, D_TARGET, D_TS = (
+    DISCRETE.params.index(n) for n in ("kp", "ki", "kd", "n_filter", "target_slip", "ts_s")
+)
+S_STARTED, S_INTEGRAL, S_FILTER = (
+    DISCRETE.state.index(n) for n in ("started", "integral", "filter")
+)
+IN_SLIP, IN_AT_MAX, IN_AT_MIN = (
+    DISCRETE.inputs.index(n) for n in ("slip", "pressure_at_max", "pressure_at_min")
+)
+
 
 @functools.cache
 def kernel_forms() -> tuple[Any, Any]:
@@ -116,20 +128,59 @@ def kernel_forms() -> tuple[Any, Any]:
     return start, None
 
 
-def ecu_step() -> Any:
-    """The law\'s step in the realistic ECU: its discrete form
-    (`controllers.discrete.pid_step`)."""
-    from chassistune.controllers.discrete import pid_step
+@functools.cache
+def ecu_forms() -> tuple[Any, Any, Any]:
+    """(filtered_derivative, pid_output, step): the discrete PID (`EQUATIONS`) on the vectors of
+    `controllers.discrete`, `u = step(state, inputs, params, table, grid)` (the law's step in
+    the realistic ECU and the export), and its two halves, which the fuzzy PID shares."""
+    from numba import njit
 
-    return pid_step
+    @njit(**FORM)
+    def filtered_derivative(state, e, n_filter, ts):
+        """Backward-Euler derivative filter: xf_k = (xf_k-1 + ts N e_k) / (1 + ts N),
+        d = N (e - xf)."""
+        if state[S_STARTED] == 0.0:
+            state[S_FILTER] = e
+        else:
+            a = ts * n_filter
+            state[S_FILTER] = (state[S_FILTER] + a * e) / (1.0 + a)
+        return n_filter * (e - state[S_FILTER])
+
+    @njit(**FORM)
+    def pid_output(state, inputs, e, d, kp, ki, kd, ts):
+        """u = kp e + ki z + kd d, then the forward-Euler integral with conditional
+        integration."""
+        u = kp * e + ki * state[S_INTEGRAL] + kd * d
+        at_max = inputs[IN_AT_MAX] != 0.0
+        at_min = inputs[IN_AT_MIN] != 0.0
+        if not ((at_max and e > 0.0) or (at_min and e < 0.0)):
+            state[S_INTEGRAL] = state[S_INTEGRAL] + ts * e
+        state[S_STARTED] = 1.0
+        return u
+
+    @njit(**FORM)
+    def step(state, inputs, params, table, grid):
+        """The discrete PID (`EQUATIONS`)."""
+        e = params[D_TARGET] - inputs[IN_SLIP]
+        d = filtered_derivative(state, e, params[D_N], params[D_TS])
+        return pid_output(
+            state, inputs, e, d, params[D_KP], params[D_KI], params[D_KD], params[D_TS]
+        )
+
+    return filtered_derivative, pid_output, step
+
+
+def ecu_step() -> Any:
+    """The law's step in the realistic ECU: its discrete form (`ecu_forms`)."""
+    return ecu_forms()[2]
 
 
 LAW = Law(
     "pid",
     (WHEEL, per_wheel(WHEEL, gains=VEHICLE_GAINS)),
     kernel_forms,
-    discrete=DISCRETE["pid"],
-    ecu=EcuForm(ecu_step, DISCRETE["pid"].inputs, ("kp", "kd"), rate=True),
+    discrete=DISCRETE,
+    ecu=EcuForm(ecu_step, scheduled=("kp", "kd"), rate=True),
     c=CForm(
         EQUATIONS,
         """\

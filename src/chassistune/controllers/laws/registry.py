@@ -14,7 +14,7 @@ import hashlib
 import inspect
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from chassistune._registry import Registry
 from chassistune.controllers.specs import ControllerSpec
@@ -42,13 +42,14 @@ class CForm:
 class EcuForm:
     """A law's form in the realistic ECU (`sim.abs_wheel_ecu_kernel`, docs/ecu.md): `step()`
     builds its numba step `u = step(state, inputs, params, table, grid)` (the signature of
-    `controllers.discrete`), fed the ECU signals named in `inputs` (`forms.ECU_SIGNALS`) in that
-    order; the parameters named in `scheduled` (of its discrete form's `params`) scale with the
-    speed schedule; `rate`: the command is a pressure rate (three-state valves: a duty pulse),
-    else a switching command."""
+    `controllers.discrete`), fed the ECU signals (`forms.ECU_SIGNALS`) its law reads
+    (`Law.ecu_inputs`: its discrete form's inputs, or, for a law without one, those named in
+    `inputs`), in that order; the parameters named in `scheduled` (of its discrete form's
+    `params`) scale with the speed schedule; `rate`: the command is a pressure rate
+    (three-state valves: a duty pulse), else a switching command."""
 
     step: Callable[[], Any]
-    inputs: tuple[str, ...]
+    inputs: tuple[str, ...] = ()
     scheduled: tuple[str, ...] = ()
     rate: bool = False
 
@@ -81,6 +82,15 @@ class Law:
         """The law's spec on `plant`, or None when it does not run there."""
         return next((s for s in self.specs if s.plant == plant), None)
 
+    @property
+    def ecu_inputs(self) -> tuple[str, ...]:
+        """The ECU signals its ECU form reads, in order: its discrete form's inputs (the one
+        declaration), or the ECU form's own for a law without a discrete form; () without an
+        ECU form."""
+        if self.ecu is None:
+            return ()
+        return self.discrete.inputs if self.discrete is not None else self.ecu.inputs
+
 
 MEMORY = 2
 """Slots of a law's memory in the kernels' lanes (the largest `Law.state`)."""
@@ -98,7 +108,11 @@ def register(law: Law) -> Law:
         raise ValueError(f"law {law.name!r} declares a spec of another name")
     if len(law.state) > MEMORY:
         raise ValueError(f"law {law.name!r} keeps {len(law.state)} memory slots (at most {MEMORY})")
-    if law.ecu is not None and not 0 < len(law.ecu.inputs) <= ECU_INPUTS:
+    if law.ecu is not None and law.ecu.inputs and law.discrete is not None:
+        raise ValueError(
+            f"law {law.name!r} names its ECU inputs twice (its discrete form declares them)"
+        )
+    if law.ecu is not None and not 0 < len(law.ecu_inputs) <= ECU_INPUTS:
         raise ValueError(f"law {law.name!r} reads 1 to {ECU_INPUTS} ECU inputs")
     _LAWS.register(law.name, law)
     module = inspect.getmodule(law.forms)
@@ -120,6 +134,25 @@ def fingerprint() -> str:
     """Names the registered laws and their modules' sources: a compiled kernel that dispatches
     over the registry is valid while it is unchanged (kernels key their disk cache on it)."""
     return hashlib.sha1(repr([(n, _DIGESTS[n]) for n in names()]).encode()).hexdigest()[:16]
+
+
+T = TypeVar("T")
+
+
+def per_fingerprint(build: Callable[[int], T]) -> Callable[[], T]:
+    """A memo of code compiled over the registry: the returned function gives `build(key)` for
+    the laws registered now, built once per `fingerprint` (key: the fingerprint as an integer,
+    the `laws_key` constant on which a compiled law dispatch is typed and numba keys its disk
+    cache)."""
+    built: dict[str, T] = {}
+
+    def for_laws_now() -> T:
+        key = fingerprint()
+        if key not in built:
+            built[key] = build(int(key[:15], 16))
+        return built[key]
+
+    return for_laws_now
 
 
 def names() -> list[str]:

@@ -1,13 +1,13 @@
 """Rule-based threshold ABS (design.md 4, docs/abs.md): wheel deceleration/acceleration and slip
 thresholds drive a phase machine (`controllers.switching.threshold_step`), sampled every ts_s in
-the kernels and the ECU (`controllers.discrete.threshold_step`)."""
+the kernels and the ECU (`ecu_step`: its discrete form, which `export` ships)."""
 
 from __future__ import annotations
 
 import functools
 from typing import Any
 
-from chassistune.controllers.discrete_laws import LAWS as DISCRETE
+from chassistune.controllers.discrete_laws import LAWS as DISCRETE_LAWS
 from chassistune.controllers.laws import forms as F
 from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, EcuForm, Law
 from chassistune.controllers.laws.shared import AMPLITUDE, REAR, SAMPLE_PERIOD, per_wheel
@@ -16,6 +16,20 @@ from chassistune.controllers.specs import ControllerSpec, ParamSpec
 STATE = ("phase", "wheel_accel_m_s2")
 """The law's memory: its phase and the wheel acceleration over the last sample period."""
 M_PHASE, M_ACCEL = range(len(STATE))
+
+DISCRETE = DISCRETE_LAWS["threshold"]
+_param = DISCRETE.params.index
+D_AMP, D_DECEL, D_ACCEL = (
+    _param("amplitude"),
+    _param("decel_threshold_m_s2"),
+    _param("accel_threshold_m_s2"),
+)
+D_MARGIN, D_SLOW, D_TARGET = _param("slip_margin"), _param("slow_fraction"), _param("target_slip")
+D_TS, D_RADIUS = _param("ts_s"), _param("wheel_radius_m")
+S_STARTED, S_PHASE, S_W_PREV, S_ACCEL = (
+    DISCRETE.state.index(n) for n in ("started", "phase", "wheel_speed_prev", "wheel_accel")
+)
+IN_SLIP, IN_WHEEL_SPEED = (DISCRETE.inputs.index(n) for n in ("slip", "wheel_speed_rad_s"))
 
 WHEEL = ControllerSpec(
     ABS_WHEEL,
@@ -92,7 +106,7 @@ double ct_step(ct_state *s, const double *in)
     return 0.0;
 }
 """
-"""`controllers.discrete.threshold_step` in C, in the same operation order."""
+"""`ecu_step`'s step in C, in the same operation order."""
 
 
 @functools.cache
@@ -127,12 +141,38 @@ def kernel_forms() -> tuple[Any, Any]:
     return None, tick
 
 
+@functools.cache
 def ecu_step() -> Any:
-    """The law\'s step in the realistic ECU: its discrete form
-    (`controllers.discrete.threshold_step`)."""
-    from chassistune.controllers.discrete import threshold_step
+    """The law's step in the realistic ECU and the export, `u = step(state, inputs, params,
+    table, grid)` on the vectors of `controllers.discrete`: the phase machine
+    (`controllers.switching.threshold_step`) fed the wheel acceleration over the last sample."""
+    from numba import njit
 
-    return threshold_step
+    from chassistune.controllers.switching import threshold_step, wheel_deceleration_sample
+
+    @njit(**F.FORM)
+    def step(state, inputs, params, table, grid):
+        w = inputs[IN_WHEEL_SPEED]
+        ts = params[D_TS]
+        if state[S_STARTED] != 0.0:
+            state[S_ACCEL] = wheel_deceleration_sample(w, state[S_W_PREV], params[D_RADIUS], ts)
+        state[S_W_PREV] = w
+        state[S_STARTED] = 1.0
+        u, ph = threshold_step(
+            int(state[S_PHASE]),
+            inputs[IN_SLIP],
+            params[D_TARGET],
+            state[S_ACCEL],
+            params[D_AMP],
+            params[D_DECEL],
+            params[D_ACCEL],
+            params[D_MARGIN],
+            params[D_SLOW],
+        )
+        state[S_PHASE] = ph
+        return u
+
+    return step
 
 
 LAW = Law(
@@ -140,8 +180,8 @@ LAW = Law(
     (WHEEL, per_wheel(WHEEL, params=(*WHEEL.params, REAR))),
     kernel_forms,
     STATE,
-    discrete=DISCRETE["threshold"],
-    ecu=EcuForm(ecu_step, DISCRETE["threshold"].inputs),
+    discrete=DISCRETE,
+    ecu=EcuForm(ecu_step),
     c=CForm(
         (
             "- `threshold` (design.md 4's rule-based ABS, the kernel's phases): "
