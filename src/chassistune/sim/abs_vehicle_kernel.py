@@ -39,6 +39,11 @@ population. Sampled laws tick in a scalar pass before the step at each lane's ow
 instants; a finished lane is refilled from the queue or, when it is empty, filled with the last
 live lane (live lanes stay packed in front).
 
+Compilation: the entry point (`entry_point`) is a closure over the registry's fingerprint (on
+which numba keys its disk cache); it passes the fingerprint to the lane loop (`_simulate`) as a
+literal argument, so that the loop, the ticks and the lane fill (which dispatch on the laws) and
+the vector loop compile as cached functions of their own, each keyed on its arguments' types.
+
 No reference counting. The entry point (`entry_point`) and its scalar passes (the functions not
 inlined) are compiled without numba's runtime (`_nrt=False`): the caller passes every array the
 kernel works in as one tuple (`scratch()`), the kernel resets it, and nothing is allocated. With the
@@ -487,6 +492,24 @@ def _constants(p, geo):
         dt / 6.0,
         float(n_steps),
         n_steps * dt,
+    )
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _surfaces(surfs):
+    """The road's two surfaces as the lanes read them (`_surface_of`): (S_T, rise, fall0,
+    fall1, target) of surface 0, then of surface 1."""
+    return (
+        surfs[0, SF_ST],
+        surfs[0, SF_RISE],
+        surfs[0, SF_FALL0],
+        surfs[0, SF_FALL1],
+        surfs[0, SF_TARGET],
+        surfs[1, SF_ST],
+        surfs[1, SF_RISE],
+        surfs[1, SF_FALL0],
+        surfs[1, SF_FALL1],
+        surfs[1, SF_TARGET],
     )
 
 
@@ -1158,7 +1181,7 @@ def _lane_step(st, l, kc, srf, live):
     return ended & commit & (l < live)
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**_NO_REFCOUNT)
 def _lane_steps(st, width, kc, srf, live):
     """One step of lanes 0 .. width - 1 (a whole number of vectors); 1 if a live lane ended."""
     any_end = False
@@ -1293,10 +1316,10 @@ def _tick_wheel(st, l, i, k, j, src, e, gains, col0, laws_key, ctrl_kind, c, tab
     st[(R_MEM + 4 + j) * LANES + l] = m1
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**_NO_REFCOUNT)
 def _tick(st, l, i, k, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts):
-    """A sampled law's update of lane l (candidate i) at its step k, a sample instant (inlined
-    into the entry point, which keys its cache on the registered laws)."""
+    """A sampled law's update of lane l (candidate i) at its step k, a sample instant (the law
+    dispatch compiles for `laws_key`, a literal)."""
     sel = kc[KC_SELECT_LOW] != 0.0
     err0 = _target(st, 0, l, srf) - _get(st, R_SLIP, l)
     err1 = _target(st, 1, l, srf) - _get(st, R_SLIP + 1, l)
@@ -1313,12 +1336,12 @@ def _tick(st, l, i, k, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts):
         st[(R_WS + j) * LANES + l] = _get(st, S_W + j, l)
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**_NO_REFCOUNT)
 def _fill_lane(st, l, i, gains, col0, laws_key, ctrl_kind, c, kc, srf, v0):
     """Start candidate i in lane l: wheels rolling freely at v0, zero metrics, the law's held
     values at the start (`Law.forms`: the PID's gains, the driver's command without ABS), the
-    surfaces under the wheels at t = 0 and the derivative filters at e(0) (no kick); inlined
-    into the entry point, which keys its cache on the registered laws."""
+    surfaces under the wheels at t = 0 and the derivative filters at e(0) (no kick; the law
+    dispatch compiles for `laws_key`, a literal)."""
     for row in range(N_ROWS):
         st[row * LANES + l] = 0.0
     st[S_VX * LANES + l] = v0
@@ -1392,7 +1415,7 @@ def _finish_lane(st, l, out_row, dt):
     out_row[M_ITER] = _get(st, R_ITER, l)
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**_NO_REFCOUNT)
 def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, scratch):
     """Simulate every row of `gains` (n, G): the wheel law's gains in catalogue order, twice
     (front, then rear) when p[axle_gains] is 1.
@@ -1407,18 +1430,7 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
     x, ks, y, dy, law, sidx, guess, sc, wbuf, tgt, inv, st, lane_of, col0 = scratch
     n = gains.shape[0]
     kc = _constants(p, geo)
-    srf = (
-        surfs[0, SF_ST],
-        surfs[0, SF_RISE],
-        surfs[0, SF_FALL0],
-        surfs[0, SF_FALL1],
-        surfs[0, SF_TARGET],
-        surfs[1, SF_ST],
-        surfs[1, SF_RISE],
-        surfs[1, SF_FALL0],
-        surfs[1, SF_FALL1],
-        surfs[1, SF_TARGET],
-    )
+    srf = _surfaces(surfs)
     dt = kc[KC_DT]
     n_g = gains.shape[1] // 2 if p[P_AXLE] != 0.0 else gains.shape[1]
     col0[:] = 0  # first gain column of each wheel
@@ -1452,7 +1464,25 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
     n_trace = trace.shape[0]
     rows = 0
     if n_trace > 0 and n > 0:
-        _trace_row(trace, 0, 0.0, st, 0, p, geo, surfs, law, sidx, guess, sc, y, dy, wbuf, tgt, inv)
+        _trace_row(
+            trace[rows],
+            rows == 0,
+            0.0,
+            st,
+            0,
+            p,
+            geo,
+            surfs,
+            law,
+            sidx,
+            guess,
+            sc,
+            y,
+            dy,
+            wbuf,
+            tgt,
+            inv,
+        )
         rows = 1
     while live > 0:
         if sampled:  # at each lane's own sample instants
@@ -1488,8 +1518,8 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
         if n_trace > 0 and rows < n_trace:  # one candidate, in lane 0
             t = (_get(st, R_STEP, 0) - 1.0) * dt
             _trace_row(
-                trace,
-                rows,
+                trace[rows],
+                rows == 0,
                 min(t + dt, _get(st, R_TEND, 0)),
                 st,
                 0,
@@ -1533,7 +1563,7 @@ def _entry_point(laws_key):
     def simulate_abs_vehicle(gains, p, geo, surfs, ctrl_kind, c, table, trace, out, scratch):
         _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, scratch)
 
-    simulate_abs_vehicle.__doc__ = _simulate.py_func.__doc__
+    simulate_abs_vehicle.__doc__ = _simulate.__doc__
     return numba.njit(**_NO_REFCOUNT)(simulate_abs_vehicle)
 
 
@@ -1565,33 +1595,36 @@ def simulate_abs_vehicle(
 
 
 @numba.njit(**_NO_REFCOUNT)
-def _trace_row(trace, row, t, st, l, p, geo, surfs, law, sidx, guess, sc, y, dy, wbuf, tgt, inv):
-    """One trace row of lane l: its state, and loads and forces re-evaluated at it (`_rhs` on
-    scratch copies of the lane's arrays: tracing does not change the run)."""
+def _trace_row(
+    trace_row, start, t, st, l, p, geo, surfs, law, sidx, guess, sc, y, dy, wbuf, tgt, inv
+):
+    """Trace row `trace_row` of lane l: its state, and loads and forces re-evaluated at it (`_rhs`
+    on scratch copies of the lane's arrays: tracing does not change the run); the start row
+    (`start`) takes the slips of that evaluation."""
     for s in range(N_STATE):
         y[s] = _get(st, s, l)
     _lane_arrays(st, l, law, sidx, guess)
     _rhs(y, dy, 0, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv)
-    trace[row, T_TIME] = t
-    trace[row, T_VX] = y[S_VX]
-    trace[row, T_VY] = y[S_VY]
-    trace[row, T_SPEED] = math.sqrt(y[S_VX] ** 2 + y[S_VY] ** 2)
-    trace[row, T_YR] = y[S_YR]
-    trace[row, T_PSI] = y[S_PSI]
-    trace[row, T_X] = y[S_X]
-    trace[row, T_Y] = y[S_Y]
-    trace[row, T_DELTA] = y[S_DELTA]
-    trace[row, T_AX] = guess[0, 0]
-    trace[row, T_AY] = guess[1, 0]
-    trace[row, T_DIST] = _get(st, R_DIST, l)
+    trace_row[T_TIME] = t
+    trace_row[T_VX] = y[S_VX]
+    trace_row[T_VY] = y[S_VY]
+    trace_row[T_SPEED] = math.sqrt(y[S_VX] ** 2 + y[S_VY] ** 2)
+    trace_row[T_YR] = y[S_YR]
+    trace_row[T_PSI] = y[S_PSI]
+    trace_row[T_X] = y[S_X]
+    trace_row[T_Y] = y[S_Y]
+    trace_row[T_DELTA] = y[S_DELTA]
+    trace_row[T_AX] = guess[0, 0]
+    trace_row[T_AY] = guess[1, 0]
+    trace_row[T_DIST] = _get(st, R_DIST, l)
     for j in range(4):
-        trace[row, T_WV + j] = y[S_W + j] * p[P_R]
-        trace[row, T_SLIP + j] = _get(st, R_SLIP + j, l) if row > 0 else sc[W_SLIP, j]
-        trace[row, T_TARGET + j] = surfs[sidx[j, 0], SF_TARGET]
-        trace[row, T_FZ + j] = sc[W_FZ, j]
-        trace[row, T_TB + j] = p[P_KQ] * y[S_Q + j]
-        trace[row, T_FX + j] = sc[W_FXW, j]
-        trace[row, T_SURF + j] = sidx[j, 0]
+        trace_row[T_WV + j] = y[S_W + j] * p[P_R]
+        trace_row[T_SLIP + j] = _get(st, R_SLIP + j, l) if not start else sc[W_SLIP, j]
+        trace_row[T_TARGET + j] = surfs[sidx[j, 0], SF_TARGET]
+        trace_row[T_FZ + j] = sc[W_FZ, j]
+        trace_row[T_TB + j] = p[P_KQ] * y[S_Q + j]
+        trace_row[T_FX + j] = sc[W_FXW, j]
+        trace_row[T_SURF + j] = sidx[j, 0]
 
 
 def scratch() -> tuple[np.ndarray, ...]:
