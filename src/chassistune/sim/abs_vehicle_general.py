@@ -92,7 +92,7 @@ from chassistune.sim.abs_vehicle_wheels import kinematics, select_low, wheel_pid
 from chassistune.sim.integrate import rk4_point, rk4_update
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**NO_REFCOUNT)
 def rhs(y, dy, i, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv):
     """Derivatives of candidate i's state `y` into dy[:, i]; returns the load-solve iterations.
 
