@@ -43,8 +43,11 @@ it is empty, filled with the last live lane (live lanes stay packed in front).
 
 Compilation: the entry point (`entry_point`) is a closure over the registry's fingerprint (on
 which numba keys its disk cache); it passes the fingerprint to the lane loop (`_simulate`) as a
-literal argument, so that the loop, and the ticks and lane fill that dispatch on the laws,
-compile as cached functions of their own, each keyed on the registered laws.
+literal argument, so that the loop, with the ticks and the lane fill that dispatch on the laws
+inlined into it (calls there slow the ticking laws), compiles as a cached function of its own,
+keyed on the registered laws. The stages that do not depend on the laws (the vector loop, the
+general step and its right-hand side, the trace row) are cached functions of their modules,
+compiled once.
 
 No reference counting. The entry point and its scalar passes (the functions not inlined) are
 compiled without numba's runtime (`_nrt=False`): the caller passes every array the kernel works

@@ -10,7 +10,7 @@ import numba
 import numpy as np
 
 from chassistune.controllers.laws.dispatch import law_start, law_tick
-from chassistune.sim.abs_vehicle_lane import NO_REFCOUNT, lane_get, target_slip
+from chassistune.sim.abs_vehicle_lane import lane_get, target_slip
 from chassistune.sim.abs_vehicle_layout import (
     KC_NF,
     KC_RW,
@@ -75,7 +75,7 @@ def tick_wheel(st, l, i, k, j, src, e, gains, col0, laws_key, ctrl_kind, c, tabl
     st[(R_MEM + 4 + j) * LANES + l] = m1
 
 
-@numba.njit(**NO_REFCOUNT)
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def tick(st, l, i, k, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts):
     """A sampled law's update of lane l (candidate i) at its step k, a sample instant (the law
     dispatch compiles for `laws_key`, a literal)."""
@@ -97,7 +97,7 @@ def tick(st, l, i, k, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts):
         st[(R_WS + j) * LANES + l] = lane_get(st, S_W + j, l)
 
 
-@numba.njit(**NO_REFCOUNT)
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def fill_lane(st, l, i, gains, col0, laws_key, ctrl_kind, c, kc, srf, v0):
     """Start candidate i in lane l: wheels rolling freely at v0, zero metrics, the law's held
     values at the start (`Law.forms`: the PID's gains, the driver's command without ABS), the
