@@ -41,12 +41,12 @@ def test_every_signal_name_gives_its_declared_unit(trace_of):
 
 
 def test_declared_metric_units_match_the_names():
-    from chassistune.sim import abs_vehicle_kernel, abs_wheel_ecu_layout, abs_wheel_layout
+    from chassistune.sim import abs_vehicle_layout, abs_wheel_ecu_layout, abs_wheel_layout
 
     for layout in (
         abs_wheel_layout.METRICS,
         abs_wheel_ecu_layout.METRICS,
-        abs_vehicle_kernel.METRIC_LAYOUT,
+        abs_vehicle_layout.METRIC_LAYOUT,
     ):
         for slot in layout.slots:
             assert si_unit(slot.name) == slot.unit, (layout.title, slot.name)

@@ -12,7 +12,7 @@ from chassistune.layout import Layout
 from chassistune.params import unit_of
 from chassistune.plants.abs_vehicle_params import SteeringParams, VehicleParams
 from chassistune.plants.abs_wheel import AbsWheelParams
-from chassistune.sim.abs_vehicle_kernel import PLANT_LAYOUT
+from chassistune.sim.abs_vehicle_layout import PLANT_LAYOUT
 from chassistune.sim.abs_wheel_layout import PLANT
 from chassistune.units import PRESSURE
 

@@ -7,10 +7,11 @@ import re
 import numpy as np
 import pytest
 
+from chassistune.controllers.laws.registry import MEMORY
 from chassistune.errors import InputError
 from chassistune.scenarios.abs_vehicle import PLANT
 from chassistune.scenarios.base import PENALTY
-from chassistune.sim import abs_vehicle_kernel as K
+from chassistune.sim import abs_vehicle_layout as VL
 
 
 def population(sc, n: int = 50) -> np.ndarray:
@@ -36,8 +37,8 @@ def test_batch_row_equals_single_run_bit_for_bit(road, controller, params):
         np.testing.assert_array_equal(sc.raw(gains[i : i + 1], workers=1)[0], batch[i])
     # the traced run (trace mode of the same kernel) gives the same metrics
     tr = sc.trace(gains[7])
-    assert tr.metrics["stop_distance_m"] == batch[7, K.M_DIST]
-    assert tr.metrics["slip_itae"] == batch[7, K.M_ITAE]
+    assert tr.metrics["stop_distance_m"] == batch[7, VL.M_DIST]
+    assert tr.metrics["slip_itae"] == batch[7, VL.M_ITAE]
 
 
 def test_per_axle_gains_equal_to_shared_gains_give_the_shared_run():
@@ -47,7 +48,7 @@ def test_per_axle_gains_equal_to_shared_gains_give_the_shared_run():
     g = shared.gains_array(None)
     np.testing.assert_array_equal(axle.raw(np.concatenate([g, g])[None, :]), shared.raw(g))
     soft_rear = axle.raw(np.concatenate([g, g * 0.5])[None, :])
-    assert soft_rear[0, K.M_DIST] != shared.raw(g)[0, K.M_DIST]
+    assert soft_rear[0, VL.M_DIST] != shared.raw(g)[0, VL.M_DIST]
 
 
 def test_costs_are_finite_and_bad_runs_get_the_penalty():
@@ -65,12 +66,40 @@ def test_costs_are_finite_and_bad_runs_get_the_penalty():
 
 
 def test_layouts_declare_every_kernel_slot_once():
-    assert len(K.METRIC_LAYOUT) == K.N_METRICS and len(K.TRACE_LAYOUT) == K.N_TRACE
-    assert K.S_XF + 4 == K.N_STATE
+    assert len(VL.METRIC_LAYOUT) == VL.N_METRICS and len(VL.TRACE_LAYOUT) == VL.N_TRACE
+    assert VL.S_XF + 4 == VL.N_STATE
+    # a lane's rows start with the state (`state_of` reads them in place), then its k4
+    assert VL.LANE_LAYOUT.names[: VL.N_STATE] == VL.STATE_LAYOUT.names
+    assert VL.R_K4 == VL.N_STATE and VL.R_KP == 2 * VL.N_STATE
+    assert VL.R_WS - VL.R_MEM == 4 * MEMORY and len(VL.LANE_LAYOUT) == VL.N_ROWS
     sc = PLANT.scenario(None, "dry-concrete", "pid")
     tr = sc.trace(sc.gains_array(None))
-    assert set(tr.signals) == set(K.TRACE_LAYOUT.names)
+    assert set(tr.signals) == set(VL.TRACE_LAYOUT.names)
     assert tr.units["load_fl_n"] == "N"
+
+
+def test_the_constants_tuple_holds_what_its_layout_names():
+    """Each slot of the kernel's constants: a plant slot of its name, the inverse of one
+    (`inv_`), a geometry row at a wheel (`<row>_<wheel>`) or the step's derived values."""
+    from chassistune.sim.abs_vehicle_lane import constants
+
+    p = 1.0 + np.arange(len(VL.PLANT_LAYOUT), dtype=float)  # distinct values
+    p[VL.P_DT], p[VL.P_TMAX] = 1e-3, 2.5
+    geo = 100.0 + np.arange(4 * len(VL.GEOMETRY_LAYOUT), dtype=float).reshape(-1, 4)
+    kc = constants.py_func(p, geo)
+    derived = {"half_step_s": 5e-4, "sixth_step_s": 1e-3 / 6, "n_steps": 2500, "t_timeout_s": 2.5}
+    assert len(kc) == len(VL.CONSTANTS_LAYOUT)
+    for i, name in enumerate(VL.CONSTANTS_LAYOUT.names):
+        row, _, wheel = name.rpartition("_")
+        if name in VL.PLANT_LAYOUT:
+            expected = p[VL.PLANT_LAYOUT[name]]
+        elif name.startswith("inv_"):
+            expected = 1.0 / p[VL.PLANT_LAYOUT[name.removeprefix("inv_")]]
+        elif wheel in VL.WHEELS:
+            expected = geo[VL.GEOMETRY_LAYOUT[row], VL.WHEELS.index(wheel)]
+        else:
+            expected = derived[name]
+        assert kc[i] == pytest.approx(expected, rel=1e-15), name
 
 
 @pytest.mark.parametrize(

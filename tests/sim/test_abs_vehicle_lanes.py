@@ -57,13 +57,13 @@ def test_wild_candidates_end_with_a_status_not_an_exception():
 def test_rows_do_not_depend_on_the_lane_or_the_population():
     """More candidates than lanes (refilled and repacked): each row equals its run alone."""
     from chassistune.scenarios.abs_vehicle import PLANT
-    from chassistune.sim import abs_vehicle_kernel as K
+    from chassistune.sim import abs_vehicle_layout as VL
 
     sc = PLANT.scenario(None, "mu-jump", "fuzzy-pid")
     pop = pins.population(sc.controller.bounds())
-    pop = np.concatenate([pop, pop[::-1]])[: K.LANES + 5]
+    pop = np.concatenate([pop, pop[::-1]])[: VL.LANES + 5]
     batch = sc.raw(pop, workers=1)
-    for i in (0, 3, K.LANES - 1, K.LANES, K.LANES + 4):
+    for i in (0, 3, VL.LANES - 1, VL.LANES, VL.LANES + 4):
         np.testing.assert_array_equal(sc.raw(pop[i : i + 1], workers=1)[0], batch[i])
 
 
@@ -85,13 +85,14 @@ def test_lane_step_vectorizes():
 
     from chassistune.scenarios.abs_vehicle import PLANT
     from chassistune.sim import abs_vehicle_kernel as K
+    from chassistune.sim import abs_vehicle_layout as VL
 
     entry = K.entry_point()
     options = {k: v for k, v in entry.targetoptions.items() if k not in ("cache", "nopython")}
     fresh = numba.njit(**options)(entry.py_func)
     sc = PLANT.scenario(None, "dry-concrete", "pid")
     p, geo, surfs, ckind, c, table = sc._kernel_args
-    out = np.zeros((1, K.N_METRICS))
+    out = np.zeros((1, VL.N_METRICS))
     fresh(
         np.array([[1200.0, 0.0, 20.0]]),
         p,
@@ -100,7 +101,7 @@ def test_lane_step_vectorizes():
         ckind,
         c,
         table,
-        np.zeros((0, K.N_TRACE)),
+        np.zeros((0, VL.N_TRACE)),
         out,
         K.scratch(),
     )

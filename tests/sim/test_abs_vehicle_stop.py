@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from chassistune.scenarios.abs_vehicle import PLANT
-from chassistune.sim import abs_vehicle_kernel as K
+from chassistune.sim import abs_vehicle_layout as VL
 
-END_METRICS = (K.M_XSTOP, K.M_PSI_END, K.M_Y_END)
+END_METRICS = (VL.M_XSTOP, VL.M_PSI_END, VL.M_Y_END)
 
 
 def raw_run(road: str, controller: str, **params: object) -> np.ndarray:
@@ -48,7 +48,7 @@ def test_end_position_heading_and_offset_agree_with_a_tenth_of_the_step():
     dt 1 ms against dt 0.1 ms, within a hundredth of the distance the car covers in a step."""
     coarse = raw_run("split-mu", "none")
     fine = raw_run("split-mu", "none", dt_s=1e-4)
-    assert coarse[K.M_STATUS] == fine[K.M_STATUS] == K.STATUS_STOPPED
+    assert coarse[VL.M_STATUS] == fine[VL.M_STATUS] == VL.STATUS_STOPPED
     x, psi, y = np.abs(coarse[list(END_METRICS)] - fine[list(END_METRICS)])
     assert x < 1e-4 and psi < 1e-4 and y < 2e-5, (x, psi, y)
 
@@ -59,7 +59,7 @@ def test_lock_times_converge_as_the_step_halves():
     (the end of the locking step was up to a step late and did not converge)."""
     dt = 1e-3
     t1, t2, t4, t8 = (
-        raw_run("dry-concrete", "none", dt_s=dt / k)[K.M_LOCK_T : K.M_LOCK_T + 4]
+        raw_run("dry-concrete", "none", dt_s=dt / k)[VL.M_LOCK_T : VL.M_LOCK_T + 4]
         for k in (1, 2, 4, 8)
     )
     e1, e2, e4 = (np.abs(t - t8) for t in (t1, t2, t4))

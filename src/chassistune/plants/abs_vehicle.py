@@ -90,6 +90,16 @@ def surface_row(
 
 
 @numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def bilinear_mu(s, surfs, k):
+    """mu(s) of surface row k for s in [0, 1] (the longitudinal curve, as `tires.tire_mu`)."""
+    return (
+        surfs[k, SF_RISE] * s
+        if s <= surfs[k, SF_ST]
+        else surfs[k, SF_FALL0] - surfs[k, SF_FALL1] * s
+    )
+
+
+@numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
 def tire_force(sx, vr, fz, surfs, k):
     """Combined-slip force (Fx, Fy) of one wheel in its own frame and dF/dFz (design.md 3.3).
 
@@ -104,28 +114,19 @@ def tire_force(sx, vr, fz, surfs, k):
     if s == 0.0:
         return 0.0, 0.0, 0.0, 0.0
     sc = min(s, 1.0)
+    mu = bilinear_mu(sc, surfs, k)
     if sc <= surfs[k, SF_ST]:
-        mu = surfs[k, SF_RISE] * sc
         dmu = surfs[k, SF_RISE]
+    elif s < 1.0:
+        dmu = -surfs[k, SF_FALL1]
     else:
-        mu = surfs[k, SF_FALL0] - surfs[k, SF_FALL1] * sc
-        dmu = -surfs[k, SF_FALL1] if s < 1.0 else 0.0
+        dmu = 0.0
     f = fz * mu
     cx = sx / s
     cy = sy / s
     # F = -Fz phi(s) (sx, sy) with phi = mu/s and sy ~ 1/Fz: differentiate in Fz
     t = (dmu * s - mu) / (s * s) * sy * sy / s
     return -f * cx, -f * cy, -mu * cx + t * sx, t * sy
-
-
-@numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
-def bilinear_mu(s, surfs, k):
-    """mu(s) of surface row k for s in [0, 1] (the longitudinal curve, as `tires.tire_mu`)."""
-    return (
-        surfs[k, SF_RISE] * s
-        if s <= surfs[k, SF_ST]
-        else surfs[k, SF_FALL0] - surfs[k, SF_FALL1] * s
-    )
 
 
 @numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")

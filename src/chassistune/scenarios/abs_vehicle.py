@@ -50,6 +50,7 @@ from chassistune.scenarios.base import PENALTY, Plant, Scenario, Trace, json_sca
 from chassistune.scenarios.controller_params import kernel_gains, resolve_controller_params
 from chassistune.scenarios.registry import ABS_VEHICLE
 from chassistune.sim import abs_vehicle_kernel as K
+from chassistune.sim import abs_vehicle_layout as VL
 from chassistune.sim.batch import run_chunked
 
 PLANT_NAME = ABS_VEHICLE.name
@@ -67,13 +68,12 @@ class VehicleScoring:
 
 
 OBJECTIVE_COLUMNS = {
-    "itae": K.M_ITAE,
-    "iae": K.M_IAE,
-    "ise": K.M_ISE,
-    "distance": K.M_DIST,
-    "time": K.M_TIME,
+    "itae": VL.M_ITAE,
+    "iae": VL.M_IAE,
+    "ise": VL.M_ISE,
+    "distance": VL.M_DIST,
+    "time": VL.M_TIME,
 }
-STATUS_NAMES = ("stopped", "hopeless", "timeout", "diverged")
 
 
 def road_bound(pp: VehicleParams, road: VehicleRoad) -> Bound:
@@ -220,7 +220,7 @@ class AbsVehicleScenario(Scenario):
             "axle_gains": 1.0 if cp.get("axle_gains") == "per-axle" else 0.0,
             "yaw_window_s": self.scoring.yaw_window_s,
         }
-        p = K.PLANT_LAYOUT.pack(values)
+        p = VL.PLANT_LAYOUT.pack(values)
         geo = geometry(pp)
         surfs = np.stack(
             [
@@ -228,7 +228,7 @@ class AbsVehicleScenario(Scenario):
                 for t in road.surfaces
             ]
         )
-        c = K.CONTROLLER_LAYOUT.pack(
+        c = VL.CONTROLLER_LAYOUT.pack(
             {
                 "ts_s": cp.get("ts_s", pp.dt_s),
                 "amplitude": cp.get("amplitude", 0.0),
@@ -272,23 +272,23 @@ class AbsVehicleScenario(Scenario):
     def raw(self, gains: np.ndarray, workers: int | None = None) -> np.ndarray:
         """The kernel's metrics matrix (n, N_METRICS) for a population of gain rows."""
         p, geo, surfs, ckind, c, table = self._kernel_args
-        empty = np.zeros((0, K.N_TRACE))
+        empty = np.zeros((0, VL.N_TRACE))
 
         def call(g: np.ndarray, out: np.ndarray) -> None:
             K.simulate_abs_vehicle(g, p, geo, surfs, ckind, c, table, empty, out, K.scratch())
 
-        return run_chunked(call, self._kernel_gains(gains), K.N_METRICS, workers)
+        return run_chunked(call, self._kernel_gains(gains), VL.N_METRICS, workers)
 
     def metrics_from_raw(self, raw: np.ndarray) -> dict[str, np.ndarray]:
-        names = tuple(n for n in K.METRIC_LAYOUT.names if n not in ("status", "spun", "n_trace"))
-        out: dict[str, np.ndarray] = K.METRIC_LAYOUT.decode(raw, names)
-        status = raw[:, K.M_STATUS].astype(int)
-        out["stopped"] = status == K.STATUS_STOPPED
-        out["status"] = np.array(STATUS_NAMES)[status]
-        out["spun"] = raw[:, K.M_SPUN] != 0.0
+        names = tuple(n for n in VL.METRIC_LAYOUT.names if n not in ("status", "spun", "n_trace"))
+        out: dict[str, np.ndarray] = VL.METRIC_LAYOUT.decode(raw, names)
+        status = raw[:, VL.M_STATUS].astype(int)
+        out["stopped"] = status == VL.STATUS_STOPPED
+        out["status"] = np.array(VL.STATUS_NAMES)[status]
+        out["spun"] = raw[:, VL.M_SPUN] != 0.0
         out["bound_distance_m"] = np.full(raw.shape[0], self.bound_distance_m)
         out["bound_time_s"] = np.full(raw.shape[0], self.bound_time_s)
-        out["distance_ratio"] = raw[:, K.M_DIST] / self.bound_distance_m
+        out["distance_ratio"] = raw[:, VL.M_DIST] / self.bound_distance_m
         return out
 
     def metrics(self, gains: np.ndarray) -> dict[str, np.ndarray]:
@@ -303,9 +303,9 @@ class AbsVehicleScenario(Scenario):
                 f"(known: {', '.join(OBJECTIVE_COLUMNS)})",
             )
         cost = raw[:, OBJECTIVE_COLUMNS[objective]] + (
-            self.scoring.lock_penalty_per_s * raw[:, K.M_LOCKED]
+            self.scoring.lock_penalty_per_s * raw[:, VL.M_LOCKED]
         )
-        bad = (raw[:, K.M_STATUS] != K.STATUS_STOPPED) | ~np.isfinite(cost)
+        bad = (raw[:, VL.M_STATUS] != VL.STATUS_STOPPED) | ~np.isfinite(cost)
         return np.where(bad, PENALTY, np.minimum(cost, PENALTY))
 
     def cost(self, gains: np.ndarray, objective: str | None = None) -> np.ndarray:
@@ -315,13 +315,13 @@ class AbsVehicleScenario(Scenario):
         p, geo, surfs, ckind, c, table = self._kernel_args
         g = self._kernel_gains(np.asarray(gains, dtype=np.float64).reshape(1, -1))
         n_rows = math.ceil(self.plant_params.t_max_s / self.plant_params.dt_s) + 2
-        tr = np.zeros((n_rows, K.N_TRACE))
-        out = np.zeros((1, K.N_METRICS))
+        tr = np.zeros((n_rows, VL.N_TRACE))
+        out = np.zeros((1, VL.N_METRICS))
         K.simulate_abs_vehicle(g, p, geo, surfs, ckind, c, table, tr, out, K.scratch())
-        rows = int(out[0, K.M_NTRACE])
-        signals = K.TRACE_LAYOUT.decode(tr[:rows])
+        rows = int(out[0, VL.M_NTRACE])
+        signals = VL.TRACE_LAYOUT.decode(tr[:rows])
         metrics = {k: json_scalar(v[0]) for k, v in self.metrics_from_raw(out).items()}
-        return Trace(signals, metrics, self.units(K.TRACE_LAYOUT.units))
+        return Trace(signals, metrics, self.units(VL.TRACE_LAYOUT.units))
 
 
 class AbsVehiclePlant(Plant):

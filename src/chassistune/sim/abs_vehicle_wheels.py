@@ -1,0 +1,151 @@
+"""The four wheels of the vehicle (design.md 3.3): their kinematics (wheel-frame velocity, slip
+over |V|), the bilinear tire in straight-line braking (`abs_wheel_tires.tire_law_mu`), the
+wheel, actuator and PID rates (the single wheel's, `abs_wheel_model.wheel_rates`), select-low on
+the rear channels and the surface under each wheel. Scalar and branch-free where the vector
+loop reads them (inline)."""
+
+from __future__ import annotations
+
+import math
+
+import numba
+
+from chassistune._branchfree import clip, fmax, fmin, select
+from chassistune.controllers.pid import pid_step
+from chassistune.plants.vehicle_roads import ROAD_MU_JUMP, ROAD_SPLIT
+from chassistune.sim.abs_vehicle_layout import (
+    G_X,
+    G_Y,
+    KC_GX,
+    KC_GY,
+    KC_KIND,
+    KC_RW,
+    KC_SPLIT_ROAD,
+    KC_VMIN,
+    KC_XJUMP,
+    KC_YSPLIT,
+    P_R,
+    P_VMIN,
+    W_CS,
+    W_SLIP,
+    W_SN,
+    W_SX,
+    W_VABS,
+    W_VR,
+)
+from chassistune.sim.abs_wheel_model import wheel_rates
+from chassistune.sim.abs_wheel_tires import KIND_BILINEAR, tire_law_mu
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def wheel_kinematics(uw, vw, w, r_w, vmin):
+    """(sx, v/|V|, |V|, clipped slip) of a wheel with wheel-frame velocity (uw, vw)."""
+    vabs = fmax(math.sqrt(uw * uw + vw * vw), vmin)
+    inv = 1.0 / vabs
+    sx = (uw - w * r_w) * inv
+    return sx, vw * inv, vabs, clip(sx, 0.0, 1.0)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def kinematics(vx, vy, r, delta, w, p, geo, sc):
+    """Wheel-frame slips of the four wheels into the scratch rows (front wheels steered)."""
+    if delta != 0.0:
+        cd = math.cos(delta)
+        sd = math.sin(delta)
+    else:
+        cd = 1.0
+        sd = 0.0
+    for j in range(4):
+        u = vx - r * geo[G_Y, j]
+        v = vy + r * geo[G_X, j]
+        if j < 2 and sd != 0.0:
+            uw = cd * u + sd * v
+            vw = cd * v - sd * u
+            sc[W_CS, j] = cd
+            sc[W_SN, j] = sd
+        else:
+            uw = u
+            vw = v
+            sc[W_CS, j] = 1.0
+            sc[W_SN, j] = 0.0
+        sx, vr, vabs, slip = wheel_kinematics(uw, vw, w[j], p[P_R], p[P_VMIN])
+        sc[W_SX, j] = sx
+        sc[W_VR, j] = vr
+        sc[W_VABS, j] = vabs
+        sc[W_SLIP, j] = slip
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def unsteered(b, wt, j, kc):
+    """(|V|, clipped slip) of wheel j (state wt) unsteered, body b: `kinematics` with delta 0."""
+    vx = b[0]
+    vy = b[1]
+    r = b[2]
+    u = vx - r * kc[KC_GY + j]
+    _, _, vabs, slip = wheel_kinematics(u, vy + r * kc[KC_GX + j], wt[0], kc[KC_RW], kc[KC_VMIN])
+    return vabs, slip
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def wheel_speeds(x, kc):
+    """The four wheels' |V| at state x (unsteered: steering turns a wheel's velocity, not its
+    norm)."""
+    b = x[0]
+    return (
+        unsteered(b, x[1], 0, kc)[0],
+        unsteered(b, x[2], 1, kc)[0],
+        unsteered(b, x[3], 2, kc)[0],
+        unsteered(b, x[4], 3, kc)[0],
+    )
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def select_low(e2, e3, on):
+    """The rear channels' slip errors from the rear wheels' (e2, e3): with select-low (`on`)
+    both get min(e2, e3), the error of the wheel with the larger slip, else each its own; and
+    whether select-low took wheel rr's. Branch-free."""
+    low = e3 < e2
+    return select(on & low, e3, e2), select(on & (not low), e2, e3), on & low
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def wheel_pid_rates(
+    w, q, qr, z, xf, e, fxw, kp, ki, kd, u0, r_w, kq, inv_j, nf, gain, inv_tau, q_max
+):
+    """Rates (dw, dq, dqr, dz, dxf) of a wheel's spin, brake actuator and PID states (design.md
+    3.1, 4): the single wheel's equations (`abs_wheel_model.wheel_rates`, its tire force
+    -fxw: the wheel-frame force Fx acts against the travel) under u = u0 + kp e + ki z +
+    kd N (e - xf) with conditional integration (`pid_step`). Branch-free."""
+    u, dz, dxf = pid_step(e, z, xf, u0, kp, ki, kd, nf, q >= q_max, q <= 0.0)
+    _, dw, dq, dqr, _, _ = wheel_rates(w, q, qr, -fxw, u, r_w, 0.0, inv_j, kq, gain, inv_tau, q_max)
+    return dw, dq, dqr, dz, dxf
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def straight_wheel(vx, w, s, r_w, vmin):
+    """Force per unit load and clipped slip of a wheel on surface s in straight-line braking
+    (r = vy = 0, no steering): `kinematics` and `straight_force_per_load` in that case, bit for
+    bit."""
+    vabs = fmax(math.sqrt(vx * vx), vmin)
+    sx = (vx - w * r_w) * (1.0 / vabs)
+    a = abs(sx)
+    mu = tire_law_mu(KIND_BILINEAR, fmin(a, 1.0), s[0], s[1], s[2], s[3], s, s, s)  # no table
+    return select(a > 0.0, -math.copysign(mu, sx), 0.0), clip(sx, 0.0, 1.0)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def surface_flag(b_old, x, y, cp, sp, j, kc):
+    """Surface under wheel j (1.0: the second) from its contact point's global position on
+    mu-jump and split-mu roads (kept on uniform roads), heading psi given as (cos, sin)."""
+    gx = x + kc[KC_GX + j] * cp - kc[KC_GY + j] * sp
+    gy = y + kc[KC_GX + j] * sp + kc[KC_GY + j] * cp
+    split = select(
+        kc[KC_SPLIT_ROAD] != 0.0,
+        select(gy >= kc[KC_YSPLIT], 0.0, 1.0),
+        select(kc[KC_GY + j] > 0.0, 0.0, 1.0),
+    )
+    return select(
+        kc[KC_KIND] == ROAD_MU_JUMP,
+        select(gx >= kc[KC_XJUMP], 1.0, 0.0),
+        select(kc[KC_KIND] == ROAD_SPLIT, split, b_old),
+    )
