@@ -57,7 +57,6 @@ in as one tuple (`scratch()`), the kernel resets it, and nothing is allocated.
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numba
 import numpy as np
@@ -336,15 +335,8 @@ def _entry_point(laws_key):
     return numba.njit(**NO_REFCOUNT)(simulate_abs_vehicle)
 
 
-_ENTRY_POINTS: dict[str, Any] = {}
-
-
-def entry_point() -> Any:
-    """The compiled entry point for the laws registered now."""
-    key = laws.fingerprint()
-    if key not in _ENTRY_POINTS:
-        _ENTRY_POINTS[key] = _entry_point(int(key[:15], 16))
-    return _ENTRY_POINTS[key]
+entry_point = laws.per_fingerprint(_entry_point)
+"""The compiled entry point for the laws registered now."""
 
 
 def simulate_abs_vehicle(
