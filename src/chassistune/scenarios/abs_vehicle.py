@@ -199,6 +199,7 @@ class AbsVehicleScenario(Scenario):
             "actuator_gain": pp.actuator_gain,
             "actuator_tau_s": pp.actuator_tau_s,
             "brake_gain": pp.brake_gain,
+            "front_brake_share": pp.front_brake_share,
             "q_max": pp.q_max,
             "v_stop_m_s": pp.v_stop_m_s,
             "t_max_s": pp.t_max_s,

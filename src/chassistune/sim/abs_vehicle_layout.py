@@ -53,7 +53,13 @@ PLANT_LAYOUT = Layout(
         Slot("v0_m_s", "m/s"),
         Slot("actuator_gain", "preset unit/s"),
         Slot("actuator_tau_s", "s"),
-        Slot("brake_gain", "N m/preset unit"),
+        Slot("brake_gain", "N m/preset unit", "kq: the mean of the four wheels' brake gains"),
+        Slot(
+            "front_brake_share",
+            "-",
+            "the front axle's share s of the brake torque at equal pressure: 2 s kq on a front "
+            "wheel, 2 (1 - s) kq on a rear one (the measured cars: CommonRoad's T_sb)",
+        ),
         Slot("q_max", "preset unit"),
         Slot("v_stop_m_s", "m/s"),
         Slot("t_max_s", "s"),
@@ -176,6 +182,7 @@ P_V0 = PLANT_LAYOUT["v0_m_s"]
 P_K = PLANT_LAYOUT["actuator_gain"]
 P_TAU = PLANT_LAYOUT["actuator_tau_s"]
 P_KQ = PLANT_LAYOUT["brake_gain"]
+P_FRONT_SHARE = PLANT_LAYOUT["front_brake_share"]
 P_QMAX = PLANT_LAYOUT["q_max"]
 P_VSTOP = PLANT_LAYOUT["v_stop_m_s"]
 P_TMAX = PLANT_LAYOUT["t_max_s"]
@@ -390,7 +397,7 @@ CONSTANTS_LAYOUT = Layout(
         *_per_wheel("y_m", "m"),
         Slot("wheel_radius_m", "m"),
         Slot("min_speed_m_s", "m/s"),
-        Slot("brake_gain", "N m/preset unit"),
+        *_per_wheel("brake_gain", "N m/preset unit", "the wheel's (`wheel_brake_gain`)"),
         Slot("n_filter", "rad/s"),
         Slot("actuator_gain", "preset unit/s"),
         Slot("q_max", "preset unit"),
@@ -427,7 +434,7 @@ KC_GX = CONSTANTS_LAYOUT["x_m_fl"]
 KC_GY = CONSTANTS_LAYOUT["y_m_fl"]
 KC_RW = CONSTANTS_LAYOUT["wheel_radius_m"]
 KC_VMIN = CONSTANTS_LAYOUT["min_speed_m_s"]
-KC_KQ = CONSTANTS_LAYOUT["brake_gain"]
+KC_KQ = CONSTANTS_LAYOUT["brake_gain_fl"]
 KC_NF = CONSTANTS_LAYOUT["n_filter"]
 KC_GAIN = CONSTANTS_LAYOUT["actuator_gain"]
 KC_QMAX = CONSTANTS_LAYOUT["q_max"]
