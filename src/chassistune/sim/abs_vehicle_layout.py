@@ -124,7 +124,12 @@ METRIC_LAYOUT = Layout(
         Slot("slip_iae", "s", "sum over the wheels"),
         Slot("slip_itae", "s^2", "sum over the wheels"),
         Slot("slip_ise", "s", "sum over the wheels"),
-        Slot("locked_time_s", "s", "sum over the wheels of the time locked while moving"),
+        Slot(
+            "locked_time_s",
+            "s",
+            "each wheel's time locked while moving, summed over the four wheels (all four "
+            "locked for 1 s count 4 s)",
+        ),
         Slot("yaw_rate_peak_1s_rad_s", "rad/s", "signed yaw rate of largest |r| in the window"),
         Slot("heading_1s_deg", "deg", "heading at the end of the window"),
         Slot("lateral_offset_1s_m", "m", "global Y of the CG at the end of the window"),
@@ -165,7 +170,15 @@ TRACE_LAYOUT = Layout(
         Slot("ay_m_s2", "m/s^2"),
         Slot("distance_m", "m"),
         *(Slot(f"wheel_speed_{w}_m_s", "m/s") for w in WHEELS),
-        *(Slot(f"slip_{w}", "-") for w in WHEELS),
+        *(
+            Slot(
+                f"slip_{w}",
+                "-",
+                "the slip the ECU sees, (u - w R)/|V| clipped to [0, 1]; shown as 1 where the "
+                "wheel stands still while the car moves (`locked_slip_shown`)",
+            )
+            for w in WHEELS
+        ),
         *(Slot(f"target_slip_{w}", "-") for w in WHEELS),
         *(Slot(f"load_{w}_n", "N") for w in WHEELS),
         *(Slot(f"brake_torque_{w}_n_m", "N m") for w in WHEELS),
