@@ -438,8 +438,9 @@ CONSTANTS_LAYOUT = Layout(
         Slot("t_timeout_s", "s", "n_steps dt"),
     ),
 )
-"""Slots named as a plant slot hold that slot's value, `inv_` ones its inverse, `*_{wheel}` ones
-the geometry row of that name at the wheel."""
+"""Slots named as a plant slot hold that slot's value, `inv_` ones its inverse,
+`brake_gain_{wheel}` the wheel's brake gain (`wheel_brake_gain`), other `*_{wheel}` ones the
+geometry row of that name at the wheel."""
 KC_MASS = CONSTANTS_LAYOUT["mass_kg"]
 KC_FZ0 = CONSTANTS_LAYOUT["static_load_n_fl"]
 KC_A = CONSTANTS_LAYOUT["load_per_ax_fl"]
