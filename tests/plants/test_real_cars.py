@@ -21,6 +21,8 @@ from chassistune.scenarios.abs_vehicle import PLANT
 from chassistune.scenarios.check import check_plant
 
 VEHICLE_IDS = {"ford-escort": 1, "bmw-320i": 2, "vw-vanagon": 3}
+STEPS_S = {"ford-escort": 1e-3, "bmw-320i": 1e-3, "vw-vanagon": 2.5e-4}
+"""The step each preset runs at, as measured (docs/cars.md, integration step)."""
 CONTROLLERS = ["none", "pid", "fuzzy-pid", "threshold"]
 ROADS = [("dry-concrete", {}), ("ice", {}), ("mu-jump", {}), ("split-mu", {}),
          ("split-mu", {"steering": "driver"})]  # fmt: skip
@@ -66,7 +68,7 @@ def test_the_preset_takes_the_cars_numbers_and_keeps_the_rest(car: str) -> None:
         assert getattr(pp, name) == theirs[key], name
     g = base.g_m_s2
     assert pp.cornering_stiffness_n_rad == abs(theirs["tire"]["p_ky1"]) * theirs["m"] * g / 4
-    assert pp.dt_s == 1e-3
+    assert pp.dt_s == STEPS_S[car]
     own = {*FROM_CAR, "cornering_stiffness_n_rad", "dt_s"}
     for f in dataclasses.fields(VehicleParams):
         if f.name not in own:

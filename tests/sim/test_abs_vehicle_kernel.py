@@ -80,7 +80,8 @@ def test_layouts_declare_every_kernel_slot_once():
 
 def test_the_constants_tuple_holds_what_its_layout_names():
     """Each slot of the kernel's constants: a plant slot of its name, the inverse of one
-    (`inv_`), a geometry row at a wheel (`<row>_<wheel>`) or the step's derived values."""
+    (`inv_`), a wheel's brake gain (`brake_gain_<wheel>`: 2 s kq in front, 2 (1 - s) kq
+    behind), a geometry row at a wheel (`<row>_<wheel>`) or the step's derived values."""
     from chassistune.sim.abs_vehicle_lane import constants
 
     p = 1.0 + np.arange(len(VL.PLANT_LAYOUT), dtype=float)  # distinct values
@@ -95,6 +96,9 @@ def test_the_constants_tuple_holds_what_its_layout_names():
             expected = p[VL.PLANT_LAYOUT[name]]
         elif name.startswith("inv_"):
             expected = 1.0 / p[VL.PLANT_LAYOUT[name.removeprefix("inv_")]]
+        elif row == "brake_gain":
+            s = p[VL.P_FRONT_SHARE]
+            expected = 2.0 * (s if wheel in ("fl", "fr") else 1.0 - s) * p[VL.P_KQ]
         elif wheel in VL.WHEELS:
             expected = geo[VL.GEOMETRY_LAYOUT[row], VL.WHEELS.index(wheel)]
         else:

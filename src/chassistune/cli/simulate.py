@@ -14,6 +14,7 @@ from chassistune.errors import InputError
 from chassistune.units import shown_unit, with_pressure
 
 if TYPE_CHECKING:
+    from chassistune.scenarios.base import Scenario
     from chassistune.simulate import Comparison, SimulationResult
 
 DIAGNOSTICS = ("slip_clip_max", "min_slip_unclipped")
@@ -26,7 +27,7 @@ def write_csv(result: SimulationResult, path: str) -> None:
 
     from chassistune._io import atomic_path
 
-    sig = result.trace.signals
+    sig = result.trace.shown
     names = list(sig)
     with atomic_path(path) as tmp, open(tmp, "w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh)
@@ -41,14 +42,16 @@ def _shown(name: str, value: object) -> object:
     return value * factor if isinstance(value, float) and factor != 1.0 else value
 
 
-def _label(name: str, pressure_unit: str) -> str:
+def _label(name: str, sc: Scenario) -> str:
     """A metric's name with the unit its value is shown in: `susp_travel_rms [mm]`, a pressure
-    in the preset's unit (`pressure_max [kPa]`)."""
-    unit = with_pressure(shown_unit(name)[0], pressure_unit)
-    return f"{name} [{unit}]" if unit else name
+    in the preset's unit (`pressure_max [kPa]`), and the plant's note on it (`metric_unit`)."""
+    from chassistune.scenarios.registry import plant_spec
+
+    unit = with_pressure(shown_unit(name)[0], sc.pressure_unit)
+    return f"{name} [{plant_spec(sc.plant).metric_unit(name, unit)}]" if unit else name
 
 
-def _print_metrics(metrics: dict[str, object], pressure_unit: str) -> None:
+def _print_metrics(metrics: dict[str, object], sc: Scenario) -> None:
     """Metrics with their units as a list; those with a `passive_` twin as an active / passive /
     ratio table."""
     metrics = {k: v for k, v in metrics.items() if k not in DIAGNOSTICS}
@@ -58,18 +61,18 @@ def _print_metrics(metrics: dict[str, object], pressure_unit: str) -> None:
         for k in metrics
         if k not in paired and not (k.startswith("passive_") and k[len("passive_") :] in paired)
     ]
-    width = max(len(_label(k, pressure_unit)) for k in metrics)
+    width = max(len(_label(k, sc)) for k in metrics)
     if paired:
         click.echo(f"  {'':<{width}}  {'active':>10}  {'passive':>10}  {'ratio':>7}")
         for k in paired:
             a, b = metrics[k], metrics[f"passive_{k}"]
             ratio = a / b if isinstance(a, float) and isinstance(b, float) and b else None
             click.echo(
-                f"  {_label(k, pressure_unit):<{width}}  {fmt(_shown(k, a)):>10}  "
+                f"  {_label(k, sc):<{width}}  {fmt(_shown(k, a)):>10}  "
                 f"{fmt(_shown(k, b)):>10}  {fmt(ratio):>7}"
             )
     for k in alone:
-        click.echo(f"  {_label(k, pressure_unit):<{width}}  {fmt(_shown(k, metrics[k]))}")
+        click.echo(f"  {_label(k, sc):<{width}}  {fmt(_shown(k, metrics[k]))}")
 
 
 def _why_not(result: SimulationResult) -> str | None:
@@ -258,7 +261,7 @@ def _one_run(
     click.echo(f"{plant}  preset {sc.preset}  road {sc.road}  controller {sc.controller.name}")
     if result.gains:
         click.echo("gains: " + ", ".join(f"{k}={v!r}" for k, v in result.gains.items()))
-    _print_metrics(result.metrics, sc.pressure_unit)
+    _print_metrics(result.metrics, sc)
     why = _why_not(result)
     if why:
         click.echo(why)
@@ -304,12 +307,12 @@ def _print_comparison(cmp: Comparison) -> None:
     click.echo(f"{first.plant}  preset {first.preset}  road {first.road}")
     labels = list(cmp.results)
     keys = [k for k in next(iter(cmp.results.values())).metrics if k not in DIAGNOSTICS]
-    width = max(len(_label(k, first.pressure_unit)) for k in keys)
+    width = max(len(_label(k, first)) for k in keys)
     col = max(10, *(len(x) for x in labels))
     click.echo(f"  {'':<{width}}  " + "  ".join(f"{x:>{col}}" for x in labels))
     for k in keys:
         click.echo(
-            f"  {_label(k, first.pressure_unit):<{width}}  "
+            f"  {_label(k, first):<{width}}  "
             + "  ".join(f"{fmt(_shown(k, cmp.results[x].metrics.get(k))):>{col}}" for x in labels)
         )
     for label, r in cmp.results.items():

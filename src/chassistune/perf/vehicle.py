@@ -100,7 +100,9 @@ def reference_rhs(
                 kp, ki, kd = g[5] + g[2] * out[0], g[6] + g[3] * out[1], g[7] + g[4] * out[2]
             else:
                 kp, ki, kd = gains
-            dw = (-pp.wheel_radius_m * forces[j][0] - pp.brake_gain * q) / pp.wheel_inertia_kg_m2
+            axle_share = pp.front_brake_share if j < 2 else 1.0 - pp.front_brake_share
+            tb = 2.0 * axle_share * pp.brake_gain * q
+            dw = (-pp.wheel_radius_m * forces[j][0] - tb) / pp.wheel_inertia_kg_m2
             u_cmd = kp * e + ki * z + kd * nf * (e - xf)
             hi, lo = q >= pp.q_max, q <= 0.0
             dy[6 + 5 * j : 11 + 5 * j] = (

@@ -47,7 +47,11 @@ class VehicleParams:
     command u (docs/design.md 3.1)."""
     actuator_tau_s: float = field(default=0.01, metadata=positive(1e-3, 0.5))
     brake_gain: float = field(default=1.0, metadata=positive(0.1, 1000.0, unit=f"N m/{PRESSURE}"))
-    """kq in N m per pressure unit, the same on all four wheels (no brake balance)."""
+    """kq in N m per pressure unit: the mean of the four wheels' brake gains."""
+    front_brake_share: float = field(default=0.5, metadata=unit_interval(0.5, 0.85))
+    """The front axle's share s of the brake torque at equal pressure (CommonRoad's T_sb): a
+    front wheel's brake gain is 2 s kq, a rear one's 2 (1 - s) kq; 0.5, no brake balance, gives
+    every wheel kq (paper-deffao)."""
     q_max: float = field(default=2500.0, metadata=positive(10.0, 1e5, unit=PRESSURE))
     v_stop_m_s: float = field(default=2.0, metadata=positive(0.01, 10.0))
     t_max_s: float = field(default=60.0, metadata=positive(0.1, 600.0))

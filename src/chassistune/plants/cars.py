@@ -30,6 +30,7 @@ FROM_CAR = {
     "cg_height_m": "h_cg",
     "track_front_m": "T_f",
     "track_rear_m": "T_r",
+    "front_brake_share": "T_sb",
 }
 """VehicleParams field -> the CommonRoad field it takes verbatim."""
 
@@ -69,7 +70,8 @@ class Car:
             f"{v['track_rear_m']:.3f} m, R = {v['wheel_radius_m']} m, "
             f"J = {v['wheel_inertia_kg_m2']} kg m^2, "
             f"C = |PKY1| m g/4 = {v['cornering_stiffness_n_rad'] / 1e3:.1f} kN/rad; "
-            f"paper-deffao's brake, actuator, v0 and g; dt = {self.dt_s * 1e3:g} ms"
+            f"front brake share T_sb = {v['front_brake_share']}; "
+            f"paper-deffao's brake gain and actuator, v0 and g; dt = {self.dt_s * 1e3:g} ms"
         )
 
 

@@ -47,7 +47,7 @@ def plot_trace(scenario: Any, trace: Trace, path: str) -> None:
     ax_r = fig.add_subplot(grid[2, 0], sharex=ax_v)
     ax_psi = fig.add_subplot(grid[2, 1], sharex=ax_v)
     ax_top = fig.add_subplot(grid[3, :])
-    sig, m = trace.signals, trace.metrics
+    sig, m = trace.shown, trace.metrics
     t = sig["time_s"]
     ax_v.plot(t, sig["speed_m_s"], color="k", label="car (CG speed)")
     for w in WHEELS:
@@ -58,7 +58,7 @@ def plot_trace(scenario: Any, trace: Trace, path: str) -> None:
         ax_fz.plot(t, sig[f"load_{w}_n"], color=col, lw=0.9, label=w)
         ax_tb.plot(t, sig[f"brake_torque_{w}_n_m"], color=col, lw=0.8, label=w)
     ax_v.set_ylabel("speed [m/s]")
-    ax_s.set_ylabel("slip [-] (dotted: target)")
+    ax_s.set_ylabel("slip [-] (dotted: target; locked: 1)")
     ax_s.set_ylim(-0.02, 1.02)
     ax_fz.set_ylabel("wheel load Fz [N]")
     ax_tb.set_ylabel("brake torque [N m]")

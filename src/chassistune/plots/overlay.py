@@ -72,7 +72,7 @@ DISTANCE = "distance_m"
 def compared_signals(results: Mapping[str, Any], max_panels: int) -> list[str]:
     """The panels of a comparison: the trace's signals in its order, without time and without
     any signal constant in every run (a fixed target slip says nothing), the distance last."""
-    traces = [r.trace.signals for r in results.values()]
+    traces = [r.trace.shown for r in results.values()]
     varying = [
         n
         for n in traces[0]
@@ -97,7 +97,7 @@ def plot_results(results: Mapping[str, Any], path: str, max_panels: int = 6) -> 
             Line(
                 f"{label} ({gains})" if gains else label,
                 r.trace.signals["time_s"],
-                r.trace.signals,
+                r.trace.shown,
                 baseline=label == "none",
                 emphasized=label == "tuned",
             )

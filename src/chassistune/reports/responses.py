@@ -87,15 +87,16 @@ def response_sets(data: StudyData, scenario: str) -> list[ResponseSet]:
             s = rec.spec
             sc = plant.scenario(s.preset, road, s.controller, s.params, common)
             trace = sc.trace(np.array([rec.best_gains[n] for n in sc.gain_names], dtype=float))
-            t = trace.signals["time_s"]
+            shown = trace.shown
+            t = shown["time_s"]
             keep = _window(t, view.window_s)
             if not curves:
-                curves.append(_baseline(plant, rec, road, common, trace.signals, view))
+                curves.append(_baseline(plant, rec, road, common, shown, view))
             curves.append(
                 Line(
                     f"{opt} (seed {s.seed})",
                     t[keep],
-                    {p.signal: trace.signals[p.signal][keep] for p in view.panels},
+                    {p.signal: shown[p.signal][keep] for p in view.panels},
                 )
             )
         out.append(ResponseSet(scenario, road, view.panels, tuple(curves), overall.spec.seed))
@@ -123,12 +124,12 @@ def _baseline(
         )
     s = rec.spec
     sc = plant.scenario(s.preset, road, view.baseline, _baseline_params(rec), seed)
-    tr = sc.trace(np.zeros(len(sc.gain_names)))
-    t = tr.signals["time_s"]
+    shown = sc.trace(np.zeros(len(sc.gain_names))).shown
+    t = shown["time_s"]
     keep = _window(t, view.window_s)
     return Line(
         view.baseline_label,
         t[keep],
-        {p.signal: tr.signals[p.signal][keep] for p in view.panels},
+        {p.signal: shown[p.signal][keep] for p in view.panels},
         baseline=True,
     )

@@ -174,6 +174,17 @@ def values(runs: Sequence[RunRecord], quantity: str) -> np.ndarray:
     return a[np.isfinite(a)]
 
 
+def quantity_unit(runs: Sequence[RunRecord], quantity: str) -> str:
+    """A quantity's SI unit with the plant's note on the metric (`PlantSpec.metric_unit`);
+    empty for the cost and nfev."""
+    if quantity in ("best_cost", "nfev"):
+        return ""
+    name = quantity.partition("@")[0]
+    unit = si_unit(name)
+    plant = runs[0].spec.plant if runs else ""
+    return plant_spec(plant).metric_unit(name, unit) if plant in plant_names() else unit
+
+
 def summary_table(data: StudyData) -> pd.DataFrame:
     """Per scenario, optimizer and quantity (final cost, key metrics): its SI unit (`unit`, empty
     for the cost and nfev), n, mean, std, best, worst, median over the completed runs; `failed`
@@ -189,7 +200,7 @@ def summary_table(data: StudyData) -> pd.DataFrame:
                 summ = stats.summary(v) if v.size else {c: math.nan for c in SUMMARY_COLUMNS}
                 if not v.size:
                     summ["n"] = 0
-                unit = si_unit(q.partition("@")[0]) if q not in ("best_cost", "nfev") else ""
+                unit = quantity_unit(runs, q)
                 rows.append(
                     {
                         "scenario": sc,

@@ -156,6 +156,20 @@ def _check_consistency(
     check_step(pp, road)
 
 
+def locked_slip_shown(signals: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """Each wheel's slip as shown: 1 where the wheel stands still (w = 0) while the car moves,
+    else the recorded slip. The recorded one is the ECU's, (u - w R)/|V| clipped to [0, 1]
+    (docs/vehicle.md): a locked wheel sliding sideways or backwards (u <= 0, a spinning car)
+    records 0 there."""
+    moving = signals["speed_m_s"] > 0.0
+    return {
+        f"slip_{w}": np.where(
+            (signals[f"wheel_speed_{w}_m_s"] == 0.0) & moving, 1.0, signals[f"slip_{w}"]
+        )
+        for w in VL.WHEELS
+    }
+
+
 class AbsVehicleScenario(Scenario):
     """A resolved abs-vehicle scenario; evaluates populations of gain rows in one kernel call."""
 
@@ -199,6 +213,7 @@ class AbsVehicleScenario(Scenario):
             "actuator_gain": pp.actuator_gain,
             "actuator_tau_s": pp.actuator_tau_s,
             "brake_gain": pp.brake_gain,
+            "front_brake_share": pp.front_brake_share,
             "q_max": pp.q_max,
             "v_stop_m_s": pp.v_stop_m_s,
             "t_max_s": pp.t_max_s,
@@ -321,7 +336,9 @@ class AbsVehicleScenario(Scenario):
         rows = int(out[0, VL.M_NTRACE])
         signals = VL.TRACE_LAYOUT.decode(tr[:rows])
         metrics = {k: json_scalar(v[0]) for k, v in self.metrics_from_raw(out).items()}
-        return Trace(signals, metrics, self.units(VL.TRACE_LAYOUT.units))
+        return Trace(
+            signals, metrics, self.units(VL.TRACE_LAYOUT.units), locked_slip_shown(signals)
+        )
 
 
 class AbsVehiclePlant(Plant):

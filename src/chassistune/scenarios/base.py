@@ -67,6 +67,9 @@ class PlantSpec:
     default_preset: str
     key_metrics: tuple[str, ...]
     plot: str
+    metric_notes: tuple[tuple[str, str], ...] = ()
+    """(metric, note): what a metric's number is beyond its unit, shown after the unit wherever
+    the metric is labelled (`metric_unit`)."""
     presets: str = ""
     roads: str = ""
     view: PlantView = field(default_factory=PlantView)
@@ -83,6 +86,11 @@ class PlantSpec:
     dataclasses whose float fields robust tuning may vary (`tuning.robust.plant_params`)."""
     varied_scales: tuple[str, ...] = ()
     """Positive scale factors robust tuning may vary besides those fields."""
+
+    def metric_unit(self, name: str, unit: str) -> str:
+        """`unit` with the metric's note (`metric_notes`): `s, summed over the four wheels`."""
+        note = dict(self.metric_notes).get(name, "")
+        return f"{unit}, {note}" if note else unit
 
     def preset_table(self) -> Mapping[str, Any]:
         """The presets by name as the plant defines them (each with its `info`), imported now."""
@@ -106,6 +114,14 @@ class Trace:
     signals: dict[str, np.ndarray]
     metrics: dict[str, Any]
     units: dict[str, str] = field(default_factory=dict)
+    shown_as: dict[str, np.ndarray] = field(default_factory=dict)
+    """Signals as figures, reports and the CSV show them, where that differs from the recorded
+    `signals` (the 7-DOF vehicle's slip of a locked wheel: 1)."""
+
+    @property
+    def shown(self) -> dict[str, np.ndarray]:
+        """`signals` with the `shown_as` ones in their place."""
+        return {**self.signals, **self.shown_as}
 
 
 class Scenario(ABC):

@@ -16,16 +16,22 @@ ABS_KEY_METRICS = ("stop_distance_m", "distance_ratio", "stop_time_s", "slip_ita
 """The metrics reported for both ABS plants (the single wheel and the 7-DOF vehicle)."""
 
 
-def abs_view(*panels: Panel) -> PlantView:
+VEHICLE_LOCKED_TIME = "summed over the four wheels"
+"""What the vehicle's `locked_time_s` is: each wheel's time locked while moving, added up (all
+four locked for 1 s count 4 s)."""
+
+
+def abs_view(*panels: Panel, locked_unit: str = "s") -> PlantView:
     """The reports' view of an ABS plant: `panels` beside the run without ABS, and the
-    generalization matrices of stop distance over the bound and locked time."""
+    generalization matrices of stop distance over the bound and locked time (in
+    `locked_unit`)."""
     return PlantView(
         baseline="none",
         baseline_label="no ABS",
         panels=panels,
         generalization_metrics=(
             ("distance_ratio", "stop distance / bound"),
-            ("locked_time_s", "locked time [s]"),
+            ("locked_time_s", f"locked time [{locked_unit}]"),
         ),
     )
 
@@ -57,6 +63,7 @@ ABS_VEHICLE = PlantSpec(
     default_preset="paper-deffao",
     key_metrics=ABS_KEY_METRICS,
     plot="chassistune.plots.abs_vehicle:plot_trace",
+    metric_notes=(("locked_time_s", VEHICLE_LOCKED_TIME),),
     presets="chassistune.plants.abs_vehicle_params:PRESETS",
     roads="chassistune.plants.vehicle_roads:road_names",
     view=abs_view(
@@ -64,6 +71,7 @@ ABS_VEHICLE = PlantSpec(
         Panel("speed_m_s", "vehicle speed v [m/s]"),
         Panel("yaw_rate_rad_s", "yaw rate [rad/s]"),
         Panel("distance_m", "distance [m]"),
+        locked_unit=f"s, {VEHICLE_LOCKED_TIME}",
     ),
     refinable=True,
     export_refusal="its wheel laws with a discrete form ({laws}) run once per wheel, but the "

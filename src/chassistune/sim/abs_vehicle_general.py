@@ -32,6 +32,7 @@ from chassistune.sim.abs_vehicle_layout import (
     N_STATE,
     P_DMAX,
     P_DRIVER,
+    P_FRONT_SHARE,
     P_K,
     P_KPSI,
     P_KQ,
@@ -88,7 +89,13 @@ from chassistune.sim.abs_vehicle_layout import (
 )
 from chassistune.sim.abs_vehicle_step_end import end_step
 from chassistune.sim.abs_vehicle_straight import straight_stage
-from chassistune.sim.abs_vehicle_wheels import kinematics, select_low, wheel_pid_rates, wheel_speeds
+from chassistune.sim.abs_vehicle_wheels import (
+    kinematics,
+    select_low,
+    wheel_brake_gain,
+    wheel_pid_rates,
+    wheel_speeds,
+)
 from chassistune.sim.integrate import rk4_point, rk4_update
 
 
@@ -149,7 +156,7 @@ def rhs(y, dy, i, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv):
             law[LAW_KD, j, i],
             law[LAW_U0, j, i],
             p[P_R],
-            p[P_KQ],
+            wheel_brake_gain(p[P_KQ], p[P_FRONT_SHARE], j),
             inv[1],
             p[P_NF],
             p[P_K],
@@ -257,6 +264,6 @@ def trace_row(
         trace_row[T_SLIP + j] = lane_get(st, R_SLIP + j, l) if not start else sc[W_SLIP, j]
         trace_row[T_TARGET + j] = surfs[sidx[j, 0], SF_TARGET]
         trace_row[T_FZ + j] = sc[W_FZ, j]
-        trace_row[T_TB + j] = p[P_KQ] * y[S_Q + j]
+        trace_row[T_TB + j] = wheel_brake_gain(p[P_KQ], p[P_FRONT_SHARE], j) * y[S_Q + j]
         trace_row[T_FX + j] = sc[W_FXW, j]
         trace_row[T_SURF + j] = sidx[j, 0]

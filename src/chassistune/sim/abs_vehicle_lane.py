@@ -25,6 +25,7 @@ from chassistune.sim.abs_vehicle_layout import (
     P_DMAX,
     P_DRIVER,
     P_DT,
+    P_FRONT_SHARE,
     P_HOPELESS,
     P_IZ,
     P_J,
@@ -68,6 +69,7 @@ from chassistune.sim.abs_vehicle_layout import (
     S_YR,
     S_Z,
 )
+from chassistune.sim.abs_vehicle_wheels import wheel_brake_gain
 
 NO_REFCOUNT: dict[str, Any] = {
     "cache": True,
@@ -105,7 +107,10 @@ def constants(p, geo):
         geo[G_Y, 3],
         p[P_R],
         p[P_VMIN],
-        p[P_KQ],
+        wheel_brake_gain(p[P_KQ], p[P_FRONT_SHARE], 0),
+        wheel_brake_gain(p[P_KQ], p[P_FRONT_SHARE], 1),
+        wheel_brake_gain(p[P_KQ], p[P_FRONT_SHARE], 2),
+        wheel_brake_gain(p[P_KQ], p[P_FRONT_SHARE], 3),
         p[P_NF],
         p[P_K],
         p[P_QMAX],

@@ -53,7 +53,13 @@ PLANT_LAYOUT = Layout(
         Slot("v0_m_s", "m/s"),
         Slot("actuator_gain", "preset unit/s"),
         Slot("actuator_tau_s", "s"),
-        Slot("brake_gain", "N m/preset unit"),
+        Slot("brake_gain", "N m/preset unit", "kq: the mean of the four wheels' brake gains"),
+        Slot(
+            "front_brake_share",
+            "-",
+            "the front axle's share s of the brake torque at equal pressure: 2 s kq on a front "
+            "wheel, 2 (1 - s) kq on a rear one (the measured cars: CommonRoad's T_sb)",
+        ),
         Slot("q_max", "preset unit"),
         Slot("v_stop_m_s", "m/s"),
         Slot("t_max_s", "s"),
@@ -118,7 +124,12 @@ METRIC_LAYOUT = Layout(
         Slot("slip_iae", "s", "sum over the wheels"),
         Slot("slip_itae", "s^2", "sum over the wheels"),
         Slot("slip_ise", "s", "sum over the wheels"),
-        Slot("locked_time_s", "s", "sum over the wheels of the time locked while moving"),
+        Slot(
+            "locked_time_s",
+            "s",
+            "each wheel's time locked while moving, summed over the four wheels (all four "
+            "locked for 1 s count 4 s)",
+        ),
         Slot("yaw_rate_peak_1s_rad_s", "rad/s", "signed yaw rate of largest |r| in the window"),
         Slot("heading_1s_deg", "deg", "heading at the end of the window"),
         Slot("lateral_offset_1s_m", "m", "global Y of the CG at the end of the window"),
@@ -159,7 +170,15 @@ TRACE_LAYOUT = Layout(
         Slot("ay_m_s2", "m/s^2"),
         Slot("distance_m", "m"),
         *(Slot(f"wheel_speed_{w}_m_s", "m/s") for w in WHEELS),
-        *(Slot(f"slip_{w}", "-") for w in WHEELS),
+        *(
+            Slot(
+                f"slip_{w}",
+                "-",
+                "the slip the ECU sees, (u - w R)/|V| clipped to [0, 1]; shown as 1 where the "
+                "wheel stands still while the car moves (`locked_slip_shown`)",
+            )
+            for w in WHEELS
+        ),
         *(Slot(f"target_slip_{w}", "-") for w in WHEELS),
         *(Slot(f"load_{w}_n", "N") for w in WHEELS),
         *(Slot(f"brake_torque_{w}_n_m", "N m") for w in WHEELS),
@@ -176,6 +195,7 @@ P_V0 = PLANT_LAYOUT["v0_m_s"]
 P_K = PLANT_LAYOUT["actuator_gain"]
 P_TAU = PLANT_LAYOUT["actuator_tau_s"]
 P_KQ = PLANT_LAYOUT["brake_gain"]
+P_FRONT_SHARE = PLANT_LAYOUT["front_brake_share"]
 P_QMAX = PLANT_LAYOUT["q_max"]
 P_VSTOP = PLANT_LAYOUT["v_stop_m_s"]
 P_TMAX = PLANT_LAYOUT["t_max_s"]
@@ -390,7 +410,7 @@ CONSTANTS_LAYOUT = Layout(
         *_per_wheel("y_m", "m"),
         Slot("wheel_radius_m", "m"),
         Slot("min_speed_m_s", "m/s"),
-        Slot("brake_gain", "N m/preset unit"),
+        *_per_wheel("brake_gain", "N m/preset unit", "the wheel's (`wheel_brake_gain`)"),
         Slot("n_filter", "rad/s"),
         Slot("actuator_gain", "preset unit/s"),
         Slot("q_max", "preset unit"),
@@ -418,8 +438,9 @@ CONSTANTS_LAYOUT = Layout(
         Slot("t_timeout_s", "s", "n_steps dt"),
     ),
 )
-"""Slots named as a plant slot hold that slot's value, `inv_` ones its inverse, `*_{wheel}` ones
-the geometry row of that name at the wheel."""
+"""Slots named as a plant slot hold that slot's value, `inv_` ones its inverse,
+`brake_gain_{wheel}` the wheel's brake gain (`wheel_brake_gain`), other `*_{wheel}` ones the
+geometry row of that name at the wheel."""
 KC_MASS = CONSTANTS_LAYOUT["mass_kg"]
 KC_FZ0 = CONSTANTS_LAYOUT["static_load_n_fl"]
 KC_A = CONSTANTS_LAYOUT["load_per_ax_fl"]
@@ -427,7 +448,7 @@ KC_GX = CONSTANTS_LAYOUT["x_m_fl"]
 KC_GY = CONSTANTS_LAYOUT["y_m_fl"]
 KC_RW = CONSTANTS_LAYOUT["wheel_radius_m"]
 KC_VMIN = CONSTANTS_LAYOUT["min_speed_m_s"]
-KC_KQ = CONSTANTS_LAYOUT["brake_gain"]
+KC_KQ = CONSTANTS_LAYOUT["brake_gain_fl"]
 KC_NF = CONSTANTS_LAYOUT["n_filter"]
 KC_GAIN = CONSTANTS_LAYOUT["actuator_gain"]
 KC_QMAX = CONSTANTS_LAYOUT["q_max"]

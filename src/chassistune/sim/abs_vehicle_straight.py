@@ -51,8 +51,9 @@ from chassistune.sim.integrate import rk4_point, rk4_update
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def lane_wheel_rates(wt, e, fx, g, kc):
-    """`wheel_pid_rates` of wheel state wt = (w, q, qr, z, xf) with law g = (kp, ki, kd, u0)."""
+def lane_wheel_rates(wt, e, fx, g, kc, j):
+    """`wheel_pid_rates` of wheel j's state wt = (w, q, qr, z, xf) with law g = (kp, ki, kd,
+    u0)."""
     return wheel_pid_rates(
         wt[0],
         wt[1],
@@ -66,7 +67,7 @@ def lane_wheel_rates(wt, e, fx, g, kc):
         g[2],
         g[3],
         kc[KC_RW],
-        kc[KC_KQ],
+        kc[KC_KQ + j],
         kc[KC_INV_J],
         kc[KC_NF],
         kc[KC_GAIN],
@@ -155,10 +156,10 @@ def straight_stage(x, g, s, kc):
     c2, c3, _ = select_low(e2, e3, kc[KC_SELECT_LOW] != 0.0)
     return (
         db,
-        lane_wheel_rates(w0, e0, fx0, g0, kc),
-        lane_wheel_rates(w1, e1, fx1, g1, kc),
-        lane_wheel_rates(w2, c2, fx2, g2, kc),
-        lane_wheel_rates(w3, c3, fx3, g3, kc),
+        lane_wheel_rates(w0, e0, fx0, g0, kc, 0),
+        lane_wheel_rates(w1, e1, fx1, g1, kc, 1),
+        lane_wheel_rates(w2, c2, fx2, g2, kc, 2),
+        lane_wheel_rates(w3, c3, fx3, g3, kc, 3),
     ), ok
 
 

@@ -109,6 +109,14 @@ def select_low(e2, e3, on):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def wheel_brake_gain(kq, front_share, j):
+    """Brake torque per unit pressure of wheel j (0, 1 front; 2, 3 rear) with the front axle's
+    share s of the torque at equal pressure (design.md 3.3): 2 s kq in front, 2 (1 - s) kq
+    behind, so the front over the rear is s / (1 - s); s = 0.5 gives every wheel kq exactly."""
+    return 2.0 * select(j < 2, front_share, 1.0 - front_share) * kq
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def wheel_pid_rates(
     w, q, qr, z, xf, e, fxw, kp, ki, kd, u0, r_w, kq, inv_j, nf, gain, inv_tau, q_max
 ):
