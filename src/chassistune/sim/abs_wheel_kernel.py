@@ -49,10 +49,16 @@ row per candidate (robust tuning): a lane takes its row when it is filled, and t
 reads only lane rows (`R_RW` ... `R_HOPELESS`). dt, t_max, the target slip and the tire are
 shared. Per-row plant parameters cost nothing extra in the vector loop.
 
-Entry points: one cached compiled function per tire law (`entry_points`); `simulate_abs_wheel`
-picks one and allocates the scratch. The control law is a runtime integer, its kind
-(`controllers.laws`), run through the one dispatch generated from the registry
-(`controllers.laws.dispatch`): its held values at a run's start and its tick at each sample.
+Entry point: one cached compiled function (`entry_point`) for every tire and control law;
+`simulate_abs_wheel` allocates the scratch and calls it. The tire law is a runtime integer picked
+once per iteration, outside the vector loop: the loop is compiled once per tire law and method,
+each copy with its tire law a constant, so that the other laws fold away. The lane loop and each
+vector loop compile as functions of their own (numba inlines a function by copying its IR, at a
+cost that grows with what it inlines: inlined, each copy of the loop would be compiled again at
+each level), and the vector loop copies its table nodes to its own stack (`local_table`). The
+control law is a runtime integer, its kind (`controllers.laws`), run through
+the one dispatch generated from the registry (`controllers.laws.dispatch`): its held values at a
+run's start and its tick at each sample.
 """
 
 from __future__ import annotations
@@ -74,6 +80,7 @@ from chassistune.sim.abs_wheel_tires import (
     KIND_BURCKHARDT,
     KIND_TABLE,
     TABLE_CAP,
+    local_table,
     table_tuples,
     tire_law_mu,
 )
@@ -339,16 +346,61 @@ def _lane_step(st, l, law, method, dt, hs, h6, target, n_steps, t_timeout, live,
     return ended & (l < live)
 
 
+_NO_NRT: dict[str, Any] = {"_nrt": False}
+"""No reference counting (module docstring); numba's stubs omit the flag."""
+
+
+def _lane_steps_of(law: int, method: int) -> Any:
+    """The vector loop of tire law `law` and `method` (constants inside: numba freezes a
+    closure's variables), compiled as a function of its own, once per entry point compilation
+    (not cached: the entry point's cache holds it): one step of lanes 0 .. width - 1 (a whole
+    number of vectors); 1 if a live lane ended."""
+
+    def lane_steps(st, width, dt, hs, h6, target, n_steps, t_timeout, live, tire_of_caller):
+        tire = local_table(tire_of_caller)
+        any_end = 0
+        for b in range(width // VECTOR):
+            for j in range(VECTOR):
+                any_end |= _lane_step(
+                    st,
+                    b * VECTOR + j,
+                    law,
+                    method,
+                    dt,
+                    hs,
+                    h6,
+                    target,
+                    n_steps,
+                    t_timeout,
+                    live,
+                    tire,
+                )
+        return any_end
+
+    lane_steps.__qualname__ = f"lane_steps_tire_law_{law}_rk{method}"
+    return njit(nogil=True, error_model="numpy", **_NO_NRT)(lane_steps)
+
+
+_BILINEAR_RK3, _BILINEAR_RK4 = (_lane_steps_of(KIND_BILINEAR, m) for m in (RK3, RK4))
+_BURCKHARDT_RK3, _BURCKHARDT_RK4 = (_lane_steps_of(KIND_BURCKHARDT, m) for m in (RK3, RK4))
+_TABLE_RK3, _TABLE_RK4 = (_lane_steps_of(KIND_TABLE, m) for m in (RK3, RK4))
+
+
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _lane_steps(st, width, law, method, dt, hs, h6, target, n_steps, t_timeout, live, tire):
-    """One step of lanes 0 .. width - 1 (a whole number of vectors); 1 if a live lane ended."""
-    any_end = 0
-    for b in range(width // VECTOR):
-        for j in range(VECTOR):
-            any_end |= _lane_step(
-                st, b * VECTOR + j, law, method, dt, hs, h6, target, n_steps, t_timeout, live, tire
-            )
-    return any_end
+    """The vector loop (`_lane_steps_of`) of tire law `law` and `method` (runtime integers)."""
+    args = (st, width, dt, hs, h6, target, n_steps, t_timeout, live, tire)
+    if method == RK3:
+        if law == KIND_BILINEAR:
+            return _BILINEAR_RK3(*args)
+        if law == KIND_BURCKHARDT:
+            return _BURCKHARDT_RK3(*args)
+        return _TABLE_RK3(*args)
+    if law == KIND_BILINEAR:
+        return _BILINEAR_RK4(*args)
+    if law == KIND_BURCKHARDT:
+        return _BURCKHARDT_RK4(*args)
+    return _TABLE_RK4(*args)
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -450,10 +502,9 @@ def _tick(st, l, gains, i, laws_key, ctrl_kind, c, table, target, ts, first):
     st[R_WS * LANES + l] = w
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _simulate(
-    law,
     laws_key,
+    law,
     gains,
     plant,
     coef,
@@ -468,8 +519,8 @@ def _simulate(
     st,
     lane_of,
 ):
-    """The lane loop (see the module docstring); the tire law `law` and `laws_key` (the
-    registered control laws, `_entry_point`) are constants of each entry point."""
+    """The lane loop (see the module docstring) on the tire of law `law`; `laws_key` (the
+    registered control laws, `_entry_point`) is a constant of the entry point."""
     xc = stack_copy(xc_tuple)
     xs = stack_copy(xs_tuple)
     ys = stack_copy(ys_tuple)
@@ -485,7 +536,7 @@ def _simulate(
     ts = steps_per_sample * dt
     tire = (coef[0], coef[1], coef[2], coef[3], xc, xs, ys)
     sampled = law_sampled(laws_key, ctrl_kind)
-    rk3 = not sampled  # RK4 for the sampled laws (module docstring)
+    method = RK4 if sampled else RK3  # RK4 for the sampled laws (module docstring)
     st[:] = 0.0
     lane_of[:] = -1  # candidate in each lane
     live = min(n, LANES)
@@ -511,14 +562,9 @@ def _simulate(
                         st, l, gains, lane_of[l], laws_key, ctrl_kind, c, table, target, ts, k == 0
                     )
         width = -(-live // VECTOR) * VECTOR
-        if rk3:  # two copies of the vector loop, each with its method
-            ended = _lane_steps(
-                st, width, law, RK3, dt, hs, h6, target, n_steps, t_timeout, live, tire
-            )
-        else:
-            ended = _lane_steps(
-                st, width, law, RK4, dt, hs, h6, target, n_steps, t_timeout, live, tire
-            )
+        ended = _lane_steps(
+            st, width, law, method, dt, hs, h6, target, n_steps, t_timeout, live, tire
+        )
         if ended:
             for l in range(live - 1, -1, -1):  # high to low: lanes moved down are done
                 if st[R_ENDED * LANES + l] == 0.0:
@@ -556,47 +602,34 @@ def _simulate(
         out[0, M_NTRACE] = rows
 
 
-_ENTRY_OPTIONS: dict[str, Any] = {
-    "cache": True,
-    "nogil": True,
-    "error_model": "numpy",
-    "_nrt": False,  # no reference counting (module docstring); numba's stubs omit the flag
-}
+_ENTRY_OPTIONS: dict[str, Any] = {"cache": True, "nogil": True, "error_model": "numpy", **_NO_NRT}
+_simulate = njit(**_ENTRY_OPTIONS)(_simulate)
 
 
-def _entry_point(law, laws_key, doc):
-    """The cached entry point of tire law `law`, a constant inside (numba freezes a closure's
-    variables and keys its disk cache on them), for the registered control laws named by
-    `laws_key` (`controllers.laws.registry.fingerprint`, as an integer: the law dispatch is
-    generated from the registry when the entry compiles). Each tire law has its own name, hence
-    its own cache index file, so that two processes may compile two tire laws at once
-    (`chassistune warmup`) without one overwriting the other's index entry."""
+def _entry_point(laws_key):
+    """The cached entry point for the registered control laws named by `laws_key`
+    (`controllers.laws.registry.fingerprint`, as an integer: a closure variable, on which numba
+    keys its disk cache; the law dispatch is generated from the registry when it compiles)."""
 
-    def simulate(gains, plant, coef, xc, xs, ys, kind, c, table, trace, out, st, lane_of):
+    def simulate_abs_wheel(
+        law, gains, plant, coef, xc, xs, ys, kind, c, table, trace, out, st, lane_of
+    ):
         _simulate(
-            law, laws_key, gains, plant, coef, xc, xs, ys, kind, c, table, trace, out, st, lane_of
+            laws_key, law, gains, plant, coef, xc, xs, ys, kind, c, table, trace, out, st, lane_of
         )
 
-    simulate.__doc__ = doc
-    simulate.__qualname__ = f"simulate_tire_law_{law}"
-    return njit(**_ENTRY_OPTIONS)(simulate)
+    simulate_abs_wheel.__doc__ = _simulate.__doc__
+    return njit(**_ENTRY_OPTIONS)(simulate_abs_wheel)
 
 
-_TIRE_DOCS = {
-    KIND_BILINEAR: "A bilinear tire (derlsp-ao-abs eq. 5).",
-    KIND_BURCKHARDT: "A Burckhardt tire.",
-    KIND_TABLE: "A piecewise-linear table tire (sldemo).",
-}
-_ENTRY_POINTS: dict[str, dict[int, Any]] = {}
+_ENTRY_POINTS: dict[str, Any] = {}
 
 
-def entry_points() -> dict[int, Any]:
-    """`simulate_abs_wheel`'s compiled loop for each tire law, for the laws registered now."""
+def entry_point() -> Any:
+    """`simulate_abs_wheel`'s compiled loop, for the laws registered now."""
     key = laws.fingerprint()
     if key not in _ENTRY_POINTS:
-        _ENTRY_POINTS[key] = {
-            k: _entry_point(k, int(key[:15], 16), doc) for k, doc in _TIRE_DOCS.items()
-        }
+        _ENTRY_POINTS[key] = _entry_point(int(key[:15], 16))
     return _ENTRY_POINTS[key]
 
 
@@ -632,9 +665,9 @@ def simulate_abs_wheel(
     rows = np.ascontiguousarray(np.atleast_2d(plant), dtype=np.float64)
     st = np.empty(N_ROWS * LANES)
     lane_of = np.empty(LANES, dtype=np.int64)
-    entry_points()[tire_kind](
-        gains, rows, coef4, xc, xs, ys, ctrl_kind, c, table, trace, out, st, lane_of
+    entry_point()(
+        tire_kind, gains, rows, coef4, xc, xs, ys, ctrl_kind, c, table, trace, out, st, lane_of
     )
 
 
-__all__ = ["LANES", "TABLE_CAP", "entry_points", "simulate_abs_wheel"]
+__all__ = ["LANES", "TABLE_CAP", "entry_point", "simulate_abs_wheel"]
