@@ -16,6 +16,7 @@ import pytest
 
 from chassistune._branchfree import stack_copy
 from chassistune.controllers import laws
+from chassistune.controllers.laws.pid import HELD_PID
 from chassistune.plants.tire_kernel import tire_mu
 from chassistune.plants.tires import KIND_BILINEAR, KIND_BURCKHARDT, KIND_TABLE
 from chassistune.scenarios.abs_wheel import PLANT, AbsWheelScenario
@@ -129,18 +130,18 @@ def _has_avx() -> bool:
 def test_vector_loops_vectorize(law: int, method: int) -> None:
     """Packed double arithmetic on ymm/zmm registers in each compiled vector loop: a call or a
     branch chain added to the lane step would silently fall back to scalar code."""
-    steps = K._lane_steps_of(law, method)
+    steps = K._lane_steps_of(law, method, HELD_PID)
 
     @numba.njit(_nrt=False)  # type: ignore[misc]
-    def run(st, c4, xc_tuple, xs_tuple, ys_tuple):  # type: ignore[no-untyped-def]
+    def run(st, c4, xc_tuple, xs_tuple, ys_tuple, c):  # type: ignore[no-untyped-def]
         xc, xs, ys = stack_copy(xc_tuple), stack_copy(xs_tuple), stack_copy(ys_tuple)
         tire = (c4[0], c4[1], c4[2], c4[3], xc, xs, ys)
-        return steps(st, K.LANES, 1e-3, 5e-4, 1e-3 / 6.0, 0.2, 100.0, 0.1, 0, tire)
+        return steps(st, K.LANES, 1e-3, 5e-4, 1e-3 / 6.0, 0.2, 100.0, 0.1, 0, tire, c)
 
-    _p, _kind, coef, xs, ys, _ck, _c, _table = PLANT.scenario(*ROADS[law], "pid")._kernel_args
+    _p, _kind, coef, xs, ys, _ck, c, _table = PLANT.scenario(*ROADS[law], "pid")._kernel_args
     c4 = np.zeros(4)
     c4[: len(coef)] = coef
-    run(np.zeros(K.N_ROWS * K.LANES), c4, *table_tuples(xs, ys))
+    run(np.zeros(K.N_ROWS * K.LANES), c4, *table_tuples(xs, ys), c)
     asm = steps.inspect_asm(steps.signatures[0])
     packed = re.findall(r"\bv(?:mul|add|sub|div|fmadd\w*)pd\s[^\n]*%[yz]mm", asm)
     scalar = re.findall(r"\bv(?:mul|add|sub|div)sd\s", asm)
