@@ -16,13 +16,13 @@ import pytest
 
 from chassistune._branchfree import stack_copy
 from chassistune.controllers import laws
-from chassistune.controllers.laws.pid import HELD_PID
-from chassistune.plants.tire_kernel import tire_mu
+from chassistune.controllers.laws.held_pid import HELD_PID
 from chassistune.plants.tires import KIND_BILINEAR, KIND_BURCKHARDT, KIND_TABLE
 from chassistune.scenarios.abs_wheel import PLANT, AbsWheelScenario
 from chassistune.sim import abs_wheel_kernel as K
 from chassistune.sim import abs_wheel_layout as KL
 from chassistune.sim.abs_wheel_tires import table_tuples, tire_law_mu
+from tire_oracle import tire_mu
 
 ROADS = {
     KIND_BILINEAR: ("paper-derlsp-ao", "wet-asphalt"),

@@ -81,7 +81,7 @@ from chassistune.controllers.laws.dispatch import (
     law_start,
     law_tick,
 )
-from chassistune.controllers.laws.pid import HELD_PID
+from chassistune.controllers.laws.held_pid import HELD_PID
 from chassistune.controllers.laws.registry import ContinuousForm
 from chassistune.sim import abs_wheel_layout as L
 from chassistune.sim.abs_wheel_model import step_end, wheel_rates, wheel_slip

@@ -1,10 +1,11 @@
 """Branch-free tire laws mu(S) for the vectorized ABS kernel, one per tire family (design.md 3.2).
 
-Bitwise the same numbers as `plants.tire_kernel.tire_mu`, in a form a vector loop accepts: no calls
-(inline), no branches (selects), no data-dependent reads of argument arrays. A piecewise-linear
+Bitwise the same numbers as the tests' scalar oracle (tests/tire_oracle.py), in a form a vector
+loop accepts: no calls (inline), no branches (selects), no data-dependent reads of argument
+arrays. A piecewise-linear
 table is passed as three tuples of TABLE_CAP floats (`table_tuples`), copied once per kernel call
 to the stack (`_branchfree.stack_copy`); the segment index is a count of the interior nodes below
-s (the segment `tire_mu`'s search stops at) and its four nodes are loads from the stack copies
+s (the segment the oracle's search stops at) and its four nodes are loads from the stack copies
 (gathers in a vector loop).
 
     tire_law_mu(law, s, c0, c1, c2, c3, xc, xs, ys) -> mu

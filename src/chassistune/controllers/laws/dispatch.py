@@ -28,6 +28,7 @@ from numba.extending import overload
 
 from chassistune.controllers.laws import registry
 from chassistune.controllers.laws.forms import ECU_SIGNALS, FORM
+from chassistune.controllers.laws.held_pid import HELD_PID
 
 _NAN4 = (np.nan, np.nan, np.nan, np.nan)
 
@@ -76,16 +77,12 @@ def _kinds() -> list[registry.Law]:
 
 def continuous_form(law: registry.Law) -> registry.ContinuousForm:
     """The law's continuous form (the held PID where it declares none)."""
-    from chassistune.controllers.laws.pid import HELD_PID
-
     return HELD_PID if law.continuous is None else law.continuous
 
 
 def continuous_groups() -> list[tuple[registry.ContinuousForm, bool, tuple[int, ...]]]:
     """(continuous form, sampled, kinds) of the registered laws, grouped: a kernel compiles one
     vector loop per group (the held PID unsampled first: what a kind no law holds runs)."""
-    from chassistune.controllers.laws.pid import HELD_PID
-
     groups: dict[tuple[int, bool], tuple[registry.ContinuousForm, bool, list[int]]] = {
         (id(HELD_PID), False): (HELD_PID, False, [])
     }

@@ -13,7 +13,7 @@ from typing import Any
 
 from chassistune.controllers.discrete_laws import LAWS as DISCRETE
 from chassistune.controllers.laws.forms import FORM, gains
-from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, ContinuousForm, EcuForm, Law
+from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, EcuForm, Law
 from chassistune.controllers.laws.shared import N_FILTER, per_wheel
 from chassistune.controllers.specs import ControllerSpec, GainSpec
 
@@ -114,33 +114,6 @@ def kernel_forms() -> tuple[Any, Any]:
         return 0.0, g[g0 + G_KP], g[g0 + G_KI], g[g0 + G_KD]
 
     return start, None
-
-
-@functools.cache
-def held_pid_forms() -> tuple[Any, Any]:
-    """(initial, rate) of the continuous PID (`controllers.pid.pid_step`) with the held values
-    (u0, kp, ki, kd): the filter state starts at e(0), so that the derivative does not kick."""
-    from numba import njit
-
-    from chassistune.controllers.pid import pid_step
-
-    @njit(**FORM)
-    def initial(target):
-        return 0.0, target
-
-    @njit(**FORM)
-    def rate(e, x, held, c, n_filter, at_max, at_min):
-        z, xf = x
-        u0, kp, ki, kd = held
-        u, dz, dxf = pid_step(e, z, xf, u0, kp, ki, kd, n_filter, at_max, at_min)
-        return u, (dz, dxf)
-
-    return initial, rate
-
-
-HELD_PID = ContinuousForm(("z", "xf"), held_pid_forms)
-"""The continuous form of every law that declares none: the PID of the held values (a sampled
-law holds u0 and zero gains)."""
 
 
 def ecu_step() -> Any:

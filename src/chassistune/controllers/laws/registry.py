@@ -81,7 +81,7 @@ class Law:
     first) -> (held, mem)`, the update at each sample instant (None: the law is not sampled),
     with `mem` the law's memory (`state`, at most `MEMORY` slots, zero at the start).
     `continuous`: its continuous form (None: the continuous PID with the held values,
-    `controllers.laws.pid.HELD_PID`).
+    `controllers.laws.held_pid.HELD_PID`).
     """
 
     name: str
