@@ -17,15 +17,15 @@ from typing import Any
 from numba.core import event
 
 COMPILE_CPU_S = {
-    "abs_wheel_kernel": 45,
+    "abs_wheel_kernel": 46,
     "abs_wheel_ecu_kernel": 40,
-    "abs_vehicle_kernel": 65,
+    "abs_vehicle_kernel": 46,
     "quarter_car_kernel": 11,
     "lyapunov": 5,
 }
-"""CPU seconds numba takes to compile a kernel of each module (one tire law of the single wheel:
-38 s bilinear, 44-52 s table, 46-60 s Burckhardt; the realistic ECU kernel, whose vector loop is
-compiled once per tire law, 39 s), measured with `time.process_time` around each
+"""CPU seconds numba takes to compile a kernel of each module (the single wheel's one entry
+point, with every tire law and integration method: 46 s; the realistic ECU kernel, whose vector
+loop is compiled once per tire law, 39 s), measured with `time.process_time` around each
 compilation on a fresh cache (2026-11-27, AMD EPYC; `chassistune warmup` lists them): about the
 wall time on an idle core, several times that while other work shares it."""
 

@@ -76,9 +76,7 @@ def test_warmup_reports_what_it_compiled_and_prunes(warmed: Warmed) -> None:
     first = warmed.stdout.splitlines()[0]
     assert first.startswith("warmup: ") and " functions compiled (" in first and " s on " in first
     for kernel in (
-        "abs_wheel_kernel.simulate_tire_law_0",
-        "abs_wheel_kernel.simulate_tire_law_1",
-        "abs_wheel_kernel.simulate_tire_law_2",
+        "abs_wheel_kernel.simulate_abs_wheel",
         "abs_wheel_ecu_kernel.simulate_abs_wheel_ecu",
         "abs_vehicle_kernel.simulate_abs_vehicle",
         "quarter_car_kernel.simulate_batch",

@@ -29,8 +29,8 @@ from chassistune.plants.abs_vehicle import (
 )
 from chassistune.plants.abs_vehicle_params import VehicleParams
 from chassistune.plants.roads import BILINEAR_ROADS
-from chassistune.plants.tire_kernel import tire_mu
 from chassistune.plants.tires import BilinearTire
+from tire_oracle import tire_mu
 
 SURFACES = {
     name: surface_row(s, h, g, 60_000.0)[None, :] for name, (s, h, g, _) in BILINEAR_ROADS.items()

@@ -16,12 +16,12 @@ _PROBE = """
 import json
 from chassistune.tuning.tune import tune
 from chassistune.sim import abs_vehicle_kernel as V
-from chassistune.sim.abs_wheel_kernel import KIND_BILINEAR, entry_points
+from chassistune.sim.abs_wheel_kernel import entry_point
 
 tune("abs-wheel", "pid", "pso", pop_size=6, max_iter=1, seed=1)
 tune("abs-vehicle", "pid", "pso", pop_size=6, max_iter=1, seed=1)
 print(json.dumps({
-    "wheel": [str(s[0]) for s in entry_points()[KIND_BILINEAR].signatures],
+    "wheel": [str(s[1]) for s in entry_point().signatures],
     "vehicle": [str(s[0]) for s in V.entry_point().signatures],
 }))
 """

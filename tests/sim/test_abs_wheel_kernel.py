@@ -16,12 +16,13 @@ import pytest
 
 from chassistune._branchfree import stack_copy
 from chassistune.controllers import laws
-from chassistune.plants.tire_kernel import tire_mu
+from chassistune.controllers.laws.held_pid import HELD_PID
 from chassistune.plants.tires import KIND_BILINEAR, KIND_BURCKHARDT, KIND_TABLE
 from chassistune.scenarios.abs_wheel import PLANT, AbsWheelScenario
 from chassistune.sim import abs_wheel_kernel as K
 from chassistune.sim import abs_wheel_layout as KL
 from chassistune.sim.abs_wheel_tires import table_tuples, tire_law_mu
+from tire_oracle import tire_mu
 
 ROADS = {
     KIND_BILINEAR: ("paper-derlsp-ao", "wet-asphalt"),
@@ -124,38 +125,27 @@ def _has_avx() -> bool:
 
 @pytest.mark.slow
 @pytest.mark.skipif(not _has_avx(), reason="needs an x86 CPU with AVX2")
+@pytest.mark.parametrize("method", [K.RK3, K.RK4])
 @pytest.mark.parametrize("law", sorted(ROADS))
-def test_entry_points_vectorize(law: int) -> None:
-    """Packed double arithmetic on ymm/zmm registers in the compiled entry point: a call or a
+def test_vector_loops_vectorize(law: int, method: int) -> None:
+    """Packed double arithmetic on ymm/zmm registers in each compiled vector loop: a call or a
     branch chain added to the lane step would silently fall back to scalar code."""
-    entry = K.entry_points()[law]
-    options = {k: v for k, v in entry.targetoptions.items() if k not in ("cache", "nopython")}
-    fresh = numba.njit(**options)(entry.py_func)
-    sc = PLANT.scenario(*ROADS[law], "pid")
-    p, _kind, coef, xs, ys, ck, c, table = sc._kernel_args
+    steps = K._lane_steps_of(law, method, HELD_PID)
+
+    @numba.njit(_nrt=False)  # type: ignore[misc]
+    def run(st, c4, xc_tuple, xs_tuple, ys_tuple, c):  # type: ignore[no-untyped-def]
+        xc, xs, ys = stack_copy(xc_tuple), stack_copy(xs_tuple), stack_copy(ys_tuple)
+        tire = (c4[0], c4[1], c4[2], c4[3], xc, xs, ys)
+        return steps(st, K.LANES, 1e-3, 5e-4, 1e-3 / 6.0, 0.2, 100.0, 0.1, 0, tire, c)
+
+    _p, _kind, coef, xs, ys, _ck, c, _table = PLANT.scenario(*ROADS[law], "pid")._kernel_args
     c4 = np.zeros(4)
     c4[: len(coef)] = coef
-    xc, xp, yp = table_tuples(xs, ys)
-    out = np.zeros((1, len(KL.METRICS)))
-    fresh(
-        np.array([[5000.0, 0.0, 230.0]]),
-        p[None, :],
-        c4,
-        xc,
-        xp,
-        yp,
-        ck,
-        c,
-        table,
-        np.zeros((0, len(KL.TRACE))),
-        out,
-        np.empty(K.N_ROWS * K.LANES),
-        np.empty(K.LANES, dtype=np.int64),
-    )
-    asm = fresh.inspect_asm(fresh.signatures[0])
+    run(np.zeros(K.N_ROWS * K.LANES), c4, *table_tuples(xs, ys), c)
+    asm = steps.inspect_asm(steps.signatures[0])
     packed = re.findall(r"\bv(?:mul|add|sub|div|fmadd\w*)pd\s[^\n]*%[yz]mm", asm)
     scalar = re.findall(r"\bv(?:mul|add|sub|div)sd\s", asm)
-    print(f"law {law}: {len(packed)} packed, {len(scalar)} scalar arithmetic instructions")
+    print(f"law {law}, RK{method}: {len(packed)} packed, {len(scalar)} scalar arithmetic")
     assert len(packed) >= 150, "the lane step no longer vectorizes"
 
 
@@ -165,15 +155,15 @@ from chassistune.scenarios.abs_wheel import PLANT
 from chassistune.sim import abs_wheel_kernel as K
 for preset, road in %r:
     PLANT.scenario(preset, road, "pid").raw(np.array([[5000.0, 0.0, 230.0]]), workers=1)
-stats = {str(k): [sum(f.stats.cache_hits.values()), sum(f.stats.cache_misses.values())]
-         for k, f in K.entry_points().items()}
+f = K.entry_point()
+stats = {"entry": [sum(f.stats.cache_hits.values()), sum(f.stats.cache_misses.values())]}
 print(json.dumps({"cache_dir": os.environ["NUMBA_CACHE_DIR"], "stats": stats}))
 """
 
 
 @pytest.mark.slow
 def test_numba_cache_hits_in_a_second_process(tmp_path: Path) -> None:
-    """Every entry point loads from numba's disk cache in a new process: no compilation, no new
+    """The entry point loads from numba's disk cache in a new process: no compilation, no new
     cache files (the package's own source-keyed cache folder, in a private cache home: the
     user's cache neither helps nor is touched)."""
     env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
@@ -192,5 +182,5 @@ def test_numba_cache_hits_in_a_second_process(tmp_path: Path) -> None:
     assert any(p.endswith(".nbi") for p in files)
     second = probe()
     assert sorted(str(p) for p in folder.rglob("*")) == files
-    for law, (hits, misses) in second["stats"].items():
-        assert hits >= 1 and misses == 0, f"entry point {law}: {hits} hits, {misses} misses"
+    hits, misses = second["stats"]["entry"]
+    assert hits >= 1 and misses == 0, f"entry point: {hits} hits, {misses} misses"

@@ -26,7 +26,7 @@ FRICTION_DEGRESSION = 10.0
 """A_mu of 4.E8 (lambda'_mu = A_mu lambda*_mu / (1 + (A_mu - 1) lambda*_mu))."""
 
 _jit = numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
-"""Compile as a scalar function inlined into its callers (as `plants.tire_kernel`)."""
+"""Compile as a scalar function inlined into its callers (as the wheel kernel's tire laws)."""
 
 
 @_jit

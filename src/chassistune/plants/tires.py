@@ -1,6 +1,6 @@
 """Longitudinal tire friction curves mu(S) and their peaks (design.md 3.2).
 
-Three families, all evaluated from plain arrays (`kernel_data`; compiled: `plants.tire_kernel`) so
+Three families, all evaluated from plain arrays (`kernel_data`; compiled: `sim.abs_wheel_tires`) so
 that roads are data, not code paths:
 
 * bilinear (derlsp-ao-abs eq. 5): mu = mu_h S / S_T for S <= S_T, else
@@ -43,7 +43,7 @@ class TireCurve:
     """Base: a curve mu(S) on S in [0, 1], with its kernel representation."""
 
     def kernel_data(self) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
-        """(kind, coef, xs, ys) as `tire_kernel.tire_mu` takes them."""
+        """(kind, coef, xs, ys) as `sim.abs_wheel_tires` takes them."""
         raise NotImplementedError
 
     def mu(self, slip: np.ndarray | float) -> np.ndarray:

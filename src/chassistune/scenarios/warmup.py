@@ -70,11 +70,9 @@ def cases() -> list[Case]:
 
 def entry_point(sc: Scenario) -> str:
     """The compiled entry point `sc`'s runs go through (`module.function`, as
-    `_compile_notice.kernel_name` names it; the ideal single wheel has one per tire law)."""
+    `_compile_notice.kernel_name` names it)."""
     if isinstance(sc, AbsWheelScenario):
-        if sc.ecu is not None:
-            return "abs_wheel_ecu_kernel"
-        return f"abs_wheel_kernel.simulate_tire_law_{sc.tire.kernel_data()[0]}"
+        return "abs_wheel_ecu_kernel" if sc.ecu is not None else "abs_wheel_kernel"
     return f"{sc.plant.replace('-', '_')}_kernel"
 
 

@@ -49,24 +49,40 @@ row per candidate (robust tuning): a lane takes its row when it is filled, and t
 reads only lane rows (`R_RW` ... `R_HOPELESS`). dt, t_max, the target slip and the tire are
 shared. Per-row plant parameters cost nothing extra in the vector loop.
 
-Entry points: one cached compiled function per tire law (`entry_points`); `simulate_abs_wheel`
-picks one and allocates the scratch. The control law is a runtime integer, its kind
-(`controllers.laws`), run through the one dispatch generated from the registry
-(`controllers.laws.dispatch`): its held values at a run's start and its tick at each sample.
+Entry point: one cached compiled function (`entry_point`) for every tire and control law;
+`simulate_abs_wheel` allocates the scratch and calls it. The tire law is a runtime integer picked
+once per iteration, outside the vector loop: the loop is compiled once per tire law and method,
+each copy with its tire law a constant, so that the other laws fold away. The lane loop and each
+vector loop compile as functions of their own (numba inlines a function by copying its IR, at a
+cost that grows with what it inlines: inlined, each copy of the loop would be compiled again at
+each level), and the vector loop copies its table nodes to its own stack (`local_table`). The
+control law is a runtime integer, its kind (`controllers.laws`), run through
+the one dispatch generated from the registry (`controllers.laws.dispatch`): its held values at a
+run's start and its tick at each sample.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any
 
 import numpy as np
-from numba import njit
+from numba import njit, types
+from numba.core.errors import TypingError
+from numba.extending import overload
 
 from chassistune._branchfree import clip, fmax, fmin, select, stack_copy
 from chassistune.controllers.laws import registry as laws
-from chassistune.controllers.laws.dispatch import law_sampled, law_start, law_tick
-from chassistune.controllers.pid import pid_step
+from chassistune.controllers.laws.dispatch import (
+    continuous_groups,
+    law_initial_state,
+    law_sampled,
+    law_start,
+    law_tick,
+)
+from chassistune.controllers.laws.held_pid import HELD_PID
+from chassistune.controllers.laws.registry import ContinuousForm
 from chassistune.sim import abs_wheel_layout as L
 from chassistune.sim.abs_wheel_model import step_end, wheel_rates, wheel_slip
 from chassistune.sim.abs_wheel_tires import (
@@ -74,6 +90,7 @@ from chassistune.sim.abs_wheel_tires import (
     KIND_BURCKHARDT,
     KIND_TABLE,
     TABLE_CAP,
+    local_table,
     table_tuples,
     tire_law_mu,
 )
@@ -144,8 +161,6 @@ RK3, RK4 = 3, 4
     R_W,
     R_Q,
     R_R,
-    R_Z,
-    R_XF,
     R_SLIP,
     R_DIST,
     R_IAE,
@@ -185,9 +200,14 @@ RK3, RK4 = 3, 4
     R_ET,
     R_EH,
     R_MEM,
-) = range(45)
-N_ROWS = R_MEM + laws.MEMORY
-"""Rows of a lane; the last `MEMORY` hold the law's memory (`Law.state`)."""
+) = range(43)
+R_X = R_MEM + laws.MEMORY
+"""The law's continuous state (`ContinuousForm.state`): `CONTINUOUS` rows after its memory."""
+N_ROWS = R_X + laws.CONTINUOUS
+"""Rows of a lane; the last `MEMORY` + `CONTINUOUS` hold the law's memory (`Law.state`) and its
+continuous state."""
+R_XF = R_X + HELD_PID.state.index("xf")
+"""The held PID's derivative filter state, of which the sampled laws read de/dt."""
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -197,24 +217,52 @@ def tire_mu(law, s, tire):
     return tire_law_mu(law, s, c0, c1, c2, c3, xc, xs, ys)
 
 
+_FORMS: list[ContinuousForm] = []
+"""The continuous forms the vector loops were built for, by key (`_form_key`)."""
+
+
+def _form_key(form: ContinuousForm) -> int:
+    """The integer that names `form` in compiled code (`_form_rate`)."""
+    if form not in _FORMS:
+        _FORMS.append(form)
+    return _FORMS.index(form)
+
+
+def _form_rate(form, e, x, held, c, n_filter, at_max, at_min):
+    """(u, dx) of the continuous form of key `form` (`ContinuousForm`; in compiled code)."""
+    raise NotImplementedError("_form_rate runs in compiled code only")
+
+
+@overload(_form_rate, prefer_literal=True, inline="always")
+def _form_rate_inline(form, e, x, held, c, n_filter, at_max, at_min):
+    if not isinstance(form, types.IntegerLiteral):
+        raise TypingError("the continuous form's key must be a compile-time constant")
+    rate = _FORMS[form.literal_value].forms()[1]
+
+    def impl(form, e, x, held, c, n_filter, at_max, at_min):
+        return rate(e, x, held, c, n_filter, at_max, at_min)
+
+    return impl
+
+
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _rates_at(law, x, s, p, tire):
-    """Derivatives of the state x = (v, w, q, r, z, xf) at its slip s and the command u of the
-    wheel under the PID, with the lane's parameters p (`_lane_params`) and the tire
-    (c0, c1, c2, c3, xc, xs, ys)."""
-    _, w, q, r, z, xf = x
-    u0, kp, ki, kd, target, r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max, nf = p
+def _rates_at(law, form, x, s, p, tire):
+    """Derivatives of the state x = (v, w, q, r, xc) at its slip s, xc the continuous law's
+    state, and the command u of its form of key `form` (`_form_rate`), with the lane's
+    parameters p (`_lane_params`) and the tire (c0, c1, c2, c3, xc, xs, ys)."""
+    _, w, q, r, xc = x
+    held, c, target, r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max, nf = p
     e = target - s
     fx = tire_mu(law, s, tire) * fz
-    u, dz, dxf = pid_step(e, z, xf, u0, kp, ki, kd, nf, q >= q_max, q <= 0.0)
+    u, dxc = _form_rate(form, e, xc, held, c, nf, q >= q_max, q <= 0.0)
     dv, dw, dq, dr, _, _ = wheel_rates(w, q, r, fx, u, r_w, inv_m, inv_i, kq, gain, inv_tau, q_max)
-    return (dv, dw, dq, dr, dz, dxf), u
+    return (dv, dw, dq, dr, dxc), u
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _rates(law, x, p, tire):
+def _rates(law, form, x, p, tire):
     """`_rates_at` at the slip of x."""
-    return _rates_at(law, x, wheel_slip(x[0], x[1], p[5]), p, tire)
+    return _rates_at(law, form, x, wheel_slip(x[0], x[1], p[3]), p, tire)
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -224,13 +272,12 @@ def _get(st, row, l):
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _lane_params(st, l, target):
-    """The parameters of `_rates` in lane l: its held command, gains and plant row."""
+def _lane_params(st, l, c, target):
+    """The parameters of `_rates` in lane l: its held values, the controller vector c, the
+    target slip and its plant row."""
     return (
-        _get(st, R_U0, l),
-        _get(st, R_KP, l),
-        _get(st, R_KI, l),
-        _get(st, R_KD, l),
+        (_get(st, R_U0, l), _get(st, R_KP, l), _get(st, R_KI, l), _get(st, R_KD, l)),
+        c,
         target,
         _get(st, R_RW, l),
         _get(st, R_FZ, l),
@@ -245,18 +292,18 @@ def _lane_params(st, l, target):
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _rk_step(law, method, x, s, dt, hs, h6, p, tire):
+def _rk_step(law, form, method, x, s, dt, hs, h6, p, tire):
     """One RK step (`method` RK3 or RK4, a constant at each call site) of the state tuple x
     whose slip is s: (the new state, the command u at its start). Each stage is one tuple
     operation."""
-    k1, u1 = _rates_at(law, x, s, p, tire)
+    k1, u1 = _rates_at(law, form, x, s, p, tire)
     if method == RK4:
-        k2, _ = _rates(law, rk4_point(x, hs, k1), p, tire)
-        k3, _ = _rates(law, rk4_point(x, hs, k2), p, tire)
-        k4, _ = _rates(law, rk4_point(x, dt, k3), p, tire)
+        k2, _ = _rates(law, form, rk4_point(x, hs, k1), p, tire)
+        k3, _ = _rates(law, form, rk4_point(x, hs, k2), p, tire)
+        k4, _ = _rates(law, form, rk4_point(x, dt, k3), p, tire)
         return rk4_update(x, h6, k1, k2, k3, k4), u1
-    k2, _ = _rates(law, rk3_point2(x, hs, k1), p, tire)
-    k3, _ = _rates(law, rk3_point3(x, -dt, dt + dt, k1, k2), p, tire)
+    k2, _ = _rates(law, form, rk3_point2(x, hs, k1), p, tire)
+    k3, _ = _rates(law, form, rk3_point3(x, -dt, dt + dt, k1, k2), p, tire)
     return rk3_update(x, h6, k1, k2, k3), u1
 
 
@@ -276,21 +323,22 @@ def _add_pending_integrals(st, l):
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _lane_step(st, l, law, method, dt, hs, h6, target, n_steps, t_timeout, live, tire):
-    """One fused step (`method` RK3 or RK4, a constant at each call site) of lane l with its
+def _lane_step(st, l, xc, law, form, method, dt, hs, h6, target, n_steps, t_timeout, live, tire, c):
+    """One fused step (`method` RK3 or RK4, a constant at each call site) of lane l, whose
+    control law's continuous state is xc and its form's key `form` (`_form_rate`), with its
     metrics and end flags; returns 1 if a live lane ended. Straight-line code: the body of the
     vector loop."""
     v, w, q, r = _get(st, R_V, l), _get(st, R_W, l), _get(st, R_Q, l), _get(st, R_R, l)
-    x = (v, w, q, r, _get(st, R_Z, l), _get(st, R_XF, l))
-    p = _lane_params(st, l, target)
-    r_w = p[5]
-    q_max = p[12]
+    x = (v, w, q, r, xc)
+    p = _lane_params(st, l, c, target)
+    r_w = p[3]
+    q_max = p[10]
     v_stop = _get(st, R_VSTOP, l)
     k = _get(st, R_STEP, l)
     t = k * dt
 
     s1 = _get(st, R_S1, l)  # the slip of x, kept from the last step: no division on the path
-    (vn, wn, qn, rn, zn, xfn), u1 = _rk_step(law, method, x, s1, dt, hs, h6, p, tire)
+    (vn, wn, qn, rn, xcn), u1 = _rk_step(law, form, method, x, s1, dt, hs, h6, p, tire)
     wn = fmax(wn, 0.0)
     qn = clip(qn, 0.0, q_max)
 
@@ -311,7 +359,8 @@ def _lane_step(st, l, law, method, dt, hs, h6, target, n_steps, t_timeout, live,
     lock_t = st[R_LOCK_T * LANES + l]
     st[R_LOCK_T * LANES + l] = select(locked & (lock_t != lock_t), t + dt, lock_t)
 
-    check = vn + wn + rn + zn + xfn
+    xc0, xc1 = (xcn + (0.0, 0.0))[:2]  # noqa: RUF005 (numba) the continuous state, two rows
+    check = vn + wn + rn + xc0 + xc1
     diverged = check - check != 0.0
     hopeless = dist > st[R_HOPELESS * LANES + l]
     timeout = k + 1.0 >= n_steps
@@ -329,8 +378,8 @@ def _lane_step(st, l, law, method, dt, hs, h6, target, n_steps, t_timeout, live,
     st[R_W * LANES + l] = wn
     st[R_Q * LANES + l] = qn
     st[R_R * LANES + l] = rn
-    st[R_Z * LANES + l] = zn
-    st[R_XF * LANES + l] = xfn
+    st[R_X * LANES + l] = xc0
+    st[(R_X + 1) * LANES + l] = xc1
     st[R_SLIP * LANES + l] = s_new
     st[R_S1 * LANES + l] = s_new
     st[R_DIST * LANES + l] = dist
@@ -339,16 +388,111 @@ def _lane_step(st, l, law, method, dt, hs, h6, target, n_steps, t_timeout, live,
     return ended & (l < live)
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _lane_steps(st, width, law, method, dt, hs, h6, target, n_steps, t_timeout, live, tire):
-    """One step of lanes 0 .. width - 1 (a whole number of vectors); 1 if a live lane ended."""
-    any_end = 0
-    for b in range(width // VECTOR):
-        for j in range(VECTOR):
-            any_end |= _lane_step(
-                st, b * VECTOR + j, law, method, dt, hs, h6, target, n_steps, t_timeout, live, tire
-            )
-    return any_end
+_NO_NRT: dict[str, Any] = {"_nrt": False}
+"""No reference counting (module docstring); numba's stubs omit the flag."""
+
+
+@functools.cache
+def _lane_steps_of(law: int, method: int, form: ContinuousForm) -> Any:
+    """The vector loop of tire law `law`, `method` and the control laws' continuous form `form`
+    (constants inside: numba freezes a closure's variables), compiled as a function of its own,
+    once per entry point compilation (not cached: the entry point's cache holds it): one step
+    of lanes 0 .. width - 1 (a whole number of vectors); 1 if a live lane ended."""
+    n_state = len(form.state)
+    key = _form_key(form)
+
+    def lane_steps(st, width, dt, hs, h6, target, n_steps, t_timeout, live, tire_of_caller, c):
+        tire = local_table(tire_of_caller)
+        any_end = 0
+        for b in range(width // VECTOR):
+            for j in range(VECTOR):
+                l = b * VECTOR + j
+                xc = (st[R_X * LANES + l], st[(R_X + 1) * LANES + l])[:n_state]  # CONTINUOUS rows
+                any_end |= _lane_step(
+                    st,
+                    l,
+                    xc,
+                    law,
+                    key,
+                    method,
+                    dt,
+                    hs,
+                    h6,
+                    target,
+                    n_steps,
+                    t_timeout,
+                    live,
+                    tire,
+                    c,
+                )
+        return any_end
+
+    lane_steps.__qualname__ = f"lane_steps_tire_law_{law}_rk{method}_{'_'.join(form.state)}"
+    return njit(nogil=True, error_model="numpy", **_NO_NRT)(lane_steps)
+
+
+def _vector_loop(
+    laws_key, kind, law, st, width, dt, hs, h6, target, n_steps, t_timeout, live, tire, c
+):
+    """One step of lanes 0 .. width - 1 by the vector loop (`_lane_steps_of`) of tire law `law`
+    and of the continuous form and method of control law `kind` (in compiled code)."""
+    raise NotImplementedError("_vector_loop runs in compiled code only")
+
+
+_LINK: dict[str, Any] = {"nogil": True, "error_model": "numpy", "inline": "always"}
+"""A link of the loop's chain is built per compilation (a closure over its loops): not cached."""
+
+
+def _tire_switch(form: ContinuousForm, sampled: bool) -> Any:
+    """The vector loops of `form` (RK4 for the sampled laws), one per tire law, by `law`."""
+    method = RK4 if sampled else RK3
+    bilinear, burckhardt, table = (
+        _lane_steps_of(k, method, form) for k in (KIND_BILINEAR, KIND_BURCKHARDT, KIND_TABLE)
+    )
+
+    @njit(**_LINK)
+    def steps(kind, law, args):
+        if law == KIND_BILINEAR:
+            return bilinear(*args)
+        if law == KIND_BURCKHARDT:
+            return burckhardt(*args)
+        return table(*args)
+
+    return steps
+
+
+def _kinds_link(kinds: tuple[int, ...], steps: Any, rest: Any) -> Any:
+    @njit(**_LINK)
+    def link(kind, law, args):
+        hit = False
+        for k in kinds:
+            hit |= kind == k
+        if hit:
+            return steps(kind, law, args)
+        return rest(kind, law, args)
+
+    return link
+
+
+@overload(_vector_loop, prefer_literal=True)
+def _vector_loop_chain(
+    laws_key, kind, law, st, width, dt, hs, h6, target, n_steps, t_timeout, live, tire, c
+):
+    """An if-chain over the registry's groups of laws by continuous form and method
+    (`continuous_groups`), each branch a switch over the tire laws; a kind no law holds runs
+    the first group's loops (the held PID, whose held values are then NaN: the run diverges)."""
+    if not isinstance(laws_key, types.IntegerLiteral):
+        raise TypingError("laws_key must be a compile-time constant (the registry's fingerprint)")
+    groups = continuous_groups()
+    chain = _tire_switch(*groups[0][:2])
+    for form, sampled, kinds in reversed(groups):
+        if kinds:
+            chain = _kinds_link(kinds, _tire_switch(form, sampled), chain)
+
+    def impl(laws_key, kind, law, st, width, dt, hs, h6, target, n_steps, t_timeout, live, tire, c):
+        return chain(kind, law, (st, width, dt, hs, h6, target, n_steps, t_timeout, live, tire, c))
+
+    return impl
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -362,8 +506,10 @@ def _fill_lane(st, l, i, gains, plant, laws_key, ctrl_kind, c, target):
     st[R_V * LANES + l] = p[P_V0]
     st[R_W * LANES + l] = p[P_V0] / r_w
     st[R_WS * LANES + l] = p[P_V0] / r_w  # wheel speed at the last sample
-    st[R_XF * LANES + l] = target  # derivative filter starts at e(0): no derivative kick
     st[R_LOCK_T * LANES + l] = np.nan
+    x0 = law_initial_state(laws_key, ctrl_kind, target)
+    for j in range(len(x0)):
+        st[(R_X + j) * LANES + l] = x0[j]
     u0, kp, ki, kd = law_start(laws_key, ctrl_kind, gains[i], 0, c)
     st[R_U0 * LANES + l] = u0
     st[R_KP * LANES + l] = kp
@@ -450,10 +596,9 @@ def _tick(st, l, gains, i, laws_key, ctrl_kind, c, table, target, ts, first):
     st[R_WS * LANES + l] = w
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _simulate(
-    law,
     laws_key,
+    law,
     gains,
     plant,
     coef,
@@ -468,8 +613,8 @@ def _simulate(
     st,
     lane_of,
 ):
-    """The lane loop (see the module docstring); the tire law `law` and `laws_key` (the
-    registered control laws, `_entry_point`) are constants of each entry point."""
+    """The lane loop (see the module docstring) on the tire of law `law`; `laws_key` (the
+    registered control laws, `_entry_point`) is a constant of the entry point."""
     xc = stack_copy(xc_tuple)
     xs = stack_copy(xs_tuple)
     ys = stack_copy(ys_tuple)
@@ -485,7 +630,6 @@ def _simulate(
     ts = steps_per_sample * dt
     tire = (coef[0], coef[1], coef[2], coef[3], xc, xs, ys)
     sampled = law_sampled(laws_key, ctrl_kind)
-    rk3 = not sampled  # RK4 for the sampled laws (module docstring)
     st[:] = 0.0
     lane_of[:] = -1  # candidate in each lane
     live = min(n, LANES)
@@ -511,14 +655,22 @@ def _simulate(
                         st, l, gains, lane_of[l], laws_key, ctrl_kind, c, table, target, ts, k == 0
                     )
         width = -(-live // VECTOR) * VECTOR
-        if rk3:  # two copies of the vector loop, each with its method
-            ended = _lane_steps(
-                st, width, law, RK3, dt, hs, h6, target, n_steps, t_timeout, live, tire
-            )
-        else:
-            ended = _lane_steps(
-                st, width, law, RK4, dt, hs, h6, target, n_steps, t_timeout, live, tire
-            )
+        ended = _vector_loop(
+            laws_key,
+            ctrl_kind,
+            law,
+            st,
+            width,
+            dt,
+            hs,
+            h6,
+            target,
+            n_steps,
+            t_timeout,
+            live,
+            tire,
+            c,
+        )
         if ended:
             for l in range(live - 1, -1, -1):  # high to low: lanes moved down are done
                 if st[R_ENDED * LANES + l] == 0.0:
@@ -556,48 +708,28 @@ def _simulate(
         out[0, M_NTRACE] = rows
 
 
-_ENTRY_OPTIONS: dict[str, Any] = {
-    "cache": True,
-    "nogil": True,
-    "error_model": "numpy",
-    "_nrt": False,  # no reference counting (module docstring); numba's stubs omit the flag
-}
+_ENTRY_OPTIONS: dict[str, Any] = {"cache": True, "nogil": True, "error_model": "numpy", **_NO_NRT}
+_simulate = njit(**_ENTRY_OPTIONS)(_simulate)
 
 
-def _entry_point(law, laws_key, doc):
-    """The cached entry point of tire law `law`, a constant inside (numba freezes a closure's
-    variables and keys its disk cache on them), for the registered control laws named by
-    `laws_key` (`controllers.laws.registry.fingerprint`, as an integer: the law dispatch is
-    generated from the registry when the entry compiles). Each tire law has its own name, hence
-    its own cache index file, so that two processes may compile two tire laws at once
-    (`chassistune warmup`) without one overwriting the other's index entry."""
+def _entry_point(laws_key):
+    """The cached entry point for the registered control laws named by `laws_key`
+    (`controllers.laws.registry.fingerprint`, as an integer: a closure variable, on which numba
+    keys its disk cache; the law dispatch is generated from the registry when it compiles)."""
 
-    def simulate(gains, plant, coef, xc, xs, ys, kind, c, table, trace, out, st, lane_of):
+    def simulate_abs_wheel(
+        law, gains, plant, coef, xc, xs, ys, kind, c, table, trace, out, st, lane_of
+    ):
         _simulate(
-            law, laws_key, gains, plant, coef, xc, xs, ys, kind, c, table, trace, out, st, lane_of
+            laws_key, law, gains, plant, coef, xc, xs, ys, kind, c, table, trace, out, st, lane_of
         )
 
-    simulate.__doc__ = doc
-    simulate.__qualname__ = f"simulate_tire_law_{law}"
-    return njit(**_ENTRY_OPTIONS)(simulate)
+    simulate_abs_wheel.__doc__ = _simulate.__doc__
+    return njit(**_ENTRY_OPTIONS)(simulate_abs_wheel)
 
 
-_TIRE_DOCS = {
-    KIND_BILINEAR: "A bilinear tire (derlsp-ao-abs eq. 5).",
-    KIND_BURCKHARDT: "A Burckhardt tire.",
-    KIND_TABLE: "A piecewise-linear table tire (sldemo).",
-}
-_ENTRY_POINTS: dict[str, dict[int, Any]] = {}
-
-
-def entry_points() -> dict[int, Any]:
-    """`simulate_abs_wheel`'s compiled loop for each tire law, for the laws registered now."""
-    key = laws.fingerprint()
-    if key not in _ENTRY_POINTS:
-        _ENTRY_POINTS[key] = {
-            k: _entry_point(k, int(key[:15], 16), doc) for k, doc in _TIRE_DOCS.items()
-        }
-    return _ENTRY_POINTS[key]
+entry_point = laws.per_fingerprint(_entry_point)
+"""`simulate_abs_wheel`'s compiled loop, for the laws registered now."""
 
 
 _NO_TABLE = table_tuples(np.array([0.0, 1.0]), np.array([0.0, 0.0]))
@@ -632,9 +764,9 @@ def simulate_abs_wheel(
     rows = np.ascontiguousarray(np.atleast_2d(plant), dtype=np.float64)
     st = np.empty(N_ROWS * LANES)
     lane_of = np.empty(LANES, dtype=np.int64)
-    entry_points()[tire_kind](
-        gains, rows, coef4, xc, xs, ys, ctrl_kind, c, table, trace, out, st, lane_of
+    entry_point()(
+        tire_kind, gains, rows, coef4, xc, xs, ys, ctrl_kind, c, table, trace, out, st, lane_of
     )
 
 
-__all__ = ["LANES", "TABLE_CAP", "entry_points", "simulate_abs_wheel"]
+__all__ = ["LANES", "TABLE_CAP", "entry_point", "simulate_abs_wheel"]

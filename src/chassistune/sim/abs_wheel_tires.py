@@ -1,10 +1,11 @@
 """Branch-free tire laws mu(S) for the vectorized ABS kernel, one per tire family (design.md 3.2).
 
-Bitwise the same numbers as `plants.tire_kernel.tire_mu`, in a form a vector loop accepts: no calls
-(inline), no branches (selects), no data-dependent reads of argument arrays. A piecewise-linear
+Bitwise the same numbers as the tests' scalar oracle (tests/tire_oracle.py), in a form a vector
+loop accepts: no calls (inline), no branches (selects), no data-dependent reads of argument
+arrays. A piecewise-linear
 table is passed as three tuples of TABLE_CAP floats (`table_tuples`), copied once per kernel call
 to the stack (`_branchfree.stack_copy`); the segment index is a count of the interior nodes below
-s (the segment `tire_mu`'s search stops at) and its four nodes are loads from the stack copies
+s (the segment the oracle's search stops at) and its four nodes are loads from the stack copies
 (gathers in a vector loop).
 
     tire_law_mu(law, s, c0, c1, c2, c3, xc, xs, ys) -> mu
@@ -18,7 +19,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from llvmlite import ir
+from numba import njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic
 
 from chassistune._branchfree import select
 from chassistune.errors import InputError
@@ -32,6 +36,7 @@ __all__ = [
     "KIND_BURCKHARDT",
     "KIND_TABLE",
     "TABLE_CAP",
+    "local_table",
     "table_tuples",
     "tire_law_mu",
 ]
@@ -64,3 +69,26 @@ def tire_law_mu(law, s, c0, c1, c2, c3, xc, xs, ys):
     for m in range(1, TABLE_CAP - 1):
         j += s > xc[m]
     return ys[j - 1] + (ys[j] - ys[j - 1]) * (s - xs[j - 1]) / (xs[j] - xs[j - 1])
+
+
+@intrinsic
+def _local_copy(typingctx, ptr):
+    if ptr != types.CPointer(types.float64):
+        return None
+
+    def codegen(context, builder, signature, args):
+        slot = cgutils.alloca_once(builder, ir.ArrayType(ir.DoubleType(), TABLE_CAP))
+        dst = builder.bitcast(slot, ir.DoubleType().as_pointer())
+        cgutils.raw_memcpy(builder, dst, args[0], context.get_constant(types.intp, TABLE_CAP), 8)
+        return dst
+
+    return ptr(ptr), codegen
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def local_table(tire):
+    """The tire (c0, c1, c2, c3, xc, xs, ys) with its table nodes copied to this function's
+    stack: a vector loop reading a table its caller passed by pointer would have to assume
+    that its stores may change it (and does not vectorize); copies unused fold away."""
+    c0, c1, c2, c3, xc, xs, ys = tire
+    return c0, c1, c2, c3, _local_copy(xc), _local_copy(xs), _local_copy(ys)  # type: ignore[call-arg]

@@ -1,5 +1,6 @@
-"""The one dispatch of the control laws in the kernels: `law_start`, `law_tick`, `law_sampled`
-in the ideal kernels, `law_ecu_step`, `law_ecu_schedule`, `law_ecu_rate` in the realistic ECU.
+"""The one dispatch of the control laws in the kernels: `law_start`, `law_tick`, `law_sampled`,
+`law_initial_state` in the ideal kernels (whose vector loops take each law's continuous form
+from `continuous_groups`), `law_ecu_step`, `law_ecu_schedule`, `law_ecu_rate` in the realistic ECU.
 
 Each is a numba overload whose implementation is generated from the registry when a kernel is
 compiled: an if-chain over the registered kinds, each branch the law's own form (`Law.forms`:
@@ -27,6 +28,7 @@ from numba.extending import overload
 
 from chassistune.controllers.laws import registry
 from chassistune.controllers.laws.forms import ECU_SIGNALS, FORM
+from chassistune.controllers.laws.held_pid import HELD_PID
 
 _NAN4 = (np.nan, np.nan, np.nan, np.nan)
 
@@ -44,6 +46,12 @@ def law_tick(laws_key, kind, sig, held, mem, g, g0, c, table, ts, first):
 def law_sampled(laws_key, kind):
     """Whether law `kind` has a tick (in compiled code)."""
     raise NotImplementedError("law_sampled runs in compiled code only")
+
+
+def law_initial_state(laws_key, kind, target):
+    """The continuous state of law `kind` at a run's start, padded with zeros to
+    `registry.CONTINUOUS` floats (in compiled code)."""
+    raise NotImplementedError("law_initial_state runs in compiled code only")
 
 
 def law_ecu_step(laws_key, kind, state, inputs, sig, params, table, grid):
@@ -67,6 +75,23 @@ def _kinds() -> list[registry.Law]:
     return [registry.by_kind(k) for k in range(len(registry.names()))]
 
 
+def continuous_form(law: registry.Law) -> registry.ContinuousForm:
+    """The law's continuous form (the held PID where it declares none)."""
+    return HELD_PID if law.continuous is None else law.continuous
+
+
+def continuous_groups() -> list[tuple[registry.ContinuousForm, bool, tuple[int, ...]]]:
+    """(continuous form, sampled, kinds) of the registered laws, grouped: a kernel compiles one
+    vector loop per group (the held PID unsampled first: what a kind no law holds runs)."""
+    groups: dict[tuple[int, bool], tuple[registry.ContinuousForm, bool, list[int]]] = {
+        (id(HELD_PID), False): (HELD_PID, False, [])
+    }
+    for k, law in enumerate(_kinds()):
+        form, sampled = continuous_form(law), law.forms()[1] is not None
+        groups.setdefault((id(form), sampled), (form, sampled, []))[2].append(k)
+    return [(form, sampled, tuple(kinds)) for form, sampled, kinds in groups.values()]
+
+
 @njit(**FORM)
 def _no_start(kind, g, g0, c):
     return _NAN4
@@ -80,6 +105,14 @@ def _at_rest(g, g0, c):
 @njit(**FORM)
 def _no_tick(kind, sig, held, mem, g, g0, c, table, ts, first):
     return _NAN4, (np.nan, np.nan)
+
+
+_NAN_STATE = (np.nan,) * registry.CONTINUOUS
+
+
+@njit(**FORM)
+def _no_initial_state(kind, target):
+    return _NAN_STATE
 
 
 @njit(**FORM)
@@ -112,6 +145,16 @@ def _tick_link(k: int, tick: Any, rest: Any) -> Callable[..., Any]:
         if kind == k:
             return tick(sig, held, mem, g, g0, c, table, ts, first)
         return rest(kind, sig, held, mem, g, g0, c, table, ts, first)
+
+    return link
+
+
+def _initial_link(k: int, initial: Any, pad: tuple[float, ...], rest: Any) -> Callable[..., Any]:
+    @njit(**_LINK)
+    def link(kind, target):
+        if kind == k:
+            return initial(target) + pad
+        return rest(kind, target)
 
     return link
 
@@ -184,6 +227,21 @@ def _law_sampled(laws_key, kind):
         for k in sampled:
             hit |= kind == k
         return hit
+
+    return impl
+
+
+@overload(law_initial_state, prefer_literal=True)
+def _law_initial_state(laws_key, kind, target):
+    _literal(laws_key)
+    chain = _no_initial_state
+    for k, law in reversed(list(enumerate(_kinds()))):
+        form = continuous_form(law)
+        pad = (0.0,) * (registry.CONTINUOUS - len(form.state))
+        chain = _initial_link(k, form.forms()[0], pad, chain)
+
+    def impl(laws_key, kind, target):
+        return chain(kind, target)
 
     return impl
 

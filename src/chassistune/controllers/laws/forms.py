@@ -6,7 +6,8 @@ and the gains kp, ki, kd it integrates with), the law's memory `mem` (`registry.
 zero at the start), its gain row `g` with the first column `g0` of its gains (a vehicle with
 per-axle gains reads the rear wheels' from column g0 = n_gains), and the controller vector `c`
 (`PARAMS`). A law reads each by name: `sig[SIG_SLIP_ERROR]`, `c[P_AMPLITUDE]`,
-`g[g0 + gains(SPEC)["kp"]]`.
+`g[g0 + gains(SPEC)["kp"]]`. A law's continuous form (`registry.ContinuousForm`) reads its
+state `x` by the names it declares and the held values by `HELD`.
 """
 
 from __future__ import annotations

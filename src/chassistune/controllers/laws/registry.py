@@ -55,6 +55,20 @@ class EcuForm:
 
 
 @dataclass(frozen=True)
+class ContinuousForm:
+    """A law's continuous form in the ideal kernels, integrated with the plant: its state, by
+    name (at most `CONTINUOUS` slots), and `forms()`, which builds its numba functions
+    `initial(target) -> x` (its state at a run's start, where the slip error is the target
+    slip) and `rate(e, x, held, c, n_filter, at_max, at_min) -> (u, dx)`: the command u and the
+    state's rates at slip error e, with the held values (`forms.HELD`), the controller vector
+    c, the plant's derivative filter coefficient N and whether the pressure sits at q_max or 0
+    (`forms` names the arguments). x and dx are tuples of len(state) floats."""
+
+    state: tuple[str, ...]
+    forms: Callable[[], tuple[Any, Any]]
+
+
+@dataclass(frozen=True)
 class Law:
     """One control law: its specs (one per plant family it runs on), its sampled forms for the
     ideal kernels, its discrete form (what an ECU runs and `export` ships; None without one),
@@ -67,6 +81,8 @@ class Law:
     run (None: all zero, the law at rest), and `tick(sig, held, mem, g, g0, c, table, ts,
     first) -> (held, mem)`, the update at each sample instant (None: the law is not sampled),
     with `mem` the law's memory (`state`, at most `MEMORY` slots, zero at the start).
+    `continuous`: its continuous form (None: the continuous PID with the held values,
+    `controllers.laws.held_pid.HELD_PID`).
     """
 
     name: str
@@ -77,6 +93,7 @@ class Law:
     ecu: EcuForm | None = None
     c: CForm | None = None
     rulebase_outputs: int = 0
+    continuous: ContinuousForm | None = None
 
     def spec(self, plant: str) -> ControllerSpec | None:
         """The law's spec on `plant`, or None when it does not run there."""
@@ -95,6 +112,9 @@ class Law:
 MEMORY = 2
 """Slots of a law's memory in the kernels' lanes (the largest `Law.state`)."""
 
+CONTINUOUS = 2
+"""Slots of a law's continuous state in the kernels' lanes (the largest `ContinuousForm.state`)."""
+
 ECU_INPUTS = 3
 """Slots of a law's inputs in the ECU kernel's lanes (the most `EcuForm.inputs`)."""
 
@@ -108,6 +128,8 @@ def register(law: Law) -> Law:
         raise ValueError(f"law {law.name!r} declares a spec of another name")
     if len(law.state) > MEMORY:
         raise ValueError(f"law {law.name!r} keeps {len(law.state)} memory slots (at most {MEMORY})")
+    if law.continuous is not None and not 0 < len(law.continuous.state) <= CONTINUOUS:
+        raise ValueError(f"law {law.name!r} integrates 1 to {CONTINUOUS} continuous states")
     if law.ecu is not None and law.ecu.inputs and law.discrete is not None:
         raise ValueError(
             f"law {law.name!r} names its ECU inputs twice (its discrete form declares them)"

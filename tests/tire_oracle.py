@@ -1,8 +1,6 @@
-"""The compiled tire law mu(S) of `plants.tires` (design.md 3.2), apart from the tire data so that
-listing roads and presets imports no numba.
-
-`tire_mu` evaluates any family from the arrays of `TireCurve.kernel_data`; the vectorized ABS
-kernel uses its branch-free twin `sim.abs_wheel_tires.tire_law_mu` (bitwise the same numbers).
+"""A scalar oracle of the tire law mu(S) of `plants.tires` (design.md 3.2) for the tests: `tire_mu`
+evaluates any family from the arrays of `TireCurve.kernel_data` with plain branches; the kernels'
+branch-free `sim.abs_wheel_tires.tire_law_mu` must give bitwise the same numbers.
 """
 
 from __future__ import annotations
