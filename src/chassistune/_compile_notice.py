@@ -17,17 +17,18 @@ from typing import Any
 from numba.core import event
 
 COMPILE_CPU_S = {
-    "abs_wheel_kernel": 46,
-    "abs_wheel_ecu_kernel": 40,
-    "abs_vehicle_kernel": 46,
-    "quarter_car_kernel": 11,
+    "abs_wheel_kernel": 41,
+    "abs_wheel_ecu_kernel": 51,
+    "abs_vehicle_kernel": 48,
+    "quarter_car_kernel": 9,
     "lyapunov": 5,
 }
 """CPU seconds numba takes to compile a kernel of each module (the single wheel's one entry
-point, with every tire law and integration method: 46 s; the realistic ECU kernel, whose vector
-loop is compiled once per tire law, 39 s), measured with `time.process_time` around each
-compilation on a fresh cache (2026-11-27, AMD EPYC; `chassistune warmup` lists them): about the
-wall time on an idle core, several times that while other work shares it."""
+point, with every tire law and integration method; the realistic ECU kernel, whose vector loop
+is compiled once per tire law; the vehicle's lane loop with its law ticks), measured with
+`time.process_time` around each compilation on a fresh cache (`chassistune warmup` in a fresh
+clone, 2026-11-28, AMD EPYC, load 1.5-2 on 2 cores): about the wall time on an idle core,
+several times that while other work shares it."""
 
 OTHER_CPU_S = 3
 """About the CPU seconds of any other compiled function (a fuzzy surface, a C export replay)."""
