@@ -16,6 +16,7 @@ Burckhardt c1 and c3, a table's mus. The peak slip stays; the peak friction scal
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -59,8 +60,12 @@ class TireCurve:
 
         The target is the slip of the peak when the curve has an interior peak, else the smallest
         slip reaching 98 % of mu_peak (a curve rising up to S = 1, such as Burckhardt ice, must not
-        ask the controller for a locked wheel).
+        ask the controller for a locked wheel). Computed once per curve (curves are frozen
+        values; a Burckhardt peak is a search over a million points).
         """
+        return _peak(self)
+
+    def _search_peak(self) -> tuple[float, float, float]:
         kind, _, xs, ys = self.kernel_data()
         if kind != KIND_BURCKHARDT:  # the peak of a piecewise-linear curve is one of its nodes
             i = int(np.argmax(ys))
@@ -86,6 +91,11 @@ class TireCurve:
         s = np.linspace(0.0, 1.0, 1_000_001)
         target = float(s[np.argmax(self.mu(s) >= 0.98 * mu_peak)])
         return mu_peak, 1.0, target
+
+
+@functools.lru_cache(maxsize=256)
+def _peak(curve: TireCurve) -> tuple[float, float, float]:
+    return curve._search_peak()
 
 
 @dataclass(frozen=True)

@@ -2,12 +2,16 @@
 the machine code on disk, keyed on the sources): the scenario part of `chassistune warmup`.
 
 The cases come from the registries: every plant x preset x road x controller, the single wheel
-in each ECU mode (`ECU_MODES`); each runs its default objective on a small population, the
-first of each controller every objective and a trace (`exercise`). Building every case's
-scenario first, in this process, compiles what scenarios share (the fuzzy surfaces); the runs
-are then grouped by the compiled entry point they go through (`entry_point`) and the groups
-spread over worker processes, the largest estimated compilation first. No kernel is compiled in
-two groups, so no two processes write one function's cache index at once (numba's index is
+in each ECU mode (`ECU_MODES`). The first case of each controller in a group runs every
+objective on a small random population and a trace; every other case, whose kernel differs in
+values only, runs its default objective on the controller's default gains, one row, for a
+short horizon (`exercise`, `Case.cut_short`: a run to the stop is seconds of simulated time,
+which no compiler needs). Building one scenario of each (plant, controller, ECU mode) first,
+in this process, compiles what scenarios share (the fuzzy surfaces) and names the compiled
+entry point each kind of case goes through (`entry_point`); the cases are then grouped by entry
+point and the groups, with `extra` (kernels no case reaches) as a group of its own, spread over
+worker processes, the largest estimated compilation first. No kernel is compiled in two
+groups, so no two processes write one function's cache index at once (numba's index is
 rewritten whole: two writers would lose an entry).
 """
 
@@ -20,7 +24,7 @@ import time
 import warnings
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
@@ -35,6 +39,11 @@ from chassistune.scenarios.registry import get_plant, plant_names
 
 POPULATION = 4
 """Rows of each case's population (the batch path of a tuning, in one chunk)."""
+
+HORIZON_PARAM = "t_max_s"
+SHORT_HORIZON_S = 0.05
+"""The horizon of a case that runs for its compilation only (`Case.cut_short`): a stop takes
+seconds of simulated time, at up to 10^5 steps a second on the finest presets."""
 
 Compiled = list[tuple[str, float]]
 """(function, CPU seconds) of each compilation (`_compile_notice.CompileLog.done`)."""
@@ -53,6 +62,16 @@ class Case:
     def scenario(self) -> Scenario:
         plant = get_plant(self.plant)
         return plant.scenario(self.preset, self.road, self.controller, dict(self.params), 0)
+
+    def cut_short(self) -> Case:
+        """The case with its horizon `SHORT_HORIZON_S` where the plant has a horizon parameter
+        (`HORIZON_PARAM`): the same kernel, on values that end a run soon."""
+        groups = get_plant(self.plant).parameter_sets().values()
+        names = {f.name for group in groups for f in fields(group)}
+        if HORIZON_PARAM not in names:
+            return self
+        horizon = ((HORIZON_PARAM, repr(SHORT_HORIZON_S)),)
+        return replace(self, params=self.params + horizon)
 
 
 def cases() -> list[Case]:
@@ -77,29 +96,60 @@ def entry_point(sc: Scenario) -> str:
 
 
 def exercise(sc: Scenario, every_objective: bool, seed: int = 0) -> None:
-    """The default objective on a random population in the controller's box; with
-    `every_objective`, each objective (one may have a kernel of its own: the quarter car's exact
-    one) and a trace too."""
+    """With `every_objective`: each objective (one may have a kernel of its own: the quarter
+    car's exact one) on a random population in the controller's box, and a trace; else the
+    default objective on the default gains."""
+    if not every_objective:
+        sc.cost(sc.gains_array(None)[None, :], sc.default_objective)
+        return
     box = np.array(sc.controller.bounds(), dtype=float).reshape(-1, 2)
     rows = make_rng(seed).random((POPULATION, box.shape[0]))
     population = box[:, 0] + rows * (box[:, 1] - box[:, 0])
-    for objective in sc.objectives if every_objective else (sc.default_objective,):
+    for objective in sc.objectives:
         sc.cost(population, objective)
-    if every_objective:
-        sc.trace(sc.gains_array(None))
+    sc.trace(sc.gains_array(None))
 
 
-def run(group: list[Case]) -> Compiled:
+def run(group: list[Case], extra: Callable[[], None] | None = None) -> Compiled:
     """Exercise every case of `group` in this process, with every objective and a trace for
-    the first case of each controller (the others differ in values only): what was compiled."""
+    the first case of each controller (the others differ in values only), then `extra`: what
+    was compiled. A case whose preset and road do not go together is skipped."""
     log = CompileLog()
     seen: set[str] = set()
     with recording(log), warnings.catch_warnings():
         warnings.simplefilter("ignore")  # implausible values of the combinations: not the user's
         for case in group:
-            exercise(case.scenario(), case.controller not in seen)
+            first = case.controller not in seen
+            try:
+                sc = (case if first else case.cut_short()).scenario()
+            except InputError:
+                continue
+            exercise(sc, first)
             seen.add(case.controller)
+        if extra is not None:
+            extra()
     return log.done
+
+
+def _kind(case: Case) -> tuple[str, str, tuple[tuple[str, str], ...]]:
+    """What picks a case's entry point: its plant, controller and parameters (the ECU mode)."""
+    return case.plant, case.controller, case.params
+
+
+def group_by_entry_point(all_cases: list[Case]) -> dict[str, list[Case]]:
+    """The cases by the entry point they go through, from one built scenario per `_kind` (which
+    compiles here what the scenarios share)."""
+    entry: dict[tuple[str, str, tuple[tuple[str, str], ...]], str] = {}
+    groups: dict[str, list[Case]] = {}
+    for case in all_cases:
+        kind = _kind(case)
+        if kind not in entry:
+            try:
+                entry[kind] = entry_point(case.scenario())
+            except InputError:  # a preset and road that do not go together
+                continue
+        groups.setdefault(entry[kind], []).append(case)
+    return groups
 
 
 @dataclass(frozen=True)
@@ -113,32 +163,34 @@ class Warmup:
     wall_s: float
 
 
+EXTRA = "extra"
+"""The group name of `warm_up`'s `extra` kernels."""
+
+
 def warm_up(
     processes: int = 2,
-    before: Callable[[], None] | None = None,
+    extra: Callable[[], None] | None = None,
     progress: Callable[[str, Compiled], None] | None = None,
 ) -> Warmup:
-    """Compile the kernels of every case, in `processes` worker processes (1: here); `before`
-    runs here first, after the scenarios are built (kernels no case reaches, such as the C
-    export's replay); `progress(entry point, compiled)` as each group finishes."""
+    """Compile the kernels of every case, in `processes` worker processes (1: here); `extra`
+    compiles kernels no case reaches (such as the C export's replay; a module-level function,
+    since it runs in a worker), as a group of its own that shares no kernel with the cases';
+    `progress(entry point, compiled)` as each group finishes."""
     t0 = time.perf_counter()
     log = CompileLog()
-    groups: dict[str, list[Case]] = {}
     with recording(log), warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        for case in cases():
-            try:
-                sc = case.scenario()
-            except InputError:  # a preset and road that do not go together
-                continue
-            groups.setdefault(entry_point(sc), []).append(case)
-        if before is not None:
-            before()
+        groups = group_by_entry_point(cases())
     compiled = list(log.done)
-    order = sorted(groups, key=lambda k: -estimate_cpu_s(k))
+    jobs: dict[str, tuple[list[Case], Callable[[], None] | None]] = {
+        key: (cases_, None) for key, cases_ in groups.items()
+    }
+    if extra is not None:
+        jobs[EXTRA] = ([], extra)
+    order = sorted(jobs, key=lambda k: -estimate_cpu_s(k))
     if processes <= 1:
         for key in order:
-            done = run(groups[key])
+            done = run(*jobs[key])
             compiled += done
             if progress is not None:
                 progress(key, done)
@@ -147,11 +199,11 @@ def warm_up(
         with ProcessPoolExecutor(
             processes, mp_context=spawn, initializer=as_worker, initargs=(os.getpid(),)
         ) as pool:
-            futures = {pool.submit(run, groups[key]): key for key in order}
+            futures = {pool.submit(run, *jobs[key]): key for key in order}
             for future in as_completed(futures):
                 done = future.result()
                 compiled += done
                 if progress is not None:
                     progress(futures[future], done)
-    sizes = {key: len(groups[key]) for key in order}
+    sizes = {key: len(jobs[key][0]) for key in order if key in groups}
     return Warmup(sum(sizes.values()), sizes, compiled, time.perf_counter() - t0)
