@@ -108,3 +108,47 @@ def test_lane_step_vectorizes():
     asm = fresh.inspect_asm(fresh.signatures[0])
     packed = re.findall(r"\bv(?:mul|add|sub|div|fmadd\w*)pd\s[^\n]*%[yz]mm", asm)
     assert len(packed) >= 600, "the lane step no longer vectorizes"
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not _has_avx(), reason="needs an x86 CPU with AVX2")
+def test_general_pass_vectorizes():
+    """The general pass (`abs_vehicle_general.general_steps`: split-mu, the driver, an unloaded
+    wheel) compiles its stage, load-solve and step-end loops to packed double arithmetic on
+    ymm/zmm registers: a call or a branch in their bodies would fall back to scalar code."""
+    import re
+
+    import numba
+
+    from chassistune.scenarios.abs_vehicle import PLANT
+    from chassistune.sim import abs_vehicle_general as G
+    from chassistune.sim import abs_vehicle_layout as VL
+    from chassistune.sim.abs_vehicle_lane import constants, surfaces
+
+    options = {
+        k: v for k, v in G.general_steps.targetoptions.items() if k not in ("cache", "nopython")
+    }
+    fresh = numba.njit(**options)(G.general_steps.py_func)
+    p, geo, surfs, *_ = PLANT.scenario(None, "split-mu", "pid", {"steering": "driver"})._kernel_args
+    fresh(np.zeros(VL.N_ROWS * VL.LANES), VL.LANES, constants(p, geo), surfaces(surfs), 0)
+    asm = fresh.inspect_asm(fresh.signatures[0])
+    packed = re.findall(r"\bv(?:mul|add|sub|div|sqrt|fmadd\w*)pd\s[^\n]*%[yz]mm", asm)
+    assert len(packed) >= 600, "the general pass no longer vectorizes"
+
+
+@pytest.mark.parametrize("params", [{}, {"steering": "driver"}])
+def test_general_path_rows_equal_single_runs_and_threads(params):
+    """Split-mu, steering fixed or the driver's: every step of these runs is the general pass's
+    (a load solve by Newton's method in each), and a row does not depend on its lane, the
+    population (more candidates than lanes: refilled and repacked) or the threads."""
+    from chassistune.scenarios.abs_vehicle import PLANT
+    from chassistune.sim import abs_vehicle_layout as VL
+
+    sc = PLANT.scenario(None, "split-mu", "pid", params)
+    pop = pins.population(sc.controller.bounds())[:12]
+    pop = np.concatenate([pop, pop[::-1]])[: VL.LANES + 5]
+    batch = sc.raw(pop, workers=1)
+    assert np.all(batch[:, VL.M_ITER] > 0), "a run that never needed Newton's method"
+    np.testing.assert_array_equal(sc.raw(pop, workers=2), batch)
+    for i in range(len(pop)):
+        np.testing.assert_array_equal(sc.raw(pop[i : i + 1], workers=1)[0], batch[i])

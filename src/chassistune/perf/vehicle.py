@@ -1,4 +1,5 @@
-"""Vehicle ABS figures: `vehicle_sims_per_s`, `vehicle_speedup_vs_solve_ivp` (design.md 8).
+"""Vehicle ABS figures: `vehicle_sims_per_s`, `vehicle_speedup_vs_solve_ivp`,
+`vehicle_split_mu_sims_per_s`, `vehicle_driver_sims_per_s` (design.md 8).
 
 Population: 50 fuzzy-PID gain vectors drawn uniformly within the vehicle catalogue's tuning bounds
 by default_rng(12345); preset paper-deffao, dry concrete, four wheels, simulated to v_stop on one
@@ -6,6 +7,10 @@ core. The baseline is what a Python user writes today: the same 7-DOF model (loa
 fixed-point iteration, the combined-slip tire, four actuators and PID laws whose gains the fuzzy
 surface schedules continuously) as a scipy `solve_ivp` RK45 right-hand side, max_step 1e-3,
 terminal event at v_stop.
+
+The general path's figures: the PID on split-mu with the steering fixed and with the driver, 50
+gain vectors drawn the same way from the PID's bounds, one core (every step of these runs is the
+kernel's general pass: yaw, lateral slip, the loads by Newton's method).
 """
 
 from __future__ import annotations
@@ -24,6 +29,21 @@ def bench_population(scenario: AbsVehicleScenario) -> np.ndarray:
     """The 50 gain rows of design.md 8, uniform in the controller's tuning bounds."""
     box = np.array(scenario.controller.bounds())
     return np.random.default_rng(12345).uniform(box[:, 0], box[:, 1], (50, len(box)))
+
+
+SPLIT_MU_CASES = {
+    "vehicle_split_mu_sims_per_s": {},
+    "vehicle_driver_sims_per_s": {"steering": "driver"},
+}
+"""The general path's figures: their split-mu overrides (the PID, paper-deffao)."""
+
+
+def sims_per_s(scenario: AbsVehicleScenario, repeats: int) -> float:
+    """Simulations per second of the scenario's `bench_population` on one core (best of
+    `repeats`, compile and cache load outside the timing)."""
+    gains = bench_population(scenario)
+    scenario.raw(gains[:2], workers=1)
+    return len(gains) / best_time(lambda: scenario.raw(gains, workers=1), repeats)
 
 
 def reference_rhs(
@@ -152,16 +172,19 @@ def solve_ivp_run(scenario: AbsVehicleScenario, gains: np.ndarray) -> tuple[floa
 
 
 def figures(quick: bool = False) -> dict[str, float]:
-    """Measure the two vehicle figures in this run."""
+    """Measure the vehicle figures in this run."""
     sc = PLANT.scenario("paper-deffao", "dry-concrete", "fuzzy-pid")
     gains = bench_population(sc)
-    sc.raw(gains[:2], workers=1)  # compile / load the cache outside the timing
-    t_kernel = best_time(lambda: sc.raw(gains, workers=1), 3 if quick else 5)
-    sims_per_s = len(gains) / t_kernel
+    sims = sims_per_s(sc, 3 if quick else 5)
+    general = {
+        name: sims_per_s(PLANT.scenario("paper-deffao", "split-mu", "pid", overrides), 3)
+        for name, overrides in SPLIT_MU_CASES.items()
+    }
     subset = gains[: 1 if quick else 3]
     t_ivp = best_time(lambda: [solve_ivp_run(sc, g) for g in subset], 1) / len(subset)
     return {
-        "vehicle_sims_per_s": sims_per_s,
-        "vehicle_speedup_vs_solve_ivp": sims_per_s * t_ivp,
+        "vehicle_sims_per_s": sims,
+        "vehicle_speedup_vs_solve_ivp": sims * t_ivp,
         "vehicle_solve_ivp_sims_per_s": 1.0 / t_ivp,
+        **general,
     }

@@ -1,7 +1,9 @@
-"""The vehicle's general path (design.md 3.3): the right-hand side with the loads by Newton's
-method (`plants.abs_vehicle.solve_loads`), for yaw, lateral velocity, steering or an unloaded
-wheel, and the step of one lane stage by stage (straight-line stages where they hold, so that a
-lane's numbers do not depend on the path); and a trace row, re-evaluated at the lane's state."""
+"""The vehicle's general path (design.md 3.3), for yaw, lateral velocity, steering or an
+unloaded wheel: the step of the lanes the vector pass did not commit, on lanes (`general_steps`:
+each stage in branch-free vector loops over the lanes, the loads by Newton's method iterated
+while a lane's solve has not returned, the others frozen by select); and the right-hand side
+with the loads by `plants.abs_vehicle.solve_loads` for a trace row, re-evaluated at the lane's
+state. The two give the same numbers (the same formulas in the same order)."""
 
 from __future__ import annotations
 
@@ -9,20 +11,32 @@ import math
 
 import numba
 
-from chassistune.plants.abs_vehicle import SF_TARGET, solve_loads
+from chassistune._branchfree import add, clip, fmax, mul, select
+from chassistune.plants.abs_vehicle import (
+    LOAD_TOL_M_S2,
+    MAX_LOAD_ITERATIONS,
+    SF_TARGET,
+    solve_loads,
+)
 from chassistune.sim.abs_vehicle_lane import (
     NO_REFCOUNT,
     lane_arrays,
     lane_get,
+    lane_put,
     laws_surfaces,
+    put_state,
     state_of,
 )
 from chassistune.sim.abs_vehicle_layout import (
     G_X,
     G_Y,
+    KC_A,
+    KC_B,
     KC_DT,
+    KC_FZ0,
     KC_H6,
     KC_HS,
+    KC_MASS,
     KC_QMAX,
     LANES,
     LAW_KD,
@@ -45,9 +59,31 @@ from chassistune.sim.abs_vehicle_layout import (
     R_AX,
     R_AY,
     R_DIST,
+    R_DONE,
+    R_FXB,
+    R_FXW,
+    R_FYB,
+    R_GENERAL,
+    R_HEAD_COS,
+    R_HEAD_SIN,
     R_ITER,
     R_K4,
+    R_KPREV,
+    R_KSUM,
+    R_LAX,
+    R_LAY,
+    R_LIT,
+    R_NAX,
+    R_NAY,
+    R_NDONE,
     R_SLIP,
+    R_STEER_COS,
+    R_STEER_SIN,
+    R_STRAIGHT,
+    R_SX,
+    R_VR,
+    R_WCOS,
+    R_WSIN,
     S_DELTA,
     S_PSI,
     S_Q,
@@ -79,24 +115,27 @@ from chassistune.sim.abs_vehicle_layout import (
     T_X,
     T_Y,
     T_YR,
+    VECTOR,
     W_E,
     W_FXB,
     W_FXW,
     W_FYB,
     W_FZ,
     W_SLIP,
-    W_VABS,
 )
 from chassistune.sim.abs_vehicle_step_end import end_step
-from chassistune.sim.abs_vehicle_straight import straight_stage
+from chassistune.sim.abs_vehicle_straight import closed_loads, held, stage_rates
 from chassistune.sim.abs_vehicle_wheels import (
+    combined_force,
+    force_per_load,
     kinematics,
     select_low,
+    steered_wheel,
     wheel_brake_gain,
     wheel_pid_rates,
     wheel_speeds,
 )
-from chassistune.sim.integrate import rk4_point, rk4_update
+from chassistune.sim.integrate import rk4_point
 
 
 @numba.njit(**NO_REFCOUNT)
@@ -171,68 +210,303 @@ def rhs(y, dy, i, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv):
     return it
 
 
-@numba.njit(**NO_REFCOUNT)
-def general_step(st, l, kc, srf, p, geo, surfs, x, ks, y, dy, law, sidx, guess, sc, wbuf, tgt, inv):
-    """The step of lane l stage by stage: each stage in the straight-line case where it holds,
-    else the general right-hand side `rhs` (loads by Newton's method from the lane's last
-    general solution). Returns whether the run ended."""
-    for s in range(N_STATE):
-        x[s] = lane_get(st, s, l)
-        ks[3, s] = lane_get(st, R_K4 + s, l)  # stage 1 reads the last step's k4
-    lane_arrays(st, l, law, sidx, guess)
-    g, srfs = laws_surfaces(st, l, srf)
-    iters = lane_get(st, R_ITER, l)
-    for stage in range(4):
-        c = 0.0 if stage == 0 else (kc[KC_DT] if stage == 3 else kc[KC_HS])
-        prev = 3 if stage == 0 else stage - 1
-        for s in range(N_STATE):
-            y[s] = rk4_point(x[s], c, ks[prev, s])
-        (kb, k0, k1, k2, k3), ok = straight_stage(state_of(y, 0, 1, 0), g, srfs, kc)
-        if ok:
-            for s in range(7):
-                ks[stage, s] = kb[s]
-            for j, kw in enumerate((k0, k1, k2, k3)):
-                ks[stage, S_W + j] = kw[0]
-                ks[stage, S_Q + j] = kw[1]
-                ks[stage, S_QR + j] = kw[2]
-                ks[stage, S_Z + j] = kw[3]
-                ks[stage, S_XF + j] = kw[4]
-        else:
-            it = rhs(y, dy, 0, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv)
-            iters = max(iters, it)
-            for s in range(N_STATE):
-                ks[stage, s] = dy[s, 0]
-    h6 = kc[KC_H6]
-    for s in range(N_STATE):
-        y[s] = rk4_update(x[s], h6, ks[0, s], ks[1, s], ks[2, s], ks[3, s])
-    for j in range(4):
-        y[S_W + j] = max(y[S_W + j], 0.0)
-        y[S_Q + j] = min(max(y[S_Q + j], 0.0), kc[KC_QMAX])
-        wbuf[j] = y[S_W + j]
-    kinematics(y[S_VX], y[S_VY], y[S_YR], y[S_DELTA], wbuf, p, geo, sc)
-    psi = y[S_PSI]
-    cp = math.cos(psi) if psi != 0.0 else 1.0
-    sp = math.sin(psi) if psi != 0.0 else 0.0
-    x0 = state_of(x, 0, 1, 0)
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def lane_start(st, l, live):
+    """Lane l at a step's start: whether the general pass steps it (a live lane the vector
+    pass did not commit), and its first stage's k_prev, the last step's k4."""
+    general = (lane_get(st, R_DONE, l) == 0.0) & (l < live)
+    st[R_GENERAL * LANES + l] = select(general, 1.0, 0.0)
+    put_state(st, R_KPREV, l, True, state_of(st, R_K4, LANES, l))
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def angles(st, width, row_k, c):
+    """(cos, sin) of the heading and of the steering angle at the point x + c k (k in the rows
+    from row_k) of lanes 0 .. width - 1, (1, 0) at 0 as `kinematics`: the calls, in a scalar
+    loop, whose values the vector loops read as rows."""
+    for l in range(width):
+        psi = lane_get(st, S_PSI, l) + c * lane_get(st, row_k + S_PSI, l)
+        delta = lane_get(st, S_DELTA, l) + c * lane_get(st, row_k + S_DELTA, l)
+        st[R_HEAD_COS * LANES + l] = math.cos(psi) if psi != 0.0 else 1.0
+        st[R_HEAD_SIN * LANES + l] = math.sin(psi) if psi != 0.0 else 0.0
+        st[R_STEER_COS * LANES + l] = math.cos(delta) if delta != 0.0 else 1.0
+        st[R_STEER_SIN * LANES + l] = math.sin(delta) if delta != 0.0 else 0.0
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def steered(st, l, b, w, j, kc):
+    """`steered_wheel` of wheel j (spin w, body state b) with lane l's steering rows."""
+    cd = lane_get(st, R_STEER_COS, l)
+    sd = lane_get(st, R_STEER_SIN, l)
+    return steered_wheel(b, w, cd, sd, j, kc)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def stage_point(st, l, c):
+    """Lane l's stage point x + c k_prev."""
+    return rk4_point(state_of(st, 0, LANES, l), c, state_of(st, R_KPREV, LANES, l))
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def put_wheel_kinematics(st, l, j, k):
+    """Wheel j's (sx, v/|V|, wheel-to-body cos, sin) of `steered_wheel` into its rows."""
+    st[(R_SX + j) * LANES + l] = k[0]
+    st[(R_VR + j) * LANES + l] = k[1]
+    st[(R_WCOS + j) * LANES + l] = k[2]
+    st[(R_WSIN + j) * LANES + l] = k[3]
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def put_loads(st, l, commit, ax, ay, it, fxw, fxb, fyb):
+    """A load solve's result into lane l's rows where `commit`."""
+    lane_put(st, R_LAX, l, commit, ax)
+    lane_put(st, R_LAY, l, commit, ay)
+    lane_put(st, R_LIT, l, commit, it)
+    put_wheels(st, R_FXW, l, commit, fxw)
+    put_wheels(st, R_FXB, l, commit, fxb)
+    put_wheels(st, R_FYB, l, commit, fyb)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def put_wheels(st, row, l, commit, v):
+    """The four wheels' values v into lane l's rows from `row` on, where `commit`."""
+    lane_put(st, row, l, commit, v[0])
+    lane_put(st, row + 1, l, commit, v[1])
+    lane_put(st, row + 2, l, commit, v[2])
+    lane_put(st, row + 3, l, commit, v[3])
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def stage_start(st, l, c, kc, srf):
+    """A stage's start in lane l: the wheels' kinematics at the stage point, and the load solve
+    returned where the loop is linear (no lateral slip or steering, every load >= 0: the closed
+    form, `closed_loads`), else started from the lane's last solution (`solve_loads`)."""
+    y = stage_point(st, l, c)
+    b = y[0]
+    k0 = steered(st, l, b, y[1][0], 0, kc)
+    k1 = steered(st, l, b, y[2][0], 1, kc)
+    k2 = steered(st, l, b, y[3][0], 2, kc)
+    k3 = steered(st, l, b, y[4][0], 3, kc)
+    put_wheel_kinematics(st, l, 0, k0)
+    put_wheel_kinematics(st, l, 1, k1)
+    put_wheel_kinematics(st, l, 2, k2)
+    put_wheel_kinematics(st, l, 3, k3)
+    _, s = laws_surfaces(st, l, srf)
+    c0 = force_per_load(k0[0], s[0])
+    c1 = force_per_load(k1[0], s[1])
+    c2 = force_per_load(k2[0], s[2])
+    c3 = force_per_load(k3[0], s[3])
+    ax, fx, loaded = closed_loads((c0, c1, c2, c3), kc)
+    flat = (k0[1] == 0.0) & (k1[1] == 0.0) & (k2[1] == 0.0) & (k3[1] == 0.0)
+    unsteered = (k0[3] == 0.0) & (k1[3] == 0.0) & (k2[3] == 0.0) & (k3[3] == 0.0)
+    closed = flat & unsteered & loaded
+    general = lane_get(st, R_GENERAL, l) != 0.0
+    st[R_NAX * LANES + l] = lane_get(st, R_AX, l)
+    st[R_NAY * LANES + l] = lane_get(st, R_AY, l)
+    st[R_NDONE * LANES + l] = select(closed | (not general), 1.0, 0.0)
+    put_loads(st, l, True, ax, 0.0, 0.0, fx, fx, (0.0, 0.0, 0.0, 0.0))
+    straight = (b[1] == 0.0) & (b[2] == 0.0) & (b[5] == 0.0) & (b[6] == 0.0) & loaded
+    st[R_STRAIGHT * LANES + l] = select(straight, 1.0, 0.0)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def wheel_load(st, l, ax, ay, j, s, kc):
+    """Wheel j's load at (ax, ay) (held >= 0) and its forces: (wheel-frame Fx, body-frame Fx,
+    Fy and their derivatives in the load)."""
+    z = fmax(kc[KC_FZ0 + j] + kc[KC_A + j] * ax + kc[KC_B + j] * ay, 0.0)
+    fx, fy, dfx, dfy = combined_force(lane_get(st, R_SX + j, l), lane_get(st, R_VR + j, l), z, s)
+    cs = lane_get(st, R_WCOS + j, l)
+    sn = lane_get(st, R_WSIN + j, l)
+    return fx, cs * fx - sn * fy, sn * fx + cs * fy, cs * dfx - sn * dfy, sn * dfx + cs * dfy
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def wheel_sum(a0, a1, a2, a3):
+    """0 + a0 + a1 + a2 + a3 in that order (a sum over the wheels as a loop adds it)."""
+    total = 0.0
+    total += a0
+    total += a1
+    total += a2
+    total += a3
+    return total
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def load_iteration(st, l, it, kc, srf):
+    """Iteration `it` of lane l's load solve by Newton's method on (ax, ay) (`solve_loads`,
+    the same operations), where it has not returned: the forces at the iterate, then the
+    return (residual within LOAD_TOL_M_S2, or the last iteration) or the step (Newton's,
+    fixed-point after MAX_LOAD_ITERATIONS // 2 or at a singular Jacobian). Returns whether
+    the solve goes on."""
+    ax = lane_get(st, R_NAX, l)
+    ay = lane_get(st, R_NAY, l)
+    _, s = laws_surfaces(st, l, srf)
+    f0 = wheel_load(st, l, ax, ay, 0, s[0], kc)
+    f1 = wheel_load(st, l, ax, ay, 1, s[1], kc)
+    f2 = wheel_load(st, l, ax, ay, 2, s[2], kc)
+    f3 = wheel_load(st, l, ax, ay, 3, s[3], kc)
+    sfx = wheel_sum(f0[1], f1[1], f2[1], f3[1])
+    sfy = wheel_sum(f0[2], f1[2], f2[2], f3[2])
+    j11 = wheel_sum(
+        f0[3] * kc[KC_A], f1[3] * kc[KC_A + 1], f2[3] * kc[KC_A + 2], f3[3] * kc[KC_A + 3]
+    )
+    j12 = wheel_sum(
+        f0[3] * kc[KC_B], f1[3] * kc[KC_B + 1], f2[3] * kc[KC_B + 2], f3[3] * kc[KC_B + 3]
+    )
+    j21 = wheel_sum(
+        f0[4] * kc[KC_A], f1[4] * kc[KC_A + 1], f2[4] * kc[KC_A + 2], f3[4] * kc[KC_A + 3]
+    )
+    j22 = wheel_sum(
+        f0[4] * kc[KC_B], f1[4] * kc[KC_B + 1], f2[4] * kc[KC_B + 2], f3[4] * kc[KC_B + 3]
+    )
+    mass = kc[KC_MASS]
+    r1 = sfx / mass - ax
+    r2 = sfy / mass - ay
+    pending = lane_get(st, R_NDONE, l) == 0.0
+    done = (abs(r1) + abs(r2) <= LOAD_TOL_M_S2) | (it >= MAX_LOAD_ITERATIONS)
+    put_loads(
+        st,
+        l,
+        pending & done,
+        sfx / mass,
+        sfy / mass,
+        float(it),
+        (f0[0], f1[0], f2[0], f3[0]),
+        (f0[1], f1[1], f2[1], f3[1]),
+        (f0[2], f1[2], f2[2], f3[2]),
+    )
+    a11 = j11 / mass - 1.0
+    a12 = j12 / mass
+    a21 = j21 / mass
+    a22 = j22 / mass - 1.0
+    det = a11 * a22 - a12 * a21
+    newton = (it < MAX_LOAD_ITERATIONS // 2) & (det != 0.0)
+    going = pending & (not done)
+    lane_put(st, R_NAX, l, going, ax + select(newton, (-r1 * a22 + r2 * a12) / det, r1))
+    lane_put(st, R_NAY, l, going, ay + select(newton, (-r2 * a11 + r1 * a21) / det, r2))
+    lane_put(st, R_NDONE, l, pending & done, 1.0)
+    return going
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def stage_end(st, l, c, first, weight, kc, srf):
+    """A stage's end in lane l: its derivatives from the solved loads (`stage_rates`) become
+    k_prev and enter the RK4 sum (weight 2 for stages 2 and 3); the load solve's result
+    becomes the next one's start where the stage was not straight."""
+    y = stage_point(st, l, c)
+    b = y[0]
+    g, s = laws_surfaces(st, l, srf)
+    e = (
+        s[0][4] - clip(lane_get(st, R_SX, l), 0.0, 1.0),
+        s[1][4] - clip(lane_get(st, R_SX + 1, l), 0.0, 1.0),
+        s[2][4] - clip(lane_get(st, R_SX + 2, l), 0.0, 1.0),
+        s[3][4] - clip(lane_get(st, R_SX + 3, l), 0.0, 1.0),
+    )
+    vx = b[0]
+    vy = b[1]
+    turned = b[5] != 0.0
+    cp = lane_get(st, R_HEAD_COS, l)
+    sp = lane_get(st, R_HEAD_SIN, l)
+    dxy = (select(turned, vx * cp - vy * sp, vx), select(turned, vx * sp + vy * cp, vy))
+    k = stage_rates(
+        y,
+        lane_get(st, R_LAX, l),
+        lane_get(st, R_LAY, l),
+        wheel_rows(st, R_FXB, l),
+        wheel_rows(st, R_FYB, l),
+        wheel_rows(st, R_FXW, l),
+        e,
+        dxy,
+        g,
+        kc,
+    )
+    total = state_of(st, R_KSUM, LANES, l)
+    put_state(st, R_KPREV, l, True, k)
+    put_state(st, R_KSUM, l, first, k)
+    put_state(st, R_KSUM, l, not first, add(total, mul(weight, k)))
+    solved = (lane_get(st, R_GENERAL, l) != 0.0) & (lane_get(st, R_STRAIGHT, l) == 0.0)
+    lane_put(st, R_AX, l, solved, lane_get(st, R_LAX, l))
+    lane_put(st, R_AY, l, solved, lane_get(st, R_LAY, l))
+    lane_put(st, R_ITER, l, solved, fmax(lane_get(st, R_ITER, l), lane_get(st, R_LIT, l)))
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def wheel_rows(st, row, l):
+    """The four wheels' values of lane l from row `row` on."""
+    return (
+        lane_get(st, row, l),
+        lane_get(st, row + 1, l),
+        lane_get(st, row + 2, l),
+        lane_get(st, row + 3, l),
+    )
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def general_end(st, l, kc, srf):
+    """The RK4 update of lane l from its sum, the step-end limits and kinematics, and the step's
+    end (`end_step`, the stop included) where the general pass steps the lane; returns whether
+    its run ended there."""
+    x = state_of(st, 0, LANES, l)
+    xn = held(add(x, mul(kc[KC_H6], state_of(st, R_KSUM, LANES, l))), kc[KC_QMAX])
+    _, _, _, _, va0, sl0 = steered(st, l, xn[0], xn[1][0], 0, kc)
+    _, _, _, _, va1, sl1 = steered(st, l, xn[0], xn[2][0], 1, kc)
+    _, _, _, _, va2, sl2 = steered(st, l, xn[0], xn[3][0], 2, kc)
+    _, _, _, _, va3, sl3 = steered(st, l, xn[0], xn[4][0], 3, kc)
+    general = lane_get(st, R_GENERAL, l) != 0.0
     ended = end_step(
         st,
         l,
-        True,
-        x0,
-        wheel_speeds(x0, kc),
-        state_of(y, 0, 1, 0),
-        (sc[W_SLIP, 0], sc[W_SLIP, 1], sc[W_SLIP, 2], sc[W_SLIP, 3]),
-        (sc[W_VABS, 0], sc[W_VABS, 1], sc[W_VABS, 2], sc[W_VABS, 3]),
-        cp,
-        sp,
-        state_of(ks[3], 0, 1, 0),
+        general,
+        x,
+        wheel_speeds(x, kc),
+        xn,
+        (sl0, sl1, sl2, sl3),
+        (va0, va1, va2, va3),
+        lane_get(st, R_HEAD_COS, l),
+        lane_get(st, R_HEAD_SIN, l),
+        state_of(st, R_KPREV, LANES, l),
         kc,
         srf,
         True,
     )
-    st[R_AX * LANES + l] = guess[0, 0]
-    st[R_AY * LANES + l] = guess[1, 0]
-    st[R_ITER * LANES + l] = iters
+    return ended & general
+
+
+@numba.njit(**NO_REFCOUNT)
+def general_steps(st, width, kc, srf, live):
+    """One RK4 step of the live lanes among 0 .. width - 1 (whole vectors) that the vector pass
+    did not commit (split-mu, a driver steering, an unloaded wheel, the step of a stop), in
+    the general case, all lanes at once: each stage's kinematics and closed-form loads, the
+    Newton load solve iterated while a lane's has not returned (the others frozen by select),
+    the stage's derivatives; then the step's end. Each lane's numbers are those of the general
+    right-hand side (`rhs`) stage by stage, straight-line stages included (their derivatives
+    are the same numbers; they leave the load guess as it was). Returns 1 if a run ended."""
+    blocks = width // VECTOR
+    for blk in range(blocks):
+        for j in range(VECTOR):
+            lane_start(st, blk * VECTOR + j, live)
+    for stage in range(4):
+        c = 0.0 if stage == 0 else (kc[KC_DT] if stage == 3 else kc[KC_HS])
+        angles(st, width, R_KPREV, c)
+        for blk in range(blocks):
+            for j in range(VECTOR):
+                stage_start(st, blk * VECTOR + j, c, kc, srf)
+        for it in range(MAX_LOAD_ITERATIONS + 1):
+            going = False
+            for blk in range(blocks):
+                for j in range(VECTOR):
+                    going |= load_iteration(st, blk * VECTOR + j, it, kc, srf)
+            if not going:
+                break
+        weight = 1.0 if stage == 3 else 2.0
+        for blk in range(blocks):
+            for j in range(VECTOR):
+                stage_end(st, blk * VECTOR + j, c, stage == 0, weight, kc, srf)
+    angles(st, width, R_KSUM, kc[KC_H6])
+    ended = False
+    for blk in range(blocks):
+        for j in range(VECTOR):
+            ended |= general_end(st, blk * VECTOR + j, kc, srf)
     return ended
 
 

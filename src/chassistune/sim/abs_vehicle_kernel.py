@@ -30,23 +30,26 @@ The stages, one module each: the layouts (`abs_vehicle_layout`), a lane's rows
 (`abs_vehicle_step_end`), instants inside a step (`abs_vehicle_stop`), the wheel laws
 (`abs_vehicle_ticks`); here the lane loop and the entry point.
 
-Lanes (the design of `abs_wheel_kernel`). Every per-candidate quantity lives in ONE flat array
-`st` of rows of LANES values. Each iteration runs one fused RK4 step per lane for a whole number
-of VECTOR-wide blocks (`abs_vehicle_straight.lane_steps`): the straight-line case, all four
-stages in registers, branch-free, stored by select only where every stage and the step's end
-were straight. Lanes where that case does not hold (split-mu, a driver steering, a wheel
-unloaded), and the step in which a run stops, are redone by a scalar pass
-(`abs_vehicle_general.general_step`) in the same formulas and order, so that a lane's numbers do
-not depend on the path, the lane or the population. Sampled laws tick in a scalar pass before
-the step at each lane's own sample instants; a finished lane is refilled from the queue or, when
-it is empty, filled with the last live lane (live lanes stay packed in front).
+Lanes (the design of `abs_wheel_kernel`). Every per-candidate quantity lives in ONE flat array `st`
+of rows of LANES values. Each iteration runs one fused RK4 step per lane for a whole number of
+VECTOR-wide blocks (`abs_vehicle_straight.lane_steps`): the straight-line case, all four stages in
+registers, branch-free, stored by select only where every stage and the step's end were straight.
+Lanes where that case does not hold (split-mu, a driver steering, a wheel unloaded), and the step in
+which a run stops, are stepped by the general pass (`abs_vehicle_general.general_steps`), on lanes
+too: each stage over all lanes in vector loops, the Newton load solve iterated while a lane's has
+not returned, in the same formulas and order, so that a lane's numbers do not depend on the path,
+the lane or the population. While every live lane took the general pass in the last step and no run
+ended, the straight pass is skipped (the general pass gives a straight step the same numbers).
+Sampled laws tick in a scalar pass before the step at each lane's own sample instants; a finished
+lane is refilled from the queue or, when it is empty, filled with the last live lane (live lanes
+stay packed in front).
 
 Compilation: the entry point (`entry_point`) is a closure over the registry's fingerprint (on
 which numba keys its disk cache); it passes the fingerprint to the lane loop (`_simulate`) as a
 literal argument, so that the loop, with the ticks and the lane fill that dispatch on the laws
 inlined into it (calls there slow the ticking laws), compiles as a cached function of its own,
 keyed on the registered laws. The stages that do not depend on the laws (the vector loop, the
-general step and its right-hand side, the trace row) are cached functions of their modules,
+general pass, the trace row and its right-hand side) are cached functions of their modules,
 compiled once.
 
 No reference counting. The entry point and its scalar passes (the functions not inlined) are
@@ -63,7 +66,7 @@ import numpy as np
 
 from chassistune.controllers.laws import registry as laws
 from chassistune.controllers.laws.dispatch import law_sampled
-from chassistune.sim.abs_vehicle_general import general_step, trace_row
+from chassistune.sim.abs_vehicle_general import general_steps, trace_row
 from chassistune.sim.abs_vehicle_lane import NO_REFCOUNT, constants, lane_get, surfaces
 from chassistune.sim.abs_vehicle_layout import (
     KC_DT,
@@ -195,7 +198,7 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
     (n must be 1), also the TRACE_LAYOUT time series, one row per step. `scratch`: the arrays
     of `scratch()` (any contents: reset here; nothing is allocated).
     """
-    x, ks, y, dy, law, sidx, guess, sc, wbuf, tgt, inv, st, lane_of, col0 = scratch
+    y, dy, law, sidx, guess, sc, wbuf, tgt, inv, st, lane_of, col0 = scratch
     n = gains.shape[0]
     kc = constants(p, geo)
     srf = surfaces(surfs)
@@ -207,9 +210,7 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
     steps_per_sample = max(1, round(c[Q_TS] / dt))
     ts = steps_per_sample * dt
     sampled = law_sampled(laws_key, ctrl_kind)
-    # scratch of the scalar passes
-    x[:] = 0.0
-    ks[:] = 0.0
+    # scratch of the trace row
     y[:] = 0.0
     dy[:] = 0.0
     law[:] = 0.0
@@ -231,6 +232,7 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
     queued = live  # next candidate to start
     n_trace = trace.shape[0]
     rows = 0
+    all_general = False  # every live lane took the general pass in the last step (no run ended)
     if n_trace > 0 and n > 0:
         trace_row(
             trace[rows],
@@ -260,29 +262,19 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
                     i = lane_of[l]
                     tick(st, l, i, k, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts)
         width = -(-live // VECTOR) * VECTOR
-        ended = lane_steps(st, width, kc, srf, live)
+        ended = False
+        if all_general:  # skip the straight pass (the general one gives the same numbers)
+            for l in range(width):
+                st[R_DONE * LANES + l] = 0.0
+        else:
+            ended = lane_steps(st, width, kc, srf, live)
+        general = False
+        all_general = True
         for l in range(live):
-            if lane_get(st, R_DONE, l) == 0.0:
-                ended |= general_step(
-                    st,
-                    l,
-                    kc,
-                    srf,
-                    p,
-                    geo,
-                    surfs,
-                    x,
-                    ks,
-                    y,
-                    dy,
-                    law,
-                    sidx,
-                    guess,
-                    sc,
-                    wbuf,
-                    tgt,
-                    inv,
-                )
+            general |= lane_get(st, R_DONE, l) == 0.0
+            all_general &= lane_get(st, R_DONE, l) == 0.0
+        if general:
+            ended |= general_steps(st, width, kc, srf, live)
         if n_trace > 0 and rows < n_trace:  # one candidate, in lane 0
             t = (lane_get(st, R_STEP, 0) - 1.0) * dt
             trace_row(
@@ -307,7 +299,8 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
             if lane_get(st, R_STATUS, 0) == STATUS_STOPPED:  # the row at the stop
                 trace[rows, T_SPEED] = kc[KC_VSTOP]
             rows += 1
-        if ended:
+        if ended:  # new runs in the lanes: the straight pass tries them again
+            all_general = False
             for l in range(live - 1, -1, -1):  # high to low: lanes moved down are done
                 if lane_get(st, R_ENDED, l) == 0.0:
                     continue
@@ -358,12 +351,10 @@ def simulate_abs_vehicle(
 def scratch() -> tuple[np.ndarray, ...]:
     """The scratch arrays `simulate_abs_vehicle` works in (it allocates nothing: compiled
     without reference counting), one tuple per call (a call on another thread needs its own):
-    the scalar passes' state, stage derivatives, stage point, derivative column, wheel laws,
+    the trace row's state, derivative column, wheel laws,
     surface indices, load guess, evaluation scratch, wheel speeds, targets and inverses, then the
     lane rows `st`, the candidate in each lane and each wheel's first gain column."""
     return (
-        np.empty(N_STATE),
-        np.empty((4, N_STATE)),
         np.empty(N_STATE),
         np.empty((N_STATE, 1)),
         np.empty((N_LAW, 4, 1)),

@@ -11,9 +11,10 @@ from typing import Any
 import numba
 
 from chassistune._branchfree import select
-from chassistune.plants.abs_vehicle import SF_FALL0, SF_FALL1, SF_RISE, SF_ST, SF_TARGET
+from chassistune.plants.abs_vehicle import SF_FALL0, SF_FALL1, SF_LAT, SF_RISE, SF_ST, SF_TARGET
 from chassistune.sim.abs_vehicle_layout import (
     G_A,
+    G_B,
     G_FZ0,
     G_X,
     G_Y,
@@ -97,6 +98,10 @@ def constants(p, geo):
         geo[G_A, 1],
         geo[G_A, 2],
         geo[G_A, 3],
+        geo[G_B, 0],
+        geo[G_B, 1],
+        geo[G_B, 2],
+        geo[G_B, 3],
         geo[G_X, 0],
         geo[G_X, 1],
         geo[G_X, 2],
@@ -142,18 +147,20 @@ def constants(p, geo):
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def surfaces(surfs):
     """The road's two surfaces as the lanes read them (`surface_of`): (S_T, rise, fall0,
-    fall1, target) of surface 0, then of surface 1."""
+    fall1, target, lateral scale C S_T / mu_h) of surface 0, then of surface 1."""
     return (
         surfs[0, SF_ST],
         surfs[0, SF_RISE],
         surfs[0, SF_FALL0],
         surfs[0, SF_FALL1],
         surfs[0, SF_TARGET],
+        surfs[0, SF_LAT],
         surfs[1, SF_ST],
         surfs[1, SF_RISE],
         surfs[1, SF_FALL0],
         surfs[1, SF_FALL1],
         surfs[1, SF_TARGET],
+        surfs[1, SF_LAT],
     )
 
 
@@ -259,14 +266,16 @@ def target_slip(st, j, l, srf):
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def surface_of(b, srf):
-    """(S_T, rise, fall0, fall1, target) of the surface a wheel is on (b: 1.0 the second)."""
+    """(S_T, rise, fall0, fall1, target, lateral scale) of the surface a wheel is on (b: 1.0
+    the second)."""
     two = b != 0.0
     return (
-        select(two, srf[5], srf[0]),
-        select(two, srf[6], srf[1]),
-        select(two, srf[7], srf[2]),
-        select(two, srf[8], srf[3]),
-        select(two, srf[9], srf[4]),
+        select(two, srf[6], srf[0]),
+        select(two, srf[7], srf[1]),
+        select(two, srf[8], srf[2]),
+        select(two, srf[9], srf[3]),
+        select(two, srf[10], srf[4]),
+        select(two, srf[11], srf[5]),
     )
 
 

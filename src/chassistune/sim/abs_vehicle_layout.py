@@ -314,6 +314,38 @@ def _per_wheel(name: str, unit: str, description: str = "") -> tuple[Slot, ...]:
     return tuple(Slot(f"{name}_{w}", unit, description) for w in WHEELS)
 
 
+GENERAL_ROWS = (
+    Slot("general", "-", "1: the general pass steps the lane (`abs_vehicle_general`)"),
+    *(
+        Slot(f"k_prev_{s.name}", f"{s.unit}/s", "the general pass: the last stage's derivative")
+        for s in STATE_LAYOUT.slots
+    ),
+    *(
+        Slot(f"k_sum_{s.name}", f"{s.unit}/s", "the general pass: k1 + 2 k2 + 2 k3 + k4 so far")
+        for s in STATE_LAYOUT.slots
+    ),
+    Slot("steer_cos", "-", "cos of the stage's steering angle (1 at 0)"),
+    Slot("steer_sin", "-", "sin of the stage's steering angle (0 at 0)"),
+    Slot("heading_cos", "-", "cos of the stage's heading (1 at 0)"),
+    Slot("heading_sin", "-", "sin of the stage's heading (0 at 0)"),
+    *_per_wheel("sx", "-", "the stage's longitudinal slip (u - w R)/|V|, unclipped"),
+    *_per_wheel("vr", "-", "the stage's v/|V| in the wheel frame"),
+    *_per_wheel("wheel_cos", "-", "the wheel-to-body rotation (cos, sin)"),
+    *_per_wheel("wheel_sin", "-"),
+    Slot("newton_ax_m_s2", "m/s^2", "the load solve's iterate"),
+    Slot("newton_ay_m_s2", "m/s^2"),
+    Slot("newton_done", "-", "1: the lane's load solve has returned"),
+    Slot("load_ax_m_s2", "m/s^2", "the load solve's result"),
+    Slot("load_ay_m_s2", "m/s^2"),
+    Slot("load_iteration", "-", "its Newton iterations"),
+    *_per_wheel("fx_wheel_n", "N", "the solution's wheel-frame longitudinal force"),
+    *_per_wheel("fx_body_n", "N", "the solution's body-frame forces"),
+    *_per_wheel("fy_body_n", "N"),
+    Slot("straight_stage", "-", "1: the stage is in the straight-line case (no guess update)"),
+)
+"""The general pass's working rows of a lane (`abs_vehicle_general.general_steps`): one RK4 step
+of the lanes the vector pass did not commit, stage by stage over all lanes at once."""
+
 LANE_LAYOUT = Layout(
     "abs-vehicle lane rows (row r of lane l at r * LANES + l)",
     (
@@ -360,6 +392,7 @@ LANE_LAYOUT = Layout(
         Slot("ax_m_s2", "m/s^2", "the last general load solve (the next one's start)"),
         Slot("ay_m_s2", "m/s^2"),
         Slot("load_iterations", "-", "most Newton iterations of one load solve"),
+        *GENERAL_ROWS,
     ),
 )
 R_K4 = LANE_LAYOUT["k4_vx"]
@@ -398,6 +431,27 @@ R_DONE = LANE_LAYOUT["done"]
 R_AX = LANE_LAYOUT["ax_m_s2"]
 R_AY = LANE_LAYOUT["ay_m_s2"]
 R_ITER = LANE_LAYOUT["load_iterations"]
+R_GENERAL = LANE_LAYOUT["general"]
+R_KPREV = LANE_LAYOUT["k_prev_vx"]
+R_KSUM = LANE_LAYOUT["k_sum_vx"]
+R_STEER_COS = LANE_LAYOUT["steer_cos"]
+R_STEER_SIN = LANE_LAYOUT["steer_sin"]
+R_HEAD_COS = LANE_LAYOUT["heading_cos"]
+R_HEAD_SIN = LANE_LAYOUT["heading_sin"]
+R_SX = LANE_LAYOUT["sx_fl"]
+R_VR = LANE_LAYOUT["vr_fl"]
+R_WCOS = LANE_LAYOUT["wheel_cos_fl"]
+R_WSIN = LANE_LAYOUT["wheel_sin_fl"]
+R_NAX = LANE_LAYOUT["newton_ax_m_s2"]
+R_NAY = LANE_LAYOUT["newton_ay_m_s2"]
+R_NDONE = LANE_LAYOUT["newton_done"]
+R_LAX = LANE_LAYOUT["load_ax_m_s2"]
+R_LAY = LANE_LAYOUT["load_ay_m_s2"]
+R_LIT = LANE_LAYOUT["load_iteration"]
+R_FXW = LANE_LAYOUT["fx_wheel_n_fl"]
+R_FXB = LANE_LAYOUT["fx_body_n_fl"]
+R_FYB = LANE_LAYOUT["fy_body_n_fl"]
+R_STRAIGHT = LANE_LAYOUT["straight_stage"]
 N_ROWS = len(LANE_LAYOUT)
 
 CONSTANTS_LAYOUT = Layout(
@@ -406,6 +460,7 @@ CONSTANTS_LAYOUT = Layout(
         Slot("mass_kg", "kg"),
         *_per_wheel("static_load_n", "N"),
         *_per_wheel("load_per_ax", "N/(m/s^2)"),
+        *_per_wheel("load_per_ay", "N/(m/s^2)"),
         *_per_wheel("x_m", "m"),
         *_per_wheel("y_m", "m"),
         Slot("wheel_radius_m", "m"),
@@ -444,6 +499,7 @@ geometry row of that name at the wheel."""
 KC_MASS = CONSTANTS_LAYOUT["mass_kg"]
 KC_FZ0 = CONSTANTS_LAYOUT["static_load_n_fl"]
 KC_A = CONSTANTS_LAYOUT["load_per_ax_fl"]
+KC_B = CONSTANTS_LAYOUT["load_per_ay_fl"]
 KC_GX = CONSTANTS_LAYOUT["x_m_fl"]
 KC_GY = CONSTANTS_LAYOUT["y_m_fl"]
 KC_RW = CONSTANTS_LAYOUT["wheel_radius_m"]

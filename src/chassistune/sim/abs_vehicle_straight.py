@@ -77,26 +77,12 @@ def lane_wheel_rates(wt, e, fx, g, kc, j):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def straight_stage(x, g, s, kc):
-    """Derivatives at state x = (b, w0, w1, w2, w3), body b = (vx, vy, r, X, Y, psi, delta) and
-    wheels wj = (w, q, qr, z, xf), with laws g and surfaces s (per wheel) in the straight-line
-    case (no yaw, lateral velocity, heading or steering; loads in closed form): ((body rates,
-    four wheel rates), ok), ok false where the case does not hold (`rhs` then applies). The
-    same formulas in the same order as `rhs` and `solve_loads`."""
-    b, w0, w1, w2, w3 = x
-    g0, g1, g2, g3 = g
-    s0, s1, s2, s3 = s
-    vx = b[0]
-    vy = b[1]
-    r = b[2]
-    psi = b[5]
-    delta = b[6]
-    r_w = kc[KC_RW]
-    vmin = kc[KC_VMIN]
-    c0, sl0 = straight_wheel(vx, w0[0], s0, r_w, vmin)
-    c1, sl1 = straight_wheel(vx, w1[0], s1, r_w, vmin)
-    c2, sl2 = straight_wheel(vx, w2[0], s2, r_w, vmin)
-    c3, sl3 = straight_wheel(vx, w3[0], s3, r_w, vmin)
+def closed_loads(c, kc):
+    """The load/force loop in closed form (`plants.abs_vehicle.solve_loads` without lateral
+    slip or steering) with the wheels' forces per unit load c: ax = sum c_i Fz0_i /
+    (m - sum c_i A_i), Fz_i = Fz0_i + A_i ax; returns (sum Fx_i / m, the forces Fx_i = c_i
+    Fz_i, whether every load is >= 0)."""
+    c0, c1, c2, c3 = c
     num = 0.0
     num += c0 * kc[KC_FZ0]
     num += c1 * kc[KC_FZ0 + 1]
@@ -113,16 +99,7 @@ def straight_stage(x, g, s, kc):
     fz1 = kc[KC_FZ0 + 1] + kc[KC_A + 1] * ax
     fz2 = kc[KC_FZ0 + 2] + kc[KC_A + 2] * ax
     fz3 = kc[KC_FZ0 + 3] + kc[KC_A + 3] * ax
-    ok = (
-        (vy == 0.0)
-        & (r == 0.0)
-        & (psi == 0.0)
-        & (delta == 0.0)
-        & (fz0 >= 0.0)
-        & (fz1 >= 0.0)
-        & (fz2 >= 0.0)
-        & (fz3 >= 0.0)
-    )
+    ok = (fz0 >= 0.0) & (fz1 >= 0.0) & (fz2 >= 0.0) & (fz3 >= 0.0)
     fx0 = c0 * fz0
     fx1 = c1 * fz1
     fx2 = c2 * fz2
@@ -132,35 +109,69 @@ def straight_stage(x, g, s, kc):
     total += fx1
     total += fx2
     total += fx3
-    ax = total / mass
+    return total / mass, (fx0, fx1, fx2, fx3), ok
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def stage_rates(x, ax, ay, fxb, fyb, fxw, e, dxy, g, kc):
+    """Derivatives at state x = (b, w0, w1, w2, w3), body b = (vx, vy, r, X, Y, psi, delta),
+    wheels wj = (w, q, qr, z, xf), given the solved loads: CG accelerations (ax, ay), the
+    body-frame forces fxb, fyb and wheel-frame Fx per wheel fxw, the wheels' slip errors e
+    (before select-low), the position's rates dxy = (dX/dt, dY/dt) and the laws g: ((body
+    rates), four wheel rates). The equations of `abs_vehicle_kernel` (design.md 3.3), in the
+    order of `abs_vehicle_general.rhs`."""
+    b, w0, w1, w2, w3 = x
+    g0, g1, g2, g3 = g
+    vx = b[0]
+    vy = b[1]
+    r = b[2]
+    psi = b[5]
+    delta = b[6]
     mz = 0.0
-    mz += kc[KC_GX] * 0.0 - kc[KC_GY] * fx0
-    mz += kc[KC_GX + 1] * 0.0 - kc[KC_GY + 1] * fx1
-    mz += kc[KC_GX + 2] * 0.0 - kc[KC_GY + 2] * fx2
-    mz += kc[KC_GX + 3] * 0.0 - kc[KC_GY + 3] * fx3
+    mz += kc[KC_GX] * fyb[0] - kc[KC_GY] * fxb[0]
+    mz += kc[KC_GX + 1] * fyb[1] - kc[KC_GY + 1] * fxb[1]
+    mz += kc[KC_GX + 2] * fyb[2] - kc[KC_GY + 2] * fxb[2]
+    mz += kc[KC_GX + 3] * fyb[3] - kc[KC_GY + 3] * fxb[3]
     dmax = kc[KC_DMAX]
     cmd = clip(-kc[KC_KPSI] * psi - kc[KC_KR] * r, -dmax, dmax)
     db = (
         ax + vy * r,
-        0.0 - vx * r,
+        ay - vx * r,
         mz * kc[KC_INV_IZ],
-        vx,
-        vy,
+        dxy[0],
+        dxy[1],
         r,
         select(kc[KC_DRIVER] != 0.0, (cmd - delta) * kc[KC_INV_ST], 0.0),
     )
-    e0 = s0[4] - sl0
-    e1 = s1[4] - sl1
-    e2 = s2[4] - sl2
-    e3 = s3[4] - sl3
-    c2, c3, _ = select_low(e2, e3, kc[KC_SELECT_LOW] != 0.0)
+    e2, e3, _ = select_low(e[2], e[3], kc[KC_SELECT_LOW] != 0.0)
     return (
         db,
-        lane_wheel_rates(w0, e0, fx0, g0, kc, 0),
-        lane_wheel_rates(w1, e1, fx1, g1, kc, 1),
-        lane_wheel_rates(w2, c2, fx2, g2, kc, 2),
-        lane_wheel_rates(w3, c3, fx3, g3, kc, 3),
-    ), ok
+        lane_wheel_rates(w0, e[0], fxw[0], g0, kc, 0),
+        lane_wheel_rates(w1, e[1], fxw[1], g1, kc, 1),
+        lane_wheel_rates(w2, e2, fxw[2], g2, kc, 2),
+        lane_wheel_rates(w3, e3, fxw[3], g3, kc, 3),
+    )
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def straight_stage(x, g, s, kc):
+    """Derivatives at state x (`stage_rates`) with laws g and surfaces s (per wheel) in the
+    straight-line case (no yaw, lateral velocity, heading or steering; loads in closed form,
+    `closed_loads`): (rates, ok), ok false where the case does not hold (the general pass
+    then applies). The same numbers as the general pass where it holds."""
+    b, w0, w1, w2, w3 = x
+    s0, s1, s2, s3 = s
+    vx = b[0]
+    r_w = kc[KC_RW]
+    vmin = kc[KC_VMIN]
+    c0, sl0 = straight_wheel(vx, w0[0], s0, r_w, vmin)
+    c1, sl1 = straight_wheel(vx, w1[0], s1, r_w, vmin)
+    c2, sl2 = straight_wheel(vx, w2[0], s2, r_w, vmin)
+    c3, sl3 = straight_wheel(vx, w3[0], s3, r_w, vmin)
+    ax, fx, loaded = closed_loads((c0, c1, c2, c3), kc)
+    ok = (b[1] == 0.0) & (b[2] == 0.0) & (b[5] == 0.0) & (b[6] == 0.0) & loaded
+    e = (s0[4] - sl0, s1[4] - sl1, s2[4] - sl2, s3[4] - sl3)
+    return stage_rates(x, ax, 0.0, fx, (0.0, 0.0, 0.0, 0.0), fx, e, (vx, b[1]), g, kc), ok
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")

@@ -76,13 +76,26 @@ def kinematics(vx, vy, r, delta, w, p, geo, sc):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def unsteered(b, wt, j, kc):
-    """(|V|, clipped slip) of wheel j (state wt) unsteered, body b: `kinematics` with delta 0."""
+def steered_wheel(b, w, cd, sd, j, kc):
+    """`kinematics` of wheel j (spin w) at body state b, the steering angle given as its
+    (cos, sin) = (cd, sd) (1, 0 at 0): (sx, v/|V|, wheel-to-body (cos, sin), |V|, clipped
+    slip), a front wheel turned where sd != 0. Branch-free."""
     vx = b[0]
     vy = b[1]
     r = b[2]
     u = vx - r * kc[KC_GY + j]
-    _, _, vabs, slip = wheel_kinematics(u, vy + r * kc[KC_GX + j], wt[0], kc[KC_RW], kc[KC_VMIN])
+    v = vy + r * kc[KC_GX + j]
+    turned = (j < 2) & (sd != 0.0)
+    uw = select(turned, cd * u + sd * v, u)
+    vw = select(turned, cd * v - sd * u, v)
+    sx, vr, vabs, slip = wheel_kinematics(uw, vw, w, kc[KC_RW], kc[KC_VMIN])
+    return sx, vr, select(turned, cd, 1.0), select(turned, sd, 0.0), vabs, slip
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def unsteered(b, wt, j, kc):
+    """(|V|, clipped slip) of wheel j (state wt) unsteered, body b: `kinematics` with delta 0."""
+    _, _, _, _, vabs, slip = steered_wheel(b, wt[0], 1.0, 0.0, j, kc)
     return vabs, slip
 
 
@@ -136,9 +149,45 @@ def straight_wheel(vx, w, s, r_w, vmin):
     bit."""
     vabs = fmax(math.sqrt(vx * vx), vmin)
     sx = (vx - w * r_w) * (1.0 / vabs)
+    return force_per_load(sx, s), clip(sx, 0.0, 1.0)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def bilinear(s, surface):
+    """mu(s) of the bilinear curve of `surface` (design.md 3.2)."""
+    c = surface
+    return tire_law_mu(KIND_BILINEAR, s, c[0], c[1], c[2], c[3], c, c, c)  # no table
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def force_per_load(sx, s):
+    """Fx / Fz of a wheel without lateral slip on surface s: -mu(min(|sx|, 1)) sign(sx), 0 at
+    sx = 0 (`plants.abs_vehicle.straight_force_per_load`, bit for bit)."""
     a = abs(sx)
-    mu = tire_law_mu(KIND_BILINEAR, fmin(a, 1.0), s[0], s[1], s[2], s[3], s, s, s)  # no table
-    return select(a > 0.0, -math.copysign(mu, sx), 0.0), clip(sx, 0.0, 1.0)
+    return select(a > 0.0, -math.copysign(bilinear(fmin(a, 1.0), s), sx), 0.0)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def combined_force(sx, vr, fz, s):
+    """(Fx, Fy, dFx/dFz, dFy/dFz) of a wheel in its own frame on surface s (design.md 3.3):
+    `plants.abs_vehicle.tire_force` bit for bit, branch-free (0 where fz <= 0 or s = 0)."""
+    sy = vr * s[5] / fz
+    sn = math.sqrt(sx * sx + sy * sy)
+    sc = fmin(sn, 1.0)
+    mu = bilinear(sc, s)
+    dmu = select(sc <= s[0], s[1], select(sn < 1.0, -s[3], 0.0))
+    f = fz * mu
+    cx = sx / sn
+    cy = sy / sn
+    # F = -Fz phi(s) (sx, sy) with phi = mu/s and sy ~ 1/Fz: differentiate in Fz
+    t = (dmu * sn - mu) / (sn * sn) * sy * sy / sn
+    none = (fz <= 0.0) | (sn == 0.0)
+    return (
+        select(none, 0.0, -f * cx),
+        select(none, 0.0, -f * cy),
+        select(none, 0.0, -mu * cx + t * sx),
+        select(none, 0.0, t * sy),
+    )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
