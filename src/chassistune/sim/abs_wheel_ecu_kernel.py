@@ -506,15 +506,9 @@ def _stage_pressures(st, l, t, hs, dt, kb, kd, q_max):
     valve state over the step, `orifice_advance` from q; a step with a switch reads those of
     `valve_switches`. Branch-free."""
     q = st[R_Q * LANES + l]
-    mode = E.valve_mode_at(
-        t,
-        st[R_PM0 * LANES + l],
-        st[R_PS0 * LANES + l],
-        st[R_PO0 * LANES + l],
-        st[R_PM1 * LANES + l],
-        st[R_PS1 * LANES + l],
-        st[R_PO1 * LANES + l],
-    )
+    pm0, ps0, po0 = st[R_PM0 * LANES + l], st[R_PS0 * LANES + l], st[R_PO0 * LANES + l]
+    pm1, ps1, po1 = st[R_PM1 * LANES + l], st[R_PS1 * LANES + l], st[R_PO1 * LANES + l]
+    mode = E.valve_mode_at(t, pm0, ps0, po0, pm1, ps1, po1)
     qa = E.orifice_advance(q, mode, (t + hs) - t, kb, kd, q_max, 0.0)
     qb = E.orifice_advance(q, mode, (t + dt) - t, kb, kd, q_max, 0.0)
     switch = st[R_QSWITCH * LANES + l] != 0.0
@@ -767,44 +761,44 @@ def sensor_edges(st, live, dt, x, spacing, jitter, edges):
 @_inline
 def _fill_lane(st, l, aux, p, x, spacing):
     """Start a candidate with plant row p in lane l: the initial state, zero metrics."""
-    for row in range(N_ROWS):
-        st[row * LANES + l] = 0.0
+    r = st[l::LANES]  # lane l's rows
+    r[:] = 0.0
     aux[l, :] = 0.0
     r_w, v0 = p[P_RADIUS], p[P_V0]
-    st[R_V * LANES + l] = v0
-    st[R_W * LANES + l] = v0 / r_w
-    st[R_WEST * LANES + l] = v0 / r_w
+    r[R_V] = v0
+    r[R_W] = v0 / r_w
+    r[R_WEST] = v0 / r_w
     for row in (R_TLAST, R_TPREV, R_READ_LAST, R_READ_PREV):
-        st[row * LANES + l] = -1.0
-    st[R_VREF * LANES + l] = v0
-    st[R_VW_PREV * LANES + l] = v0
-    st[R_VW * LANES + l] = v0
+        r[row] = -1.0
+    r[R_VREF] = v0
+    r[R_VW_PREV] = v0
+    r[R_VW] = v0
     if x[X_TOOTHED] != 0.0:
         teeth = int(x[X_TEETH])
         k_next = E.sensor_first_edge(0.0, teeth, spacing)
-        st[R_KNEXT * LANES + l] = k_next
-        st[R_EDGE_NEXT * LANES + l] = E.edge_angle(k_next, teeth, spacing)
+        r[R_KNEXT] = k_next
+        r[R_EDGE_NEXT] = E.edge_angle(k_next, teeth, spacing)
     else:
-        st[R_EDGE_NEXT * LANES + l] = np.inf
+        r[R_EDGE_NEXT] = np.inf
     for row in (R_PM0, R_PM1, R_VALVE):
-        st[row * LANES + l] = E.VALVE_HOLD
-    st[R_LAST_CHANGE * LANES + l] = np.nan
-    st[R_MIN_IV * LANES + l] = np.inf
-    st[R_LOCK_T * LANES + l] = np.nan
-    st[R_CUT_T * LANES + l] = np.nan
-    st[R_RW * LANES + l] = r_w
-    st[R_FZ * LANES + l] = p[P_LOAD] * p[P_MASS] * p[P_G]
-    st[R_INV_M * LANES + l] = 1.0 / p[P_MASS]
-    st[R_INV_I * LANES + l] = 1.0 / p[P_INERTIA]
-    st[R_KQ * LANES + l] = p[P_KQ]
-    st[R_GAIN * LANES + l] = p[P_K]
-    st[R_INV_TAU * LANES + l] = 1.0 / p[P_TAU]
-    st[R_QMAX * LANES + l] = p[P_QMAX]
-    st[R_V0 * LANES + l] = v0
-    st[R_VSTOP * LANES + l] = p[P_VSTOP]
-    st[R_TARGET * LANES + l] = p[P_TARGET]
-    st[R_LOCK_RATIO * LANES + l] = p[P_LOCK_RATIO]
-    st[R_HOPELESS * LANES + l] = p[P_HOPELESS_M]
+        r[row] = E.VALVE_HOLD
+    r[R_LAST_CHANGE] = np.nan
+    r[R_MIN_IV] = np.inf
+    r[R_LOCK_T] = np.nan
+    r[R_CUT_T] = np.nan
+    r[R_RW] = r_w
+    r[R_FZ] = p[P_LOAD] * p[P_MASS] * p[P_G]
+    r[R_INV_M] = 1.0 / p[P_MASS]
+    r[R_INV_I] = 1.0 / p[P_INERTIA]
+    r[R_KQ] = p[P_KQ]
+    r[R_GAIN] = p[P_K]
+    r[R_INV_TAU] = 1.0 / p[P_TAU]
+    r[R_QMAX] = p[P_QMAX]
+    r[R_V0] = v0
+    r[R_VSTOP] = p[P_VSTOP]
+    r[R_TARGET] = p[P_TARGET]
+    r[R_LOCK_RATIO] = p[P_LOCK_RATIO]
+    r[R_HOPELESS] = p[P_HOPELESS_M]
 
 
 @_inline
