@@ -5,17 +5,21 @@ on random gains, bad input."""
 from __future__ import annotations
 
 import itertools
+import re
 
+import numba
 import numpy as np
 import pytest
-from test_abs_wheel_kernel import CONTROLLERS, _population
+from test_abs_wheel_kernel import CONTROLLERS, ROADS, _has_avx, _population
 
+from chassistune._branchfree import stack_copy
 from chassistune.controllers import laws
 from chassistune.errors import InputError
 from chassistune.scenarios.abs_wheel import PLANT
 from chassistune.sim import abs_wheel_ecu_kernel as EK
 from chassistune.sim import abs_wheel_ecu_layout as EL
 from chassistune.sim import abs_wheel_layout as KL
+from chassistune.sim.abs_wheel_tires import table_tuples
 
 PRESET = "paper-derlsp-ao"
 PID_GAINS = np.array([[5000.0, 0.0, 230.0]])
@@ -306,3 +310,37 @@ def test_default_reference_gives_sensible_stops(road: str) -> None:
         assert np.isnan(m["wheel_lock_time_s"][0])
         assert 1.0 < m["distance_ratio"][0] < ratio
         assert m["vref_gap_max_m_s"][0] < 2.5
+
+
+def _packed(f: numba.core.dispatcher.Dispatcher) -> int:
+    """Packed double arithmetic instructions (ymm/zmm registers) in compiled function f."""
+    asm = f.inspect_asm(f.signatures[0])
+    return len(re.findall(r"\bv(?:mul|add|sub|div|fmadd\w*|sqrt)pd\s[^\n]*%[yz]mm", asm))
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not _has_avx(), reason="needs an x86 CPU with AVX2")
+@pytest.mark.parametrize("law", sorted(ROADS))
+def test_vector_loops_vectorize(law: int) -> None:
+    """Packed double arithmetic in the step's vector loop of each tire law and in the metrics'
+    vector loop: a call or a branch added to `plant_step` or `step_metrics` would silently fall
+    back to scalar code."""
+    steps = EK._plant_steps_of(law)
+
+    @numba.njit(_nrt=False)  # type: ignore[misc]
+    def run(st, c4, xc_tuple, xs_tuple, ys_tuple):  # type: ignore[no-untyped-def]
+        xc, xs, ys = stack_copy(xc_tuple), stack_copy(xs_tuple), stack_copy(ys_tuple)
+        tire = (c4[0], c4[1], c4[2], c4[3], xc, xs, ys)
+        steps(st, EK.LANES, True, (1e-3, 5e-4, 1e-3 / 6.0, tire, 1.0, 1.0))
+
+    _p, _kind, coef, xs, ys, *_ = PLANT.scenario(*ROADS[law], "pid")._kernel_args
+    c4 = np.zeros(4)
+    c4[: len(coef)] = coef
+    run(np.zeros(EK.N_ROWS * EK.LANES), c4, *table_tuples(xs, ys))
+    metrics = numba.njit(error_model="numpy", _nrt=False)(
+        EK._metric_steps.py_func
+    )  # uncached: its code to read
+    metrics(np.zeros(EK.N_ROWS * EK.LANES), EK.LANES, EK.LANES, 1e-3, 100, 0.1)
+    print(f"law {law}: {_packed(steps)} packed in the step, {_packed(metrics)} in the metrics")
+    assert _packed(steps) >= 80, "the plant step no longer vectorizes"
+    assert _packed(metrics) >= 50, "the step metrics no longer vectorize"

@@ -23,8 +23,11 @@ Each iteration of the lane loop, per lane, in the order of docs/ecu.md "The real
   exact pressures through the switch (`modulator_advance`);
 - `plant_step`: one RK4 step (three-state valves: the stages read the one-state orifice
   solution, or the pressures of a step with a switch), then `step_metrics`: its metrics and end
-  flags; straight-line code (selects, no calls, no branches) in two vector loops of 8 lanes
-  (`_plant_steps`), compiled once per tire law (a constant in each copy);
+  flags; straight-line code (selects, no calls, no branches) in two vector loops of 8 lanes,
+  each a function of its own: the step's (`_plant_steps_of`) compiled once per tire law (a
+  constant in each copy, picked by the lane loop), the metrics' (`_metric_steps`) once (numba
+  inlines a function by copying its IR, at a cost that grows with what it inlines: inlined
+  into the lane loop, each copy would be compiled again there);
 - `sensor_edges`: the toothed sensor, for the lanes whose wheel passed an edge in the step
   (`sensor_step` in its pieces, the edge-time searches of all those lanes in lockstep);
 - a finished run writes its metrics, and its lane takes the next candidate.
@@ -47,6 +50,7 @@ target slip are per row.
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any
 
@@ -91,7 +95,13 @@ from chassistune.sim.abs_wheel_kernel import (
     write_trace_row,
 )
 from chassistune.sim.abs_wheel_model import step_end, wheel_rates, wheel_slip
-from chassistune.sim.abs_wheel_tires import KIND_BILINEAR, KIND_BURCKHARDT, KIND_TABLE, table_tuples
+from chassistune.sim.abs_wheel_tires import (
+    KIND_BILINEAR,
+    KIND_BURCKHARDT,
+    KIND_TABLE,
+    local_table,
+    table_tuples,
+)
 from chassistune.sim.integrate import error_integrals, rk4_point, rk4_update, trapezoid
 from chassistune.sim.lanes import close_lane
 
@@ -222,19 +232,13 @@ N_ROWS = len(EL.LANE)
 LANES = 32
 """Candidates in flight per kernel call (a multiple of VECTOR)."""
 VECTOR = 8
-"""Lanes per vector iteration of `_plant_steps`."""
+"""Lanes per vector iteration of `_plant_steps_of`."""
 
 LOW_SPEED_BAND_M_S = (1.0, 9.0)
 """Speed band of `low_speed_slip_error` (fixed gains fail below about 9 m/s)."""
 
 _inline = njit(cache=True, nogil=True, error_model="numpy", inline="always")
 _jit = njit(cache=True, nogil=True, error_model="numpy")
-
-
-@_inline
-def _at(row, l):
-    """Index of row `row` of lane l in the lane array."""
-    return row * LANES + l
 
 
 @_inline
@@ -285,20 +289,20 @@ def _retire_pulse(mode, start, on, ts, t_lim, cur, last_t, n_sw, min_iv):
 def _account_pulse(st, l, ts, t_lim):
     """Account lane l's current pulse's valve state changes up to t_lim (`_retire_pulse`)."""
     valve, last_change, n_sw, min_iv = _retire_pulse(
-        st[_at(R_PM1, l)],
-        st[_at(R_PS1, l)],
-        st[_at(R_PO1, l)],
+        st[R_PM1 * LANES + l],
+        st[R_PS1 * LANES + l],
+        st[R_PO1 * LANES + l],
         ts,
         t_lim,
-        st[_at(R_VALVE, l)],
-        st[_at(R_LAST_CHANGE, l)],
-        st[_at(R_NSW, l)],
-        st[_at(R_MIN_IV, l)],
+        st[R_VALVE * LANES + l],
+        st[R_LAST_CHANGE * LANES + l],
+        st[R_NSW * LANES + l],
+        st[R_MIN_IV * LANES + l],
     )
-    st[_at(R_VALVE, l)] = valve
-    st[_at(R_LAST_CHANGE, l)] = last_change
-    st[_at(R_NSW, l)] = n_sw
-    st[_at(R_MIN_IV, l)] = min_iv
+    st[R_VALVE * LANES + l] = valve
+    st[R_LAST_CHANGE * LANES + l] = last_change
+    st[R_NSW * LANES + l] = n_sw
+    st[R_MIN_IV * LANES + l] = min_iv
 
 
 @_inline
@@ -306,12 +310,12 @@ def sensor(st, l, t, x):
     """Tick stage 1 (docs/ecu.md, the realistic kernel, 1): the wheel speed the ECU reads, the
     true one or the toothed wheel's estimate held or bounded (`sensor_read`); records the edge
     times behind it."""
-    st[_at(R_READ_LAST, l)] = st[_at(R_TLAST, l)]
-    st[_at(R_READ_PREV, l)] = st[_at(R_TPREV, l)]
+    st[R_READ_LAST * LANES + l] = st[R_TLAST * LANES + l]
+    st[R_READ_PREV * LANES + l] = st[R_TPREV * LANES + l]
     if x[X_TOOTHED] == 0.0:
-        return st[_at(R_W, l)]
+        return st[R_W * LANES + l]
     return E.sensor_read(
-        st[_at(R_WEST, l)], st[_at(R_TLAST, l)], t, int(x[X_TEETH]), x[X_BOUND] != 0.0
+        st[R_WEST * LANES + l], st[R_TLAST * LANES + l], t, int(x[X_TEETH]), x[X_BOUND] != 0.0
     )
 
 
@@ -319,20 +323,21 @@ def sensor(st, l, t, x):
 def reference_speed(st, l, w_read, x, ts, tire, tc, acc_noise):
     """Tick stage 2 (docs/ecu.md, the realistic kernel, 2; Reference speed): the true speed,
     `vref_slew`, or `vref_accel` fed `accelerometer(a_true, bias, noise[tick])`."""
-    tick = int(st[_at(R_TICK, l)])
-    vw = w_read * st[_at(R_RW, l)]
-    a_wheel = (vw - st[_at(R_VW_PREV, l)]) / ts if tick > 0 else 0.0
-    st[_at(R_VW_PREV, l)] = vw
-    st[_at(R_VW, l)] = vw
+    tick = int(st[R_TICK * LANES + l])
+    vw = w_read * st[R_RW * LANES + l]
+    a_wheel = (vw - st[R_VW_PREV * LANES + l]) / ts if tick > 0 else 0.0
+    st[R_VW_PREV * LANES + l] = vw
+    st[R_VW * LANES + l] = vw
     vref_mode = int(x[X_VREF])
-    vref = st[_at(R_VREF, l)]
+    vref = st[R_VREF * LANES + l]
     if vref_mode == 0:
-        vref = st[_at(R_V, l)]
+        vref = st[R_V * LANES + l]
     elif vref_mode == 1:
         vref = E.vref_slew(vref, vw, x[X_AMAX], ts)
     elif tick > 0:
-        v, w, r_w = st[_at(R_V, l)], st[_at(R_W, l)], st[_at(R_RW, l)]
-        a_true = -tire_mu(tire, wheel_slip(v, w, r_w), tc) * st[_at(R_FZ, l)] * st[_at(R_INV_M, l)]
+        v, w, r_w = st[R_V * LANES + l], st[R_W * LANES + l], st[R_RW * LANES + l]
+        fz, inv_m = st[R_FZ * LANES + l], st[R_INV_M * LANES + l]
+        a_true = -tire_mu(tire, wheel_slip(v, w, r_w), tc) * fz * inv_m
         noise = acc_noise[E.cyclic_index(tick, acc_noise.shape[0])]
         a_meas = E.accelerometer(a_true, x[X_BIAS], noise)
         vref, held = E.vref_accel(
@@ -343,12 +348,12 @@ def reference_speed(st, l, w_read, x, ts, tire, tc, acc_noise):
             ts,
             x[X_AGREE],
             x[X_AGREE_A],
-            st[_at(R_Q, l)] <= x[X_PFREE],
-            int(st[_at(R_HELD, l)]),
+            st[R_Q * LANES + l] <= x[X_PFREE],
+            int(st[R_HELD * LANES + l]),
             x[X_ANCHOR],
         )
-        st[_at(R_HELD, l)] = held
-    st[_at(R_VREF, l)] = vref
+        st[R_HELD * LANES + l] = held
+    st[R_VREF * LANES + l] = vref
     return vref
 
 
@@ -356,8 +361,8 @@ def reference_speed(st, l, w_read, x, ts, tire, tc, acc_noise):
 def ecu_slip(st, l, vref, w_read):
     """Tick stage 3 (docs/ecu.md, the realistic kernel, 3): the slip the ECU computes,
     (vref - w_est R) / vref clipped to [0, 1]."""
-    s = wheel_slip(vref, w_read, st[_at(R_RW, l)])
-    st[_at(R_ECU_SLIP, l)] = s
+    s = wheel_slip(vref, w_read, st[R_RW * LANES + l])
+    st[R_ECU_SLIP * LANES + l] = s
     return s
 
 
@@ -365,13 +370,13 @@ def ecu_slip(st, l, vref, w_read):
 def cutout(st, l, vref, t, x):
     """Tick stage 4 (docs/ecu.md, Low-speed cut-out): the latch (its time is a metric), and the
     largest |v - vref| while the ABS works."""
-    was_cut = st[_at(R_CUT, l)] != 0.0
+    was_cut = st[R_CUT * LANES + l] != 0.0
     cut = E.cutout_latch(was_cut, vref, x[X_CUTOUT])
-    st[_at(R_CUT, l)] = 1.0 if cut else 0.0
+    st[R_CUT * LANES + l] = 1.0 if cut else 0.0
     if cut and not was_cut:
-        st[_at(R_CUT_T, l)] = t
+        st[R_CUT_T * LANES + l] = t
     if not cut:
-        st[_at(R_GAP, l)] = max(st[_at(R_GAP, l)], abs(st[_at(R_V, l)] - vref))
+        st[R_GAP * LANES + l] = max(st[R_GAP * LANES + l], abs(st[R_V * LANES + l] - vref))
     return cut
 
 
@@ -415,35 +420,35 @@ def valves(st, l, rate, cmd, cut, t, ts, x):
     command of the continuous actuator, or the next valve pulse from t + dead time
     (`duty_pulse` of the PID laws' pressure rate K u, `switching_pulse` otherwise, build for the
     whole period once cut out), after accounting the retiring pulse's state changes."""
-    st[_at(R_CMD, l)] = cmd
+    st[R_CMD * LANES + l] = cmd
     if x[X_VALVES] == 0.0:
-        st[_at(R_U0, l)] = cmd
+        st[R_U0 * LANES + l] = cmd
         return
     if cut:
         mode, on = E.VALVE_BUILD, ts
     elif rate:  # the PID laws: a pressure rate
         mode, on, resid = E.duty_pulse(
-            st[_at(R_GAIN, l)] * cmd,
-            st[_at(R_RESID, l)],
-            st[_at(R_Q, l)],
+            st[R_GAIN * LANES + l] * cmd,
+            st[R_RESID * LANES + l],
+            st[R_Q * LANES + l],
             ts,
             x[X_KB],
             x[X_KD],
-            st[_at(R_QMAX, l)],
+            st[R_QMAX * LANES + l],
             0.0,
             x[X_MINON],
         )
-        st[_at(R_RESID, l)] = resid
+        st[R_RESID * LANES + l] = resid
     else:
         mode, on = E.switching_pulse(cmd, x[X_AMP], ts, x[X_MINON])
-    if st[_at(R_TICK, l)] > 0.0:
+    if st[R_TICK * LANES + l] > 0.0:
         _account_pulse(st, l, ts, np.inf)
-    st[_at(R_PM0, l)] = st[_at(R_PM1, l)]
-    st[_at(R_PS0, l)] = st[_at(R_PS1, l)]
-    st[_at(R_PO0, l)] = st[_at(R_PO1, l)]
-    st[_at(R_PM1, l)] = mode
-    st[_at(R_PS1, l)] = t + x[X_DEAD]
-    st[_at(R_PO1, l)] = on
+    st[R_PM0 * LANES + l] = st[R_PM1 * LANES + l]
+    st[R_PS0 * LANES + l] = st[R_PS1 * LANES + l]
+    st[R_PO0 * LANES + l] = st[R_PO1 * LANES + l]
+    st[R_PM1 * LANES + l] = mode
+    st[R_PS1 * LANES + l] = t + x[X_DEAD]
+    st[R_PO1 * LANES + l] = on
 
 
 @_inline
@@ -464,15 +469,15 @@ def _tick(st, l, aux, base, x, ts, t, tire, tc, table, grid, acc_noise, laws_key
     cut = cutout(st, l, vref, t, x)
     u = amp
     if not cut:
-        schedule(laws_key, kind, base, params, vref, st[_at(R_V0, l)], x)
-        q, q_max, target = st[_at(R_Q, l)], st[_at(R_QMAX, l)], st[_at(R_TARGET, l)]
+        schedule(laws_key, kind, base, params, vref, st[R_V0 * LANES + l], x)
+        q, q_max, target = st[R_Q * LANES + l], st[R_QMAX * LANES + l], st[R_TARGET * LANES + l]
         u = law(
             laws_key, kind, state, inputs, params, table, grid, slip, w_read, q, q_max, target, amp
         )
-    tick = int(st[_at(R_TICK, l)])
+    tick = int(st[R_TICK * LANES + l])
     cmd = delay_line(line, tick, int(x[X_DELAY]), u)
     valves(st, l, law_ecu_rate(laws_key, kind), amp if cut else cmd, cut, t, ts, x)
-    st[_at(R_TICK, l)] = tick + 1.0
+    st[R_TICK * LANES + l] = tick + 1.0
 
 
 @_inline
@@ -480,17 +485,17 @@ def valve_switches(st, l, t, hs, dt, x):
     """Three-state valves (docs/ecu.md, Three-state modulator): whether a pulse boundary falls
     inside the step from t; if so, the exact pressures at t + dt/2 and t + dt through it
     (`modulator_advance`), which the step reads instead of its own one-state solution."""
-    pm0, ps0, po0 = st[_at(R_PM0, l)], st[_at(R_PS0, l)], st[_at(R_PO0, l)]
-    pm1, ps1, po1 = st[_at(R_PM1, l)], st[_at(R_PS1, l)], st[_at(R_PO1, l)]
+    pm0, ps0, po0 = st[R_PM0 * LANES + l], st[R_PS0 * LANES + l], st[R_PO0 * LANES + l]
+    pm1, ps1, po1 = st[R_PM1 * LANES + l], st[R_PS1 * LANES + l], st[R_PO1 * LANES + l]
     t_end = t + dt
     switch = False
     for b in (ps0 + po0, ps1, ps1 + po1):
         switch |= t < b < t_end
-    st[_at(R_QSWITCH, l)] = 1.0 if switch else 0.0
+    st[R_QSWITCH * LANES + l] = 1.0 if switch else 0.0
     if switch:
-        q, kb, kd, q_max = st[_at(R_Q, l)], x[X_KB], x[X_KD], st[_at(R_QMAX, l)]
+        q, kb, kd, q_max = st[R_Q * LANES + l], x[X_KB], x[X_KD], st[R_QMAX * LANES + l]
         for row, h in ((R_QA, hs), (R_QB, dt)):
-            st[_at(row, l)] = E.modulator_advance(
+            st[row * LANES + l] = E.modulator_advance(
                 q, t, h, pm0, ps0, po0, pm1, ps1, po1, kb, kd, q_max, 0.0
             )
 
@@ -500,20 +505,14 @@ def _stage_pressures(st, l, t, hs, dt, kb, kd, q_max):
     """The three-state valves' pressures at t + dt/2 and t + dt (`modulator_advance`): one
     valve state over the step, `orifice_advance` from q; a step with a switch reads those of
     `valve_switches`. Branch-free."""
-    q = st[_at(R_Q, l)]
-    mode = E.valve_mode_at(
-        t,
-        st[_at(R_PM0, l)],
-        st[_at(R_PS0, l)],
-        st[_at(R_PO0, l)],
-        st[_at(R_PM1, l)],
-        st[_at(R_PS1, l)],
-        st[_at(R_PO1, l)],
-    )
+    q = st[R_Q * LANES + l]
+    pm0, ps0, po0 = st[R_PM0 * LANES + l], st[R_PS0 * LANES + l], st[R_PO0 * LANES + l]
+    pm1, ps1, po1 = st[R_PM1 * LANES + l], st[R_PS1 * LANES + l], st[R_PO1 * LANES + l]
+    mode = E.valve_mode_at(t, pm0, ps0, po0, pm1, ps1, po1)
     qa = E.orifice_advance(q, mode, (t + hs) - t, kb, kd, q_max, 0.0)
     qb = E.orifice_advance(q, mode, (t + dt) - t, kb, kd, q_max, 0.0)
-    switch = st[_at(R_QSWITCH, l)] != 0.0
-    return select(switch, st[_at(R_QA, l)], qa), select(switch, st[_at(R_QB, l)], qb)
+    switch = st[R_QSWITCH * LANES + l] != 0.0
+    return select(switch, st[R_QA * LANES + l], qa), select(switch, st[R_QB * LANES + l], qb)
 
 
 @_inline
@@ -521,21 +520,21 @@ def plant_step(st, l, tire, three_state, dt, hs, h6, tc, kb, kd):
     """One RK4 step of lane l from t = k dt under its held command (design.md 3.1; three-state
     valves: the stages read the exact pressures) and the wheel angle; keeps the step's start
     for `step_metrics`. Straight-line code, a body of the vector loop."""
-    v, w, q, r = st[_at(R_V, l)], st[_at(R_W, l)], st[_at(R_Q, l)], st[_at(R_R, l)]
-    theta = st[_at(R_THETA, l)]
-    r_w, q_max = st[_at(R_RW, l)], st[_at(R_QMAX, l)]
+    v, w, q, r = st[R_V * LANES + l], st[R_W * LANES + l], st[R_Q * LANES + l], st[R_R * LANES + l]
+    theta = st[R_THETA * LANES + l]
+    r_w, q_max = st[R_RW * LANES + l], st[R_QMAX * LANES + l]
     pr = (
         r_w,
-        st[_at(R_FZ, l)],
-        st[_at(R_INV_M, l)],
-        st[_at(R_INV_I, l)],
-        st[_at(R_KQ, l)],
-        st[_at(R_GAIN, l)],
-        st[_at(R_INV_TAU, l)],
+        st[R_FZ * LANES + l],
+        st[R_INV_M * LANES + l],
+        st[R_INV_I * LANES + l],
+        st[R_KQ * LANES + l],
+        st[R_GAIN * LANES + l],
+        st[R_INV_TAU * LANES + l],
         q_max,
     )
-    u0 = st[_at(R_U0, l)]
-    t = st[_at(R_STEP, l)] * dt
+    u0 = st[R_U0 * LANES + l]
+    t = st[R_STEP * LANES + l] * dt
     qa, qb = _stage_pressures(st, l, t, hs, dt, kb, kd, q_max)
 
     x0 = (v, w, q, r)
@@ -547,14 +546,14 @@ def plant_step(st, l, tire, three_state, dt, hs, h6, tc, kb, kd):
     x4 = _stage(rk4_point(x0, dt, k3), three_state, qb)
     k4 = _rates(tire, x4, u0, pr, tc)
     vn, wn, qn, rn = rk4_update(x0, h6, k1, k2, k3, k4)
-    st[_at(R_V_START, l)] = v
-    st[_at(R_THETA0, l)] = theta
-    st[_at(R_W0, l)] = w
-    st[_at(R_V, l)] = vn
-    st[_at(R_W, l)] = fmax(wn, 0.0)
-    st[_at(R_Q, l)] = select(three_state, qb, clip(qn, 0.0, q_max))
-    st[_at(R_R, l)] = select(three_state, r, rn)
-    st[_at(R_THETA, l)] = rk4_update(theta, h6, w, x2[1], x3[1], x4[1])
+    st[R_V_START * LANES + l] = v
+    st[R_THETA0 * LANES + l] = theta
+    st[R_W0 * LANES + l] = w
+    st[R_V * LANES + l] = vn
+    st[R_W * LANES + l] = fmax(wn, 0.0)
+    st[R_Q * LANES + l] = select(three_state, qb, clip(qn, 0.0, q_max))
+    st[R_R * LANES + l] = select(three_state, r, rn)
+    st[R_THETA * LANES + l] = rk4_update(theta, h6, w, x2[1], x3[1], x4[1])
 
 
 @_inline
@@ -563,77 +562,99 @@ def step_metrics(st, l, dt, n_steps, t_timeout, live):
     objectives and the lock before the cut-out only) and its end flags. Straight-line code, a
     body of the vector loop; returns 1 if a live lane ended."""
     v, vn, wn, qn, rn = (
-        st[_at(R_V_START, l)],
-        st[_at(R_V, l)],
-        st[_at(R_W, l)],
-        st[_at(R_Q, l)],
-        st[_at(R_R, l)],
+        st[R_V_START * LANES + l],
+        st[R_V * LANES + l],
+        st[R_W * LANES + l],
+        st[R_Q * LANES + l],
+        st[R_R * LANES + l],
     )
-    r_w, v_stop, target = st[_at(R_RW, l)], st[_at(R_VSTOP, l)], st[_at(R_TARGET, l)]
-    k = st[_at(R_STEP, l)]
+    r_w, v_stop, target = st[R_RW * LANES + l], st[R_VSTOP * LANES + l], st[R_TARGET * LANES + l]
+    k = st[R_STEP * LANES + l]
     t = k * dt
-    working = st[_at(R_CUT, l)] == 0.0  # not cut out
+    working = st[R_CUT * LANES + l] == 0.0  # not cut out
     active = select(working, 1.0, 0.0)
-    slip = st[_at(R_SLIP, l)]
+    slip = st[R_SLIP * LANES + l]
     s_raw, s_new, stop, h, s_end = step_end(v, vn, wn, r_w, v_stop, slip, dt)
-    dist = st[_at(R_DIST, l)] + trapezoid(v, select(stop, v_stop, vn), h)
+    dist = st[R_DIST * LANES + l] + trapezoid(v, select(stop, v_stop, vn), h)
     d_iae, d_itae, d_ise = error_integrals(target - slip, target - s_end, t, h)
-    st[_at(R_IAE, l)] += active * d_iae
-    itae = st[_at(R_ITAE, l)] + active * d_itae
-    st[_at(R_ISE, l)] += active * d_ise
-    st[_at(R_ECU_IAE, l)] += active * h * abs(target - st[_at(R_ECU_SLIP, l)])
-    st[_at(R_SINT, l)] += trapezoid(slip, s_end, h)
-    st[_at(R_CLIP, l)] = fmax(st[_at(R_CLIP, l)], abs(s_raw - s_new))
-    st[_at(R_MINSLIP, l)] = fmin(st[_at(R_MINSLIP, l)], s_raw)
-    st[_at(R_PEAK, l)] = fmax(st[_at(R_PEAK, l)], s_new)
-    st[_at(R_QLO, l)] = fmin(st[_at(R_QLO, l)], qn)
-    st[_at(R_QHI, l)] = fmax(st[_at(R_QHI, l)], qn)
+    st[R_IAE * LANES + l] += active * d_iae
+    itae = st[R_ITAE * LANES + l] + active * d_itae
+    st[R_ISE * LANES + l] += active * d_ise
+    st[R_ECU_IAE * LANES + l] += active * h * abs(target - st[R_ECU_SLIP * LANES + l])
+    st[R_SINT * LANES + l] += trapezoid(slip, s_end, h)
+    st[R_CLIP * LANES + l] = fmax(st[R_CLIP * LANES + l], abs(s_raw - s_new))
+    st[R_MINSLIP * LANES + l] = fmin(st[R_MINSLIP * LANES + l], s_raw)
+    st[R_PEAK * LANES + l] = fmax(st[R_PEAK * LANES + l], s_new)
+    st[R_QLO * LANES + l] = fmin(st[R_QLO * LANES + l], qn)
+    st[R_QHI * LANES + l] = fmax(st[R_QHI * LANES + l], qn)
     v_lo, v_hi = LOW_SPEED_BAND_M_S
     low = working & (v_lo < vn) & (vn < v_hi)
-    low_err = st[_at(R_LOW_ERR, l)]
-    st[_at(R_LOW_ERR, l)] = select(low, fmax(low_err, abs(target - s_new)), low_err)
-    locked = working & (vn > v_stop) & (wn * r_w < st[_at(R_LOCK_RATIO, l)] * vn)
-    st[_at(R_LOCKED, l)] += select(locked, dt, 0.0)
-    lock_t = st[_at(R_LOCK_T, l)]
-    st[_at(R_LOCK_T, l)] = select(locked & (lock_t != lock_t), t + dt, lock_t)
+    low_err = st[R_LOW_ERR * LANES + l]
+    st[R_LOW_ERR * LANES + l] = select(low, fmax(low_err, abs(target - s_new)), low_err)
+    locked = working & (vn > v_stop) & (wn * r_w < st[R_LOCK_RATIO * LANES + l] * vn)
+    st[R_LOCKED * LANES + l] += select(locked, dt, 0.0)
+    lock_t = st[R_LOCK_T * LANES + l]
+    st[R_LOCK_T * LANES + l] = select(locked & (lock_t != lock_t), t + dt, lock_t)
 
-    check = vn + wn + qn + rn + itae + st[_at(R_CMD, l)]
+    check = vn + wn + qn + rn + itae + st[R_CMD * LANES + l]
     diverged = check - check != 0.0
-    hopeless = dist > st[_at(R_HOPELESS, l)]
+    hopeless = dist > st[R_HOPELESS * LANES + l]
     timeout = k + 1.0 >= n_steps
-    st[_at(R_STATUS, l)] = select(
+    st[R_STATUS * LANES + l] = select(
         diverged,
         STATUS_DIVERGED,
         select(stop, STATUS_STOPPED, select(hopeless, STATUS_HOPELESS, STATUS_TIMEOUT)),
     )
-    st[_at(R_TEND, l)] = select(
+    st[R_TEND * LANES + l] = select(
         diverged, t, select(stop, t + h, select(hopeless, t + dt, t_timeout))
     )
     ended = diverged | stop | hopeless | timeout
-    st[_at(R_ENDED, l)] = select(ended, 1.0, 0.0)
-    st[_at(R_STOP, l)] = select(stop, 1.0, 0.0)
-    st[_at(R_H, l)] = h
-    st[_at(R_SLIP, l)] = s_new
-    st[_at(R_ITAE, l)] = itae
-    st[_at(R_DIST, l)] = dist
-    st[_at(R_STEP, l)] = k + 1.0
+    st[R_ENDED * LANES + l] = select(ended, 1.0, 0.0)
+    st[R_STOP * LANES + l] = select(stop, 1.0, 0.0)
+    st[R_H * LANES + l] = h
+    st[R_SLIP * LANES + l] = s_new
+    st[R_ITAE * LANES + l] = itae
+    st[R_DIST * LANES + l] = dist
+    st[R_STEP * LANES + l] = k + 1.0
     return ended & (l < live)
 
 
-@_inline
-def _plant_steps(st, width, live, tire, three_state, step):
-    """`plant_step`, then `step_metrics`, of lanes 0 .. width - 1 (a whole number of vectors);
-    1 if a live lane ended. Two vector loops: each body keeps its values in registers.
-    step = (dt, dt / 2, dt / 6, steps budget, timeout time, tire data, kb, kd)."""
-    dt, hs, h6, n_steps, t_timeout, tc, kb, kd = step
-    for b in range(width // VECTOR):
-        for j in range(VECTOR):
-            plant_step(st, b * VECTOR + j, tire, three_state, dt, hs, h6, tc, kb, kd)
+_NO_NRT: dict[str, Any] = {"_nrt": False}
+"""No reference counting (module docstring); numba's stubs omit the flag."""
+
+
+@functools.cache
+def _plant_steps_of(tire: int) -> Any:
+    """The vector loop of `plant_step` over lanes 0 .. width - 1 (a whole number of vectors)
+    with the tire law `tire` (a constant inside: numba freezes a closure's variables), compiled
+    as a function of its own, once per entry point compilation (not cached: the entry point's
+    cache holds it). step = (dt, dt / 2, dt / 6, tire data, kb, kd)."""
+
+    def plant_steps(st, width, three_state, step):
+        dt, hs, h6, tc_of_caller, kb, kd = step
+        tc = local_table(tc_of_caller)
+        for b in range(width // VECTOR):
+            for j in range(VECTOR):
+                plant_step(st, b * VECTOR + j, tire, three_state, dt, hs, h6, tc, kb, kd)
+
+    plant_steps.__qualname__ = f"plant_steps_tire_law_{tire}"
+    return njit(nogil=True, error_model="numpy", **_NO_NRT)(plant_steps)
+
+
+@njit(cache=True, nogil=True, error_model="numpy", **_NO_NRT)
+def _metric_steps(st, width, live, dt, n_steps, t_timeout):
+    """The vector loop of `step_metrics` over lanes 0 .. width - 1 (the same for every tire
+    law: compiled once); 1 if a live lane ended."""
     any_end = False
     for b in range(width // VECTOR):
         for j in range(VECTOR):
             any_end |= step_metrics(st, b * VECTOR + j, dt, n_steps, t_timeout, live)
     return any_end
+
+
+_BILINEAR_STEPS, _BURCKHARDT_STEPS, _TABLE_STEPS = (
+    _plant_steps_of(k) for k in (KIND_BILINEAR, KIND_BURCKHARDT, KIND_TABLE)
+)
 
 
 EDGE_FIELDS = ("lane", "k", "target", "theta0", "theta1", "w0", "w1", "s", "lo", "hi", "done")
@@ -648,9 +669,9 @@ def _lane_edges(st, l, teeth, spacing, edges, n):
     """Append lane l's edges that matter in its last step (`edges_passed`) to `edges` from
     column n, each with the start of its crossing search; the new column count. Without one,
     the lane's sensor is settled here as `sensor_step` settles it."""
-    theta0, theta1 = st[_at(R_THETA0, l)], st[_at(R_THETA, l)]
-    w0, w1 = st[_at(R_W0, l)], st[_at(R_W, l)]
-    k, k_end = E.edges_passed(int(st[_at(R_KNEXT, l)]), theta1, teeth, spacing)
+    theta0, theta1 = st[R_THETA0 * LANES + l], st[R_THETA * LANES + l]
+    w0, w1 = st[R_W0 * LANES + l], st[R_W * LANES + l]
+    k, k_end = E.edges_passed(int(st[R_KNEXT * LANES + l]), theta1, teeth, spacing)
     if k > k_end:
         _settle_sensor(st, l, k_end, teeth, spacing)
     while k <= k_end:
@@ -679,10 +700,10 @@ def _lane_edges(st, l, teeth, spacing, edges, n):
 @_inline
 def _settle_sensor(st, l, k_end, teeth, spacing):
     """Lane l's sensor after its last edge k_end of the step: the next edge, the estimate."""
-    st[_at(R_KNEXT, l)] = k_end + 1
-    st[_at(R_EDGE_NEXT, l)] = E.edge_angle(k_end + 1, teeth, spacing)
-    st[_at(R_WEST, l)] = E.period_estimate(
-        st[_at(R_TLAST, l)], st[_at(R_TPREV, l)], st[_at(R_WEST, l)], teeth
+    st[R_KNEXT * LANES + l] = k_end + 1
+    st[R_EDGE_NEXT * LANES + l] = E.edge_angle(k_end + 1, teeth, spacing)
+    st[R_WEST * LANES + l] = E.period_estimate(
+        st[R_TLAST * LANES + l], st[R_TPREV * LANES + l], st[R_WEST * LANES + l], teeth
     )
 
 
@@ -723,15 +744,16 @@ def sensor_edges(st, live, dt, x, spacing, jitter, edges):
     teeth = int(x[X_TEETH])
     n = 0
     for l in range(live):
-        if st[_at(R_ENDED, l)] == 0.0 and st[_at(R_THETA, l)] >= st[_at(R_EDGE_NEXT, l)]:
+        passed = st[R_THETA * LANES + l] >= st[R_EDGE_NEXT * LANES + l]
+        if st[R_ENDED * LANES + l] == 0.0 and passed:
             n = _lane_edges(st, l, teeth, spacing, edges, n)
     _search_crossings(edges, n, dt)
     for i in range(n):
         l = int(edges[E_LANE, i])
         k = int(edges[E_K, i])
-        t0 = (st[_at(R_STEP, l)] - 1.0) * dt
-        st[_at(R_TPREV, l)] = st[_at(R_TLAST, l)]
-        st[_at(R_TLAST, l)] = E.edge_capture(t0, edges[E_S, i], dt, k, x[X_TIMER], jitter)
+        t0 = (st[R_STEP * LANES + l] - 1.0) * dt
+        st[R_TPREV * LANES + l] = st[R_TLAST * LANES + l]
+        st[R_TLAST * LANES + l] = E.edge_capture(t0, edges[E_S, i], dt, k, x[X_TIMER], jitter)
         if i == n - 1 or edges[E_LANE, i + 1] != l:  # the lane's last edge
             _settle_sensor(st, l, k, teeth, spacing)
 
@@ -739,44 +761,44 @@ def sensor_edges(st, live, dt, x, spacing, jitter, edges):
 @_inline
 def _fill_lane(st, l, aux, p, x, spacing):
     """Start a candidate with plant row p in lane l: the initial state, zero metrics."""
-    for row in range(N_ROWS):
-        st[_at(row, l)] = 0.0
+    r = st[l::LANES]  # lane l's rows
+    r[:] = 0.0
     aux[l, :] = 0.0
     r_w, v0 = p[P_RADIUS], p[P_V0]
-    st[_at(R_V, l)] = v0
-    st[_at(R_W, l)] = v0 / r_w
-    st[_at(R_WEST, l)] = v0 / r_w
+    r[R_V] = v0
+    r[R_W] = v0 / r_w
+    r[R_WEST] = v0 / r_w
     for row in (R_TLAST, R_TPREV, R_READ_LAST, R_READ_PREV):
-        st[_at(row, l)] = -1.0
-    st[_at(R_VREF, l)] = v0
-    st[_at(R_VW_PREV, l)] = v0
-    st[_at(R_VW, l)] = v0
+        r[row] = -1.0
+    r[R_VREF] = v0
+    r[R_VW_PREV] = v0
+    r[R_VW] = v0
     if x[X_TOOTHED] != 0.0:
         teeth = int(x[X_TEETH])
         k_next = E.sensor_first_edge(0.0, teeth, spacing)
-        st[_at(R_KNEXT, l)] = k_next
-        st[_at(R_EDGE_NEXT, l)] = E.edge_angle(k_next, teeth, spacing)
+        r[R_KNEXT] = k_next
+        r[R_EDGE_NEXT] = E.edge_angle(k_next, teeth, spacing)
     else:
-        st[_at(R_EDGE_NEXT, l)] = np.inf
+        r[R_EDGE_NEXT] = np.inf
     for row in (R_PM0, R_PM1, R_VALVE):
-        st[_at(row, l)] = E.VALVE_HOLD
-    st[_at(R_LAST_CHANGE, l)] = np.nan
-    st[_at(R_MIN_IV, l)] = np.inf
-    st[_at(R_LOCK_T, l)] = np.nan
-    st[_at(R_CUT_T, l)] = np.nan
-    st[_at(R_RW, l)] = r_w
-    st[_at(R_FZ, l)] = p[P_LOAD] * p[P_MASS] * p[P_G]
-    st[_at(R_INV_M, l)] = 1.0 / p[P_MASS]
-    st[_at(R_INV_I, l)] = 1.0 / p[P_INERTIA]
-    st[_at(R_KQ, l)] = p[P_KQ]
-    st[_at(R_GAIN, l)] = p[P_K]
-    st[_at(R_INV_TAU, l)] = 1.0 / p[P_TAU]
-    st[_at(R_QMAX, l)] = p[P_QMAX]
-    st[_at(R_V0, l)] = v0
-    st[_at(R_VSTOP, l)] = p[P_VSTOP]
-    st[_at(R_TARGET, l)] = p[P_TARGET]
-    st[_at(R_LOCK_RATIO, l)] = p[P_LOCK_RATIO]
-    st[_at(R_HOPELESS, l)] = p[P_HOPELESS_M]
+        r[row] = E.VALVE_HOLD
+    r[R_LAST_CHANGE] = np.nan
+    r[R_MIN_IV] = np.inf
+    r[R_LOCK_T] = np.nan
+    r[R_CUT_T] = np.nan
+    r[R_RW] = r_w
+    r[R_FZ] = p[P_LOAD] * p[P_MASS] * p[P_G]
+    r[R_INV_M] = 1.0 / p[P_MASS]
+    r[R_INV_I] = 1.0 / p[P_INERTIA]
+    r[R_KQ] = p[P_KQ]
+    r[R_GAIN] = p[P_K]
+    r[R_INV_TAU] = 1.0 / p[P_TAU]
+    r[R_QMAX] = p[P_QMAX]
+    r[R_V0] = v0
+    r[R_VSTOP] = p[P_VSTOP]
+    r[R_TARGET] = p[P_TARGET]
+    r[R_LOCK_RATIO] = p[P_LOCK_RATIO]
+    r[R_HOPELESS] = p[P_HOPELESS_M]
 
 
 @_inline
@@ -880,7 +902,7 @@ def _simulate(
     ts = m * dt
     three_state = x[X_VALVES] != 0.0
     toothed = x[X_TOOTHED] != 0.0
-    step = (dt, hs, h6, n_steps, t_timeout, tc, x[X_KB], x[X_KD])
+    step = (dt, hs, h6, tc, x[X_KB], x[X_KD])
     n_plant = plant.shape[0]
     st[:] = 0.0
     lane_of[:] = -1
@@ -895,20 +917,21 @@ def _simulate(
         _first_trace_row(trace[0], p0[P_V0], p0[P_TARGET])
     while live > 0:
         for l in range(live):
-            k = st[_at(R_STEP, l)]
+            k = st[R_STEP * LANES + l]
             t = k * dt
-            if k == st[_at(R_TICK, l)] * m:
+            if k == st[R_TICK * LANES + l] * m:
                 base = lp[lane_of[l]]
                 _tick(st, l, aux[l], base, x, ts, t, tire, tc, table, grid, acc_noise, laws_key)
             if three_state:
                 valve_switches(st, l, t, hs, dt, x)
         width = -(-live // VECTOR) * VECTOR
-        if tire == KIND_BILINEAR:  # one copy of the vector loop per tire law
-            ended = _plant_steps(st, width, live, KIND_BILINEAR, three_state, step)
+        if tire == KIND_BILINEAR:  # one vector loop per tire law, each a function of its own
+            _BILINEAR_STEPS(st, width, three_state, step)
         elif tire == KIND_BURCKHARDT:
-            ended = _plant_steps(st, width, live, KIND_BURCKHARDT, three_state, step)
+            _BURCKHARDT_STEPS(st, width, three_state, step)
         else:
-            ended = _plant_steps(st, width, live, KIND_TABLE, three_state, step)
+            _TABLE_STEPS(st, width, three_state, step)
+        ended = _metric_steps(st, width, live, dt, n_steps, t_timeout)
         if toothed:
             sensor_edges(st, live, dt, x, spacing, jitter, edges)
         if n_trace > 0 and rows < n_trace:  # one candidate, in lane 0
@@ -916,7 +939,7 @@ def _simulate(
             rows += 1
         if ended:
             for l in range(live - 1, -1, -1):  # high to low: lanes moved down are done
-                if st[_at(R_ENDED, l)] == 0.0:
+                if st[R_ENDED * LANES + l] == 0.0:
                     continue
                 _finish_lane(st, l, out[lane_of[l]], ts, x)
                 if queued < n:
@@ -932,8 +955,6 @@ def _simulate(
         out[0, M_NTRACE] = rows
 
 
-_NO_NRT: dict[str, Any] = {"_nrt": False}
-"""No reference counting (module docstring); numba's stubs omit the flag."""
 _simulate = njit(cache=True, nogil=True, error_model="numpy", **_NO_NRT)(_simulate)
 
 
