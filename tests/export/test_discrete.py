@@ -8,7 +8,7 @@ import pytest
 from helpers import CONTINUOUS, case, gain_rows, ideal_mode
 from numba import njit
 
-from chassistune.controllers import discrete, laws
+from chassistune.controllers import discrete, discrete_lookup, laws
 from chassistune.export import closed_loop, source, vectors
 from chassistune.fuzzy.engine import evaluate
 from chassistune.fuzzy.loader import load_rulebase
@@ -19,9 +19,9 @@ from chassistune.scenarios.registry import get_plant
 def _lookup_all(table, grid, x0, x1):
     out = np.empty((x0.size, table.shape[0]))
     for p in range(x0.size):
-        cell = discrete.table_cell(table, grid, x0[p], x1[p])
+        cell = discrete_lookup.table_cell(table, grid, x0[p], x1[p])
         for k in range(table.shape[0]):
-            out[p, k] = discrete.table_value(table, k, cell)
+            out[p, k] = discrete_lookup.table_value(table, k, cell)
     return out
 
 
@@ -196,59 +196,20 @@ def test_immune_loop_converges_to_the_ideal_kernel_as_the_table_is_refined() -> 
     assert gaps[2] < 2e-5
 
 
-def test_slot_constants_match_the_declared_names() -> None:
-    """The numba slots the fuzzy laws number by hand (module integers) and the names the exports
-    print agree; the PID's and the threshold law's slots are their names' positions, and the
-    fuzzy PID, which runs the PID's filter and output, keeps the PID's state and inputs."""
-    d = discrete
-    params = {
-        "fuzzy-pid": {
-            "ke": d.FP_KE,
-            "kec": d.FP_KEC,
-            "ku_p": d.FP_KUP,
-            "ku_i": d.FP_KUI,
-            "ku_d": d.FP_KUD,
-            "kp0": d.FP_KP0,
-            "ki0": d.FP_KI0,
-            "kd0": d.FP_KD0,
-            "n_filter": d.FP_N,
-            "target_slip": d.FP_TARGET,
-            "ts_s": d.FP_TS,
-        },
-        "fuzzy-immune-pid": {
-            "k_immune": d.IM_K,
-            "eta": d.IM_ETA,
-            "ki": d.IM_KI,
-            "kd": d.IM_KD,
-            "ke": d.IM_KE,
-            "kec": d.IM_KEC,
-            "target_slip": d.IM_TARGET,
-            "ts_s": d.IM_TS,
-        },
-    }
-    state = {
-        "fuzzy-immune-pid": {
-            "started": d.ST_STARTED,
-            "u_prev": d.IS_U,
-            "e_prev": d.IS_E1,
-            "e_prev2": d.IS_E2,
-        },
-    }
-    declared = {
-        n: laws.get(n).discrete for n in ("pid", "fuzzy-pid", "fuzzy-immune-pid", "threshold")
-    }
+def test_the_discrete_forms_declare_their_gains_first_and_fit_the_state_vector() -> None:
+    """Each discrete form's parameters start with its spec's gains (the export fills them in that
+    order), its state holds `started` and fits `N_STATE`, and the fuzzy PID, which runs the
+    PID's filter and output, keeps the PID's state and inputs."""
+    declared = {n: laws.get(n).discrete for n in laws.names() if laws.get(n).discrete}
+    assert {"pid", "fuzzy-pid", "fuzzy-immune-pid", "threshold"} <= set(declared)
     for name, law in declared.items():
-        assert law is not None
-        if name in params:
-            assert {n: law.params.index(n) for n in law.params} == params[name]
-        if name in state:
-            assert {n: law.state.index(n) for n in law.state} == state[name]
-        assert law.state[d.ST_STARTED] == "started" and len(law.state) <= d.N_STATE
+        assert law is not None and law.controller == name
+        assert "started" in law.state and len(law.state) <= discrete.N_STATE
         assert law.params[: len(spec_gains(name))] == spec_gains(name)
+        assert "slip" in law.inputs
     fuzzy, pid = declared["fuzzy-pid"], declared["pid"]
     assert fuzzy is not None and pid is not None
     assert fuzzy.state == pid.state and fuzzy.inputs == pid.inputs
-    assert all(law is not None and law.inputs[d.IN_SLIP] == "slip" for law in declared.values())
 
 
 def spec_gains(controller: str) -> tuple[str, ...]:

@@ -19,8 +19,8 @@ from numba import njit
 
 from chassistune.controllers import laws
 from chassistune.controllers.discrete import no_table
-from chassistune.controllers.discrete_laws import DiscreteLaw
 from chassistune.controllers.laws import forms as F
+from chassistune.controllers.laws.registry import DiscreteLaw
 from chassistune.controllers.laws.shared import AMPLITUDE, SAMPLE_PERIOD, per_wheel
 from chassistune.controllers.specs import ControllerSpec, GainSpec
 from chassistune.export import c99, vectors

@@ -7,22 +7,15 @@ place and returns the command u (the actuator input, held until the next sample)
     u = step(state, inputs, params, table, grid)
 
 A law's step is its module's (`controllers.laws`, `EcuForm.step`: `laws.pid` the discrete PID,
-`laws.threshold` the sampled phase machine); `run_from` runs any law's through the registry's
-dispatch. `table` (n_out, n0, n1) and `grid` (lo0, step0, lo1, step1) are the ECU lookup table
-of the fuzzy laws (`ecu_table`), ignored by the others. Names and order of the inputs,
-parameters and state entries are declared once per law (`controllers.discrete_laws`); the C99
-export prints the same arithmetic in the same operation order, so that a C build without FMA
-contraction reproduces it bit for bit. Nothing here contracts a*b + c into an fma (numba
-compiles without fastmath) or reorders a sum.
-
-The fuzzy laws' steps (e = target_slip - slip throughout):
-- `fuzzy-pid` (Tian 2025): the same PID with kp, ki, kd scheduled every sample from the table at
-  (ke e_k, kec d_k): kp = kp0 + ku_p T_kp(ke e_k, kec d_k), likewise ki, kd.
-- `fuzzy-immune-pid` (Ding 2023 eqs. 6-10, the kernel's arithmetic): ec_k = (e_k - e_k-1) / ts
-  (0 at k = 0), kp1 = k_immune (1 - eta T_f(ke e_k, kec ec_k)),
-      u_k = u_k-1 + kp1 (e_k - e_k-1) + ki ts e_k + kd (e_k - 2 e_k-1 + e_k-2) / ts,
-  starting from rest (u = 0, e = 0 before k = 0, no derivative term at k = 0); after k = 0,
-  e_k-1 = e_k-2 = e_0 (the kernel's start, where the slip is 0 at the first sample).
+`laws.threshold` the sampled phase machine, `laws.fuzzy_pid` and `laws.fuzzy_immune_pid` the
+fuzzy laws, which read the lookup table below through `controllers.discrete_lookup`), and so
+are the names and order of its inputs, parameters and state entries (`Law.discrete`, a
+`DiscreteLaw`); `run_from` runs any law's through the registry's dispatch. `table` (n_out, n0,
+n1) and `grid` (lo0, step0, lo1, step1) are the ECU lookup table of the fuzzy laws
+(`ecu_table`), ignored by the others. The C99 export prints the same arithmetic in the same
+operation order (each law's `CForm`), so that a C build without FMA contraction reproduces it
+bit for bit. Nothing here contracts a*b + c into an fma (numba compiles without fastmath) or
+reorders a sum.
 
 Lookup (fuzzy laws): a uniform grid of `fuzzy_table_points` nodes per input over the rule base's
 universes, values exact Mamdani inference at the nodes (`chassistune.fuzzy.engine`), bilinear
@@ -45,11 +38,10 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from chassistune.controllers.discrete_laws import DiscreteLaw
-from chassistune.controllers.immune_pid import incremental_pid_du
-from chassistune.controllers.laws import pid, registry
+from chassistune.controllers.laws import registry
 from chassistune.controllers.laws.dispatch import law_ecu_step
 from chassistune.controllers.laws.forms import ECU_SIGNALS
+from chassistune.controllers.laws.registry import DiscreteLaw
 from chassistune.fuzzy.engine import evaluate
 from chassistune.fuzzy.rulebase import RuleBase
 
@@ -57,18 +49,8 @@ DEFAULT_TABLE_POINTS = 49
 """`fuzzy_table_points`: nodes per input of the ECU lookup table (see the module docstring)."""
 
 
-# parameter slots of the fuzzy laws (gains first, in registry order)
-FP_KE, FP_KEC, FP_KUP, FP_KUI, FP_KUD, FP_KP0, FP_KI0, FP_KD0, FP_N, FP_TARGET, FP_TS = range(11)
-IM_K, IM_ETA, IM_KI, IM_KD, IM_KE, IM_KEC, IM_TARGET, IM_TS = range(8)
-
-# state slots (N_STATE floats, enough for every law)
 N_STATE = 4
-ST_STARTED = 0  # every law: 0 before the first sample, 1 after
-IS_U, IS_E1, IS_E2 = 1, 2, 3
-
-IN_SLIP = 0  # the fuzzy laws' first input
-
-_filtered_derivative, _pid_output, _ = pid.ecu_forms()  # the fuzzy PID's, the PID's own
+"""Floats of a law's state vector (enough for every law's `DiscreteLaw.state`)."""
 
 INPUT_DESCRIPTIONS = {
     "slip": "wheel slip (v - w R) / v against the reference speed, in [0, 1]",
@@ -99,76 +81,6 @@ def ecu_table(
     pts = np.stack(np.meshgrid(bp[0], bp[1], indexing="ij"), axis=-1).reshape(-1, 2)
     values = evaluate(rb, pts).reshape(points, points, -1)
     return np.ascontiguousarray(np.moveaxis(values, 2, 0)), grid, bp
-
-
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _locate(lo, step, n, x):
-    """Cell index in [0, n - 2] and fraction of x on a uniform grid (clipped to it)."""
-    t = (x - lo) / step
-    if t < 0.0:
-        t = 0.0
-    if t > n - 1.0:
-        t = n - 1.0
-    i = int(t)
-    if i > n - 2:
-        i = n - 2
-    return i, t - i
-
-
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def table_cell(table, grid, x0, x1):
-    """(i, j, f0, f1): the cell of (x0, x1) and the fractions in it; i = -1 for a NaN input."""
-    if x0 != x0 or x1 != x1:
-        return -1, 0, np.nan, np.nan
-    i, f0 = _locate(grid[0], grid[1], table.shape[1], x0)
-    j, f1 = _locate(grid[2], grid[3], table.shape[2], x1)
-    return i, j, f0, f1
-
-
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def table_value(table, k, cell):
-    """Output k of the ECU table in a `table_cell`, bilinear (module docstring); NaN for NaN."""
-    i, j, f0, f1 = cell
-    if i < 0:
-        return np.nan
-    return (table[k, i, j] * (1.0 - f1) + table[k, i, j + 1] * f1) * (1.0 - f0) + (
-        table[k, i + 1, j] * (1.0 - f1) + table[k, i + 1, j + 1] * f1
-    ) * f0
-
-
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def fuzzy_pid_step(state, inputs, params, table, grid):
-    """Discrete fuzzy self-tuning PID (module docstring, `fuzzy-pid`)."""
-    e = params[FP_TARGET] - inputs[IN_SLIP]
-    d = _filtered_derivative(state, e, params[FP_N], params[FP_TS])
-    cell = table_cell(table, grid, params[FP_KE] * e, params[FP_KEC] * d)
-    kp = params[FP_KP0] + params[FP_KUP] * table_value(table, 0, cell)
-    ki = params[FP_KI0] + params[FP_KUI] * table_value(table, 1, cell)
-    kd = params[FP_KD0] + params[FP_KUD] * table_value(table, 2, cell)
-    return _pid_output(state, inputs, e, d, kp, ki, kd, params[FP_TS])
-
-
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def immune_step(state, inputs, params, table, grid):
-    """Discrete fuzzy immune PID (module docstring, `fuzzy-immune-pid`)."""
-    ts = params[IM_TS]
-    e = params[IM_TARGET] - inputs[IN_SLIP]
-    first = state[ST_STARTED] == 0.0
-    ec = 0.0 if first else (e - state[IS_E1]) / ts
-    f = table_value(table, 0, table_cell(table, grid, params[IM_KE] * e, params[IM_KEC] * ec))
-    kp1 = params[IM_K] * (1.0 - params[IM_ETA] * f)
-    if first:
-        u = state[IS_U] + incremental_pid_du(kp1, params[IM_KI], 0.0, ts, e, 0.0, 0.0)
-        state[IS_E2] = e
-    else:
-        u = state[IS_U] + incremental_pid_du(
-            kp1, params[IM_KI], params[IM_KD], ts, e, state[IS_E1], state[IS_E2]
-        )
-        state[IS_E2] = state[IS_E1]
-    state[IS_E1] = e
-    state[IS_U] = u
-    state[ST_STARTED] = 1.0
-    return u
 
 
 def _steps_entry(laws_key: int) -> Any:

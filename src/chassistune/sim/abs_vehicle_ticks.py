@@ -1,16 +1,19 @@
 """The wheel laws in the vehicle's lanes: a lane's start (the law's held values, `law_start`)
-and a sampled law's tick at the lane's sample instants (`law_tick`, on the channel errors after
-select-low), through the one dispatch generated from the registry
-(`controllers.laws.dispatch`); `laws_key`, the registry's fingerprint, reaches them as a
-literal argument."""
+and a sampled law's ticks of the lane's four wheels at its sample instants (on the channel
+errors after select-low: one call of the law's own function, its tick inlined, per lane;
+`controllers.laws.dispatch.tick_pass`), through the one dispatch generated from the registry;
+`laws_key`, the registry's fingerprint, reaches them as a literal argument."""
 
 from __future__ import annotations
+
+import functools
+from typing import Any
 
 import numba
 import numpy as np
 
-from chassistune.controllers.laws.dispatch import law_start, law_tick
-from chassistune.sim.abs_vehicle_lane import lane_get, target_slip
+from chassistune.controllers.laws.dispatch import law_start, tick_pass
+from chassistune.sim.abs_vehicle_lane import NO_REFCOUNT, lane_get, target_slip
 from chassistune.sim.abs_vehicle_layout import (
     KC_NF,
     KC_RW,
@@ -45,9 +48,10 @@ from chassistune.sim.abs_vehicle_wheels import select_low, surface_flag
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def tick_wheel(st, l, i, k, j, src, e, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts):
-    """Wheel j's part of `tick`: the law's tick (`law_tick`) on its channel error e, with the
-    signals of wheel src (itself, or under select-low the rear wheel whose error it took)."""
+def _wheel_inputs(st, l, j, src, e, kc, srf):
+    """What the law's tick reads for wheel j of lane l on its channel error e: the signals of
+    wheel src (itself, or under select-low the rear wheel whose error it took), wheel j's held
+    values and memory."""
     sig = (
         e,
         lane_get(st, R_SLIP + src, l),
@@ -64,21 +68,43 @@ def tick_wheel(st, l, i, k, j, src, e, gains, col0, laws_key, ctrl_kind, c, tabl
         lane_get(st, R_KD + j, l),
     )
     mem = (lane_get(st, R_MEM + j, l), lane_get(st, R_MEM + 4 + j, l))
-    (u0, kp, ki, kd), (m0, m1) = law_tick(
-        laws_key, ctrl_kind, sig, held, mem, gains[i], col0[j], c, table, ts, k == 0
-    )
-    st[(R_U0 + j) * LANES + l] = u0
-    st[(R_KP + j) * LANES + l] = kp
-    st[(R_KI + j) * LANES + l] = ki
-    st[(R_KD + j) * LANES + l] = kd
-    st[(R_MEM + j) * LANES + l] = m0
-    st[(R_MEM + 4 + j) * LANES + l] = m1
+    return sig, held, mem
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _wheel_store(st, l, j, held, mem):
+    """Wheel j of lane l after the law's tick: its held values and memory."""
+    st[(R_U0 + j) * LANES + l], st[(R_KP + j) * LANES + l] = held[0], held[1]
+    st[(R_KI + j) * LANES + l], st[(R_KD + j) * LANES + l] = held[2], held[3]
+    st[(R_MEM + j) * LANES + l], st[(R_MEM + 4 + j) * LANES + l] = mem
+
+
+@functools.cache
+def _wheel_ticks_of(law_tick: Any) -> Any:
+    """The four wheels' ticks of lane l of the sampled law whose tick is `law_tick` (inlined:
+    numba inlines a closure's function), compiled as a function of its own once per entry point
+    compilation (not cached: the entry point's cache holds it): wheel j on its channel error
+    errors[j] with the signals of wheel sources[j], in wheel order."""
+
+    def wheel_ticks(st, l, i, k, errors, sources, gains, col0, c, table, kc, srf, ts):
+        for j in range(4):
+            sig, held, mem = _wheel_inputs(st, l, j, sources[j], errors[j], kc, srf)
+            held, mem = law_tick(sig, held, mem, gains[i], col0[j], c, table, ts, k == 0)
+            _wheel_store(st, l, j, held, mem)
+
+    wheel_ticks.__qualname__ = f"wheel_ticks_{law_tick.py_func.__module__.rsplit('.', 1)[-1]}"
+    return numba.njit(**{**NO_REFCOUNT, "cache": False})(wheel_ticks)
+
+
+_wheel_ticks = tick_pass(_wheel_ticks_of)
+"""The sampled law's ticks of a lane's four wheels (`_wheel_ticks_of`), by kind (in compiled
+code)."""
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def tick(st, l, i, k, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts):
-    """A sampled law's update of lane l (candidate i) at its step k, a sample instant (the law
-    dispatch compiles for `laws_key`, a literal)."""
+    """A sampled law's update of lane l (candidate i) at its step k, a sample instant, on the
+    channel errors after select-low (the law dispatch compiles for `laws_key`, a literal)."""
     sel = kc[KC_SELECT_LOW] != 0.0
     e0 = target_slip(st, 0, l, srf) - lane_get(st, R_SLIP, l)
     e1 = target_slip(st, 1, l, srf) - lane_get(st, R_SLIP + 1, l)
@@ -88,11 +114,9 @@ def tick(st, l, i, k, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts):
         sel,
     )
     rear = 3 if low else 2  # select-low: the rear wheel whose error it took
-    tick_wheel(st, l, i, k, 0, 0, e0, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts)
-    tick_wheel(st, l, i, k, 1, 1, e1, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts)
-    src2, src3 = (rear, rear) if sel else (2, 3)
-    tick_wheel(st, l, i, k, 2, src2, e2, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts)
-    tick_wheel(st, l, i, k, 3, src3, e3, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts)
+    sources = (0, 1, rear, rear) if sel else (0, 1, 2, 3)
+    args = (st, l, i, k, (e0, e1, e2, e3), sources, gains, col0, c, table, kc, srf, ts)
+    _wheel_ticks(laws_key, ctrl_kind, args)
     for j in range(4):
         st[(R_WS + j) * LANES + l] = lane_get(st, S_W + j, l)
 

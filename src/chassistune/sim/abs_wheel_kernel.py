@@ -58,7 +58,10 @@ cost that grows with what it inlines: inlined, each copy of the loop would be co
 each level), and the vector loop copies its table nodes to its own stack (`local_table`). The
 control law is a runtime integer, its kind (`controllers.laws`), run through
 the one dispatch generated from the registry (`controllers.laws.dispatch`): its held values at a
-run's start and its tick at each sample.
+run's start and, at each step, one call of its tick pass (`_tick_lanes_of`: a function of its
+own per sampled law, its tick inlined in a loop over the lanes due), so that a tick costs its
+arithmetic, not a call with the law's arguments unpacked into scalars (a fuzzy law's table
+alone is about 50).
 """
 
 from __future__ import annotations
@@ -79,8 +82,9 @@ from chassistune.controllers.laws.dispatch import (
     law_initial_state,
     law_sampled,
     law_start,
-    law_tick,
+    tick_pass,
 )
+from chassistune.controllers.laws.forms import SIG_WHEEL_SPEED
 from chassistune.controllers.laws.held_pid import HELD_PID
 from chassistune.controllers.laws.registry import ContinuousForm
 from chassistune.sim import abs_wheel_layout as L
@@ -574,26 +578,48 @@ def _finish_lane(st, l, out_row):
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _tick(st, l, gains, i, laws_key, ctrl_kind, c, table, target, ts, first):
-    """The sampled law's update in lane l (candidate i) at a sample instant (`law_tick`): its
-    signals (`controllers.laws.forms.SIGNALS`), held values and memory."""
+def _tick_inputs(st, l, target):
+    """What a sampled law's tick reads in lane l: its signals (`controllers.laws.forms.SIGNALS`),
+    held values and memory."""
     slip = st[R_SLIP * LANES + l]
     e = target - slip
-    w = st[R_W * LANES + l]
     ec = st[R_NF * LANES + l] * (e - st[R_XF * LANES + l])  # filtered de/dt
-    sig = (e, slip, target, w, st[R_WS * LANES + l], st[R_RW * LANES + l], ec)
+    sig = (e, slip, target, _get(st, R_W, l), _get(st, R_WS, l), _get(st, R_RW, l), ec)
     held = (_get(st, R_U0, l), _get(st, R_KP, l), _get(st, R_KI, l), _get(st, R_KD, l))
     mem = (_get(st, R_MEM, l), _get(st, R_MEM + 1, l))
-    (u0, kp, ki, kd), (m0, m1) = law_tick(
-        laws_key, ctrl_kind, sig, held, mem, gains[i], 0, c, table, ts, first
-    )
-    st[R_U0 * LANES + l] = u0
-    st[R_KP * LANES + l] = kp
-    st[R_KI * LANES + l] = ki
-    st[R_KD * LANES + l] = kd
-    st[R_MEM * LANES + l] = m0
-    st[(R_MEM + 1) * LANES + l] = m1
+    return sig, held, mem
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _tick_store(st, l, held, mem, w):
+    """Lane l after a sampled law's tick: its held values, its memory and the wheel speed w
+    at this sample."""
+    st[R_U0 * LANES + l], st[R_KP * LANES + l], st[R_KI * LANES + l], st[R_KD * LANES + l] = held
+    st[R_MEM * LANES + l], st[(R_MEM + 1) * LANES + l] = mem
     st[R_WS * LANES + l] = w
+
+
+@functools.cache
+def _tick_lanes_of(tick: Any) -> Any:
+    """The tick pass of the sampled law whose tick is `tick` (inlined: numba inlines a closure's
+    function), compiled as a function of its own once per entry point compilation (not cached:
+    the entry point's cache holds it): the law's update (`Law.forms`) in each of lanes
+    0 .. live - 1 whose step is one of its own sample instants."""
+
+    def tick_lanes(st, live, lane_of, gains, c, table, target, ts, steps_per_sample):
+        for l in range(live):
+            k = int(st[R_STEP * LANES + l])
+            if steps_per_sample == 1 or k % steps_per_sample == 0:
+                sig, held, mem = _tick_inputs(st, l, target)
+                held, mem = tick(sig, held, mem, gains[lane_of[l]], 0, c, table, ts, k == 0)
+                _tick_store(st, l, held, mem, sig[SIG_WHEEL_SPEED])
+
+    tick_lanes.__qualname__ = f"tick_lanes_{tick.py_func.__module__.rsplit('.', 1)[-1]}"
+    return njit(nogil=True, error_model="numpy", **_NO_NRT)(tick_lanes)
+
+
+_tick_lanes = tick_pass(_tick_lanes_of)
+"""The sampled law's tick in every lane due (`_tick_lanes_of`), by kind (in compiled code)."""
 
 
 def _simulate(
@@ -648,12 +674,8 @@ def _simulate(
     trace_t_end = t_timeout
     while live > 0:
         if sampled:  # each lane at its own sample instants
-            for l in range(live):
-                k = int(st[R_STEP * LANES + l])
-                if steps_per_sample == 1 or k % steps_per_sample == 0:
-                    _tick(
-                        st, l, gains, lane_of[l], laws_key, ctrl_kind, c, table, target, ts, k == 0
-                    )
+            args = (st, live, lane_of, gains, c, table, target, ts, steps_per_sample)
+            _tick_lanes(laws_key, ctrl_kind, args)
         width = -(-live // VECTOR) * VECTOR
         ended = _vector_loop(
             laws_key,

@@ -1,14 +1,21 @@
-"""The one dispatch of the control laws in the kernels: `law_start`, `law_tick`, `law_sampled`,
+"""The one dispatch of the control laws in the kernels: `law_start`, `tick_pass`, `law_sampled`,
 `law_initial_state` in the ideal kernels (whose vector loops take each law's continuous form
 from `continuous_groups`), `law_ecu_step`, `law_ecu_schedule`, `law_ecu_rate` in the realistic ECU.
 
 Each is a numba overload whose implementation is generated from the registry when a kernel is
 compiled: an if-chain over the registered kinds, each branch the law's own form (`Law.forms`:
-start, tick) inlined into it. The chain compiles as a function of its own (inlining it whole at
+start) inlined into it. The chain compiles as a function of its own (inlining it whole at
 numba's IR level trips numba's SSA checks), with the kernel's options: no reference counting
 under an entry point compiled without it. A kind no law holds runs no law: its held values are
 NaN (in the ECU: its command), so that the run diverges (the scenarios refuse unknown names
 before a kernel runs).
+
+A sampled law's tick runs in a kernel's tick pass (`tick_pass`): the kernel builds, per law, a
+function of its own that loops over what is due (lanes, wheels) with the law's tick inlined in
+it, and the pass picks that function by kind once per call. A tick is a small update with many
+arguments (a fuzzy law's table alone unpacks into about 50 scalars): called once per lane it
+costs more than its arithmetic; inlined into the kernel's lane loop it makes that loop several
+times longer to compile.
 
 The first argument `laws_key` is `registry.fingerprint()` as an integer constant of the kernel's
 entry point (a closure variable): numba keys its disk cache on it, and the overloads are typed
@@ -36,11 +43,6 @@ _NAN4 = (np.nan, np.nan, np.nan, np.nan)
 def law_start(laws_key, kind, g, g0, c):
     """The held values (u0, kp, ki, kd) of law `kind` at a run's start (in compiled code)."""
     raise NotImplementedError("law_start runs in compiled code only")
-
-
-def law_tick(laws_key, kind, sig, held, mem, g, g0, c, table, ts, first):
-    """(held, mem) of law `kind` after a sample instant (in compiled code)."""
-    raise NotImplementedError("law_tick runs in compiled code only")
 
 
 def law_sampled(laws_key, kind):
@@ -102,11 +104,6 @@ def _at_rest(g, g0, c):
     return 0.0, 0.0, 0.0, 0.0
 
 
-@njit(**FORM)
-def _no_tick(kind, sig, held, mem, g, g0, c, table, ts, first):
-    return _NAN4, (np.nan, np.nan)
-
-
 _NAN_STATE = (np.nan,) * registry.CONTINUOUS
 
 
@@ -135,16 +132,6 @@ def _start_link(k: int, start: Any, rest: Any) -> Callable[..., Any]:
         if kind == k:
             return start(g, g0, c)
         return rest(kind, g, g0, c)
-
-    return link
-
-
-def _tick_link(k: int, tick: Any, rest: Any) -> Callable[..., Any]:
-    @njit(**_LINK)
-    def link(kind, sig, held, mem, g, g0, c, table, ts, first):
-        if kind == k:
-            return tick(sig, held, mem, g, g0, c, table, ts, first)
-        return rest(kind, sig, held, mem, g, g0, c, table, ts, first)
 
     return link
 
@@ -202,19 +189,46 @@ def _law_start(laws_key, kind, g, g0, c):
     return impl
 
 
-@overload(law_tick, prefer_literal=True)
-def _law_tick(laws_key, kind, sig, held, mem, g, g0, c, table, ts, first):
-    _literal(laws_key)
-    chain = _no_tick
-    for k, law in reversed(list(enumerate(_kinds()))):
-        tick = law.forms()[1]
-        if tick is not None:
-            chain = _tick_link(k, tick, chain)
+@njit(**_LINK)
+def _no_pass(kind, args):
+    return None
 
-    def impl(laws_key, kind, sig, held, mem, g, g0, c, table, ts, first):
-        return chain(kind, sig, held, mem, g, g0, c, table, ts, first)
 
-    return impl
+def _pass_link(k: int, run: Any, rest: Any) -> Callable[..., Any]:
+    @njit(**_LINK)
+    def link(kind, args):
+        if kind == k:
+            run(*args)
+        else:
+            rest(kind, args)
+
+    return link
+
+
+def tick_pass(each: Callable[[Any], Any]) -> Callable[..., None]:
+    """A kernel's tick pass, `run(laws_key, kind, args)` in compiled code: `each(tick)(*args)`
+    for the law of kind `kind`, `tick` its tick (`Law.forms`), nothing for a kind without one.
+    `each(tick)` builds the law's pass, a function compiled on its own with `tick` inlined (a
+    closure over it), once per tick: the kernel's lane loop makes one call per pass."""
+
+    def run(laws_key, kind, args):
+        raise NotImplementedError("a tick pass runs in compiled code only")
+
+    @overload(run, prefer_literal=True, inline="always")
+    def _run(laws_key, kind, args):
+        _literal(laws_key)
+        chain = _no_pass
+        for k, law in reversed(list(enumerate(_kinds()))):
+            tick = law.forms()[1]
+            if tick is not None:
+                chain = _pass_link(k, each(tick), chain)
+
+        def impl(laws_key, kind, args):
+            chain(kind, args)
+
+        return impl
+
+    return run
 
 
 @overload(law_sampled, prefer_literal=True)

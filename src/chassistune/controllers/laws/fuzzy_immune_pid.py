@@ -7,9 +7,8 @@ from __future__ import annotations
 import functools
 from typing import Any
 
-from chassistune.controllers.discrete_laws import LAWS as DISCRETE
 from chassistune.controllers.laws import forms as F
-from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, EcuForm, Law
+from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, DiscreteLaw, EcuForm, Law
 from chassistune.controllers.laws.shared import RULEBASE_NOTE, SAMPLE_PERIOD
 from chassistune.controllers.specs import ControllerSpec, GainSpec, ParamSpec
 
@@ -69,14 +68,30 @@ double ct_step(ct_state *s, const double *in)
     return u;
 }
 """
-"""`controllers.discrete.immune_step` in C, in the same operation order."""
+"""`ecu_step`'s step in C, in the same operation order."""
 
 STATE = ("e_prev", "e_prev2")
 """The law's memory: the slip errors of the last two samples."""
 M_E1, M_E2 = range(len(STATE))
-G_K, G_ETA, G_KI, G_KD, G_KE, G_KEC = (
-    F.gains(WHEEL)[n] for n in ("k_immune", "eta", "ki", "kd", "ke", "kec")
+GAINS = ("k_immune", "eta", "ki", "kd", "ke", "kec")
+G_K, G_ETA, G_KI, G_KD, G_KE, G_KEC = (F.gains(WHEEL)[n] for n in GAINS)
+
+DISCRETE = DiscreteLaw(
+    "fuzzy-immune-pid",
+    ("slip",),
+    (*GAINS, "target_slip", "ts_s"),
+    ("started", "u_prev", "e_prev", "e_prev2"),
+    1,
+    "incremental (velocity) PID with table-scheduled proportional gain",
 )
+"""The discrete fuzzy immune PID (`ecu_step`) by name, its gains first."""
+D_K, D_ETA, D_KI, D_KD, D_KE, D_KEC, D_TARGET, D_TS = (
+    DISCRETE.params.index(n) for n in (*GAINS, "target_slip", "ts_s")
+)
+S_STARTED, S_U, S_E1, S_E2 = (
+    DISCRETE.state.index(n) for n in ("started", "u_prev", "e_prev", "e_prev2")
+)
+IN_SLIP = DISCRETE.inputs.index("slip")
 
 
 @functools.cache
@@ -113,12 +128,38 @@ def kernel_forms() -> tuple[Any, Any]:
     return None, tick
 
 
+@functools.cache
 def ecu_step() -> Any:
-    """The law\'s step in the realistic ECU: its discrete form
-    (`controllers.discrete.immune_step`)."""
-    from chassistune.controllers.discrete import immune_step
+    """The law's step in the realistic ECU and the export, `u = step(state, inputs, params,
+    table, grid)` on the vectors of `controllers.discrete`: the incremental law of the C form's
+    equations, its gain kp1 read from the ECU table (`controllers.discrete_lookup`)."""
+    from numba import njit
 
-    return immune_step
+    from chassistune.controllers.discrete_lookup import table_cell, table_value
+    from chassistune.controllers.immune_pid import incremental_pid_du
+
+    @njit(**F.FORM)
+    def step(state, inputs, params, table, grid):
+        ts = params[D_TS]
+        e = params[D_TARGET] - inputs[IN_SLIP]
+        first = state[S_STARTED] == 0.0
+        ec = 0.0 if first else (e - state[S_E1]) / ts
+        f = table_value(table, 0, table_cell(table, grid, params[D_KE] * e, params[D_KEC] * ec))
+        kp1 = params[D_K] * (1.0 - params[D_ETA] * f)
+        if first:
+            u = state[S_U] + incremental_pid_du(kp1, params[D_KI], 0.0, ts, e, 0.0, 0.0)
+            state[S_E2] = e
+        else:
+            u = state[S_U] + incremental_pid_du(
+                kp1, params[D_KI], params[D_KD], ts, e, state[S_E1], state[S_E2]
+            )
+            state[S_E2] = state[S_E1]
+        state[S_E1] = e
+        state[S_U] = u
+        state[S_STARTED] = 1.0
+        return u
+
+    return step
 
 
 LAW = Law(
@@ -126,7 +167,7 @@ LAW = Law(
     (WHEEL,),
     kernel_forms,
     STATE,
-    discrete=DISCRETE["fuzzy-immune-pid"],
+    discrete=DISCRETE,
     ecu=EcuForm(ecu_step, scheduled=("k_immune", "kd"), rate=True),
     c=CForm(
         (

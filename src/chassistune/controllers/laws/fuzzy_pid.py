@@ -1,6 +1,7 @@
 """Fuzzy self-tuning PID (deffao-vehicle-abs, design.md 4): the PID's gains scheduled from e and
 de/dt by a 7x7 rule base with three outputs (`controllers.fuzzy_pid.fuzzy_pid_gains`), sampled
-every ts_s; the ECU and the export read an interpolated table (`controllers.discrete`).
+every ts_s; the ECU and the export read an interpolated table (`controllers.discrete`) in its
+discrete form (`ecu_step`), the discrete PID's (`laws.pid`) with the gains scheduled.
 
 Vehicle defaults: the gains span kp0 + [0, 1] ku_p (deffao outputs are magnitudes in [0, 1]),
 centred on the vehicle PID (`laws.pid`): kp in [700, 1700], kd in [15, 25], ki 0.
@@ -11,11 +12,9 @@ from __future__ import annotations
 import functools
 from typing import Any
 
-from chassistune.controllers.discrete_laws import LAWS as DISCRETE
 from chassistune.controllers.laws import forms as F
-from chassistune.controllers.laws.pid import C_HELPERS
-from chassistune.controllers.laws.pid import EQUATIONS as PID_EQUATIONS
-from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, EcuForm, Law
+from chassistune.controllers.laws import pid
+from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, DiscreteLaw, EcuForm, Law
 from chassistune.controllers.laws.shared import (
     N_FILTER,
     RULEBASE_NOTE,
@@ -81,9 +80,24 @@ VEHICLE_BOUNDS = {
     "kd0": (0.0, 100.0),
 }
 
-G_KE, G_KEC, G_KUP, G_KUI, G_KUD, G_KP0, G_KI0, G_KD0 = (
-    F.gains(WHEEL)[n] for n in ("ke", "kec", "ku_p", "ku_i", "ku_d", "kp0", "ki0", "kd0")
+GAINS = ("ke", "kec", "ku_p", "ku_i", "ku_d", "kp0", "ki0", "kd0")
+G_KE, G_KEC, G_KUP, G_KUI, G_KUD, G_KP0, G_KI0, G_KD0 = (F.gains(WHEEL)[n] for n in GAINS)
+
+DISCRETE = DiscreteLaw(
+    "fuzzy-pid",
+    pid.DISCRETE.inputs,
+    (*GAINS, "n_filter", "target_slip", "ts_s"),
+    pid.DISCRETE.state,
+    3,
+    "parallel PID with table-scheduled gains, forward-Euler integrator, backward-Euler "
+    "derivative filter",
 )
+"""The discrete fuzzy PID (`ecu_step`) by name: the discrete PID's inputs and state (it runs
+its filter and output), its gains first."""
+D_KE, D_KEC, D_KUP, D_KUI, D_KUD, D_KP0, D_KI0, D_KD0, D_N, D_TARGET, D_TS = (
+    DISCRETE.params.index(n) for n in (*GAINS, "n_filter", "target_slip", "ts_s")
+)
+IN_SLIP = DISCRETE.inputs.index("slip")
 
 
 @functools.cache
@@ -114,23 +128,40 @@ def kernel_forms() -> tuple[Any, Any]:
     return None, tick
 
 
+@functools.cache
 def ecu_step() -> Any:
-    """The law\'s step in the realistic ECU: its discrete form
-    (`controllers.discrete.fuzzy_pid_step`)."""
-    from chassistune.controllers.discrete import fuzzy_pid_step
+    """The law's step in the realistic ECU and the export, `u = step(state, inputs, params,
+    table, grid)` on the vectors of `controllers.discrete`: the discrete PID's filter and output
+    (`laws.pid.ecu_forms`) with kp, ki, kd scheduled every sample from the ECU table at
+    (ke e, kec d) (`controllers.discrete_lookup`)."""
+    from numba import njit
 
-    return fuzzy_pid_step
+    from chassistune.controllers.discrete_lookup import table_cell, table_value
+
+    filtered_derivative, pid_output, _ = pid.ecu_forms()
+
+    @njit(**F.FORM)
+    def step(state, inputs, params, table, grid):
+        e = params[D_TARGET] - inputs[IN_SLIP]
+        d = filtered_derivative(state, e, params[D_N], params[D_TS])
+        cell = table_cell(table, grid, params[D_KE] * e, params[D_KEC] * d)
+        kp = params[D_KP0] + params[D_KUP] * table_value(table, 0, cell)
+        ki = params[D_KI0] + params[D_KUI] * table_value(table, 1, cell)
+        kd = params[D_KD0] + params[D_KUD] * table_value(table, 2, cell)
+        return pid_output(state, inputs, e, d, kp, ki, kd, params[D_TS])
+
+    return step
 
 
 LAW = Law(
     "fuzzy-pid",
     (WHEEL, per_wheel(WHEEL, gains=rescaled(WHEEL.gains, VEHICLE_DEFAULTS, VEHICLE_BOUNDS))),
     kernel_forms,
-    discrete=DISCRETE["fuzzy-pid"],
+    discrete=DISCRETE,
     ecu=EcuForm(ecu_step, scheduled=("kp0", "ku_p", "kd0", "ku_d"), rate=True),
     c=CForm(
         (
-            *PID_EQUATIONS,
+            *pid.EQUATIONS,
             "- `fuzzy-pid` (Tian 2025): the same PID with kp, ki, kd scheduled every sample from "
             "the table at",
             "(ke e_k, kec d_k): kp = kp0 + ku_p T_kp(ke e_k, kec d_k), likewise ki, kd.",
@@ -147,7 +178,7 @@ double ct_step(ct_state *s, const double *in)
     return ct_pid_output(s, in, e, d, kp, ki, kd, s->p.ts_s);
 }
 """,
-        helpers=(C_HELPERS,),
+        helpers=(pid.C_HELPERS,),
     ),
     rulebase_outputs=3,
 )

@@ -12,9 +12,8 @@ from __future__ import annotations
 import functools
 from typing import Any
 
-from chassistune.controllers.discrete_laws import LAWS as DISCRETE_LAWS
 from chassistune.controllers.laws.forms import FORM, gains
-from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, EcuForm, Law
+from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, DiscreteLaw, EcuForm, Law
 from chassistune.controllers.laws.shared import N_FILTER, per_wheel
 from chassistune.controllers.specs import ControllerSpec, GainSpec
 
@@ -103,7 +102,15 @@ static double ct_pid_output(ct_state *s, const double *in, double e, double d, d
 
 G_KP, G_KI, G_KD = (gains(WHEEL)[n] for n in ("kp", "ki", "kd"))
 
-DISCRETE = DISCRETE_LAWS["pid"]
+DISCRETE = DiscreteLaw(
+    "pid",
+    ("slip", "pressure_at_max", "pressure_at_min"),
+    ("kp", "ki", "kd", "n_filter", "target_slip", "ts_s"),
+    ("started", "integral", "filter"),
+    0,
+    "parallel PID, forward-Euler integrator, backward-Euler derivative filter",
+)
+"""The discrete PID (`EQUATIONS`, `ecu_forms`) by name."""
 D_KP, D_KI, D_KD, D_N, D_TARGET, D_TS = (
     DISCRETE.params.index(n) for n in ("kp", "ki", "kd", "n_filter", "target_slip", "ts_s")
 )

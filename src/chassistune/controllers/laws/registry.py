@@ -14,16 +14,27 @@ import hashlib
 import inspect
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import Any, TypeVar
 
 from chassistune._registry import Registry
 from chassistune.controllers.specs import ControllerSpec
 
-if TYPE_CHECKING:
-    from chassistune.controllers.discrete_laws import DiscreteLaw
-
 ABS_WHEEL = "abs-wheel"
 ABS_VEHICLE = "abs-vehicle"
+
+
+@dataclass(frozen=True)
+class DiscreteLaw:
+    """A law's discrete form (what an ECU runs and `export` ships, `controllers.discrete`): the
+    names of its inputs, parameters and state entries, in vector order; how many outputs it
+    reads from the rule base's lookup table (0: no table); the form, named."""
+
+    controller: str
+    inputs: tuple[str, ...]
+    params: tuple[str, ...]
+    state: tuple[str, ...]
+    table_outputs: int
+    form: str
 
 
 @dataclass(frozen=True)

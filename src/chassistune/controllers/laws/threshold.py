@@ -7,9 +7,8 @@ from __future__ import annotations
 import functools
 from typing import Any
 
-from chassistune.controllers.discrete_laws import LAWS as DISCRETE_LAWS
 from chassistune.controllers.laws import forms as F
-from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, EcuForm, Law
+from chassistune.controllers.laws.registry import ABS_WHEEL, CForm, DiscreteLaw, EcuForm, Law
 from chassistune.controllers.laws.shared import AMPLITUDE, REAR, SAMPLE_PERIOD, per_wheel
 from chassistune.controllers.specs import ControllerSpec, ParamSpec
 
@@ -17,7 +16,24 @@ STATE = ("phase", "wheel_accel_m_s2")
 """The law's memory: its phase and the wheel acceleration over the last sample period."""
 M_PHASE, M_ACCEL = range(len(STATE))
 
-DISCRETE = DISCRETE_LAWS["threshold"]
+DISCRETE = DiscreteLaw(
+    "threshold",
+    ("slip", "wheel_speed_rad_s"),
+    (
+        "amplitude",
+        "decel_threshold_m_s2",
+        "accel_threshold_m_s2",
+        "slip_margin",
+        "slow_fraction",
+        "target_slip",
+        "ts_s",
+        "wheel_radius_m",
+    ),
+    ("started", "phase", "wheel_speed_prev", "wheel_accel"),
+    0,
+    "sampled phase machine (build, hold, dump, recover, slow build)",
+)
+"""The discrete phase machine (`ecu_step`) by name."""
 _param = DISCRETE.params.index
 D_AMP, D_DECEL, D_ACCEL = (
     _param("amplitude"),
