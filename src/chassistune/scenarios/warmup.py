@@ -167,6 +167,26 @@ EXTRA = "extra"
 """The group name of `warm_up`'s `extra` kernels."""
 
 
+Job = tuple[list[Case], Callable[[], None] | None]
+"""The cases of a group and its `extra` (`run`'s arguments)."""
+
+
+def _plan(
+    extra: Callable[[], None] | None,
+) -> tuple[dict[str, list[Case]], dict[str, Job], Compiled]:
+    """(the cases by entry point, the jobs by group, the largest estimated compilation first,
+    what grouping compiled here)."""
+    log = CompileLog()
+    with recording(log), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        groups = group_by_entry_point(cases())
+    jobs: dict[str, Job] = {key: (cases_, None) for key, cases_ in groups.items()}
+    if extra is not None:
+        jobs[EXTRA] = ([], extra)
+    order = sorted(jobs, key=lambda k: -estimate_cpu_s(k))
+    return groups, {key: jobs[key] for key in order}, list(log.done)
+
+
 def warm_up(
     processes: int = 2,
     extra: Callable[[], None] | None = None,
@@ -177,19 +197,9 @@ def warm_up(
     since it runs in a worker), as a group of its own that shares no kernel with the cases';
     `progress(entry point, compiled)` as each group finishes."""
     t0 = time.perf_counter()
-    log = CompileLog()
-    with recording(log), warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        groups = group_by_entry_point(cases())
-    compiled = list(log.done)
-    jobs: dict[str, tuple[list[Case], Callable[[], None] | None]] = {
-        key: (cases_, None) for key, cases_ in groups.items()
-    }
-    if extra is not None:
-        jobs[EXTRA] = ([], extra)
-    order = sorted(jobs, key=lambda k: -estimate_cpu_s(k))
     if processes <= 1:
-        for key in order:
+        groups, jobs, compiled = _plan(extra)
+        for key in jobs:
             done = run(*jobs[key])
             compiled += done
             if progress is not None:
@@ -199,11 +209,14 @@ def warm_up(
         with ProcessPoolExecutor(
             processes, mp_context=spawn, initializer=as_worker, initargs=(os.getpid(),)
         ) as pool:
-            futures = {pool.submit(run, *jobs[key]): key for key in order}
+            for _ in range(processes):  # the workers start and import while the cases are grouped
+                pool.submit(run, [])
+            groups, jobs, compiled = _plan(extra)
+            futures = {pool.submit(run, *jobs[key]): key for key in jobs}
             for future in as_completed(futures):
                 done = future.result()
                 compiled += done
                 if progress is not None:
                     progress(futures[future], done)
-    sizes = {key: len(jobs[key][0]) for key in order if key in groups}
+    sizes = {key: len(jobs[key][0]) for key in jobs if key in groups}
     return Warmup(sum(sizes.values()), sizes, compiled, time.perf_counter() - t0)
