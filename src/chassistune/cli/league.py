@@ -12,7 +12,7 @@ import click
 
 from chassistune._interrupt import on_interrupt
 from chassistune.cli.choices import ChoicesOption
-from chassistune.cli.common import check_output_dir
+from chassistune.cli.common import check_study_folder
 from chassistune.cli.options import executor_options
 
 LEAGUE_PLANTS = ("abs-wheel", "abs-vehicle")
@@ -81,9 +81,8 @@ def league_command(
     from chassistune.league.page import write_page
     from chassistune.league.plan import FULL, QUICK, Setting, plan
     from chassistune.league.score import score_league, tuned_laws
-    from chassistune.studies.executors import check_dask, make_executor
-    from chassistune.studies.lock import refuse_if_locked
-    from chassistune.studies.runner import check_out_dir, run_study
+    from chassistune.studies.executors import make_executor
+    from chassistune.studies.runner import run_study
 
     budget = QUICK if quick else FULL
     budget = replace(
@@ -94,11 +93,7 @@ def league_command(
     )
     setting = Setting(plants or LEAGUE_PLANTS, optimizer.lower(), budget, seed)
     league_plan = plan(setting)
-    check_output_dir(out_dir, "--out")
-    check_out_dir(out_dir)
-    refuse_if_locked(out_dir)
-    if executor == "dask":
-        check_dask()
+    check_study_folder(out_dir, executor)
     forget = on_interrupt(
         lambda: f"the finished runs are stored in {out_dir}; run the same command to resume"
     )
