@@ -14,8 +14,8 @@ from chassistune._io import write_text
 from chassistune.league.cases import OBJECTIVE, PLANTS
 from chassistune.league.plan import Setting
 from chassistune.league.score import SCORES, Tuned
+from chassistune.plots.league_cases import CaseGrid, plot_league_cases
 from chassistune.plots.overlay import Line, plot_overlay
-from chassistune.plots.style import pyplot, save
 from chassistune.scenarios.registry import get_plant
 
 SCORES_CSV = "league_scores.csv"
@@ -113,34 +113,11 @@ def _other_scores_md(scores: pd.DataFrame, plant: str, order: list[str]) -> str:
     return "\n".join(lines)
 
 
-def plot_cases(scores: pd.DataFrame, plants: list[str], path: Path) -> None:
-    """One panel per plant: laws (ranked) by cases, coloured and labelled with the median stop
-    distance over the adhesion bound."""
-    plt = pyplot()
-    fig, axes = plt.subplots(1, len(plants), figsize=(6.2 * len(plants), 4.2), squeeze=False)
-    for ax, plant in zip(axes[0], plants, strict=True):
-        table = ranking(scores, plant)
-        cases = list(dict.fromkeys(scores[scores.plant == plant].case))
-        values = table[cases].to_numpy(dtype=float)
-        shown = np.where(np.isfinite(values), values, np.nan)
-        im = ax.imshow(shown, cmap="viridis_r", aspect="auto", vmin=1.0)
-        for (i, j), v in np.ndenumerate(values):
-            ax.text(
-                j,
-                i,
-                _fmt(v, 2) if np.isfinite(v) else "no stop",
-                ha="center",
-                va="center",
-                fontsize=7,
-                color="white" if np.isfinite(v) and v < np.nanmax(shown) * 0.8 + 0.2 else "black",
-            )
-        ax.set_xticks(range(len(cases)), cases, rotation=30, ha="right")
-        ax.set_yticks(range(len(table)), list(table.law))
-        ax.set_title(f"{plant}: stop distance / adhesion bound (median over seeds)")
-        ax.grid(False)
-        fig.colorbar(im, ax=ax, shrink=0.8)
-    fig.tight_layout()
-    save(fig, str(path))
+def case_grid(scores: pd.DataFrame, plant: str) -> CaseGrid:
+    """The plant's laws (ranked) by cases, each cell the median distance ratio."""
+    table = ranking(scores, plant)
+    cases = list(dict.fromkeys(scores[scores.plant == plant].case))
+    return CaseGrid(list(table.law), cases, table[cases].to_numpy(dtype=float))
 
 
 def median_seed(scores: pd.DataFrame, plant: str, law: str) -> int:
@@ -178,7 +155,7 @@ def write_page(
 ) -> Path:
     """Write the scores (CSV), the figures and the page; returns the page's path."""
     scores.to_csv(out_dir / SCORES_CSV, index=False)
-    plot_cases(scores, list(setting.plants), out_dir / HEATMAP)
+    plot_league_cases({p: case_grid(scores, p) for p in setting.plants}, str(out_dir / HEATMAP))
     b = setting.budget
     parts = [
         "# League: the ABS laws tuned alike, scored on cases they were not tuned on",
