@@ -36,6 +36,7 @@ RANK = {
     "plots": 5,
     "export": 5,
     "papers": 6,
+    "league": 6,
     "results": 6,
     "cli": 7,
 }
@@ -44,7 +45,7 @@ RANK = {
 ALLOWED_PEERS = {("controllers", "fuzzy")}
 """Imports between different packages of one layer that the design allows."""
 
-PLOT_USERS = {"reports", "papers", "cli", "plots"}
+PLOT_USERS = {"reports", "papers", "league", "cli", "plots"}
 
 
 def _modules() -> list[Path]:

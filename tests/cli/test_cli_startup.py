@@ -24,6 +24,7 @@ COMMANDS = {
     "warmup",
     "bbob",
     "tire",
+    "league",
 }
 
 PROBE = """

@@ -33,6 +33,7 @@ DOCUMENTED = [
     "export tuned/tune.json --format c --out ecu",
     "export --controller fuzzy-pid --gains ke=12 --format mat --out mat",
     "simulate --from tuned/tune.json --compare none,pid,threshold",
+    "league --quick --seeds 1 --out league-quick",
 ]
 """The README's tour and docs/ commands, one per kernel variant they reach (budgets cut: the
 budget picks no kernel)."""

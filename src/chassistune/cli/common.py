@@ -138,3 +138,17 @@ def fmt(x: Any) -> str:
             return "-"
         return f"{float(x):.4g}"
     return str(x)
+
+
+def check_study_folder(out_dir: str, executor: str) -> None:
+    """Before a study's runs: its folder writable (`--out`), a study folder or new, not locked
+    by another run; dask importable when asked for."""
+    from chassistune.studies.executors import check_dask
+    from chassistune.studies.lock import refuse_if_locked
+    from chassistune.studies.runner import check_out_dir
+
+    check_output_dir(out_dir, "--out")
+    check_out_dir(out_dir)
+    refuse_if_locked(out_dir)
+    if executor == "dask":
+        check_dask()

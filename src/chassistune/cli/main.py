@@ -20,6 +20,7 @@ from chassistune.cli.bench import bench_command
 from chassistune.cli.demo import demo_command
 from chassistune.cli.export import export_command
 from chassistune.cli.fuzzy import fuzzy_group
+from chassistune.cli.league import league_command
 from chassistune.cli.list_cmd import list_command
 from chassistune.cli.optimize import optimize_command
 from chassistune.cli.reproduce import reproduce_command
@@ -55,6 +56,7 @@ for _command in (
     warmup_command,
     bbob_command,
     tire_command,
+    league_command,
 ):
     cli.add_command(_command)
 

@@ -8,7 +8,7 @@ import sys
 import click
 
 from chassistune._interrupt import on_interrupt
-from chassistune.cli.common import check_output_dir, check_output_file
+from chassistune.cli.common import check_output_dir, check_output_file, check_study_folder
 from chassistune.cli.options import executor_options
 from chassistune.errors import InputError
 
@@ -43,18 +43,13 @@ def run_command(
     and run the same command again to finish it. Example:
     chassistune study run examples/studies/abs-dry-pid.toml --out abs-dry-pid
     """
-    from chassistune.studies.executors import check_dask, make_executor
-    from chassistune.studies.lock import refuse_if_locked
+    from chassistune.studies.executors import make_executor
     from chassistune.studies.progress import with_progress
-    from chassistune.studies.runner import Progress, check_out_dir, pending_runs, run_study
+    from chassistune.studies.runner import Progress, pending_runs, run_study
     from chassistune.studies.spec import load_plan
 
     plan = load_plan(config)
-    check_output_dir(out_dir, "--out")
-    check_out_dir(out_dir)
-    refuse_if_locked(out_dir)
-    if executor == "dask":
-        check_dask()
+    check_study_folder(out_dir, executor)
     stored = [len(plan.runs) - len(pending_runs(plan, out_dir, retry_failed)), len(plan.runs)]
 
     def count(progress: Progress) -> Progress:

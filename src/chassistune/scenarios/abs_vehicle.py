@@ -73,7 +73,11 @@ OBJECTIVE_COLUMNS = {
     "ise": VL.M_ISE,
     "distance": VL.M_DIST,
     "time": VL.M_TIME,
+    "distance_ratio": VL.M_DIST,
 }
+PER_BOUND = frozenset({"distance_ratio"})
+"""Objectives divided by the road's adhesion-bound distance (design.md 3.3): roads of different
+friction compare on one scale, as on the single wheel."""
 
 
 def road_bound(pp: VehicleParams, road: VehicleRoad) -> Bound:
@@ -320,6 +324,8 @@ class AbsVehicleScenario(Scenario):
         cost = raw[:, OBJECTIVE_COLUMNS[objective]] + (
             self.scoring.lock_penalty_per_s * raw[:, VL.M_LOCKED]
         )
+        if objective in PER_BOUND:
+            cost = cost / self.bound_distance_m
         bad = (raw[:, VL.M_STATUS] != VL.STATUS_STOPPED) | ~np.isfinite(cost)
         return np.where(bad, PENALTY, np.minimum(cost, PENALTY))
 
