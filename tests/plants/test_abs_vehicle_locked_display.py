@@ -14,7 +14,7 @@ WHEELS = ("fl", "fr", "rl", "rr")
 
 
 def trace(road: str, controller: str):
-    sc = PLANT.scenario(None, road, controller, {})
+    sc = PLANT.scenario(None, road, controller, {"steering": "fixed"})
     return sc.trace(sc.gains_array(None))
 
 
@@ -53,7 +53,7 @@ def test_the_lock_time_says_it_is_a_sum_over_the_four_wheels(cli) -> None:
     )
     slot = VL.METRIC_LAYOUT.slots[VL.M_LOCKED]
     assert slot.name == "locked_time_s" and "summed over the four wheels" in slot.description
-    r = cli("simulate", "abs-vehicle", "--road", "split-mu")
+    r = cli("simulate", "abs-vehicle", "--road", "split-mu", "--param", "steering=fixed")
     assert r.code == 0, r.err
     assert "locked_time_s [s, summed over the four wheels]" in r.out
 
@@ -61,7 +61,7 @@ def test_the_lock_time_says_it_is_a_sum_over_the_four_wheels(cli) -> None:
 def test_the_csv_and_the_plot_show_the_locked_slip(cli, tmp_path) -> None:
     csv_path, png = tmp_path / "trace.csv", tmp_path / "trace.png"
     r = cli("simulate", "abs-vehicle", "--road", "split-mu", "--controller", "none",
-            "--csv", str(csv_path), "--plot", str(png))  # fmt: skip
+            "--param", "steering=fixed", "--csv", str(csv_path), "--plot", str(png))  # fmt: skip
     assert r.code == 0, r.err
     header = csv_path.read_text().splitlines()[0].split(",")
     rows = np.loadtxt(csv_path, delimiter=",", skiprows=1)

@@ -232,7 +232,7 @@ def test_split_mu_yaw_in_the_first_second():
         ("pid", "pid", {}),
         ("select-low", "pid", {"rear": "select-low"}),
     ]:
-        _sc, tr = run("split-mu", ctrl, **params)
+        _sc, tr = run("split-mu", ctrl, steering="fixed", **params)
         peaks[label] = tr.metrics["yaw_rate_peak_1s_rad_s"]
         assert peaks[label] > 0  # towards the dry (left) side
     assert peaks["pid"] <= 0.9 * peaks["none"]
@@ -244,13 +244,24 @@ def test_split_mu_yaw_in_the_first_second():
 
 
 def test_split_mu_with_fixed_steering_spins_and_the_driver_holds_the_heading():
-    _sc, fixed = run("split-mu", "pid")
+    _sc, fixed = run("split-mu", "pid", steering="fixed")
     assert fixed.metrics["spun"] and 2.0 < fixed.metrics["spin_time_s"] < 3.0
     _sc, driven = run("split-mu", "pid", steering="driver")
     m = driven.metrics
     assert not m["spun"]
     assert np.max(np.abs(driven.signals["heading_rad"])) < math.radians(4.2)
     assert m["stop_distance_m"] == pytest.approx(143.2, rel=1e-2)
+
+
+def test_split_mu_steers_by_default_and_the_straight_roads_do_not():
+    """`steering = auto`: the driver on split-mu (as a user expects of a car with ABS), fixed on
+    every other road (nothing yaws the car there, and the straight path stays the fast one)."""
+    sc, default = run("split-mu", "pid")
+    _sc, driven = run("split-mu", "pid", steering="driver")
+    assert sc.params()["steering"] == "driver"
+    assert default.metrics == driven.metrics
+    for road in ("dry-concrete", "ice", "mu-jump"):
+        assert PLANT.scenario(None, road, "pid").params()["steering"] == "fixed"
 
 
 @pytest.mark.parametrize("controller", ["pid", "fuzzy-pid", "threshold"])

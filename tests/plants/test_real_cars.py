@@ -24,7 +24,7 @@ VEHICLE_IDS = {"ford-escort": 1, "bmw-320i": 2, "vw-vanagon": 3}
 STEPS_S = {"ford-escort": 1e-3, "bmw-320i": 1e-3, "vw-vanagon": 2.5e-4}
 """The step each preset runs at, as measured (docs/cars.md, integration step)."""
 CONTROLLERS = ["none", "pid", "fuzzy-pid", "threshold"]
-ROADS = [("dry-concrete", {}), ("ice", {}), ("mu-jump", {}), ("split-mu", {}),
+ROADS = [("dry-concrete", {}), ("ice", {}), ("mu-jump", {}), ("split-mu", {"steering": "fixed"}),
          ("split-mu", {"steering": "driver"})]  # fmt: skip
 DT_REL_TOL = 1e-3
 """Stop-distance tolerance of a preset's step against dt/4 (docs/cars.md, integration step)."""
@@ -144,7 +144,7 @@ def test_split_mu_yaw_agrees_with_an_independent_scipy_integration(car: str) -> 
     perf/vehicle.py, over the first 0.6 s of split-mu braking (yaw, lateral slip, Newton loads)."""
     from chassistune.perf.vehicle import reference_solution
 
-    sc = PLANT.scenario(car, "split-mu", "pid", {"t_max_s": 0.6})
+    sc = PLANT.scenario(car, "split-mu", "pid", {"t_max_s": 0.6, "steering": "fixed"})
     g = sc.gains_array(None)
     sol = reference_solution(sc, g, rtol=1e-8, atol=1e-9)
     s = sc.trace(g).signals

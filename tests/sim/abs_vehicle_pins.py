@@ -52,6 +52,12 @@ def _key(road: str, ctrl: str, params: dict[str, str]) -> str:
     return "/".join([road, ctrl, *(f"{k}={v}" for k, v in sorted(params.items()))])
 
 
+def _pinned(params: dict[str, str]) -> dict[str, str]:
+    """The case's parameters with the steering the pins were recorded with: fixed where the
+    case does not name one (split-mu's default is the driver)."""
+    return {"steering": "fixed", **params}
+
+
 def population(bounds: list[tuple[float, float]], seed: int = 7) -> np.ndarray:
     """12 candidates uniform in the box, then unstable and degenerate ones: every gain at 20x
     its upper bound, at minus its upper bound, at 0, and a NaN."""
@@ -68,13 +74,13 @@ def arrays() -> dict[str, dict[str, np.ndarray]]:
 
     out: dict[str, dict[str, np.ndarray]] = {}
     for road, ctrl, params in SINGLE_CASES:
-        sc = PLANT.scenario(None, road, ctrl, params)
+        sc = PLANT.scenario(None, road, ctrl, _pinned(params))
         g = sc.gains_array(None)
         case = {"raw": sc.raw(g[None, :], workers=1)}
         case.update({f"trace.{k}": v for k, v in sc.trace(g).signals.items()})
         out[_key(road, ctrl, params)] = case
     for road, ctrl, params in POPULATION_CASES:
-        sc = PLANT.scenario(None, road, ctrl, params)
+        sc = PLANT.scenario(None, road, ctrl, _pinned(params))
         out["population/" + _key(road, ctrl, params)] = {
             "raw": sc.raw(population(sc.controller.bounds()), workers=1)
         }

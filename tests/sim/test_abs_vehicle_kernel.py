@@ -209,7 +209,7 @@ def test_general_path_agrees_with_an_independent_scipy_integration():
     iteration, the tire written out separately)."""
     from chassistune.perf.vehicle import reference_solution
 
-    sc = PLANT.scenario(None, "split-mu", "pid", {"t_max_s": 0.6})
+    sc = PLANT.scenario(None, "split-mu", "pid", {"t_max_s": 0.6, "steering": "fixed"})
     g = sc.gains_array(None)
     sol = reference_solution(sc, g, rtol=1e-8, atol=1e-9)
     s = sc.trace(g).signals

@@ -136,7 +136,7 @@ def test_general_pass_vectorizes():
     assert len(packed) >= 600, "the general pass no longer vectorizes"
 
 
-@pytest.mark.parametrize("params", [{}, {"steering": "driver"}])
+@pytest.mark.parametrize("params", [{"steering": "fixed"}, {"steering": "driver"}])
 def test_general_path_rows_equal_single_runs_and_threads(params):
     """Split-mu, steering fixed or the driver's: every step of these runs is the general pass's
     (a load solve by Newton's method in each), and a row does not depend on its lane, the

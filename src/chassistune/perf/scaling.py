@@ -40,7 +40,7 @@ TUNE_POPULATIONS = (10, 50, 200, 1000)
 TUNE_ITERATIONS = (50, 100, 200, 500)
 VEHICLE_PATHS = {
     "vehicle_straight": ("dry-concrete", {}),
-    "vehicle_split_mu": ("split-mu", {}),
+    "vehicle_split_mu": ("split-mu", {"steering": "fixed"}),
     "vehicle_split_mu_driver": ("split-mu", {"steering": "driver"}),
 }
 """The vehicle's curves: road and overrides (the last two run on the kernel's general path)."""

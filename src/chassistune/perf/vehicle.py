@@ -32,7 +32,7 @@ def bench_population(scenario: AbsVehicleScenario) -> np.ndarray:
 
 
 SPLIT_MU_CASES = {
-    "vehicle_split_mu_sims_per_s": {},
+    "vehicle_split_mu_sims_per_s": {"steering": "fixed"},
     "vehicle_driver_sims_per_s": {"steering": "driver"},
 }
 """The general path's figures: their split-mu overrides (the PID, paper-deffao)."""

@@ -69,9 +69,11 @@ class VehicleParams:
 @dataclass(frozen=True)
 class SteeringParams:
     """Front steering: `fixed` at 0 or a counter-steering `driver` (design.md 3.3):
-    d(delta)/dt = (clip(-k_psi psi - k_r r, +-delta_max) - delta) / tau."""
+    d(delta)/dt = (clip(-k_psi psi - k_r r, +-delta_max) - delta) / tau; `auto` (the default)
+    is the driver on split-mu, where braking with the wheel held straight spins the car, and
+    fixed on every other road, where nothing yaws the car (`steering_on`)."""
 
-    steering: str = "fixed"
+    steering: str = "auto"
     heading_gain: float = field(default=1.0, metadata=nonnegative(0.0, 10.0, unit="rad/rad"))
     yaw_rate_gain_s: float = field(default=0.2, metadata=nonnegative(0.0, 2.0))
     max_steer_rad: float = field(default=0.1, metadata=nonnegative(0.0, 0.7))
@@ -79,7 +81,16 @@ class SteeringParams:
     steer_tau_s: float = field(default=0.15, metadata=positive(0.02, 2.0))
 
 
-STEERING_MODES = ("fixed", "driver")
+STEERING_MODES = ("auto", "fixed", "driver")
+
+
+def steering_on(mode: str, split_mu: bool) -> str:
+    """The steering a run uses: `auto` is the driver on a split-mu road and fixed elsewhere."""
+    if mode != "auto":
+        return mode
+    return "driver" if split_mu else "fixed"
+
+
 VEHICLE_ROADS = ("dry-concrete", "mu-jump", "split-mu", "ice")
 """The roads of paper-deffao, first the default; the measured cars run on the same."""
 DEFFAO_UNIT = "deffao-vehicle-abs unit"

@@ -35,6 +35,7 @@ from chassistune.plants.abs_vehicle_params import (
     STEERING_MODES,
     SteeringParams,
     VehicleParams,
+    steering_on,
 )
 from chassistune.plants.presets import Preset
 from chassistune.plants.vehicle_roads import (
@@ -386,9 +387,11 @@ class AbsVehiclePlant(Plant):
         steering, used_steering = override(SteeringParams(), values)
         if steering.steering not in STEERING_MODES:
             raise InputError(
-                "params.steering", f"must be fixed or driver, got {steering.steering!r}"
+                "params.steering", f"must be auto, fixed or driver, got {steering.steering!r}"
             )
         road_spec, used_road, road_params = make_road(road_name, values)
+        split_mu = road_spec.kind == ROAD_SPLIT
+        steering = dataclasses.replace(steering, steering=steering_on(steering.steering, split_mu))
         scoring, used_scoring = override(VehicleScoring(), values)
         used |= used_steering | used_road | used_scoring
         # the driver's demand without ABS: reaches q_max in 0.15 s through the actuator
