@@ -121,3 +121,22 @@ def test_code_compiled_over_the_registry_is_built_once_per_fingerprint() -> None
     finally:
         laws.unregister("bang-bang-copy")
     assert for_laws_now() is first and len(keys) == 2
+
+
+def test_every_law_says_where_it_comes_from_and_whether_it_needs_the_road(cli) -> None:
+    """`list controllers` shows each ABS law's source and its need of a target slip (the road
+    knowledge), from the registry; a law without a source is refused at registration."""
+    import json
+
+    listed = json.loads(cli("list", "controllers", "--json").out)["controllers"]
+    for plant in (laws.ABS_WHEEL, laws.ABS_VEHICLE):
+        for item in listed[plant]:
+            law = laws.get(item["name"])
+            assert item["source"] == law.source != ""
+            assert item["needs_target"] is law.needs_target
+    assert laws.get("none").needs_target is False and laws.get("pid").needs_target is True
+    text = cli("list", "controllers").out
+    assert "needs no knowledge of the road" in text and "needs a target slip" in text
+    nameless = dataclasses.replace(laws.get("pid"), name="sourceless", specs=(), source="")
+    with pytest.raises(ValueError, match="source"):
+        laws.register(nameless)

@@ -105,6 +105,7 @@ double ct_step(ct_state *s, const double *in)
 }
 """,
     ),
+    source="a test law: a saturated proportional slip law, defined in this file",
 )
 
 NAME_PLANT = laws.ABS_WHEEL

@@ -79,6 +79,7 @@ LAW = laws.Law(
     (WHEEL,),
     kernel_forms,
     continuous=laws.ContinuousForm(("z",), continuous_forms),
+    source="a test law: a continuous law defined in this file",
 )
 
 pytestmark = pytest.mark.slow  # the kernel compiles with the added law

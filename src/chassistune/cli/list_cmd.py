@@ -40,11 +40,16 @@ def catalogue(kind: str) -> object:
             for n in plant_names()
         }
     if kind == "controllers":
+        from chassistune.controllers import laws
         from chassistune.controllers.catalogue import for_plant
 
         out = {}
         for n in plant_names():
             out[n] = [c.as_dict() for c in for_plant(n)]
+            for c in out[n]:
+                if c["name"] in laws.names() and laws.get(c["name"]).spec(n) is not None:
+                    law = laws.get(c["name"])
+                    c.update(source=law.source, needs_target=law.needs_target)
         return out
     if kind == "optimizers":
         from chassistune.optimizers.registry import catalogue as opt_catalogue
@@ -68,6 +73,13 @@ def _print_human(kind: str, data: object) -> None:
                         for g in item["gains"]
                     )
                     extra = f"  gains: {gains}" if gains else "  (no gains)"
+                    if "source" in item:
+                        road = (
+                            "a target slip (the road's optimum, or a fixed one)"
+                            if item["needs_target"]
+                            else "no knowledge of the road"
+                        )
+                        extra += f"\n  {'':<26}  source: {item['source']}; needs {road}"
                 elif kind == "presets":
                     extra = f"  roads: {', '.join(item['roads'])}"
                 click.echo(f"  {item['name']:<26} {item['description']}")

@@ -56,4 +56,5 @@ LAW = Law(
     ),
     kernel_forms,
     ecu=EcuForm(ecu_step, inputs=("slip", "target_slip", "amplitude")),
+    source="MathWorks' Simulink ABS example sldemo_absbrake",
 )

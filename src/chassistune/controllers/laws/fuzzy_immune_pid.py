@@ -182,4 +182,5 @@ LAW = Law(
         C_STEP,
     ),
     rulebase_outputs=1,
+    source="fuzzy-immune-abs (Ding 2023): the fuzzy immune PID",
 )

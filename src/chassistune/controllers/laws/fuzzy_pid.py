@@ -181,4 +181,5 @@ double ct_step(ct_state *s, const double *in)
         helpers=(pid.C_HELPERS,),
     ),
     rulebase_outputs=3,
+    source="deffao-vehicle-abs (Tian, Huang et al. 2025): the fuzzy self-tuning PID, its rule base",
 )

@@ -57,4 +57,6 @@ LAW = Law(
     ),
     kernel_forms,
     ecu=EcuForm(ecu_step, inputs=("amplitude",)),
+    source="no ABS: the driver alone (design.md 3.1)",
+    needs_target=False,
 )

@@ -200,4 +200,5 @@ double ct_step(ct_state *s, const double *in)
 """,
         helpers=(C_HELPERS,),
     ),
+    source="the papers' slip PID: derlsp-ao-abs eq. 12 (Tian et al.), design.md 4",
 )

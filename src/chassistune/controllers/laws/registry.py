@@ -105,6 +105,11 @@ class Law:
     c: CForm | None = None
     rulebase_outputs: int = 0
     continuous: ContinuousForm | None = None
+    source: str = ""
+    """Where the law's equations come from (a paper and its equation, a product, or ours)."""
+    needs_target: bool = True
+    """Whether it regulates to a target slip, which the road knowledge supplies (the road's
+    optimum, `oracle`, or a fixed one); False: it needs no knowledge of the road."""
 
     def spec(self, plant: str) -> ControllerSpec | None:
         """The law's spec on `plant`, or None when it does not run there."""
@@ -137,6 +142,8 @@ def register(law: Law) -> Law:
     """Add `law` under its name (its kind: the next number); a name registered twice is refused."""
     if any(s.name != law.name for s in law.specs):
         raise ValueError(f"law {law.name!r} declares a spec of another name")
+    if not law.source:
+        raise ValueError(f"law {law.name!r} does not say where its equations come from (source)")
     if len(law.state) > MEMORY:
         raise ValueError(f"law {law.name!r} keeps {len(law.state)} memory slots (at most {MEMORY})")
     if law.continuous is not None and not 0 < len(law.continuous.state) <= CONTINUOUS:

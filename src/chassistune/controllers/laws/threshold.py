@@ -210,4 +210,5 @@ LAW = Law(
         C_STEP,
         switching=True,
     ),
+    source="ours, after the classic Bosch cycle of deceleration and slip thresholds (docs/abs.md)",
 )
