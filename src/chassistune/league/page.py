@@ -11,6 +11,7 @@ import numpy as np
 import pandas as pd
 
 from chassistune._io import write_text
+from chassistune.controllers import laws
 from chassistune.league.cases import OBJECTIVE, PLANTS
 from chassistune.league.plan import Setting
 from chassistune.league.score import SCORES, Tuned
@@ -83,12 +84,21 @@ def _fmt(x: float, digits: int = 3) -> str:
 
 
 def _table_md(table: pd.DataFrame, cases: list[str]) -> str:
-    head = ["rank", "law", "seeds", "league score: median [min, max]", "failed", *cases]
+    head = [
+        "rank",
+        "law",
+        "target slip",
+        "seeds",
+        "league score: median [min, max]",
+        "failed",
+        *cases,
+    ]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for _, r in table.iterrows():
         cells = [
             str(r["rank"]),
             str(r["law"]),
+            "oracle" if laws.get(str(r["law"])).needs_target else "none needed",
             str(r["seeds"]) if r["seeds"] else "untuned",
             f"{_fmt(r['median'])} [{_fmt(r['min'])}, {_fmt(r['max'])}]",
             str(r["failed"]),
