@@ -111,3 +111,14 @@ def test_convergence_band() -> None:
     assert np.isnan(band["median"][0])
     np.testing.assert_allclose(band["median"][1:], [5.0, 3.0, 1.0])
     np.testing.assert_allclose(band["q25"][1:], [4.5, 2.5, 0.5])
+
+
+def test_median_ci_brackets_the_median_and_narrows_with_more_seeds() -> None:
+    rng = np.random.default_rng(3)
+    small, large = rng.normal(1.1, 0.05, 10), rng.normal(1.1, 0.05, 200)
+    lo, hi = stats.median_ci(small, seed=1)
+    assert lo <= np.median(small) <= hi
+    assert stats.median_ci(small, seed=1) == (lo, hi)  # same seed, same interval
+    lo2, hi2 = stats.median_ci(large, seed=1)
+    assert hi2 - lo2 < hi - lo and lo2 < 1.1 < hi2
+    assert all(math.isnan(x) for x in stats.median_ci([1.0]))

@@ -198,3 +198,16 @@ def convergence_band(
         warnings.simplefilter("ignore", RuntimeWarning)
         q25, med, q75 = np.nanpercentile(curves, [25, 50, 75], axis=0)
     return {"nfev": g, "median": med, "q25": q25, "q75": q75}
+
+
+def median_ci(values: ArrayLike, seed: int = 0, level: float = 0.95) -> tuple[float, float]:
+    """Percentile-bootstrap confidence interval of the median (Efron and Tibshirani 1993, 13.3):
+    the (1 - level) / 2 and (1 + level) / 2 quantiles of the medians of 9,999 resamples drawn
+    with replacement by a seeded Generator; (nan, nan) for fewer than two values."""
+    a = _sample(values, "values")
+    if a.size < 2:
+        return math.nan, math.nan
+    picks = np.random.default_rng(seed).integers(0, a.size, (9999, a.size))
+    medians = np.median(a[picks], axis=1)
+    lo, hi = np.quantile(medians, [(1.0 - level) / 2.0, (1.0 + level) / 2.0])
+    return float(lo), float(hi)

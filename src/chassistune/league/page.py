@@ -18,6 +18,7 @@ from chassistune.league.score import SCORES, Tuned
 from chassistune.plots.league_cases import CaseGrid, plot_league_cases
 from chassistune.plots.overlay import Line, plot_overlay
 from chassistune.scenarios.registry import get_plant
+from chassistune.stats import median_ci
 
 SCORES_CSV = "league_scores.csv"
 PAGE = "league.md"
@@ -49,19 +50,21 @@ def league_scores(scores: pd.DataFrame) -> pd.DataFrame:
 
 def ranking(scores: pd.DataFrame, plant: str) -> pd.DataFrame:
     """The plant's laws ranked: fewest failed cases, then the lowest median league score; with
-    the score's median, min and max over seeds and each case's median distance ratio."""
+    the score's median over seeds and its 95 % percentile-bootstrap interval (`stats.median_ci`;
+    none for a law scored once) and each case's median distance ratio."""
     per_seed = league_scores(scores[scores.plant == plant]).reset_index()
     rows = []
     for law, s in per_seed.groupby("law", sort=False):
         ok = s.league.dropna()
+        lo, hi = median_ci(ok.to_numpy()) if len(ok) else (math.nan, math.nan)
         rows.append(
             {
                 "law": law,
                 "seeds": len(s) if s.seed.max() >= 0 else 0,
                 "failed": int(s.failed.sum()),
                 "median": float(ok.median()) if len(ok) else math.nan,
-                "min": float(ok.min()) if len(ok) else math.nan,
-                "max": float(ok.max()) if len(ok) else math.nan,
+                "ci_low": lo,
+                "ci_high": hi,
             }
         )
     table = pd.DataFrame(rows).sort_values(["failed", "median"], na_position="last")
@@ -89,7 +92,7 @@ def _table_md(table: pd.DataFrame, cases: list[str]) -> str:
         "law",
         "target slip",
         "seeds",
-        "league score: median [min, max]",
+        "league score: median [95 % CI]",
         "failed",
         *cases,
     ]
@@ -100,7 +103,7 @@ def _table_md(table: pd.DataFrame, cases: list[str]) -> str:
             str(r["law"]),
             "oracle" if laws.get(str(r["law"])).needs_target else "none needed",
             str(r["seeds"]) if r["seeds"] else "untuned",
-            f"{_fmt(r['median'])} [{_fmt(r['min'])}, {_fmt(r['max'])}]",
+            f"{_fmt(r['median'])} [{_fmt(r['ci_low'])}, {_fmt(r['ci_high'])}]",
             str(r["failed"]),
             *(_fmt(float(r[c])) for c in cases),
         ]
