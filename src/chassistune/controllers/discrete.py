@@ -36,7 +36,6 @@ from typing import Any
 
 import numpy as np
 from numba import njit
-from numba.np.unsafe.ndarray import to_fixed_tuple
 from numpy.typing import NDArray
 
 from chassistune.controllers.laws import registry
@@ -45,9 +44,6 @@ from chassistune.controllers.laws.forms import ECU_SIGNALS
 from chassistune.controllers.laws.registry import DiscreteLaw
 from chassistune.fuzzy.engine import evaluate
 from chassistune.fuzzy.rulebase import RuleBase
-
-N_SIGNALS = len(ECU_SIGNALS)
-"""Signals a law step reads its inputs from (`forms.ECU_SIGNALS`)."""
 
 DEFAULT_TABLE_POINTS = 49
 """`fuzzy_table_points`: nodes per input of the ECU lookup table (see the module docstring)."""
@@ -90,16 +86,13 @@ def ecu_table(
 def _steps_entry(laws_key: int) -> Any:
     """The compiled loop of `run_from` for the laws registered now, named by `laws_key`
     (`registry.fingerprint` as an integer: a closure variable, on which numba keys the disk
-    cache; the law dispatch is generated from the registry when it compiles). Each sample's
-    signals go to the dispatch as a tuple of floats, as the ECU kernel passes them: the same
-    argument types, so that a process that compiled the ECU kernel's dispatch reuses it."""
+    cache; the law dispatch is generated from the registry when it compiles)."""
 
     def steps(kind, state, signals, params, table, grid):
         inputs = np.zeros(registry.ECU_INPUTS)
         out = np.empty(signals.shape[0])
         for k in range(signals.shape[0]):
-            sig = to_fixed_tuple(signals[k], N_SIGNALS)  # type: ignore[call-arg, var-annotated]
-            out[k] = law_ecu_step(laws_key, kind, state, inputs, sig, params, table, grid)
+            out[k] = law_ecu_step(laws_key, kind, state, inputs, signals[k], params, table, grid)
         return out
 
     return njit(cache=True, nogil=True, error_model="numpy")(steps)

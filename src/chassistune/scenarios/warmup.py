@@ -9,10 +9,10 @@ short horizon (`exercise`, `Case.cut_short`: a run to the stop is seconds of sim
 which no compiler needs). Building one scenario of each (plant, controller, ECU mode) first,
 in this process, compiles what scenarios share (the fuzzy surfaces) and names the compiled
 entry point each kind of case goes through (`entry_point`); the cases are then grouped by entry
-point and the groups, with `extra` (kernels no case reaches) after the ECU kernel's group
-(`EXTRA_AFTER`), spread over worker processes, the largest estimated compilation first. No
-kernel is compiled in two groups, so no two processes write one function's cache index at once
-(numba's index is rewritten whole: two writers would lose an entry).
+point and the groups, with `extra` (kernels no case reaches) as a group of its own, spread over
+worker processes, the largest estimated compilation first. No kernel is compiled in two
+groups, so no two processes write one function's cache index at once (numba's index is
+rewritten whole: two writers would lose an entry).
 """
 
 from __future__ import annotations
@@ -166,11 +166,6 @@ class Warmup:
 EXTRA = "extra"
 """The group name of `warm_up`'s `extra` kernels."""
 
-EXTRA_AFTER = "abs_wheel_ecu_kernel"
-"""The group whose process runs `extra` after its cases: the C export's replay calls the law
-dispatch that the ECU kernel compiles (`discrete.run_from`, with the same argument types), and
-numba compiles it once per process."""
-
 
 Job = tuple[list[Case], Callable[[], None] | None]
 """The cases of a group and its `extra` (`run`'s arguments)."""
@@ -187,8 +182,7 @@ def _plan(
         groups = group_by_entry_point(cases())
     jobs: dict[str, Job] = {key: (cases_, None) for key, cases_ in groups.items()}
     if extra is not None:
-        key = EXTRA_AFTER if EXTRA_AFTER in jobs else EXTRA
-        jobs[key] = (jobs.get(key, ([], None))[0], extra)
+        jobs[EXTRA] = ([], extra)
     order = sorted(jobs, key=lambda k: -estimate_cpu_s(k))
     return groups, {key: jobs[key] for key in order}, list(log.done)
 
@@ -200,7 +194,7 @@ def warm_up(
 ) -> Warmup:
     """Compile the kernels of every case, in `processes` worker processes (1: here); `extra`
     compiles kernels no case reaches (such as the C export's replay; a module-level function,
-    since it runs in a worker), after the cases of `EXTRA_AFTER` in the same process;
+    since it runs in a worker), as a group of its own that shares no kernel with the cases';
     `progress(entry point, compiled)` as each group finishes."""
     t0 = time.perf_counter()
     if processes <= 1:
