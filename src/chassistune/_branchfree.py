@@ -16,6 +16,9 @@ plant can then be one tuple and an integration stage one call, emitting the very
 `llvm.fma` that the scalar expressions give (no reassociation: every number is what the scalar
 code computes).
 
+`select`, `fmax`, `fmin` and `clip` are calls, not inlined at numba's IR level (LLVM inlines
+them: the same instructions), so that numba types and compiles each once instead of copying and
+re-typing its IR at each of its many call sites in the kernels.
 `stack_copy(t)` copies a tuple of floats to the stack and returns a pointer: `p[i]` with a
 data-dependent i is then one load (a gather in a vector loop) from memory that the compiler knows
 nothing else writes, where indexing the tuple itself compiles to a switch and indexing an
@@ -40,25 +43,25 @@ def _llvm_select(typingctx, cond, a, b):
     return sig, codegen
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def select(cond: bool, a: float, b: float) -> float:  # pragma: no cover - compiled
     """`a if cond else b` for floats, as one LLVM select (both sides are evaluated)."""
     return _llvm_select(cond, a, b)  # type: ignore[call-arg]
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def fmax(a: float, b: float) -> float:  # pragma: no cover - compiled
     """numba's max(a, b) on floats: b if b > a else a."""
     return select(b > a, b, a)
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def fmin(a: float, b: float) -> float:  # pragma: no cover - compiled
     """numba's min(a, b) on floats: b if b < a else a."""
     return select(b < a, b, a)
 
 
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True)
 def clip(x: float, lo: float, hi: float) -> float:  # pragma: no cover - compiled
     """min(max(x, lo), hi), bit for bit."""
     return fmin(fmax(x, lo), hi)

@@ -17,9 +17,9 @@ from typing import Any
 from numba.core import event
 
 COMPILE_CPU_S = {
-    "abs_wheel_kernel": 44,
+    "abs_wheel_kernel": 32,
     "abs_wheel_ecu_kernel": 27,
-    "abs_vehicle_kernel": 70,
+    "abs_vehicle_kernel": 45,
     "quarter_car_kernel": 9,
     "lyapunov": 4,
     "discrete": 9,
@@ -28,8 +28,8 @@ COMPILE_CPU_S = {
 point, with every tire law and integration method; the realistic ECU kernel, whose step loop
 is compiled once per tire law; the vehicle's lane loop with its straight and general passes and
 its law ticks; the C export's replay of the discrete laws), measured with `time.process_time`
-around each compilation on a fresh cache (`chassistune warmup`, 2026-11-28, AMD EPYC, load 1 on
-2 cores): about the wall time on an idle core, several times that while other work shares it."""
+around each compilation on a fresh cache (`chassistune warmup`, 2026-11-28, AMD EPYC, 2 idle
+cores): about the wall time on an idle core, several times that while other work shares it."""
 
 OTHER_CPU_S = 3
 """About the CPU seconds of any other compiled function (a fuzzy surface, a C export replay)."""

@@ -9,6 +9,7 @@ import math
 from typing import Any
 
 import numba
+from numba.extending import register_jitable
 
 from chassistune._branchfree import select
 from chassistune.plants.abs_vehicle import SF_FALL0, SF_FALL1, SF_LAT, SF_RISE, SF_ST, SF_TARGET
@@ -164,14 +165,18 @@ def surfaces(surfs):
     )
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@register_jitable
 def lane_get(st, row, l):
+    """Row `row` of lane l. A call, not inlined at numba's IR level: LLVM inlines it, and
+    numba types it once per argument types (a constant row is not a literal of its own), where
+    inlining it at every one of its hundreds of call sites is most of the passes' compile time."""
     return st[row * LANES + l]
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@register_jitable
 def lane_put(st, row, l, commit, value):
-    """Row `row` of lane l becomes `value` where `commit` (else it keeps its value)."""
+    """Row `row` of lane l becomes `value` where `commit` (else it keeps its value); a call
+    as `lane_get`."""
     st[row * LANES + l] = select(commit, value, st[row * LANES + l])
 
 

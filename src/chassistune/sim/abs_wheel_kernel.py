@@ -73,7 +73,7 @@ from typing import Any
 import numpy as np
 from numba import njit, types
 from numba.core.errors import TypingError
-from numba.extending import overload
+from numba.extending import overload, register_jitable
 
 from chassistune._branchfree import clip, fmax, fmin, select, stack_copy
 from chassistune.controllers.laws import registry as laws
@@ -269,9 +269,9 @@ def _rates(law, form, x, p, tire):
     return _rates_at(law, form, x, wheel_slip(x[0], x[1], p[3]), p, tire)
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@register_jitable
 def _get(st, row, l):
-    """Row `row` of lane l."""
+    """Row `row` of lane l (a call that LLVM inlines: `abs_vehicle_lane.lane_get`)."""
     return st[row * LANES + l]
 
 
