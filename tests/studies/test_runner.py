@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import sqlite3
+import subprocess
+import sys
 
 import pandas as pd
 import pytest
@@ -143,6 +145,21 @@ def test_the_cli_runs_a_study_with_the_process_executor(cli, tmp_path):
     )
     assert r.code == 0, r.err
     assert "2 completed and 0 failed" in r.out
+    assert len(_table(out)) == 2
+
+
+def test_python_m_chassistune_cli_runs_a_study_with_the_process_executor(tmp_path):
+    """The module entry point re-imported by spawned workers does not start the command again."""
+    config, _ = write_plan(tmp_path, tiny_config(seeds=1))
+    out = tmp_path / "out"
+    command = ["study", "run", str(config), "--out", str(out), "--executor", "process"]
+    r = subprocess.run(
+        [sys.executable, "-m", "chassistune.cli", *command, "--workers", "1"],
+        capture_output=True,
+        text=True,
+        timeout=1200,
+    )
+    assert r.returncode == 0, r.stderr
     assert len(_table(out)) == 2
 
 
