@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import sqlite3
+import subprocess
+import sys
 
 import pandas as pd
 import pytest
@@ -146,6 +148,21 @@ def test_the_cli_runs_a_study_with_the_process_executor(cli, tmp_path):
     assert len(_table(out)) == 2
 
 
+def test_python_m_chassistune_cli_runs_a_study_with_the_process_executor(tmp_path):
+    """The module entry point re-imported by spawned workers does not start the command again."""
+    config, _ = write_plan(tmp_path, tiny_config(seeds=1))
+    out = tmp_path / "out"
+    command = ["study", "run", str(config), "--out", str(out), "--executor", "process"]
+    r = subprocess.run(
+        [sys.executable, "-m", "chassistune.cli", *command, "--workers", "1"],
+        capture_output=True,
+        text=True,
+        timeout=1200,
+    )
+    assert r.returncode == 0, r.stderr
+    assert len(_table(out)) == 2
+
+
 def test_a_run_that_kills_its_worker_process_is_found_and_recorded_failed(tmp_path, raising):
     dies = RAISING.replace('"raises"', '"dies"')
     _, plan = write_plan(tmp_path, tiny_config(seeds=2, extra=dies))
@@ -163,3 +180,23 @@ def test_a_run_that_kills_its_worker_process_is_found_and_recorded_failed(tmp_pa
     pd.testing.assert_frame_equal(
         ok.drop(columns=["error"]), alone.drop(columns=["error"]), check_dtype=False
     )  # failed rows made bool columns object
+
+
+def test_one_process_executor_serves_studies_one_after_another_with_the_same_workers(tmp_path):
+    """Workers start (import, load kernels) once per executor, not once per study; a call left
+    before its end gets the next call a new pool. The numbers are the serial ones throughout."""
+    _, plan = write_plan(tmp_path, tiny_config(seeds=2))
+    run_study(plan, tmp_path / "serial", SerialExecutor())
+    with ProcessExecutor(2) as ex:
+        run_study(plan, tmp_path / "first", ex)
+        workers = set(ex._pool._processes)
+        run_study(plan, tmp_path / "second", ex)
+        assert workers and workers <= set(ex._pool._processes)
+        left = ex.results(plan.runs)
+        next(left)
+        left.close()
+        run_study(plan, tmp_path / "third", ex)
+        assert workers.isdisjoint(ex._pool._processes)
+    serial = _table(tmp_path / "serial")
+    for name in ("first", "second", "third"):
+        assert serial.equals(_table(tmp_path / name))

@@ -159,7 +159,11 @@ def _scenario(preset: str, seed: int = 0) -> QuarterCarScenario:
 
 def exact_table(preset: str, gains: np.ndarray) -> np.ndarray:
     """(n, 4): exact stationary acc, travel, tire RMS and Q of each gain row."""
-    sc = _scenario(preset)
+    return _exact_rows(_scenario(preset), gains)
+
+
+def _exact_rows(sc: QuarterCarScenario, gains: np.ndarray) -> np.ndarray:
+    """`exact_table` on the built scenario `sc`."""
     ex = sc.exact(gains)
     q = lyapunov.rms_ratio(ex, sc.passive_exact, ex[:, lyapunov.E_STABLE] == 1.0, 1e9)
     return np.column_stack([ex[:, :3], q])
@@ -185,10 +189,12 @@ def _iterations_to(runs: Sequence[RunRecord], target: float) -> np.ndarray:
 
 
 def _polished_optimum(preset: str, start: np.ndarray, box: list[tuple[float, float]]) -> float:
-    """Bounded Nelder-Mead from the best run: the box's exact optimum Q*."""
+    """Bounded Nelder-Mead from the best run: the box's exact optimum Q*. One scenario serves
+    every step (its passive reference is computed once)."""
+    sc = _scenario(preset)
 
     def q(g: np.ndarray) -> float:
-        return float(exact_table(preset, g.reshape(1, -1))[0, 3])
+        return float(_exact_rows(sc, g.reshape(1, -1))[0, 3])
 
     res = minimize(
         q,

@@ -126,6 +126,7 @@ class ProcessExecutor(Executor):
         self.workers = workers or default_workers()
         self._initializer = initializer
         self._pool: cf.ProcessPoolExecutor | None = None
+        self._unfinished = False
 
     def _new_pool(self) -> cf.ProcessPoolExecutor:
         if self._pool is not None:
@@ -148,7 +149,12 @@ class ProcessExecutor(Executor):
             return failed_result(spec, "the worker process died while running it")
 
     def results(self, specs: Sequence[RunSpec]) -> Iterator[RunResult]:
-        self._new_pool()
+        """The runs' results as they finish. The pool's workers serve every call (a reproduction's
+        studies one after another: each worker imports and loads its kernels once); a call left
+        before its end (runs of it may still be in flight) leaves the next one a new pool."""
+        if self._pool is None or self._unfinished:
+            self._new_pool()
+        self._unfinished = True
         pending, suspects = deque(specs), deque[RunSpec]()
         running: dict[cf.Future[RunResult], RunSpec] = {}
         window = 2 * self.workers
@@ -173,6 +179,7 @@ class ProcessExecutor(Executor):
             if suspects and not running:
                 self._new_pool()
             yield from finished
+        self._unfinished = False
 
     def close(self) -> None:
         if self._pool is not None:
