@@ -92,9 +92,11 @@ from chassistune.sim.abs_wheel_model import step_end, wheel_rates, wheel_slip
 from chassistune.sim.abs_wheel_tires import (
     KIND_BILINEAR,
     KIND_BURCKHARDT,
+    KIND_MAGIC_FORMULA,
     KIND_TABLE,
     TABLE_CAP,
     local_table,
+    magic_formula_law_mu,
     table_tuples,
     tire_law_mu,
 )
@@ -216,8 +218,11 @@ R_XF = R_X + HELD_PID.state.index("xf")
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def tire_mu(law, s, tire):
-    """`tire_law_mu` at slip s of the tire tire = (c0, c1, c2, c3, xc, xs, ys)."""
+    """`tire_law_mu` or, for KIND_MAGIC_FORMULA, `magic_formula_law_mu` at slip s of the tire
+    tire = (c0, c1, c2, c3, xc, xs, ys)."""
     c0, c1, c2, c3, xc, xs, ys = tire
+    if law == KIND_MAGIC_FORMULA:
+        return magic_formula_law_mu(law, s, c0, c1, c2, c3, xs)
     return tire_law_mu(law, s, c0, c1, c2, c3, xc, xs, ys)
 
 
@@ -448,11 +453,14 @@ _LINK: dict[str, Any] = {"nogil": True, "error_model": "numpy", "inline": "alway
 
 
 def _tire_switch(form: ContinuousForm, sampled: bool) -> Any:
-    """The vector loops of `form` (RK4 for the sampled laws), one per tire law, by `law`."""
+    """The vector loops of `form` (RK4 for the sampled laws), one per tire law, by `law`; the
+    Magic Formula's is RK3 for every law (one loop for both methods' groups: a second would add
+    its compile time to the warmup's)."""
     method = RK4 if sampled else RK3
     bilinear, burckhardt, table = (
         _lane_steps_of(k, method, form) for k in (KIND_BILINEAR, KIND_BURCKHARDT, KIND_TABLE)
     )
+    magic_formula = _lane_steps_of(KIND_MAGIC_FORMULA, RK3, form)
 
     @njit(**_LINK)
     def steps(kind, law, args):
@@ -460,6 +468,8 @@ def _tire_switch(form: ContinuousForm, sampled: bool) -> Any:
             return bilinear(*args)
         if law == KIND_BURCKHARDT:
             return burckhardt(*args)
+        if law == KIND_MAGIC_FORMULA:
+            return magic_formula(*args)
         return table(*args)
 
     return steps
@@ -782,7 +792,8 @@ def simulate_abs_wheel(
     """
     coef4 = np.zeros(4)
     coef4[: len(tire_coef)] = tire_coef
-    xc, xs, ys = table_tuples(tire_xs, tire_ys) if tire_kind == KIND_TABLE else _NO_TABLE
+    with_nodes = tire_kind in (KIND_TABLE, KIND_MAGIC_FORMULA)  # the MF law's E and S_Hx too
+    xc, xs, ys = table_tuples(tire_xs, tire_ys) if with_nodes else _NO_TABLE
     rows = np.ascontiguousarray(np.atleast_2d(plant), dtype=np.float64)
     st = np.empty(N_ROWS * LANES)
     lane_of = np.empty(LANES, dtype=np.int64)
