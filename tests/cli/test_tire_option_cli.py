@@ -93,3 +93,17 @@ def test_a_tune_on_the_tire_replays_with_from(cli, tmp_path: Path) -> None:
     assert again.code == 0, again.err
     doc = json.loads(again.out)
     assert doc["road"] == "tire-surface" and doc["params"]["tire"] == CHRONO
+
+
+def test_export_refuses_the_tire_in_one_line(cli, tmp_path: Path) -> None:
+    """The export's closed loop and C test vectors have no Magic Formula tire: refused, exit 2,
+    before any file is written."""
+    out = tmp_path / "ecu"
+    r = cli(
+        "export", "--plant", "abs-wheel", "--controller", "pid", "--param", f"tire={CHRONO}",
+        "--format", "json", "--out", str(out),
+    )  # fmt: skip
+    assert r.code == 2 and r.out == ""
+    assert r.err.startswith("chassistune: error: --param tire: ")
+    assert len(r.err.splitlines()) == 1
+    assert not any(out.glob("*")) if out.exists() else True
