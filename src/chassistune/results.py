@@ -41,15 +41,18 @@ def load_tune(path: str | os.PathLike[str], field: str = "path") -> dict[str, An
 
 def overrides(doc: Mapping[str, Any]) -> dict[str, object]:
     """The parameters a tune result set away from its scenario's defaults (its `params` echo
-    minus what the preset, road and controller give anyway)."""
+    minus what the preset, road and controller give anyway), and its TIR file (`tire`), which
+    its road may need."""
     from chassistune.scenarios.registry import get_plant
 
+    tire = {"tire": doc["params"]["tire"]} if "tire" in doc["params"] else {}
     plain = (
         get_plant(doc["plant"])
-        .scenario(doc["preset"], doc["roads"][0], doc["controller"], {}, 0)
+        .scenario(doc["preset"], doc["roads"][0], doc["controller"], tire, 0)
         .params()
     )
-    return {k: v for k, v in doc["params"].items() if k != "seed" and plain.get(k) != v}
+    changed = {k: v for k, v in doc["params"].items() if k != "seed" and plain.get(k) != v}
+    return {**changed, **tire}
 
 
 def simulate_tuned(

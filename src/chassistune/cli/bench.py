@@ -14,6 +14,7 @@ from chassistune.cli.common import echo_json, fmt
 
 AREAS = (
     "abs",
+    "tires",
     "jax_peer",
     "optimizer",
     "tuning",

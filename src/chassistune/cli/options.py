@@ -5,7 +5,7 @@ Light at import (no numpy), like every CLI module.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, MutableMapping
 from typing import Any, TypeVar
 
 import click
@@ -44,6 +44,13 @@ ecu_option = click.option(
     type=click.Choice(["ideal", "realistic"]),
     help="abs-wheel: ideal controller or the realistic ECU (docs/ecu.md).",
 )
+tire_option = click.option(
+    "--tire",
+    metavar="FILE.tir",
+    help="abs-wheel, ideal ECU: the Magic Formula tire of a tyre property file (docs/tires.md) "
+    "at the wheel's load; without --road on the file's own surface (road tire-surface), with "
+    "--road its friction scaled to the road's peak through LMUX and LMUY.",
+)
 executor_options = stacked(
     click.option(
         "--executor",
@@ -60,3 +67,19 @@ executor_options = stacked(
     click.option("--workers", type=int, help="Worker processes (default: the cores)."),
 )
 """--executor, --scheduler and --workers (keyword arguments executor, scheduler, workers)."""
+
+
+def with_tire(plant: str, tire: str | None, values: MutableMapping[str, Any]) -> None:
+    """`--tire FILE.tir` into the run's parameters (`tire`): abs-wheel only (the plants that do
+    not take it refuse it, naming --tire)."""
+    if tire is None:
+        return
+    if plant != "abs-wheel":
+        from chassistune.errors import InputError
+
+        raise InputError(
+            "--tire",
+            f"the Magic Formula tire runs on the ideal single wheel (abs-wheel) only "
+            f"so far, not on {plant}",
+        )
+    values["tire"] = tire

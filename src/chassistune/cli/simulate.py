@@ -9,7 +9,7 @@ import click
 
 from chassistune.cli.choices import ChoicesCommand, ChoicesOption
 from chassistune.cli.common import check_output_file, echo_json, fmt
-from chassistune.cli.options import ecu_option, param_option, preset_option
+from chassistune.cli.options import ecu_option, param_option, preset_option, tire_option, with_tire
 from chassistune.errors import InputError
 from chassistune.units import shown_unit, with_pressure
 
@@ -124,6 +124,7 @@ def _why_not(result: SimulationResult) -> str | None:
 )
 @click.option("--seed", type=int, help="Seed of any random draw (road realizations; default 0).")
 @ecu_option
+@tire_option
 @click.option(
     "--r13h",
     is_flag=True,
@@ -144,6 +145,7 @@ def simulate_command(
     compare: str | None,
     seed: int | None,
     ecu: str | None,
+    tire: str | None,
     r13h: bool,
     as_json: bool,
     plot_path: str | None,
@@ -179,6 +181,7 @@ def simulate_command(
     values.update(parse_assignments(params, "params"))
     if ecu:
         values["ecu"] = ecu
+    with_tire(plant, tire, values)
     given = parse_assignments(gains, "gains")
     if doc is not None:
         preset = preset or doc["preset"]
@@ -187,6 +190,10 @@ def simulate_command(
         if controller in (None, doc["controller"]):
             given = {**doc["best_gains"], **given}
         controller = controller or doc["controller"]
+    if road is None and "tire" in values:
+        from chassistune.plants.mf_curve import TIRE_SURFACE
+
+        road = TIRE_SURFACE
     if compare is not None:
         _compare(
             plant,

@@ -11,7 +11,7 @@ import click
 from chassistune._interrupt import on_interrupt
 from chassistune.cli.choices import ChoicesCommand, ChoicesOption
 from chassistune.cli.common import check_output_dir, echo_json, fmt
-from chassistune.cli.options import ecu_option, param_option, preset_option
+from chassistune.cli.options import ecu_option, param_option, preset_option, tire_option, with_tire
 from chassistune.cli.robust_options import (
     echo_validation,
     robust_fields,
@@ -65,6 +65,7 @@ if TYPE_CHECKING:
 @click.option("--evals", type=int, help="Evaluation budget (exact; at least one population).")
 @click.option("--seed", default=0, show_default=True, type=int, help="Run seed.")
 @ecu_option
+@tire_option
 @click.option(
     "--objective",
     cls=ChoicesOption,
@@ -101,6 +102,7 @@ def tune_command(
     as_json: bool,
     out_dir: str | None,
     ecu: str | None,
+    tire: str | None,
     **robust: Any,
 ) -> None:
     """Tune the gains of a controller of PLANT with an optimizer.
@@ -130,6 +132,13 @@ def tune_command(
     values = parse_assignments(params, "params")
     if ecu:
         values["ecu"] = ecu
+    with_tire(plant, tire, values)
+    if tire is not None and robust.get("vary"):
+        raise InputError("--tire", "not with --vary: the tire's curve is taken at the nominal load")
+    if tire is not None and not roads:
+        from chassistune.plants.mf_curve import TIRE_SURFACE
+
+        roads = (TIRE_SURFACE,)
     problem = build_problem(
         plant, controller, preset, roads, objective, aggregate, values, None, seed
     )

@@ -265,6 +265,12 @@ def resolve(
             "and fuzzy_table_points apply",
         )
     values = {**origin.params, **overrides}
+    if "tire" in values:
+        raise InputError(
+            "params.tire",
+            "the export's closed loop (its C test vectors) has no Magic Formula tire: "
+            "export on a road's tire curve",
+        )
     if str(values.get("gain_schedule", "off")) != "off":
         raise InputError(
             "params.gain_schedule",

@@ -1,13 +1,15 @@
 """Longitudinal tire friction curves mu(S) and their peaks (design.md 3.2).
 
-Three families, all evaluated from plain arrays (`kernel_data`; compiled: `sim.abs_wheel_tires`) so
-that roads are data, not code paths:
+Three families here, all evaluated from plain arrays (`kernel_data`; compiled:
+`sim.abs_wheel_tires`) so that roads are data, not code paths:
 
 * bilinear (derlsp-ao-abs eq. 5): mu = mu_h S / S_T for S <= S_T, else
   (mu_h - mu_g S_T)/(1 - S_T) - (mu_h - mu_g) S / (1 - S_T); stored as the piecewise-linear table
   (0, 0), (S_T, mu_h), (1, mu_g);
 * Burckhardt: mu = c1 (1 - exp(-c2 S)) - c3 S;
-* a piecewise-linear table (MathWorks' sldemo_absbrake mu-slip table).
+* a piecewise-linear table (MathWorks' sldemo_absbrake mu-slip table);
+
+and the Magic Formula from a TIR file (`plants.mf_curve`), at the single wheel's constant load.
 
 Every curve has `mu_scale` (default 1, positive), a road parameter multiplying the whole curve
 mu(S) (a road slicker or grippier than its nominal curve): bilinear mu_h and mu_g,
@@ -28,6 +30,8 @@ from chassistune.params import nonnegative, positive
 KIND_TABLE = 0
 KIND_BURCKHARDT = 1
 KIND_BILINEAR = 2
+KIND_MAGIC_FORMULA = 3
+"""The Magic Formula's longitudinal pure-slip curve at one load (`plants.mf_curve`)."""
 
 MAX_TABLE_NODES = 32
 """Most nodes a table tire may have (the kernels copy a table into this many stack slots)."""
@@ -67,7 +71,7 @@ class TireCurve:
 
     def _search_peak(self) -> tuple[float, float, float]:
         kind, _, xs, ys = self.kernel_data()
-        if kind != KIND_BURCKHARDT:  # the peak of a piecewise-linear curve is one of its nodes
+        if kind in (KIND_TABLE, KIND_BILINEAR):  # a piecewise-linear curve peaks at a node
             i = int(np.argmax(ys))
             mu_peak, s_peak = float(ys[i]), float(xs[i])
         else:

@@ -25,6 +25,7 @@ from chassistune.plants.abs_wheel import (
     check_consistency,
     default_t_max_s,
 )
+from chassistune.plants.mf_curve import TIRE_SURFACE, MagicFormulaCurve, wheel_tire
 from chassistune.plants.presets import Preset
 from chassistune.plants.roads import tire_for_road
 from chassistune.plants.tires import TireCurve
@@ -179,7 +180,10 @@ class AbsWheelScenario(Scenario):
 
     def params(self) -> dict[str, Any]:
         out: dict[str, Any] = as_dict(self.plant_params)
-        out.update(as_dict(self.tire) if dataclasses.is_dataclass(self.tire) else {})
+        if isinstance(self.tire, MagicFormulaCurve):
+            out["tire"] = self.tire.path
+        elif dataclasses.is_dataclass(self.tire):
+            out.update(as_dict(self.tire))
         if self.road == "sldemo-table":
             out = {k: v for k, v in out.items() if k not in ("slips", "mus")}
         out["target_slip"] = self.target_slip
@@ -316,7 +320,7 @@ class AbsWheelPlant(Plant[AbsWheelScenario]):
         mode = ecu_mode(values)
         plant_params, used = override(pre.params, values)
         used.add("ecu")
-        tire, used_tire = tire_for_road(road, values)
+        tire, used_tire = _tire(road, values, plant_params, mode)
         scoring, used_scoring = override(Scoring(), values)
         used |= used_tire | used_scoring
         # default command: reaches q_max in 0.15 s through the integrating actuator
@@ -343,7 +347,7 @@ class AbsWheelPlant(Plant[AbsWheelScenario]):
                 | {f.name for f in dataclasses.fields(tire)}
                 | {f.name for f in dataclasses.fields(Scoring)}
                 | set(spec.param_names)
-                | {"target_slip", "ecu"}
+                | {"target_slip", "ecu", "tire"}
                 | (ECU_PARAM_NAMES if mode == "realistic" else set())
             )
             raise InputError(
@@ -364,6 +368,29 @@ class AbsWheelPlant(Plant[AbsWheelScenario]):
         for warning in implausible(plant_params) + implausible(tire):  # valid input only
             warnings.warn(warning, stacklevel=2)
         return scenario
+
+
+def _tire(
+    road: str, values: dict[str, object], plant_params: AbsWheelParams, mode: str
+) -> tuple[TireCurve, set[str]]:
+    """The road's tire curve, or the Magic Formula tire of the TIR file `values["tire"]` at the
+    wheel's load on it (`mf_curve.wheel_tire`; on the file's own surface on road TIRE_SURFACE),
+    and the names of `values` used."""
+    if "tire" not in values:
+        if road == TIRE_SURFACE:
+            raise InputError("road", f"{TIRE_SURFACE} is a TIR file's surface: needs --tire")
+        return tire_for_road(road, values)
+    if mode != "ideal":
+        raise InputError(
+            "--tire",
+            "the Magic Formula tire runs on the ideal single wheel only so far, "
+            "not with --ecu realistic",
+        )
+    own = road == TIRE_SURFACE
+    road_curve, used = (None, set()) if own else tire_for_road(road, values)
+    pp = plant_params
+    fz_n = pp.load_fraction * pp.mass_kg * pp.g_m_s2
+    return wheel_tire(str(values["tire"]), road, road_curve, fz_n), used | {"tire"}
 
 
 PLANT = AbsWheelPlant()

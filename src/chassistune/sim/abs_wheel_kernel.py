@@ -87,14 +87,18 @@ from chassistune.controllers.laws.dispatch import (
 from chassistune.controllers.laws.forms import SIG_WHEEL_SPEED
 from chassistune.controllers.laws.held_pid import HELD_PID
 from chassistune.controllers.laws.registry import ContinuousForm
+from chassistune.plants.mf_curve import POLY_SIZE
 from chassistune.sim import abs_wheel_layout as L
 from chassistune.sim.abs_wheel_model import step_end, wheel_rates, wheel_slip
 from chassistune.sim.abs_wheel_tires import (
     KIND_BILINEAR,
     KIND_BURCKHARDT,
+    KIND_MAGIC_FORMULA,
     KIND_TABLE,
     TABLE_CAP,
+    local_poly,
     local_table,
+    magic_formula_mu,
     table_tuples,
     tire_law_mu,
 )
@@ -221,6 +225,35 @@ def tire_mu(law, s, tire):
     return tire_law_mu(law, s, c0, c1, c2, c3, xc, xs, ys)
 
 
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _wheel_tire_mu(law, s, tire):
+    """`tire_mu` or, for KIND_MAGIC_FORMULA, `magic_formula_mu` at slip s of the wheel's tire
+    (c0, c1, c2, c3, xc, xs, ys, poly), the law known at run time."""
+    if law == KIND_MAGIC_FORMULA:
+        return magic_formula_mu(s, tire[0], tire[1], tire[2], tire[3], tire[7])
+    return tire_mu(law, s, tire[:7])
+
+
+@functools.cache
+def _mu_of_law(law: int) -> Any:
+    """mu_of(s, tire): `tire_mu` of the constant tire law `law`, for its vector loops (not
+    cached: the entry point's cache holds it). A loop then holds its own law's code alone: a
+    branch on the law in every stage of every loop, even one LLVM folds, cost about 2 s of
+    compile time per loop."""
+    if law == KIND_MAGIC_FORMULA:
+
+        def mu_of(s, tire):
+            return magic_formula_mu(s, tire[0], tire[1], tire[2], tire[3], tire[7])
+
+    else:
+
+        def mu_of(s, tire):
+            return tire_mu(law, s, tire[:7])
+
+    mu_of.__qualname__ = f"mu_of_tire_law_{law}"
+    return njit(nogil=True, error_model="numpy", inline="always")(mu_of)
+
+
 _FORMS: list[ContinuousForm] = []
 """The continuous forms the vector loops were built for, by key (`_form_key`)."""
 
@@ -250,23 +283,23 @@ def _form_rate_inline(form, e, x, held, c, n_filter, at_max, at_min):
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _rates_at(law, form, x, s, p, tire):
+def _rates_at(mu_of, form, x, s, p, tire):
     """Derivatives of the state x = (v, w, q, r, xc) at its slip s, xc the continuous law's
     state, and the command u of its form of key `form` (`_form_rate`), with the lane's
-    parameters p (`_lane_params`) and the tire (c0, c1, c2, c3, xc, xs, ys)."""
+    parameters p (`_lane_params`) and the tire (c0, c1, c2, c3, xc, xs, ys, poly)."""
     _, w, q, r, xc = x
     held, c, target, r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max, nf = p
     e = target - s
-    fx = tire_mu(law, s, tire) * fz
+    fx = mu_of(s, tire) * fz
     u, dxc = _form_rate(form, e, xc, held, c, nf, q >= q_max, q <= 0.0)
     dv, dw, dq, dr, _, _ = wheel_rates(w, q, r, fx, u, r_w, inv_m, inv_i, kq, gain, inv_tau, q_max)
     return (dv, dw, dq, dr, dxc), u
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _rates(law, form, x, p, tire):
+def _rates(mu_of, form, x, p, tire):
     """`_rates_at` at the slip of x."""
-    return _rates_at(law, form, x, wheel_slip(x[0], x[1], p[3]), p, tire)
+    return _rates_at(mu_of, form, x, wheel_slip(x[0], x[1], p[3]), p, tire)
 
 
 @register_jitable
@@ -296,18 +329,18 @@ def _lane_params(st, l, c, target):
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _rk_step(law, form, method, x, s, dt, hs, h6, p, tire):
+def _rk_step(mu_of, form, method, x, s, dt, hs, h6, p, tire):
     """One RK step (`method` RK3 or RK4, a constant at each call site) of the state tuple x
     whose slip is s: (the new state, the command u at its start). Each stage is one tuple
     operation."""
-    k1, u1 = _rates_at(law, form, x, s, p, tire)
+    k1, u1 = _rates_at(mu_of, form, x, s, p, tire)
     if method == RK4:
-        k2, _ = _rates(law, form, rk4_point(x, hs, k1), p, tire)
-        k3, _ = _rates(law, form, rk4_point(x, hs, k2), p, tire)
-        k4, _ = _rates(law, form, rk4_point(x, dt, k3), p, tire)
+        k2, _ = _rates(mu_of, form, rk4_point(x, hs, k1), p, tire)
+        k3, _ = _rates(mu_of, form, rk4_point(x, hs, k2), p, tire)
+        k4, _ = _rates(mu_of, form, rk4_point(x, dt, k3), p, tire)
         return rk4_update(x, h6, k1, k2, k3, k4), u1
-    k2, _ = _rates(law, form, rk3_point2(x, hs, k1), p, tire)
-    k3, _ = _rates(law, form, rk3_point3(x, -dt, dt + dt, k1, k2), p, tire)
+    k2, _ = _rates(mu_of, form, rk3_point2(x, hs, k1), p, tire)
+    k3, _ = _rates(mu_of, form, rk3_point3(x, -dt, dt + dt, k1, k2), p, tire)
     return rk3_update(x, h6, k1, k2, k3), u1
 
 
@@ -327,7 +360,9 @@ def _add_pending_integrals(st, l):
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _lane_step(st, l, xc, law, form, method, dt, hs, h6, target, n_steps, t_timeout, live, tire, c):
+def _lane_step(
+    st, l, xc, mu_of, form, method, dt, hs, h6, target, n_steps, t_timeout, live, tire, c
+):
     """One fused step (`method` RK3 or RK4, a constant at each call site) of lane l, whose
     control law's continuous state is xc and its form's key `form` (`_form_rate`), with its
     metrics and end flags; returns 1 if a live lane ended. Straight-line code: the body of the
@@ -342,7 +377,7 @@ def _lane_step(st, l, xc, law, form, method, dt, hs, h6, target, n_steps, t_time
     t = k * dt
 
     s1 = _get(st, R_S1, l)  # the slip of x, kept from the last step: no division on the path
-    (vn, wn, qn, rn, xcn), u1 = _rk_step(law, form, method, x, s1, dt, hs, h6, p, tire)
+    (vn, wn, qn, rn, xcn), u1 = _rk_step(mu_of, form, method, x, s1, dt, hs, h6, p, tire)
     wn = fmax(wn, 0.0)
     qn = clip(qn, 0.0, q_max)
 
@@ -404,9 +439,10 @@ def _lane_steps_of(law: int, method: int, form: ContinuousForm) -> Any:
     of lanes 0 .. width - 1 (a whole number of vectors); 1 if a live lane ended."""
     n_state = len(form.state)
     key = _form_key(form)
+    mu_of = _mu_of_law(law)
 
     def lane_steps(st, width, dt, hs, h6, target, n_steps, t_timeout, live, tire_of_caller, c):
-        tire = local_table(tire_of_caller)
+        tire = local_table(tire_of_caller[:7]) + (local_poly(tire_of_caller[7]),)  # noqa: RUF005
         any_end = 0
         for b in range(width // VECTOR):
             for j in range(VECTOR):
@@ -416,7 +452,7 @@ def _lane_steps_of(law: int, method: int, form: ContinuousForm) -> Any:
                     st,
                     l,
                     xc,
-                    law,
+                    mu_of,
                     key,
                     method,
                     dt,
@@ -448,11 +484,14 @@ _LINK: dict[str, Any] = {"nogil": True, "error_model": "numpy", "inline": "alway
 
 
 def _tire_switch(form: ContinuousForm, sampled: bool) -> Any:
-    """The vector loops of `form` (RK4 for the sampled laws), one per tire law, by `law`."""
+    """The vector loops of `form` (RK4 for the sampled laws), one per tire law, by `law`; the
+    Magic Formula's is RK3 for every law (one loop for both groups of laws: a second would add
+    its compile time to the warmup's)."""
     method = RK4 if sampled else RK3
     bilinear, burckhardt, table = (
         _lane_steps_of(k, method, form) for k in (KIND_BILINEAR, KIND_BURCKHARDT, KIND_TABLE)
     )
+    magic_formula = _lane_steps_of(KIND_MAGIC_FORMULA, RK3, form)
 
     @njit(**_LINK)
     def steps(kind, law, args):
@@ -460,6 +499,8 @@ def _tire_switch(form: ContinuousForm, sampled: bool) -> Any:
             return bilinear(*args)
         if law == KIND_BURCKHARDT:
             return burckhardt(*args)
+        if law == KIND_MAGIC_FORMULA:
+            return magic_formula(*args)
         return table(*args)
 
     return steps
@@ -631,6 +672,7 @@ def _simulate(
     xc_tuple,
     xs_tuple,
     ys_tuple,
+    poly,
     ctrl_kind,
     c,
     table,
@@ -654,7 +696,7 @@ def _simulate(
     t_timeout = n_steps * dt
     steps_per_sample = max(1, round(c[Q_TS] / dt))
     ts = steps_per_sample * dt
-    tire = (coef[0], coef[1], coef[2], coef[3], xc, xs, ys)
+    tire = (coef[0], coef[1], coef[2], coef[3], xc, xs, ys, poly)
     sampled = law_sampled(laws_key, ctrl_kind)
     st[:] = 0.0
     lane_of[:] = -1  # candidate in each lane
@@ -723,7 +765,7 @@ def _simulate(
                 r[R_KQ] * r[R_Q],
                 r[R_U1],
                 r[R_DIST],
-                tire_mu(law, r[R_SLIP], tire),
+                _wheel_tire_mu(law, r[R_SLIP], tire),
             )
             rows += 1
     if n_trace > 0:
@@ -740,10 +782,25 @@ def _entry_point(laws_key):
     keys its disk cache; the law dispatch is generated from the registry when it compiles)."""
 
     def simulate_abs_wheel(
-        law, gains, plant, coef, xc, xs, ys, kind, c, table, trace, out, st, lane_of
+        law, gains, plant, coef, xc, xs, ys, poly, kind, c, table, trace, out, st, lane_of
     ):
         _simulate(
-            laws_key, law, gains, plant, coef, xc, xs, ys, kind, c, table, trace, out, st, lane_of
+            laws_key,
+            law,
+            gains,
+            plant,
+            coef,
+            xc,
+            xs,
+            ys,
+            poly,
+            kind,
+            c,
+            table,
+            trace,
+            out,
+            st,
+            lane_of,
         )
 
     simulate_abs_wheel.__doc__ = _simulate.__doc__
@@ -755,6 +812,7 @@ entry_point = laws.per_fingerprint(_entry_point)
 
 
 _NO_TABLE = table_tuples(np.array([0.0, 1.0]), np.array([0.0, 0.0]))
+_NO_POLY = np.zeros(POLY_SIZE)
 
 
 def simulate_abs_wheel(
@@ -783,11 +841,30 @@ def simulate_abs_wheel(
     coef4 = np.zeros(4)
     coef4[: len(tire_coef)] = tire_coef
     xc, xs, ys = table_tuples(tire_xs, tire_ys) if tire_kind == KIND_TABLE else _NO_TABLE
+    poly = _NO_POLY
+    if tire_kind == KIND_MAGIC_FORMULA:  # its piecewise polynomial comes as its xs
+        poly = np.ascontiguousarray(tire_xs, dtype=np.float64)
+        if poly.shape != (POLY_SIZE,):
+            raise ValueError(f"a Magic Formula tire has {POLY_SIZE} coefficients")
     rows = np.ascontiguousarray(np.atleast_2d(plant), dtype=np.float64)
     st = np.empty(N_ROWS * LANES)
     lane_of = np.empty(LANES, dtype=np.int64)
     entry_point()(
-        tire_kind, gains, rows, coef4, xc, xs, ys, ctrl_kind, c, table, trace, out, st, lane_of
+        tire_kind,
+        gains,
+        rows,
+        coef4,
+        xc,
+        xs,
+        ys,
+        poly,
+        ctrl_kind,
+        c,
+        table,
+        trace,
+        out,
+        st,
+        lane_of,
     )
 
 

@@ -12,11 +12,18 @@ s (the segment the oracle's search stops at) and its four nodes are loads from t
         law: KIND_BILINEAR, KIND_BURCKHARDT or KIND_TABLE (a compile-time constant in each entry
         point, so the other laws fold away); c0..c3: the tire's coefficients (0 where unused);
         xc, xs, ys: pointers to stack copies of the padded table (any for the other laws).
+    magic_formula_mu(s, c0, c1, c2, c3, poly) -> mu
+        the Magic Formula's piecewise cubic (`plants.mf_curve`): u = s c0 + c1 fused, or
+        s c2 + c3 from u = FINE_SEGMENTS on, segment i = min(floor u, SEGMENTS) and its
+        coefficients a = poly[4 i ... 4 i + 3] in f = u - i by Estrin's scheme with fused
+        multiply-adds, (a0 + f a1) + f^2 (a2 + f a3); poly a stack copy (`local_poly`). A NaN
+        slip (a diverged run) reads segment 0 and gives NaN.
 """
 
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from llvmlite import ir
@@ -24,9 +31,16 @@ from numba import njit, types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
-from chassistune._branchfree import select
+from chassistune._branchfree import fma, select
 from chassistune.errors import InputError
-from chassistune.plants.tires import KIND_BILINEAR, KIND_BURCKHARDT, KIND_TABLE, MAX_TABLE_NODES
+from chassistune.plants.mf_curve import DEGREE, FINE_SEGMENTS, POLY_SIZE, SEGMENTS
+from chassistune.plants.tires import (
+    KIND_BILINEAR,
+    KIND_BURCKHARDT,
+    KIND_MAGIC_FORMULA,
+    KIND_TABLE,
+    MAX_TABLE_NODES,
+)
 
 TABLE_CAP = MAX_TABLE_NODES
 """Most nodes a table tire may have (TableTire refuses more)."""
@@ -34,9 +48,13 @@ TABLE_CAP = MAX_TABLE_NODES
 __all__ = [
     "KIND_BILINEAR",
     "KIND_BURCKHARDT",
+    "KIND_MAGIC_FORMULA",
     "KIND_TABLE",
     "TABLE_CAP",
+    "local_poly",
     "local_table",
+    "magic_formula_mu",
+    "magic_formula_mu_many",
     "table_tuples",
     "tire_law_mu",
 ]
@@ -71,18 +89,52 @@ def tire_law_mu(law, s, c0, c1, c2, c3, xc, xs, ys):
     return ys[j - 1] + (ys[j] - ys[j - 1]) * (s - xs[j - 1]) / (xs[j] - xs[j - 1])
 
 
-@intrinsic
-def _local_copy(typingctx, ptr):
-    if ptr != types.CPointer(types.float64):
-        return None
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def magic_formula_mu(s, c0, c1, c2, c3, poly):
+    """The Magic Formula law's friction coefficient at slip s (see the module docstring)."""
+    u = fma(s, c0, c1)
+    u = select(u < FINE_SEGMENTS, u, fma(s, c2, c3))
+    i = min(int(select(u >= 0.0, u, 0.0)), SEGMENTS)
+    f = u - i
+    k = (DEGREE + 1) * i
+    return fma(f * f, fma(f, poly[k + 3], poly[k + 2]), fma(f, poly[k + 1], poly[k]))
 
-    def codegen(context, builder, signature, args):
-        slot = cgutils.alloca_once(builder, ir.ArrayType(ir.DoubleType(), TABLE_CAP))
-        dst = builder.bitcast(slot, ir.DoubleType().as_pointer())
-        cgutils.raw_memcpy(builder, dst, args[0], context.get_constant(types.intp, TABLE_CAP), 8)
-        return dst
 
-    return ptr(ptr), codegen
+@njit(cache=True, nogil=True, error_model="numpy")
+def magic_formula_mu_many(s, c0, c1, c2, c3, poly):
+    """`magic_formula_mu` at each slip of the array s (for `mf_curve.polynomial_mu`)."""
+    out = np.empty(s.size)
+    for j in range(s.size):
+        out[j] = magic_formula_mu(s[j], c0, c1, c2, c3, poly)
+    return out
+
+
+def _local_copier(n: int, of_array: bool) -> Any:
+    """An intrinsic copying n floats from a pointer (of_array: an array's data) to the stack of
+    the function it is inlined into, returning a pointer to the copy."""
+
+    @intrinsic
+    def local_copy(typingctx, src):
+        float_array = isinstance(src, types.Array) and src.dtype == types.float64
+        if not (float_array if of_array else src == types.CPointer(types.float64)):
+            return None
+
+        def codegen(context, builder, signature, args):
+            ptr = args[0]
+            if of_array:
+                ptr = context.make_array(signature.args[0])(context, builder, args[0]).data
+            slot = cgutils.alloca_once(builder, ir.ArrayType(ir.DoubleType(), n))
+            dst = builder.bitcast(slot, ir.DoubleType().as_pointer())
+            cgutils.raw_memcpy(builder, dst, ptr, context.get_constant(types.intp, n), 8)
+            return dst
+
+        return types.CPointer(types.float64)(src), codegen
+
+    return local_copy
+
+
+_local_copy = _local_copier(TABLE_CAP, of_array=False)
+_local_poly_copy = _local_copier(POLY_SIZE, of_array=True)
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -91,4 +143,11 @@ def local_table(tire):
     stack: a vector loop reading a table its caller passed by pointer would have to assume
     that its stores may change it (and does not vectorize); copies unused fold away."""
     c0, c1, c2, c3, xc, xs, ys = tire
-    return c0, c1, c2, c3, _local_copy(xc), _local_copy(xs), _local_copy(ys)  # type: ignore[call-arg]
+    return c0, c1, c2, c3, _local_copy(xc), _local_copy(xs), _local_copy(ys)
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def local_poly(poly):
+    """A stack copy of the POLY_SIZE coefficients of the array poly (`local_table`'s reason);
+    unused, it folds away."""
+    return _local_poly_copy(poly)
