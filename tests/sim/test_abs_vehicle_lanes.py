@@ -14,6 +14,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 
 import abs_vehicle_pins as pins
+from test_abs_wheel_kernel import _has_avx
 
 from chassistune.controllers import laws
 
@@ -65,13 +66,6 @@ def test_rows_do_not_depend_on_the_lane_or_the_population():
     batch = sc.raw(pop, workers=1)
     for i in (0, 3, VL.LANES - 1, VL.LANES, VL.LANES + 4):
         np.testing.assert_array_equal(sc.raw(pop[i : i + 1], workers=1)[0], batch[i])
-
-
-def _has_avx() -> bool:
-    try:
-        return " avx2 " in Path("/proc/cpuinfo").read_text().replace("\n", " ")
-    except OSError:
-        return False
 
 
 @pytest.mark.slow

@@ -14,6 +14,7 @@ import numba
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
+from test_abs_wheel_kernel import _has_avx
 
 from chassistune._branchfree import stack_copy
 from chassistune.controllers.laws.held_pid import HELD_PID
@@ -191,13 +192,6 @@ def test_batch_rows_equal_single_runs(controller: str) -> None:
     for i in range(0, len(g), 5):
         assert sc.raw(g[i : i + 1], workers=1).tobytes() == batch[i : i + 1].tobytes()
     assert sc.raw(g, workers=2).tobytes() == batch.tobytes()
-
-
-def _has_avx() -> bool:
-    try:
-        return " avx2 " in Path("/proc/cpuinfo").read_text().replace("\n", " ")
-    except OSError:
-        return False
 
 
 @pytest.mark.slow
