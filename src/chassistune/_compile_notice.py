@@ -17,12 +17,12 @@ from typing import Any
 from numba.core import event
 
 COMPILE_CPU_S = {
-    "abs_wheel_kernel": 32,
-    "abs_wheel_ecu_kernel": 27,
-    "abs_vehicle_kernel": 45,
-    "quarter_car_kernel": 9,
-    "lyapunov": 4,
-    "discrete": 9,
+    "abs_wheel_kernel": 22,
+    "abs_wheel_ecu_kernel": 25,
+    "abs_vehicle_kernel": 43,
+    "quarter_car_kernel": 8,
+    "lyapunov": 5,
+    "discrete": 8,
 }
 """CPU seconds numba takes to compile a kernel of each module (the single wheel's one entry
 point, with every tire law and integration method; the realistic ECU kernel, whose step loop
