@@ -29,6 +29,7 @@ _FLAGS = {
     "max_evals": "--evals",
     "dim": "--dim",
     "plant": "PLANT",
+    "plants": "--plant",
     "function": "FUNCTION",
     "source": "SOURCE",
     "out": "--out",
@@ -45,8 +46,13 @@ _FLAGS = {
 }
 """The command line's word for the head of a domain field path."""
 
-_COMMAND_FLAGS = {"export": {"plant": "--plant"}}
-"""Where a command spells a head otherwise (export takes the plant as an option)."""
+_COMMAND_FLAGS = {
+    "export": {"plant": "--plant"},
+    "simulate": {"tire": "--tire"},
+    "tune": {"tire": "--tire"},
+}
+"""Where a command spells a head otherwise (export takes the plant as an option; simulate and
+tune take a TIR file as --tire, the command `tire` as its argument)."""
 
 
 def cli_field(field: str, command: str | None = None) -> str:

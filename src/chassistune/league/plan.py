@@ -93,9 +93,9 @@ def plan(setting: Setting) -> StudyPlan:
     """The league's study plan (InputError naming the option for a bad setting)."""
     for name in setting.plants:
         if name not in PLANTS:
-            raise InputError("--plant", f"the league runs {', '.join(PLANTS)}, not {name!r}")
+            raise InputError("plants", f"the league runs {', '.join(PLANTS)}, not {name!r}")
     try:
         return plan_study(parse_config(config(setting)))
     except InputError as exc:
-        field = "--optimizer" if exc.field.startswith("optimizers") else exc.field
+        field = "optimizer" if exc.field.startswith("optimizers") else exc.field
         raise InputError(field, exc.problem) from None

@@ -127,13 +127,17 @@ def segment_polynomials(curve: MagicFormulaCurve) -> tuple[np.ndarray, np.ndarra
 
 
 def polynomial_mu(zones: np.ndarray, coef: np.ndarray, slip: np.ndarray) -> np.ndarray:
-    """The piecewise cubic at slips in [0, 1]: the kernels' law
-    (`sim.abs_wheel_tires.magic_formula_mu`) in a compiled loop, bit for bit."""
-    from chassistune.sim.abs_wheel_tires import magic_formula_mu_many
-
+    """The piecewise cubic at slips in [0, 1], in numpy: the kernels' law
+    (`sim.abs_wheel_tires.magic_formula_mu`) without its fused multiply-adds (within a few
+    ulps of it; the fit check needs 1e-5)."""
     n1, o1, n2, o2 = (float(z) for z in zones)
-    s = np.ascontiguousarray(slip, dtype=np.float64)
-    return np.asarray(magic_formula_mu_many(s, n1, o1, n2, o2, np.ascontiguousarray(coef)))
+    s = np.asarray(slip, dtype=np.float64)
+    u = s * n1 + o1
+    u = np.where(u < FINE_SEGMENTS, u, s * n2 + o2)
+    i = np.minimum(np.maximum(u, 0.0).astype(np.int64), SEGMENTS)
+    f = u - i
+    c = np.asarray(coef, dtype=np.float64).reshape(-1, DEGREE + 1)[i]
+    return c[:, 0] + f * (c[:, 1] + f * (c[:, 2] + f * c[:, 3]))
 
 
 def fit_gap(curve: MagicFormulaCurve) -> float:

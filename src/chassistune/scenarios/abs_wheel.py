@@ -382,7 +382,7 @@ def _tire(
         return tire_for_road(road, values)
     if mode != "ideal":
         raise InputError(
-            "--tire",
+            "tire",
             "the Magic Formula tire runs on the ideal single wheel only so far, "
             "not with --ecu realistic",
         )
