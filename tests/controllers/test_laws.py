@@ -74,7 +74,21 @@ def test_a_law_with_a_discrete_form_has_its_c_and_the_reverse(name: str) -> None
 
 @pytest.mark.parametrize("name", laws.names())
 def test_a_laws_memory_fits_the_kernels_lanes(name: str) -> None:
-    assert len(laws.get(name).state) <= registry.MEMORY
+    law = laws.get(name)
+    assert len(law.state) <= registry.slots("memory")
+    assert len(law.ecu_inputs) <= registry.slots("ecu_inputs")
+    assert law.discrete is None or len(law.discrete.state) <= registry.slots("discrete_state")
+
+
+def test_the_lanes_are_sized_from_the_laws_and_a_larger_law_is_refused() -> None:
+    most = max(len(laws.get(n).state) for n in laws.names())
+    assert registry.slots("memory") == most
+    big = dataclasses.replace(
+        laws.get("threshold"), name="big", specs=(), state=("m",) * (most + 1)
+    )
+    with pytest.raises(ValueError, match="memory slots"):
+        laws.register(big)
+    assert "big" not in laws.names()
 
 
 def test_the_fingerprint_names_the_registered_laws() -> None:

@@ -7,7 +7,6 @@ import re
 import numpy as np
 import pytest
 
-from chassistune.controllers.laws.registry import MEMORY
 from chassistune.errors import InputError
 from chassistune.scenarios.abs_vehicle import PLANT
 from chassistune.scenarios.base import PENALTY
@@ -71,7 +70,7 @@ def test_layouts_declare_every_kernel_slot_once():
     # a lane's rows start with the state (`state_of` reads them in place), then its k4
     assert VL.LANE_LAYOUT.names[: VL.N_STATE] == VL.STATE_LAYOUT.names
     assert VL.R_K4 == VL.N_STATE and VL.R_KP == 2 * VL.N_STATE
-    assert VL.R_WS - VL.R_MEM == 4 * MEMORY and len(VL.LANE_LAYOUT) == VL.N_ROWS
+    assert VL.R_WS - VL.R_MEM == 4 * VL.MEMORY and len(VL.LANE_LAYOUT) == VL.N_ROWS
     sc = PLANT.scenario(None, "dry-concrete", "pid")
     tr = sc.trace(sc.gains_array(None))
     assert set(tr.signals) == set(VL.TRACE_LAYOUT.names)

@@ -49,14 +49,21 @@ DEFAULT_TABLE_POINTS = 49
 """`fuzzy_table_points`: nodes per input of the ECU lookup table (see the module docstring)."""
 
 
-N_STATE = 4
-"""Floats of a law's state vector (enough for every law's `DiscreteLaw.state`)."""
+N_STATE = registry.slots("discrete_state")
+"""Floats of a law's state vector: the most any registered law's `DiscreteLaw.state` holds."""
+ECU_INPUTS = registry.slots("ecu_inputs")
+"""Floats of a law's input vector: the most inputs any registered law reads."""
 
 INPUT_DESCRIPTIONS = {
     "slip": "wheel slip (v - w R) / v against the reference speed, in [0, 1]",
     "pressure_at_max": "1 while the brake pressure sits at its maximum q_max, else 0",
     "pressure_at_min": "1 while the brake pressure is 0, else 0",
     "wheel_speed_rad_s": "wheel angular speed (rad/s)",
+    "reference_speed_m_s": "reference speed the slip is taken against (m/s)",
+    "pressure": "brake pressure (the pressure sensor or the valve model)",
+    "pressure_prev": "brake pressure at the last sample",
+    "wheel_speed_prev_rad_s": "wheel angular speed at the last sample (rad/s)",
+    "time_s": "time of the sample since the brake applied (s)",
 }
 
 
@@ -89,7 +96,7 @@ def _steps_entry(laws_key: int) -> Any:
     cache; the law dispatch is generated from the registry when it compiles)."""
 
     def steps(kind, state, signals, params, table, grid):
-        inputs = np.zeros(registry.ECU_INPUTS)
+        inputs = np.zeros(ECU_INPUTS)
         out = np.empty(signals.shape[0])
         for k in range(signals.shape[0]):
             out[k] = law_ecu_step(laws_key, kind, state, inputs, signals[k], params, table, grid)

@@ -10,7 +10,9 @@ cut-out, no schedule), written from the plant's public interface only:
 - the scenario's public parameters (`plant_params`, `target_slip`, `scoring`,
   `bound_distance_m`), packed here into the loop's own declared vector (`LOOP`).
 At each tick (every ts = m dt, before the step) the controller sees the exact slip
-`wheel_slip(v, w, R)`, the wheel speed and whether the pressure sits at q_max or 0; its command
+`wheel_slip(v, w, R)`, the wheel speed and whether the pressure sits at q_max or 0, the true
+speed as reference speed, the pressure, the pressure and wheel speed at the last tick and the
+time (`SIGNALS`); its command
 is held over the m classic RK4 steps of (v, w, q, r) with the step-end update (w >= 0, q clipped
 to [0, q_max]) and the stop at v_stop located inside the last step. The kernel's private slots
 and packed vectors are not read: tests/export check that this loop gives the ECU kernel's stop
@@ -38,7 +40,17 @@ from chassistune.sim.integrate import crossing_fraction, rk4_point, rk4_update, 
 Controller = Callable[[NDArray[np.float64]], float]
 """A sampled controller: the command u for one row of inputs (it keeps its own state)."""
 
-SIGNALS = ("slip", "wheel_speed_rad_s", "pressure_at_max", "pressure_at_min")
+SIGNALS = (
+    "slip",
+    "wheel_speed_rad_s",
+    "pressure_at_max",
+    "pressure_at_min",
+    "reference_speed_m_s",
+    "pressure",
+    "pressure_prev",
+    "wheel_speed_prev_rad_s",
+    "time_s",
+)
 """What the loop offers a controller at each sample; each law picks its inputs by name."""
 
 LOOP = Layout(
@@ -226,9 +238,12 @@ def run(
     rows: list[list[float]] = []
     commands: list[float] = []
     pick = [SIGNALS.index(n) for n in input_names]
+    q_prev, w_prev = 0.0, x[X_W]
     while True:
-        q = x[X_Q]
-        sample = [float(ecu_slip(x, lc)), x[X_W], float(q >= pp.q_max), float(q <= 0.0)]
+        q, w, t = x[X_Q], x[X_W], acc[A_STEP] * pp.dt_s
+        sample = [float(ecu_slip(x, lc)), w, float(q >= pp.q_max), float(q <= 0.0)]
+        sample += [x[X_V], q, q_prev, w_prev, t]
+        q_prev, w_prev = q, w
         rows.append(sample)
         u = float(controller(np.array([sample[i] for i in pick])))
         commands.append(u)

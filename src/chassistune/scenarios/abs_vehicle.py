@@ -249,14 +249,8 @@ class AbsVehicleScenario(Scenario):
             ]
         )
         c = VL.CONTROLLER_LAYOUT.pack(
-            {
-                "ts_s": cp.get("ts_s", pp.dt_s),
-                "amplitude": cp.get("amplitude", 0.0),
-                "decel_threshold_m_s2": cp.get("decel_threshold_m_s2", 0.0),
-                "accel_threshold_m_s2": cp.get("accel_threshold_m_s2", 0.0),
-                "slip_margin": cp.get("slip_margin", 0.0),
-                "slow_fraction": cp.get("slow_fraction", 0.0),
-            }
+            {n: cp.get(n, 0.0) for n in VL.CONTROLLER_LAYOUT.names}
+            | {"ts_s": cp.get("ts_s", pp.dt_s)}
         )
         base = self.controller.name
         table = (

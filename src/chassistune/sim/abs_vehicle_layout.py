@@ -11,7 +11,7 @@ writes it.
 
 from __future__ import annotations
 
-from chassistune.controllers.laws.registry import MEMORY
+from chassistune.controllers.laws import registry
 from chassistune.layout import Layout, Slot
 from chassistune.plants.abs_vehicle import (
     GEO_A,
@@ -30,6 +30,9 @@ from chassistune.plants.abs_vehicle import (
     WK_VR,
 )
 from chassistune.sim import abs_wheel_layout as WL
+
+MEMORY = registry.slots("memory")
+"""Memory slots of each wheel's law (`Law.state`): the most any registered law keeps."""
 
 WHEELS = ("fl", "fr", "rl", "rr")
 CONTROLLER_LAYOUT = WL.CONTROLLER
@@ -370,6 +373,7 @@ LANE_LAYOUT = Layout(
             for slot in _per_wheel(f"memory{m}", "-", "the wheel law's memory (`Law.state`)")
         ),
         *_per_wheel("w_sampled", "rad/s", "wheel speed at the last sample instant"),
+        *_per_wheel("q_sampled", "unit", "brake pressure at the last sample instant"),
         Slot("distance_m", "m", "CG path length"),
         Slot("speed_m_s", "m/s", "CG speed at the last step end"),
         Slot("iae", "s"),
@@ -409,6 +413,7 @@ R_LOCK_M1 = LANE_LAYOUT["lock_margin_end_fl"]
 R_MEM = LANE_LAYOUT["memory0_fl"]
 """Memory slot m of wheel j at row R_MEM + 4 m + j."""
 R_WS = LANE_LAYOUT["w_sampled_fl"]
+R_QS = LANE_LAYOUT["q_sampled_fl"]
 R_DIST = LANE_LAYOUT["distance_m"]
 R_SPEED = LANE_LAYOUT["speed_m_s"]
 R_IAE = LANE_LAYOUT["iae"]

@@ -11,15 +11,18 @@ from typing import Any
 
 import numba
 import numpy as np
+from numba.np.unsafe.ndarray import to_fixed_tuple
 
 from chassistune.controllers.laws.dispatch import law_start, tick_pass
 from chassistune.sim.abs_vehicle_lane import NO_REFCOUNT, lane_get, target_slip
 from chassistune.sim.abs_vehicle_layout import (
+    KC_DT,
     KC_NF,
     KC_RW,
     KC_SELECT_LOW,
     KC_TTIMEOUT,
     LANES,
+    MEMORY,
     N_ROWS,
     R_ALL_D,
     R_ALL_T,
@@ -30,6 +33,7 @@ from chassistune.sim.abs_vehicle_layout import (
     R_LOCK_T,
     R_MEM,
     R_PSI1,
+    R_QS,
     R_SLIP,
     R_SPEED,
     R_SPIN_T,
@@ -39,6 +43,7 @@ from chassistune.sim.abs_vehicle_layout import (
     R_U0,
     R_WS,
     R_Y1,
+    S_Q,
     S_VX,
     S_W,
     S_XF,
@@ -48,10 +53,10 @@ from chassistune.sim.abs_vehicle_wheels import select_low, surface_flag
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _wheel_inputs(st, l, j, src, e, kc, srf):
-    """What the law's tick reads for wheel j of lane l on its channel error e: the signals of
-    wheel src (itself, or under select-low the rear wheel whose error it took), wheel j's held
-    values and memory."""
+def _wheel_inputs(st, l, j, src, e, kc, srf, t):
+    """What the law's tick at time t reads for wheel j of lane l on its channel error e: the
+    signals of wheel src (itself, or under select-low the rear wheel whose error it took; the
+    reference speed is the CG's), wheel j's held values, pressures and memory."""
     sig = (
         e,
         lane_get(st, R_SLIP + src, l),
@@ -60,6 +65,10 @@ def _wheel_inputs(st, l, j, src, e, kc, srf):
         lane_get(st, R_WS + src, l),
         kc[KC_RW],
         kc[KC_NF] * (e - lane_get(st, S_XF + j, l)),
+        lane_get(st, R_SPEED, l),
+        lane_get(st, S_Q + j, l),
+        lane_get(st, R_QS + j, l),
+        t,
     )
     held = (
         lane_get(st, R_U0 + j, l),
@@ -67,16 +76,18 @@ def _wheel_inputs(st, l, j, src, e, kc, srf):
         lane_get(st, R_KI + j, l),
         lane_get(st, R_KD + j, l),
     )
-    mem = (lane_get(st, R_MEM + j, l), lane_get(st, R_MEM + 4 + j, l))
+    mem = to_fixed_tuple(st[(R_MEM + j) * LANES + l :: 4 * LANES], MEMORY)  # type: ignore[call-arg,var-annotated]
     return sig, held, mem
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _wheel_store(st, l, j, held, mem):
-    """Wheel j of lane l after the law's tick: its held values and memory."""
+    """Wheel j of lane l after the law's tick: its held values and memory (the slots its tick
+    returns)."""
     st[(R_U0 + j) * LANES + l], st[(R_KP + j) * LANES + l] = held[0], held[1]
     st[(R_KI + j) * LANES + l], st[(R_KD + j) * LANES + l] = held[2], held[3]
-    st[(R_MEM + j) * LANES + l], st[(R_MEM + 4 + j) * LANES + l] = mem
+    for m in range(len(mem)):
+        st[(R_MEM + 4 * m + j) * LANES + l] = mem[m]
 
 
 @functools.cache
@@ -88,7 +99,7 @@ def _wheel_ticks_of(law_tick: Any) -> Any:
 
     def wheel_ticks(st, l, i, k, errors, sources, gains, col0, c, table, kc, srf, ts):
         for j in range(4):
-            sig, held, mem = _wheel_inputs(st, l, j, sources[j], errors[j], kc, srf)
+            sig, held, mem = _wheel_inputs(st, l, j, sources[j], errors[j], kc, srf, k * kc[KC_DT])
             held, mem = law_tick(sig, held, mem, gains[i], col0[j], c, table, ts, k == 0)
             _wheel_store(st, l, j, held, mem)
 
@@ -119,6 +130,7 @@ def tick(st, l, i, k, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts):
     _wheel_ticks(laws_key, ctrl_kind, args)
     for j in range(4):
         st[(R_WS + j) * LANES + l] = lane_get(st, S_W + j, l)
+        st[(R_QS + j) * LANES + l] = lane_get(st, S_Q + j, l)
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")

@@ -138,6 +138,11 @@ if ECU_SIGNALS.names != (  # pragma: no cover
     "pressure_at_min",
     "target_slip",
     "amplitude",
+    "reference_speed_m_s",
+    "pressure",
+    "pressure_prev",
+    "wheel_speed_prev_rad_s",
+    "time_s",
 ):
     raise RuntimeError("the ECU tick builds the law signals in ECU_SIGNALS order")
 
@@ -184,6 +189,8 @@ N_ECU_METRICS = len(EL.METRICS) - M_ECU_IAE
     R_U0,
     R_CMD,
     R_RESID,
+    R_W_PREV,
+    R_Q_PREV,
     R_PM0,
     R_PS0,
     R_PO0,
@@ -233,6 +240,9 @@ LANES = 32
 """Candidates in flight per kernel call (a multiple of VECTOR)."""
 VECTOR = 8
 """Lanes per vector iteration of `_plant_steps_of`."""
+
+ECU_INPUTS = laws.slots("ecu_inputs")
+"""Slots of a law's inputs in a lane's scratch row: the most any registered law reads."""
 
 LOW_SPEED_BAND_M_S = (1.0, 9.0)
 """Speed band of `low_speed_slip_error` (fixed gains fail below about 9 m/s)."""
@@ -390,15 +400,22 @@ def schedule(laws_key, kind, base, params, vref, v0, x):
 
 
 @_inline
-def law(laws_key, kind, state, inputs, params, table, grid, slip, w_read, q, q_max, target, amp):
+def law(laws_key, kind, state, inputs, params, table, grid, st, l, slip, w_read, vref, t, amp):
     """Tick stage 6 (docs/ecu.md, the realistic kernel, 4): the command of the law `kind`, its
     ECU form from the registry (`controllers.laws.dispatch.law_ecu_step`: the discrete form of
     design.md 4; none and bang-bang as in the ideal kernel), fed the signals it names
     (`forms.ECU_SIGNALS`: the ECU slip, the wheel speed read, the pressure at its bounds, the
-    target slip, the amplitude). The one call site of the law dispatch."""
+    target slip, the amplitude, the reference speed, the valve model's pressure now and at the
+    last tick, the wheel speed read at the last tick, the time) of lane l at t, whose pressure
+    and wheel speed it then keeps for the next tick. The one call site of the law dispatch."""
+    q, q_max = st[R_Q * LANES + l], st[R_QMAX * LANES + l]
     at_max = 1.0 if q >= q_max else 0.0
     at_min = 1.0 if q <= 0.0 else 0.0
-    sig = (slip, w_read, at_max, at_min, target, amp)
+    w_prev, q_prev = st[R_W_PREV * LANES + l], st[R_Q_PREV * LANES + l]
+    target = st[R_TARGET * LANES + l]
+    sig = (slip, w_read, at_max, at_min, target, amp, vref, q, q_prev, w_prev, t)
+    st[R_W_PREV * LANES + l] = w_read
+    st[R_Q_PREV * LANES + l] = q
     return law_ecu_step(laws_key, kind, state, inputs, sig, params, table, grid)
 
 
@@ -461,8 +478,8 @@ def _tick(st, l, aux, base, x, ts, t, tire, tc, table, grid, acc_noise, laws_key
     n_p = base.shape[0]
     state = aux[: D.N_STATE]
     params = aux[D.N_STATE : D.N_STATE + n_p]
-    inputs = aux[D.N_STATE + n_p : D.N_STATE + n_p + laws.ECU_INPUTS]
-    line = aux[D.N_STATE + n_p + laws.ECU_INPUTS :]
+    inputs = aux[D.N_STATE + n_p : D.N_STATE + n_p + ECU_INPUTS]
+    line = aux[D.N_STATE + n_p + ECU_INPUTS :]
     w_read = sensor(st, l, t, x)
     vref = reference_speed(st, l, w_read, x, ts, tire, tc, acc_noise)
     slip = ecu_slip(st, l, vref, w_read)
@@ -470,9 +487,8 @@ def _tick(st, l, aux, base, x, ts, t, tire, tc, table, grid, acc_noise, laws_key
     u = amp
     if not cut:
         schedule(laws_key, kind, base, params, vref, st[R_V0 * LANES + l], x)
-        q, q_max, target = st[R_Q * LANES + l], st[R_QMAX * LANES + l], st[R_TARGET * LANES + l]
         u = law(
-            laws_key, kind, state, inputs, params, table, grid, slip, w_read, q, q_max, target, amp
+            laws_key, kind, state, inputs, params, table, grid, st, l, slip, w_read, vref, t, amp
         )
     tick = int(st[R_TICK * LANES + l])
     cmd = delay_line(line, tick, int(x[X_DELAY]), u)
@@ -773,6 +789,7 @@ def _fill_lane(st, l, aux, p, x, spacing):
     r[R_VREF] = v0
     r[R_VW_PREV] = v0
     r[R_VW] = v0
+    r[R_W_PREV] = v0 / r_w
     if x[X_TOOTHED] != 0.0:
         teeth = int(x[X_TEETH])
         k_next = E.sensor_first_edge(0.0, teeth, spacing)
@@ -1050,7 +1067,7 @@ def simulate_abs_wheel_ecu(
     xc, xs, ys = table_tuples(tire_xs, tire_ys) if tire_kind == KIND_TABLE else _NO_TABLE
     rows = np.ascontiguousarray(np.atleast_2d(plant), dtype=np.float64)
     lp = np.ascontiguousarray(law_params, dtype=np.float64)
-    aux_width = D.N_STATE + lp.shape[1] + laws.ECU_INPUTS + max(int(ecu[X_DELAY]), 1)
+    aux_width = D.N_STATE + lp.shape[1] + ECU_INPUTS + max(int(ecu[X_DELAY]), 1)
     entry_point()(
         tire_kind,
         lp,

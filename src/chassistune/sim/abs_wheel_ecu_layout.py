@@ -136,6 +136,8 @@ LANE = Layout(
         Slot("u0", "-", "held command of the continuous actuator"),
         Slot("cmd", "-", "command after the delay line and the cut-out"),
         Slot("residual", "preset unit", "sigma-delta residual of the duty pulses"),
+        Slot("w_read_prev_rad_s", "rad/s", "wheel speed read at the tick before (the law's)"),
+        Slot("pressure_prev", "preset unit", "brake pressure at the tick before (the law's)"),
         # valve pulses (previous and current) and their accounting
         Slot("pulse0_mode", "-", "previous pulse: valve state"),
         Slot("pulse0_start_s", "s", "previous pulse: start"),

@@ -74,6 +74,7 @@ import numpy as np
 from numba import njit, types
 from numba.core.errors import TypingError
 from numba.extending import overload, register_jitable
+from numba.np.unsafe.ndarray import to_fixed_tuple
 
 from chassistune._branchfree import clip, fmax, fmin, select, stack_copy
 from chassistune.controllers.laws import registry as laws
@@ -84,7 +85,7 @@ from chassistune.controllers.laws.dispatch import (
     law_start,
     tick_pass,
 )
-from chassistune.controllers.laws.forms import SIG_WHEEL_SPEED
+from chassistune.controllers.laws.forms import SIG_PRESSURE, SIG_WHEEL_SPEED
 from chassistune.controllers.laws.held_pid import HELD_PID
 from chassistune.controllers.laws.registry import ContinuousForm
 from chassistune.plants.mf_curve import POLY_SIZE
@@ -207,9 +208,12 @@ RK3, RK4 = 3, 4
     R_EB,
     R_ET,
     R_EH,
+    R_QS,
     R_MEM,
-) = range(43)
-R_X = R_MEM + laws.MEMORY
+) = range(44)
+MEMORY = laws.slots("memory")
+"""Rows of the law's memory (`Law.state`): the most any registered law keeps."""
+R_X = R_MEM + MEMORY
 """The law's continuous state (`ContinuousForm.state`): `CONTINUOUS` rows after its memory."""
 N_ROWS = R_X + laws.CONTINUOUS
 """Rows of a lane; the last `MEMORY` + `CONTINUOUS` hold the law's memory (`Law.state`) and its
@@ -619,25 +623,39 @@ def _finish_lane(st, l, out_row):
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _tick_inputs(st, l, target):
-    """What a sampled law's tick reads in lane l: its signals (`controllers.laws.forms.SIGNALS`),
-    held values and memory."""
+def _tick_inputs(st, l, target, t):
+    """What a sampled law's tick at time t reads in lane l: its signals
+    (`controllers.laws.forms.SIGNALS`), held values and memory (`MEMORY` rows)."""
     slip = st[R_SLIP * LANES + l]
     e = target - slip
     ec = st[R_NF * LANES + l] * (e - st[R_XF * LANES + l])  # filtered de/dt
-    sig = (e, slip, target, _get(st, R_W, l), _get(st, R_WS, l), _get(st, R_RW, l), ec)
+    sig = (
+        e,
+        slip,
+        target,
+        _get(st, R_W, l),
+        _get(st, R_WS, l),
+        _get(st, R_RW, l),
+        ec,
+        _get(st, R_V, l),
+        _get(st, R_Q, l),
+        _get(st, R_QS, l),
+        t,
+    )
     held = (_get(st, R_U0, l), _get(st, R_KP, l), _get(st, R_KI, l), _get(st, R_KD, l))
-    mem = (_get(st, R_MEM, l), _get(st, R_MEM + 1, l))
+    mem = to_fixed_tuple(st[R_MEM * LANES + l :: LANES], MEMORY)  # type: ignore[call-arg,var-annotated]
     return sig, held, mem
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _tick_store(st, l, held, mem, w):
-    """Lane l after a sampled law's tick: its held values, its memory and the wheel speed w
-    at this sample."""
+def _tick_store(st, l, held, mem, w, q):
+    """Lane l after a sampled law's tick: its held values, its memory (the slots its tick
+    returns) and the wheel speed w and pressure q at this sample."""
     st[R_U0 * LANES + l], st[R_KP * LANES + l], st[R_KI * LANES + l], st[R_KD * LANES + l] = held
-    st[R_MEM * LANES + l], st[(R_MEM + 1) * LANES + l] = mem
+    for m in range(len(mem)):
+        st[(R_MEM + m) * LANES + l] = mem[m]
     st[R_WS * LANES + l] = w
+    st[R_QS * LANES + l] = q
 
 
 @functools.cache
@@ -647,13 +665,13 @@ def _tick_lanes_of(tick: Any) -> Any:
     the entry point's cache holds it): the law's update (`Law.forms`) in each of lanes
     0 .. live - 1 whose step is one of its own sample instants."""
 
-    def tick_lanes(st, live, lane_of, gains, c, table, target, ts, steps_per_sample):
+    def tick_lanes(st, live, lane_of, gains, c, table, target, ts, steps_per_sample, dt):
         for l in range(live):
             k = int(st[R_STEP * LANES + l])
             if steps_per_sample == 1 or k % steps_per_sample == 0:
-                sig, held, mem = _tick_inputs(st, l, target)
+                sig, held, mem = _tick_inputs(st, l, target, k * dt)
                 held, mem = tick(sig, held, mem, gains[lane_of[l]], 0, c, table, ts, k == 0)
-                _tick_store(st, l, held, mem, sig[SIG_WHEEL_SPEED])
+                _tick_store(st, l, held, mem, sig[SIG_WHEEL_SPEED], sig[SIG_PRESSURE])
 
     tick_lanes.__qualname__ = f"tick_lanes_{tick.py_func.__module__.rsplit('.', 1)[-1]}"
     return njit(nogil=True, error_model="numpy", **_NO_NRT)(tick_lanes)
@@ -716,7 +734,7 @@ def _simulate(
     trace_t_end = t_timeout
     while live > 0:
         if sampled:  # each lane at its own sample instants
-            args = (st, live, lane_of, gains, c, table, target, ts, steps_per_sample)
+            args = (st, live, lane_of, gains, c, table, target, ts, steps_per_sample, dt)
             _tick_lanes(laws_key, ctrl_kind, args)
         width = -(-live // VECTOR) * VECTOR
         ended = _vector_loop(

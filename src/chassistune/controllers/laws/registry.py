@@ -91,7 +91,7 @@ class Law:
     g0, c) -> held`, the held values (u0, kp, ki, kd) of the continuous PID at the start of a
     run (None: all zero, the law at rest), and `tick(sig, held, mem, g, g0, c, table, ts,
     first) -> (held, mem)`, the update at each sample instant (None: the law is not sampled),
-    with `mem` the law's memory (`state`, at most `MEMORY` slots, zero at the start).
+    with `mem` the law's memory (`state`, in `slots("memory")` slots, zero at the start).
     `continuous`: its continuous form (None: the continuous PID with the held values,
     `controllers.laws.held_pid.HELD_PID`).
     """
@@ -125,17 +125,34 @@ class Law:
         return self.discrete.inputs if self.discrete is not None else self.ecu.inputs
 
 
-MEMORY = 2
-"""Slots of a law's memory in the kernels' lanes (the largest `Law.state`)."""
-
 CONTINUOUS = 2
-"""Slots of a law's continuous state in the kernels' lanes (the largest `ContinuousForm.state`)."""
-
-ECU_INPUTS = 3
-"""Slots of a law's inputs in the ECU kernel's lanes (the most `EcuForm.inputs`)."""
+"""Slots of a law's continuous state in the kernels' lanes (the largest `ContinuousForm.state`):
+the ideal wheel kernel's vector loop carries them as two values of its state tuple."""
 
 _LAWS: Registry[Law] = Registry("controller")
 _DIGESTS: dict[str, str] = {}
+_SLOTS: dict[str, int] = {}
+"""The slot counts the kernels' layouts were sized with (`slots`), by what they hold."""
+
+
+def _needs(law: Law) -> dict[str, int]:
+    """The slots `law` needs, by what they hold (`slots`)."""
+    return {
+        "memory": len(law.state),
+        "ecu_inputs": len(law.ecu_inputs),
+        "discrete_state": 0 if law.discrete is None else len(law.discrete.state),
+    }
+
+
+def slots(what: str) -> int:
+    """The most slots any registered law needs of `what`: `memory` (`Law.state`, the kernels'
+    lanes), `ecu_inputs` (`Law.ecu_inputs`, the ECU kernel's lanes), `discrete_state`
+    (`DiscreteLaw.state`, the state vector of `controllers.discrete`). Fixed at the first ask:
+    a kernel's layout asks on import, after `controllers.laws` registered the built-in laws,
+    and a law registered later that needs more is refused."""
+    if what not in _SLOTS:
+        _SLOTS[what] = max(_needs(get(n))[what] for n in names())
+    return _SLOTS[what]
 
 
 def register(law: Law) -> Law:
@@ -144,16 +161,17 @@ def register(law: Law) -> Law:
         raise ValueError(f"law {law.name!r} declares a spec of another name")
     if not law.source:
         raise ValueError(f"law {law.name!r} does not say where its equations come from (source)")
-    if len(law.state) > MEMORY:
-        raise ValueError(f"law {law.name!r} keeps {len(law.state)} memory slots (at most {MEMORY})")
+    for what, need in _needs(law).items():
+        if need > _SLOTS.get(what, need):
+            raise ValueError(f"law {law.name!r} needs {need} {what} slots (at most {_SLOTS[what]})")
     if law.continuous is not None and not 0 < len(law.continuous.state) <= CONTINUOUS:
         raise ValueError(f"law {law.name!r} integrates 1 to {CONTINUOUS} continuous states")
     if law.ecu is not None and law.ecu.inputs and law.discrete is not None:
         raise ValueError(
             f"law {law.name!r} names its ECU inputs twice (its discrete form declares them)"
         )
-    if law.ecu is not None and not 0 < len(law.ecu_inputs) <= ECU_INPUTS:
-        raise ValueError(f"law {law.name!r} reads 1 to {ECU_INPUTS} ECU inputs")
+    if law.ecu is not None and not law.ecu_inputs:
+        raise ValueError(f"law {law.name!r} reads no ECU input")
     _LAWS.register(law.name, law)
     module = inspect.getmodule(law.forms)
     source = inspect.getsource(module) if module is not None else law.name
