@@ -11,7 +11,6 @@ from typing import Any
 
 import numba
 import numpy as np
-from numba.np.unsafe.ndarray import to_fixed_tuple
 
 from chassistune.controllers.laws.dispatch import law_start, tick_pass
 from chassistune.sim.abs_vehicle_lane import NO_REFCOUNT, lane_get, target_slip
@@ -50,6 +49,9 @@ from chassistune.sim.abs_vehicle_layout import (
     STATUS_TIMEOUT,
 )
 from chassistune.sim.abs_vehicle_wheels import select_low, surface_flag
+from chassistune.sim.lanes import read_rows, write_rows
+
+_MEMORY_ZEROS = (0.0,) * MEMORY
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -76,7 +78,7 @@ def _wheel_inputs(st, l, j, src, e, kc, srf, t):
         lane_get(st, R_KI + j, l),
         lane_get(st, R_KD + j, l),
     )
-    mem = to_fixed_tuple(st[(R_MEM + j) * LANES + l :: 4 * LANES], MEMORY)  # type: ignore[call-arg,var-annotated]
+    mem = read_rows(st, (R_MEM + j) * LANES + l, 4 * LANES, _MEMORY_ZEROS)
     return sig, held, mem
 
 
@@ -86,8 +88,7 @@ def _wheel_store(st, l, j, held, mem):
     returns)."""
     st[(R_U0 + j) * LANES + l], st[(R_KP + j) * LANES + l] = held[0], held[1]
     st[(R_KI + j) * LANES + l], st[(R_KD + j) * LANES + l] = held[2], held[3]
-    for m in range(len(mem)):
-        st[(R_MEM + 4 * m + j) * LANES + l] = mem[m]
+    write_rows(st, (R_MEM + j) * LANES + l, 4 * LANES, mem)
 
 
 @functools.cache

@@ -74,7 +74,6 @@ import numpy as np
 from numba import njit, types
 from numba.core.errors import TypingError
 from numba.extending import overload, register_jitable
-from numba.np.unsafe.ndarray import to_fixed_tuple
 
 from chassistune._branchfree import clip, fmax, fmin, select, stack_copy
 from chassistune.controllers.laws import registry as laws
@@ -112,7 +111,7 @@ from chassistune.sim.integrate import (
     rk4_update,
     trapezoid,
 )
-from chassistune.sim.lanes import close_lane
+from chassistune.sim.lanes import close_lane, read_rows, write_rows
 
 # slots of the declared layouts (numba freezes these module integers as constants)
 P_MASS, P_INERTIA, P_RADIUS, P_V0 = (
@@ -214,6 +213,7 @@ RK3, RK4 = 3, 4
 MEMORY = laws.slots("memory")
 """Rows of the law's memory (`Law.state`): the most any registered law keeps."""
 R_X = R_MEM + MEMORY
+_MEMORY_ZEROS = (0.0,) * MEMORY
 """The law's continuous state (`ContinuousForm.state`): `CONTINUOUS` rows after its memory."""
 N_ROWS = R_X + laws.CONTINUOUS
 """Rows of a lane; the last `MEMORY` + `CONTINUOUS` hold the law's memory (`Law.state`) and its
@@ -643,7 +643,7 @@ def _tick_inputs(st, l, target, t):
         t,
     )
     held = (_get(st, R_U0, l), _get(st, R_KP, l), _get(st, R_KI, l), _get(st, R_KD, l))
-    mem = to_fixed_tuple(st[R_MEM * LANES + l :: LANES], MEMORY)  # type: ignore[call-arg,var-annotated]
+    mem = read_rows(st, R_MEM * LANES + l, LANES, _MEMORY_ZEROS)
     return sig, held, mem
 
 
@@ -652,8 +652,7 @@ def _tick_store(st, l, held, mem, w, q):
     """Lane l after a sampled law's tick: its held values, its memory (the slots its tick
     returns) and the wheel speed w and pressure q at this sample."""
     st[R_U0 * LANES + l], st[R_KP * LANES + l], st[R_KI * LANES + l], st[R_KD * LANES + l] = held
-    for m in range(len(mem)):
-        st[(R_MEM + m) * LANES + l] = mem[m]
+    write_rows(st, R_MEM * LANES + l, LANES, mem)
     st[R_WS * LANES + l] = w
     st[R_QS * LANES + l] = q
 
