@@ -30,7 +30,7 @@ def read_rows(st: np.ndarray, first: int, step: int, zeros: tuple) -> tuple:  # 
     strided view copied into a tuple costs a view and a bounds-checked loop at every tick."""
     out = zeros
     for m in range(len(zeros)):
-        out = tuple_setitem(out, m, st[first + m * step])
+        out = tuple_setitem(out, m, st[first + m * step])  # type: ignore[call-arg]
     return out
 
 
