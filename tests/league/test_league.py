@@ -15,7 +15,7 @@ from chassistune.cli.main import main
 from chassistune.controllers import laws
 from chassistune.league.cases import PLANTS
 from chassistune.league.page import PAGE, SCORES_CSV, ranking
-from chassistune.league.plan import league_laws
+from chassistune.league.plan import Setting, league_laws
 
 
 def _league(out: Path, *extra: str) -> None:
@@ -34,7 +34,7 @@ def quick(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def test_every_registered_law_meets_every_held_out_case(quick: Path) -> None:
     scores = pd.read_csv(quick / SCORES_CSV)
     for name, lp in PLANTS.items():
-        tuned, untuned = league_laws(lp)
+        tuned, untuned = league_laws(lp, Setting(tuple(PLANTS)))
         assert set(tuned + untuned) == set(scores[scores.plant == name].law)
         every = {s.name for s in laws.for_plant(name)}
         missing = every - set(tuned + untuned)

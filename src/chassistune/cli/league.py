@@ -14,6 +14,7 @@ from chassistune._interrupt import on_interrupt
 from chassistune.cli.choices import ChoicesOption
 from chassistune.cli.common import check_study_folder
 from chassistune.cli.options import executor_options
+from chassistune.league.cases import KNOWLEDGE
 
 LEAGUE_PLANTS = ("abs-wheel", "abs-vehicle")
 
@@ -51,6 +52,15 @@ LEAGUE_PLANTS = ("abs-wheel", "abs-vehicle")
 @click.option("--pop", type=click.IntRange(min=1), help="Population (full: 20).")
 @click.option("--evals", type=click.IntRange(min=1), help="Evaluations per run (full: 2000).")
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Root seed.")
+@click.option(
+    "--road-knowledge",
+    type=click.Choice(KNOWLEDGE),
+    default="fixed",
+    show_default=True,
+    help="What a law that regulates a target slip is told of the road: fixed (one target for "
+    "every road, tuned with its gains; no vehicle knows its road's peak) or oracle (the road's "
+    "optimal slip, the papers' setting). The vehicle's laws take the oracle's in both.",
+)
 @executor_options
 def league_command(
     out_dir: str,
@@ -61,6 +71,7 @@ def league_command(
     pop: int | None,
     evals: int | None,
     seed: int,
+    road_knowledge: str,
     executor: str,
     scheduler: str | None,
     workers: int | None,
@@ -91,7 +102,7 @@ def league_command(
         pop_size=pop or budget.pop_size,
         evaluations=evals or budget.evaluations,
     )
-    setting = Setting(plants or LEAGUE_PLANTS, optimizer.lower(), budget, seed)
+    setting = Setting(plants or LEAGUE_PLANTS, optimizer.lower(), budget, seed, road_knowledge)
     league_plan = plan(setting)
     check_study_folder(out_dir, executor)
     forget = on_interrupt(

@@ -10,6 +10,10 @@ OBJECTIVE = "distance_ratio"
 """Stop distance over the road's adhesion bound (plus the lock penalty): it asks nothing of a
 law's internals, so a law with a target slip and one without compete on one scale."""
 
+KNOWLEDGE = ("fixed", "oracle")
+"""The league's road knowledge choices (`scenarios.road_knowledge`): one tuned target for every
+road (the default: no vehicle knows its road's peak) or the road's own peak (the papers')."""
+
 
 @dataclass(frozen=True)
 class Case:

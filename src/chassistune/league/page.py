@@ -11,9 +11,8 @@ import numpy as np
 import pandas as pd
 
 from chassistune._io import write_text
-from chassistune.controllers import laws
-from chassistune.league.cases import OBJECTIVE, PLANTS
-from chassistune.league.plan import Setting
+from chassistune.league.cases import OBJECTIVE, PLANTS, LeaguePlant
+from chassistune.league.plan import Setting, knowledge
 from chassistune.league.score import SCORES, Tuned
 from chassistune.plots.league_cases import CaseGrid, plot_league_cases
 from chassistune.plots.overlay import Line, plot_overlay
@@ -39,6 +38,16 @@ TRACE_PANELS = {
     ),
 }
 """The panels of a plant's trace figure."""
+
+KNOWING = {
+    "fixed": "Road knowledge (column `target slip`): a law that regulates a target slip tunes one "
+    "target for every road with its gains (`fixed`: no vehicle knows its road's peak) on the "
+    "single wheel; on the vehicle its laws take the target of the surface under each wheel "
+    "(`oracle`: `fixed` is not built there).",
+    "oracle": "Road knowledge (column `target slip`): every law that regulates a target slip is "
+    "handed the road's optimal slip (`oracle`, the papers' setting).",
+}
+"""What the page says of the laws' road knowledge, per league setting."""
 
 
 def league_scores(scores: pd.DataFrame) -> pd.DataFrame:
@@ -86,7 +95,7 @@ def _fmt(x: float, digits: int = 3) -> str:
     return "-" if not np.isfinite(x) else f"{x:.{digits}f}"
 
 
-def _table_md(table: pd.DataFrame, cases: list[str]) -> str:
+def _table_md(table: pd.DataFrame, cases: list[str], lp: LeaguePlant, setting: Setting) -> str:
     head = [
         "rank",
         "law",
@@ -101,7 +110,7 @@ def _table_md(table: pd.DataFrame, cases: list[str]) -> str:
         cells = [
             str(r["rank"]),
             str(r["law"]),
-            "oracle" if laws.get(str(r["law"])).needs_target else "none needed",
+            knowledge(lp, str(r["law"]), setting),
             str(r["seeds"]) if r["seeds"] else "untuned",
             f"{_fmt(r['median'])} [{_fmt(r['ci_low'])}, {_fmt(r['ci_high'])}]",
             str(r["failed"]),
@@ -141,7 +150,12 @@ def median_seed(scores: pd.DataFrame, plant: str, law: str) -> int:
 
 
 def plot_hardest(
-    scores: pd.DataFrame, tuned: list[Tuned], plant: str, case_name: str, path: Path
+    scores: pd.DataFrame,
+    tuned: list[Tuned],
+    setting: Setting,
+    plant: str,
+    case_name: str,
+    path: Path,
 ) -> None:
     """Every law of the plant (its median seed) on the hardest case, overlaid."""
     from chassistune.league.score import case_params
@@ -152,7 +166,9 @@ def plot_hardest(
     for law in ranking(scores, plant).law:
         seed = median_seed(scores, plant, law)
         t = next(t for t in tuned if t.plant == plant and t.law == law and t.seed == seed)
-        sc = get_plant(plant).scenario(lp.preset, case.road, law, case_params(lp, case, law))
+        sc = get_plant(plant).scenario(
+            lp.preset, case.road, law, case_params(lp, case, law, setting)
+        )
         gains = np.array([[float(t.gains[n]) for n in sc.gain_names]]).reshape(1, -1)
         tr = sc.trace(gains)
         lines.append(
@@ -176,8 +192,7 @@ def write_page(
         f"Optimizer {setting.optimizer}, {b.evaluations} evaluations (population {b.pop_size}) "
         f"per tuning run, {b.seeds} seeds per law (root seed {setting.seed}); objective: the "
         "mean over the training roads of the stop distance over its adhesion bound plus the "
-        "lock penalty. Every law is handed the road's optimal slip as its target where it "
-        "has one (road knowledge: `oracle`). The tuning runs took "
+        f"lock penalty. {KNOWING[setting.road_knowledge]} The tuning runs took "
         f"{run_time_s:.0f} s together (each run's wall time, summed).",
         "",
         f"![every law on every case]({HEATMAP})",
@@ -188,7 +203,7 @@ def write_page(
         cases = [c.name for c in lp.held_out]
         hard = hardest_case(scores, plant)
         fig = f"league_traces_{plant}.png"
-        plot_hardest(scores, tuned, plant, hard, out_dir / fig)
+        plot_hardest(scores, tuned, setting, plant, hard, out_dir / fig)
         parts += [
             "",
             f"## {plant}",
@@ -198,7 +213,7 @@ def write_page(
             "adhesion bound (1 is the bound; lower is better), per seed; a case without a "
             "stop counts as failed and ranks the law below those with fewer failures.",
             "",
-            _table_md(table, cases),
+            _table_md(table, cases, lp, setting),
             "",
             "Other scores (median over seeds; - where the plant or mode has none):",
             "",

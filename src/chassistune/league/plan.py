@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 from chassistune.controllers import laws
 from chassistune.errors import InputError
-from chassistune.league.cases import OBJECTIVE, PLANTS, LeaguePlant
+from chassistune.league.cases import KNOWLEDGE, OBJECTIVE, PLANTS, LeaguePlant
 from chassistune.studies.spec import StudyPlan, parse_config, plan_study
 
 STUDY_NAME = "league"
@@ -35,6 +35,8 @@ class Setting:
     optimizer: str = "cma-es"
     budget: Budget = FULL
     seed: int = 0
+    road_knowledge: str = "fixed"
+    """What the laws that regulate a target slip are told of the road (`KNOWLEDGE`)."""
 
 
 def runs_realistic(lp: LeaguePlant) -> bool:
@@ -42,14 +44,30 @@ def runs_realistic(lp: LeaguePlant) -> bool:
     return dict(lp.params).get("ecu") == "realistic"
 
 
-def league_laws(lp: LeaguePlant) -> tuple[list[str], list[str]]:
-    """(tuned, untuned): the registry's laws on the plant in its mode, with gains and without."""
+def knowledge(lp: LeaguePlant, law: str, setting: Setting) -> str:
+    """The road knowledge of a law's runs: `none` for a law that regulates no target slip, the
+    oracle on the vehicle (whose laws take each surface's target: `fixed` is not built there),
+    else the league's."""
+    if not laws.get(law).needs_target:
+        return "none"
+    return "oracle" if lp.plant == "abs-vehicle" else setting.road_knowledge
+
+
+def run_params(lp: LeaguePlant, law: str, setting: Setting) -> dict[str, object]:
+    """The parameters of every run of a law on the plant: the plant's and its road knowledge."""
+    return {**dict(lp.params), "road_knowledge": knowledge(lp, law, setting)}
+
+
+def league_laws(lp: LeaguePlant, setting: Setting) -> tuple[list[str], list[str]]:
+    """(tuned, untuned): the registry's laws on the plant in its mode, with gains (a fixed target
+    is one) and without."""
     tuned: list[str] = []
     untuned: list[str] = []
     for spec in laws.for_plant(lp.plant):
         if runs_realistic(lp) and laws.get(spec.name).ecu is None:
             continue
-        (tuned if spec.gains else untuned).append(spec.name)
+        fixed = knowledge(lp, spec.name, setting) == "fixed"
+        (tuned if spec.gains or fixed else untuned).append(spec.name)
     return tuned, untuned
 
 
@@ -63,7 +81,7 @@ def config(setting: Setting) -> dict[str, object]:
     scenarios = []
     for name in setting.plants:
         lp = PLANTS[name]
-        for law in league_laws(lp)[0]:
+        for law in league_laws(lp, setting)[0]:
             scenarios.append(
                 {
                     "name": scenario_name(lp.plant, law),
@@ -72,7 +90,7 @@ def config(setting: Setting) -> dict[str, object]:
                     "controller": law,
                     "objective": OBJECTIVE,
                     "tune_roads": list(lp.training),
-                    "params": dict(lp.params),
+                    "params": run_params(lp, law, setting),
                 }
             )
     b = setting.budget
@@ -94,6 +112,10 @@ def plan(setting: Setting) -> StudyPlan:
     for name in setting.plants:
         if name not in PLANTS:
             raise InputError("plants", f"the league runs {', '.join(PLANTS)}, not {name!r}")
+    if setting.road_knowledge not in KNOWLEDGE:
+        raise InputError(
+            "road_knowledge", f"must be {' or '.join(KNOWLEDGE)}, got {setting.road_knowledge!r}"
+        )
     try:
         return plan_study(parse_config(config(setting)))
     except InputError as exc:

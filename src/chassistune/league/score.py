@@ -16,7 +16,13 @@ import pandas as pd
 
 from chassistune.errors import InputError
 from chassistune.league.cases import PLANTS, Case, LeaguePlant
-from chassistune.league.plan import Setting, league_laws, runs_realistic, scenario_name
+from chassistune.league.plan import (
+    Setting,
+    league_laws,
+    run_params,
+    runs_realistic,
+    scenario_name,
+)
 from chassistune.scenarios.registry import get_plant
 from chassistune.studies.store import RunRecord, open_study
 
@@ -45,10 +51,10 @@ class Tuned:
     """The tuning run's wall time (0 for a law as it is)."""
 
 
-def case_params(lp: LeaguePlant, case: Case, law: str) -> dict[str, object]:
-    """The parameters of a case's runs: the plant's, the case's, and its scaled ones (the
-    preset's value times the factor)."""
-    params: dict[str, object] = {**dict(lp.params), **dict(case.params)}
+def case_params(lp: LeaguePlant, case: Case, law: str, setting: Setting) -> dict[str, object]:
+    """The parameters of a case's runs: the law's on the plant (`plan.run_params`), the case's,
+    and its scaled ones (the preset's value times the factor)."""
+    params: dict[str, object] = {**run_params(lp, law, setting), **dict(case.params)}
     if case.scale:
         base = get_plant(lp.plant).scenario(lp.preset, case.road, law, params).params()
         for name, factor in case.scale:
@@ -62,7 +68,7 @@ def tuned_laws(study_dir: str | Path, setting: Setting) -> Iterator[Tuned]:
         records: list[RunRecord] = [r for r in store.records() if r.completed]
     for name in setting.plants:
         lp = PLANTS[name]
-        tuned, untuned = league_laws(lp)
+        tuned, untuned = league_laws(lp, setting)
         for law in tuned:
             group = scenario_name(lp.plant, law)
             for r in sorted((r for r in records if r.spec.group == group), key=_seed):
@@ -98,10 +104,10 @@ def _r13h(lp: LeaguePlant, case: Case, t: Tuned, params: dict[str, object]) -> f
     return r13h_epsilon(t.law, lp.preset, case.road, t.gains, params, adhesion).epsilon
 
 
-def score(t: Tuned, case: Case) -> dict[str, object]:
+def score(t: Tuned, case: Case, setting: Setting) -> dict[str, object]:
     """One law's scores on one case."""
     lp = PLANTS[t.plant]
-    params = case_params(lp, case, t.law)
+    params = case_params(lp, case, t.law, setting)
     sc = get_plant(lp.plant).scenario(lp.preset, case.road, t.law, params)
     gains = np.array([[float(t.gains[n]) for n in sc.gain_names]]).reshape(1, -1)
     m = sc.metrics(gains)
@@ -131,6 +137,8 @@ def score(t: Tuned, case: Case) -> dict[str, object]:
 def score_league(study_dir: str | Path, setting: Setting) -> pd.DataFrame:
     """Every tuned law on every held-out case of its plant, a row each (`COLUMNS`)."""
     rows = [
-        score(t, case) for t in tuned_laws(study_dir, setting) for case in PLANTS[t.plant].held_out
+        score(t, case, setting)
+        for t in tuned_laws(study_dir, setting)
+        for case in PLANTS[t.plant].held_out
     ]
     return pd.DataFrame(rows, columns=COLUMNS)

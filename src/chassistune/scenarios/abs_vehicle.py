@@ -50,6 +50,7 @@ from chassistune.scenarios.abs_wheel import _no_surface, fuzzy_table
 from chassistune.scenarios.base import PENALTY, Plant, Scenario, Trace, json_scalar, pick_preset
 from chassistune.scenarios.controller_params import kernel_gains, resolve_controller_params
 from chassistune.scenarios.registry import ABS_VEHICLE
+from chassistune.scenarios.road_knowledge import FIELD, road_knowledge
 from chassistune.sim import abs_vehicle_kernel as K
 from chassistune.sim import abs_vehicle_layout as VL
 from chassistune.sim.batch import run_chunked
@@ -275,6 +276,7 @@ class AbsVehicleScenario(Scenario):
         out.update(as_dict(self.steering))
         out.update(self.road_params)
         out["target_slips"] = list(self.target_slips)
+        out[FIELD] = "oracle" if laws.get(self.controller.name).needs_target else "none"
         out.update(self.controller_params)
         out.update(as_dict(self.scoring))
         out["seed"] = self.seed
@@ -377,7 +379,14 @@ class AbsVehiclePlant(Plant):
         seed: int,
     ) -> AbsVehicleScenario:
         spec = vehicle_specs.get(controller)
+        if road_knowledge(values, controller) == "fixed":
+            raise InputError(
+                f"params.{FIELD}",
+                "fixed is not built on abs-vehicle (its laws take the target of the surface "
+                "under each wheel): oracle",
+            )
         plant_params, used = override(pre.params, values)
+        used.add(FIELD)
         steering, used_steering = override(SteeringParams(), values)
         if steering.steering not in STEERING_MODES:
             raise InputError(
@@ -393,7 +402,7 @@ class AbsVehiclePlant(Plant):
         ctrl_values = resolve_controller_params(spec, values, used, {}, amplitude)
         unknown = sorted(set(values) - used)
         if unknown:
-            known = sorted(set(self.param_names()) | set(spec.param_names))
+            known = sorted(set(self.param_names()) | set(spec.param_names) | {FIELD})
             raise InputError(
                 f"params.{unknown[0]}",
                 f"unknown parameter for abs-vehicle with "

@@ -39,6 +39,7 @@ from chassistune.scenarios.abs_wheel_ecu import (
 from chassistune.scenarios.base import PENALTY, Plant, Scenario, Trace, json_scalar, pick_preset
 from chassistune.scenarios.controller_params import kernel_gains, resolve_controller_params
 from chassistune.scenarios.registry import ABS_WHEEL
+from chassistune.scenarios.road_knowledge import FIELD, controller_spec, plant_rows, road_knowledge
 from chassistune.sim import abs_wheel_ecu_layout as EL
 from chassistune.sim import abs_wheel_kernel as K
 from chassistune.sim import abs_wheel_layout as KL
@@ -138,6 +139,7 @@ class AbsWheelScenario(Scenario):
         scoring: Scoring,
         seed: int,
         ecu: EcuSetup | None = None,
+        knowledge: str = "oracle",
     ) -> None:
         super().__init__("abs-wheel", preset, road, controller, seed)
         self.plant_params = plant_params
@@ -148,6 +150,8 @@ class AbsWheelScenario(Scenario):
         """None: the ideal kernel; else the realistic ECU (`--ecu realistic`)."""
         self.mu_peak, self.slip_at_peak, _ = tire.peak()
         self.target_slip = target_slip
+        """The oracle's target (the road's peak) or the user's; per candidate when `fixed`."""
+        self.road_knowledge = knowledge
         pp = plant_params
         decel = self.mu_peak * pp.g_m_s2 * pp.load_fraction
         self.bound_distance_m = (pp.v0_m_s**2 - pp.v_stop_m_s**2) / (2.0 * decel)
@@ -186,13 +190,19 @@ class AbsWheelScenario(Scenario):
             out.update(as_dict(self.tire))
         if self.road == "sldemo-table":
             out = {k: v for k, v in out.items() if k not in ("slips", "mus")}
-        out["target_slip"] = self.target_slip
+        if self.road_knowledge != "fixed":
+            out["target_slip"] = self.target_slip
+        out["road_knowledge"] = self.road_knowledge
         out.update(self.controller_params)
         out.update(as_dict(self.scoring))
         out["seed"] = self.seed
         if self.ecu is not None:
             out.update(self.ecu.echo())
         return out
+
+    def _plant(self, p: np.ndarray, gains: np.ndarray) -> np.ndarray:
+        """The plant vector for gain rows `gains` (`road_knowledge.plant_rows`)."""
+        return plant_rows(p, KL.PLANT["target_slip"], gains, self.road_knowledge)
 
     def raw(self, gains: np.ndarray, workers: int | None = None) -> np.ndarray:
         """The kernel's metrics matrix (n, N_METRICS) for a population of gain rows."""
@@ -202,7 +212,9 @@ class AbsWheelScenario(Scenario):
         empty = np.zeros((0, len(KL.TRACE)))
 
         def call(g: np.ndarray, out: np.ndarray) -> None:
-            K.simulate_abs_wheel(g, p, kind, coef, xs, ys, ckind, c, table, empty, out)
+            K.simulate_abs_wheel(
+                g, self._plant(p, g), kind, coef, xs, ys, ckind, c, table, empty, out
+            )
 
         return run_chunked(call, kernel_gains(gains, self.controller), len(KL.METRICS), workers)
 
@@ -221,7 +233,7 @@ class AbsWheelScenario(Scenario):
         )
         simulate_abs_wheel_ecu(
             lp,
-            p,
+            self._plant(p, gains),
             self.ecu.vector,
             kind,
             coef,
@@ -285,7 +297,7 @@ class AbsWheelScenario(Scenario):
             return Trace(EL.decode_trace(tr, out[0]), metrics, self.units(EL.TRACE.units))
         tr = np.zeros((n_rows, len(KL.TRACE)))
         out = np.zeros((1, len(KL.METRICS)))
-        K.simulate_abs_wheel(g, p, kind, coef, xs, ys, ckind, c, table, tr, out)
+        K.simulate_abs_wheel(g, self._plant(p, g), kind, coef, xs, ys, ckind, c, table, tr, out)
         metrics = {k: json_scalar(v[0]) for k, v in self.metrics_from_raw(out).items()}
         return Trace(KL.decode_trace(tr, out[0]), metrics, self.units(KL.TRACE.units))
 
@@ -316,10 +328,11 @@ class AbsWheelPlant(Plant[AbsWheelScenario]):
         values: dict[str, object],
         seed: int,
     ) -> AbsWheelScenario:
-        spec = catalogue.get(ABS_WHEEL.name, controller)
+        knowledge = road_knowledge(values, controller)
+        spec = controller_spec(catalogue.get(ABS_WHEEL.name, controller), knowledge)
         mode = ecu_mode(values)
         plant_params, used = override(pre.params, values)
-        used.add("ecu")
+        used |= {"ecu", FIELD}
         tire, used_tire = _tire(road, values, plant_params, mode)
         scoring, used_scoring = override(Scoring(), values)
         used |= used_tire | used_scoring
@@ -347,7 +360,7 @@ class AbsWheelPlant(Plant[AbsWheelScenario]):
                 | {f.name for f in dataclasses.fields(tire)}
                 | {f.name for f in dataclasses.fields(Scoring)}
                 | set(spec.param_names)
-                | {"target_slip", "ecu", "tire"}
+                | {"target_slip", "ecu", "tire", FIELD}
                 | (ECU_PARAM_NAMES if mode == "realistic" else set())
             )
             raise InputError(
@@ -363,7 +376,17 @@ class AbsWheelPlant(Plant[AbsWheelScenario]):
             else None
         )
         scenario = AbsWheelScenario(
-            preset, road, spec, plant_params, tire, ctrl_values, target, scoring, seed, ecu
+            preset,
+            road,
+            spec,
+            plant_params,
+            tire,
+            ctrl_values,
+            target,
+            scoring,
+            seed,
+            ecu,
+            knowledge,
         )
         for warning in implausible(plant_params) + implausible(tire):  # valid input only
             warnings.warn(warning, stacklevel=2)

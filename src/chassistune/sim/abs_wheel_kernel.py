@@ -46,8 +46,9 @@ immune PID's time.
 
 Per-row plant parameters. The plant vector `plant` is (1, N) for all candidates or (n, N), one
 row per candidate (robust tuning): a lane takes its row when it is filled, and the vector loop
-reads only lane rows (`R_RW` ... `R_HOPELESS`). dt, t_max, the target slip and the tire are
-shared. Per-row plant parameters cost nothing extra in the vector loop.
+reads only lane rows (`R_RW` ... `R_HOPELESS`, the target slip `R_TARGET`: a row per candidate
+under a tunable fixed target, `scenarios.road_knowledge`). dt, t_max and the tire are shared.
+Per-row plant parameters cost nothing extra in the vector loop.
 
 Entry point: one cached compiled function (`entry_point`) for every tire and control law;
 `simulate_abs_wheel` allocates the scratch and calls it. The tire law is a runtime integer picked
@@ -208,13 +209,14 @@ RK3, RK4 = 3, 4
     R_ET,
     R_EH,
     R_QS,
+    R_TARGET,
     R_MEM,
-) = range(44)
+) = range(45)
 MEMORY = laws.slots("memory")
 """Rows of the law's memory (`Law.state`): the most any registered law keeps."""
 R_X = R_MEM + MEMORY
-_MEMORY_ZEROS = (0.0,) * MEMORY
 """The law's continuous state (`ContinuousForm.state`): `CONTINUOUS` rows after its memory."""
+_MEMORY_ZEROS = (0.0,) * MEMORY
 N_ROWS = R_X + laws.CONTINUOUS
 """Rows of a lane; the last `MEMORY` + `CONTINUOUS` hold the law's memory (`Law.state`) and its
 continuous state."""
@@ -313,13 +315,13 @@ def _get(st, row, l):
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _lane_params(st, l, c, target):
+def _lane_params(st, l, c):
     """The parameters of `_rates` in lane l: its held values, the controller vector c, the
     target slip and its plant row."""
     return (
         (_get(st, R_U0, l), _get(st, R_KP, l), _get(st, R_KI, l), _get(st, R_KD, l)),
         c,
-        target,
+        _get(st, R_TARGET, l),
         _get(st, R_RW, l),
         _get(st, R_FZ, l),
         _get(st, R_INV_M, l),
@@ -364,16 +366,15 @@ def _add_pending_integrals(st, l):
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _lane_step(
-    st, l, xc, mu_of, form, method, dt, hs, h6, target, n_steps, t_timeout, live, tire, c
-):
+def _lane_step(st, l, xc, mu_of, form, method, dt, hs, h6, n_steps, t_timeout, live, tire, c):
     """One fused step (`method` RK3 or RK4, a constant at each call site) of lane l, whose
     control law's continuous state is xc and its form's key `form` (`_form_rate`), with its
     metrics and end flags; returns 1 if a live lane ended. Straight-line code: the body of the
     vector loop."""
     v, w, q, r = _get(st, R_V, l), _get(st, R_W, l), _get(st, R_Q, l), _get(st, R_R, l)
     x = (v, w, q, r, xc)
-    p = _lane_params(st, l, c, target)
+    p = _lane_params(st, l, c)
+    target = p[2]
     r_w = p[3]
     q_max = p[10]
     v_stop = _get(st, R_VSTOP, l)
@@ -445,7 +446,7 @@ def _lane_steps_of(law: int, method: int, form: ContinuousForm) -> Any:
     key = _form_key(form)
     mu_of = _mu_of_law(law)
 
-    def lane_steps(st, width, dt, hs, h6, target, n_steps, t_timeout, live, tire_of_caller, c):
+    def lane_steps(st, width, dt, hs, h6, n_steps, t_timeout, live, tire_of_caller, c):
         tire = local_table(tire_of_caller[:7]) + (local_poly(tire_of_caller[7]),)  # noqa: RUF005
         any_end = 0
         for b in range(width // VECTOR):
@@ -462,7 +463,6 @@ def _lane_steps_of(law: int, method: int, form: ContinuousForm) -> Any:
                     dt,
                     hs,
                     h6,
-                    target,
                     n_steps,
                     t_timeout,
                     live,
@@ -475,9 +475,7 @@ def _lane_steps_of(law: int, method: int, form: ContinuousForm) -> Any:
     return njit(nogil=True, error_model="numpy", **_NO_NRT)(lane_steps)
 
 
-def _vector_loop(
-    laws_key, kind, law, st, width, dt, hs, h6, target, n_steps, t_timeout, live, tire, c
-):
+def _vector_loop(laws_key, kind, law, st, width, dt, hs, h6, n_steps, t_timeout, live, tire, c):
     """One step of lanes 0 .. width - 1 by the vector loop (`_lane_steps_of`) of tire law `law`
     and of the continuous form and method of control law `kind` (in compiled code)."""
     raise NotImplementedError("_vector_loop runs in compiled code only")
@@ -525,7 +523,7 @@ def _kinds_link(kinds: tuple[int, ...], steps: Any, rest: Any) -> Any:
 
 @overload(_vector_loop, prefer_literal=True)
 def _vector_loop_chain(
-    laws_key, kind, law, st, width, dt, hs, h6, target, n_steps, t_timeout, live, tire, c
+    laws_key, kind, law, st, width, dt, hs, h6, n_steps, t_timeout, live, tire, c
 ):
     """An if-chain over the registry's groups of laws by continuous form and method
     (`continuous_groups`), each branch a switch over the tire laws; a kind no law holds runs
@@ -538,14 +536,14 @@ def _vector_loop_chain(
         if kinds:
             chain = _kinds_link(kinds, _tire_switch(form, sampled), chain)
 
-    def impl(laws_key, kind, law, st, width, dt, hs, h6, target, n_steps, t_timeout, live, tire, c):
-        return chain(kind, law, (st, width, dt, hs, h6, target, n_steps, t_timeout, live, tire, c))
+    def impl(laws_key, kind, law, st, width, dt, hs, h6, n_steps, t_timeout, live, tire, c):
+        return chain(kind, law, (st, width, dt, hs, h6, n_steps, t_timeout, live, tire, c))
 
     return impl
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _fill_lane(st, l, i, gains, plant, laws_key, ctrl_kind, c, target):
+def _fill_lane(st, l, i, gains, plant, laws_key, ctrl_kind, c):
     """Start candidate i in lane l: initial state, zero metrics, the law's held values at the
     start (`Law.forms`), its plant row."""
     p = plant[min(i, plant.shape[0] - 1)]
@@ -556,7 +554,7 @@ def _fill_lane(st, l, i, gains, plant, laws_key, ctrl_kind, c, target):
     st[R_W * LANES + l] = p[P_V0] / r_w
     st[R_WS * LANES + l] = p[P_V0] / r_w  # wheel speed at the last sample
     st[R_LOCK_T * LANES + l] = np.nan
-    x0 = law_initial_state(laws_key, ctrl_kind, target)
+    x0 = law_initial_state(laws_key, ctrl_kind, p[P_TARGET])
     for j in range(len(x0)):
         st[(R_X + j) * LANES + l] = x0[j]
     u0, kp, ki, kd = law_start(laws_key, ctrl_kind, gains[i], 0, c)
@@ -577,6 +575,7 @@ def _fill_lane(st, l, i, gains, plant, laws_key, ctrl_kind, c, target):
     st[R_LOCK_RATIO * LANES + l] = p[P_LOCK_RATIO]
     st[R_HOPELESS * LANES + l] = p[P_HOPELESS_M]
     st[R_S1 * LANES + l] = wheel_slip(p[P_V0], p[P_V0] / r_w, r_w)
+    st[R_TARGET * LANES + l] = p[P_TARGET]
 
 
 TRACE_SLOTS = (T_TIME, T_V, T_WHEEL_V, T_SLIP, T_TARGET, T_Q, T_TB, T_U, T_X, T_MU)
@@ -623,10 +622,11 @@ def _finish_lane(st, l, out_row):
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _tick_inputs(st, l, target, t):
+def _tick_inputs(st, l, t):
     """What a sampled law's tick at time t reads in lane l: its signals
     (`controllers.laws.forms.SIGNALS`), held values and memory (`MEMORY` rows)."""
     slip = st[R_SLIP * LANES + l]
+    target = st[R_TARGET * LANES + l]
     e = target - slip
     ec = st[R_NF * LANES + l] * (e - st[R_XF * LANES + l])  # filtered de/dt
     sig = (
@@ -664,11 +664,11 @@ def _tick_lanes_of(tick: Any) -> Any:
     the entry point's cache holds it): the law's update (`Law.forms`) in each of lanes
     0 .. live - 1 whose step is one of its own sample instants."""
 
-    def tick_lanes(st, live, lane_of, gains, c, table, target, ts, steps_per_sample, dt):
+    def tick_lanes(st, live, lane_of, gains, c, table, ts, steps_per_sample, dt):
         for l in range(live):
             k = int(st[R_STEP * LANES + l])
             if steps_per_sample == 1 or k % steps_per_sample == 0:
-                sig, held, mem = _tick_inputs(st, l, target, k * dt)
+                sig, held, mem = _tick_inputs(st, l, k * dt)
                 held, mem = tick(sig, held, mem, gains[lane_of[l]], 0, c, table, ts, k == 0)
                 _tick_store(st, l, held, mem, sig[SIG_WHEEL_SPEED], sig[SIG_PRESSURE])
 
@@ -708,7 +708,6 @@ def _simulate(
     dt = p0[P_DT]
     hs = 0.5 * dt
     h6 = dt / 6.0
-    target = p0[P_TARGET]
     n_steps = math.ceil(p0[P_TMAX] / dt - 1e-9)
     t_timeout = n_steps * dt
     steps_per_sample = max(1, round(c[Q_TS] / dt))
@@ -719,7 +718,7 @@ def _simulate(
     lane_of[:] = -1  # candidate in each lane
     live = min(n, LANES)
     for l in range(live):
-        _fill_lane(st, l, l, gains, plant, laws_key, ctrl_kind, c, target)
+        _fill_lane(st, l, l, gains, plant, laws_key, ctrl_kind, c)
         lane_of[l] = l
     queued = live  # next candidate to start
     n_trace = trace.shape[0]
@@ -728,12 +727,12 @@ def _simulate(
         trace[0, :] = 0.0
         trace[0, T_V] = p0[P_V0]
         trace[0, T_WHEEL_V] = p0[P_V0]
-        trace[0, T_TARGET] = target
+        trace[0, T_TARGET] = p0[P_TARGET]
     trace_status = float(STATUS_TIMEOUT)
     trace_t_end = t_timeout
     while live > 0:
         if sampled:  # each lane at its own sample instants
-            args = (st, live, lane_of, gains, c, table, target, ts, steps_per_sample, dt)
+            args = (st, live, lane_of, gains, c, table, ts, steps_per_sample, dt)
             _tick_lanes(laws_key, ctrl_kind, args)
         width = -(-live // VECTOR) * VECTOR
         ended = _vector_loop(
@@ -745,7 +744,6 @@ def _simulate(
             dt,
             hs,
             h6,
-            target,
             n_steps,
             t_timeout,
             live,
@@ -762,7 +760,7 @@ def _simulate(
                     trace_status = st[R_STATUS * LANES + l]
                     trace_t_end = st[R_TEND * LANES + l]
                 if queued < n:
-                    _fill_lane(st, l, queued, gains, plant, laws_key, ctrl_kind, c, target)
+                    _fill_lane(st, l, queued, gains, plant, laws_key, ctrl_kind, c)
                     lane_of[l] = queued
                     queued += 1
                 else:
@@ -777,7 +775,7 @@ def _simulate(
                 max(v, p0[P_VSTOP]) if trace_status == STATUS_STOPPED else v,
                 r[R_W] * r[R_RW],
                 r[R_SLIP],
-                target,
+                r[R_TARGET],
                 r[R_Q],
                 r[R_KQ] * r[R_Q],
                 r[R_U1],
