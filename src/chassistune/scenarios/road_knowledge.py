@@ -26,8 +26,8 @@ FIELD = "road_knowledge"
 TARGET_GAIN = GainSpec(
     "target_slip",
     "-",
-    0.1,
-    0.02,
+    0.15,
+    0.03,
     0.4,
     "the target slip on every road (road knowledge fixed)",
 )
