@@ -12,6 +12,7 @@ from chassistune.errors import InputError
 from chassistune.scenarios.registry import get_plant
 
 WHEEL = get_plant("abs-wheel")
+VEHICLE = get_plant("abs-vehicle")
 MODES = ({}, {"ecu": "realistic"})
 
 
@@ -64,7 +65,7 @@ def test_the_fixed_target_is_tuned_within_its_bounds() -> None:
         ("abs-wheel", "none", {"road_knowledge": "fixed"}, "params.road_knowledge"),
         ("abs-wheel", "pid", {"road_knowledge": "psychic"}, "params.road_knowledge"),
         ("abs-wheel", "pid", {"road_knowledge": "fixed", "target_slip": 0.1}, "params.target_slip"),
-        ("abs-vehicle", "pid", {"road_knowledge": "fixed"}, "params.road_knowledge"),
+        ("abs-vehicle", "none", {"road_knowledge": "oracle"}, "params.road_knowledge"),
     ],
 )
 def test_a_choice_that_does_not_fit_is_refused(plant, law, values, field) -> None:  # type: ignore[no-untyped-def]
@@ -97,3 +98,29 @@ def test_on_the_command_line(cli) -> None:  # type: ignore[no-untyped-def]
     bad = cli("simulate", "abs-wheel", "--controller", "pid", "--param", "road_knowledge=none")
     assert bad.code == 2 and bad.out == "" and len(bad.err.splitlines()) == 1
     assert "road_knowledge" in bad.err
+
+
+def test_on_the_vehicle_fixed_at_the_peak_is_the_oracle_and_rows_keep_their_target() -> None:
+    oracle = VEHICLE.scenario(None, "dry-concrete", "pid", {}, 0)
+    fixed = VEHICLE.scenario(None, "dry-concrete", "pid", {"road_knowledge": "fixed"}, 0)
+    g = oracle.gains_array(None)
+    (peak, _) = oracle.target_slips
+    assert np.array_equal(
+        oracle.raw(g[None, :]), fixed.raw(np.r_[g, peak][None, :]), equal_nan=True
+    )
+    rows = np.stack([np.r_[g, t] for t in (0.1, 0.15, 0.25)])
+    batch = fixed.raw(rows, workers=1)
+    assert np.array_equal(
+        batch, np.concatenate([fixed.raw(r[None, :], workers=1) for r in rows]), equal_nan=True
+    )
+
+
+def test_on_a_mu_jump_the_fixed_target_holds_on_both_surfaces() -> None:
+    values = {"road_knowledge": "fixed", "axle_gains": "per-axle"}
+    fixed = VEHICLE.scenario(None, "mu-jump", "pid", values, 0)
+    assert fixed.gain_names[-1] == "target_slip" and fixed.gain_names.count("target_slip") == 1
+    g = fixed.gains_array({"target_slip": 0.12})
+    tr = fixed.trace(g)
+    for wheel in ("fl", "fr", "rl", "rr"):
+        assert np.all(tr.signals[f"target_slip_{wheel}"] == 0.12)
+    assert len(set(tr.signals["surface_fl"])) == 2  # the wheel met both surfaces

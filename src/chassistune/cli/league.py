@@ -59,7 +59,7 @@ LEAGUE_PLANTS = ("abs-wheel", "abs-vehicle")
     show_default=True,
     help="What a law that regulates a target slip is told of the road: fixed (one target for "
     "every road, tuned with its gains; no vehicle knows its road's peak) or oracle (the road's "
-    "optimal slip, the papers' setting). The vehicle's laws take the oracle's in both.",
+    "optimal slip, the papers' setting).",
 )
 @executor_options
 def league_command(

@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 
 from chassistune._io import write_text
-from chassistune.league.cases import OBJECTIVE, PLANTS, LeaguePlant
+from chassistune.league.cases import OBJECTIVE, PLANTS
 from chassistune.league.plan import Setting, knowledge
 from chassistune.league.score import SCORES, Tuned
 from chassistune.plots.league_cases import CaseGrid, plot_league_cases
@@ -41,9 +41,8 @@ TRACE_PANELS = {
 
 KNOWING = {
     "fixed": "Road knowledge (column `target slip`): a law that regulates a target slip tunes one "
-    "target for every road with its gains (`fixed`: no vehicle knows its road's peak) on the "
-    "single wheel; on the vehicle its laws take the target of the surface under each wheel "
-    "(`oracle`: `fixed` is not built there).",
+    "target for every road (and all four wheels) with its gains (`fixed`: no vehicle knows its "
+    "road's peak).",
     "oracle": "Road knowledge (column `target slip`): every law that regulates a target slip is "
     "handed the road's optimal slip (`oracle`, the papers' setting).",
 }
@@ -95,7 +94,7 @@ def _fmt(x: float, digits: int = 3) -> str:
     return "-" if not np.isfinite(x) else f"{x:.{digits}f}"
 
 
-def _table_md(table: pd.DataFrame, cases: list[str], lp: LeaguePlant, setting: Setting) -> str:
+def _table_md(table: pd.DataFrame, cases: list[str], setting: Setting) -> str:
     head = [
         "rank",
         "law",
@@ -110,7 +109,7 @@ def _table_md(table: pd.DataFrame, cases: list[str], lp: LeaguePlant, setting: S
         cells = [
             str(r["rank"]),
             str(r["law"]),
-            knowledge(lp, str(r["law"]), setting),
+            knowledge(str(r["law"]), setting),
             str(r["seeds"]) if r["seeds"] else "untuned",
             f"{_fmt(r['median'])} [{_fmt(r['ci_low'])}, {_fmt(r['ci_high'])}]",
             str(r["failed"]),
@@ -213,7 +212,7 @@ def write_page(
             "adhesion bound (1 is the bound; lower is better), per seed; a case without a "
             "stop counts as failed and ranks the law below those with fewer failures.",
             "",
-            _table_md(table, cases, lp, setting),
+            _table_md(table, cases, setting),
             "",
             "Other scores (median over seeds; - where the plant or mode has none):",
             "",

@@ -44,18 +44,15 @@ def runs_realistic(lp: LeaguePlant) -> bool:
     return dict(lp.params).get("ecu") == "realistic"
 
 
-def knowledge(lp: LeaguePlant, law: str, setting: Setting) -> str:
-    """The road knowledge of a law's runs: `none` for a law that regulates no target slip, the
-    oracle on the vehicle (whose laws take each surface's target: `fixed` is not built there),
+def knowledge(law: str, setting: Setting) -> str:
+    """The road knowledge of a law's runs: `none` for a law that regulates no target slip,
     else the league's."""
-    if not laws.get(law).needs_target:
-        return "none"
-    return "oracle" if lp.plant == "abs-vehicle" else setting.road_knowledge
+    return setting.road_knowledge if laws.get(law).needs_target else "none"
 
 
 def run_params(lp: LeaguePlant, law: str, setting: Setting) -> dict[str, object]:
     """The parameters of every run of a law on the plant: the plant's and its road knowledge."""
-    return {**dict(lp.params), "road_knowledge": knowledge(lp, law, setting)}
+    return {**dict(lp.params), "road_knowledge": knowledge(law, setting)}
 
 
 def league_laws(lp: LeaguePlant, setting: Setting) -> tuple[list[str], list[str]]:
@@ -66,7 +63,7 @@ def league_laws(lp: LeaguePlant, setting: Setting) -> tuple[list[str], list[str]
     for spec in laws.for_plant(lp.plant):
         if runs_realistic(lp) and laws.get(spec.name).ecu is None:
             continue
-        fixed = knowledge(lp, spec.name, setting) == "fixed"
+        fixed = knowledge(spec.name, setting) == "fixed"
         (tuned if spec.gains or fixed else untuned).append(spec.name)
     return tuned, untuned
 

@@ -50,7 +50,7 @@ from chassistune.scenarios.abs_wheel import _no_surface, fuzzy_table
 from chassistune.scenarios.base import PENALTY, Plant, Scenario, Trace, json_scalar, pick_preset
 from chassistune.scenarios.controller_params import kernel_gains, resolve_controller_params
 from chassistune.scenarios.registry import ABS_VEHICLE
-from chassistune.scenarios.road_knowledge import FIELD, road_knowledge
+from chassistune.scenarios.road_knowledge import FIELD, controller_spec, road_knowledge
 from chassistune.sim import abs_vehicle_kernel as K
 from chassistune.sim import abs_vehicle_layout as VL
 from chassistune.sim.batch import run_chunked
@@ -193,8 +193,11 @@ class AbsVehicleScenario(Scenario):
         controller_params: dict[str, Any],
         scoring: VehicleScoring,
         seed: int,
+        knowledge: str = "oracle",
     ) -> None:
         super().__init__(PLANT_NAME, preset, road.name, controller, seed)
+        self.road_knowledge = knowledge
+        """`scenarios.road_knowledge`: with `fixed` the last gain is every wheel's target."""
         self.road_spec = road
         self.road_params = road_params
         self.plant_params = plant_params
@@ -240,6 +243,9 @@ class AbsVehicleScenario(Scenario):
             "select_low": 1.0 if cp.get("rear") == "select-low" else 0.0,
             "axle_gains": 1.0 if cp.get("axle_gains") == "per-axle" else 0.0,
             "yaw_window_s": self.scoring.yaw_window_s,
+            "target_gain_column": (
+                len(self.controller.gains) - 1 if self.road_knowledge == "fixed" else -1
+            ),
         }
         p = VL.PLANT_LAYOUT.pack(values)
         geo = geometry(pp)
@@ -275,8 +281,9 @@ class AbsVehicleScenario(Scenario):
         out: dict[str, Any] = as_dict(self.plant_params)
         out.update(as_dict(self.steering))
         out.update(self.road_params)
-        out["target_slips"] = list(self.target_slips)
-        out[FIELD] = "oracle" if laws.get(self.controller.name).needs_target else "none"
+        if self.road_knowledge == "oracle":
+            out["target_slips"] = list(self.target_slips)
+        out[FIELD] = self.road_knowledge
         out.update(self.controller_params)
         out.update(as_dict(self.scoring))
         out["seed"] = self.seed
@@ -379,12 +386,7 @@ class AbsVehiclePlant(Plant):
         seed: int,
     ) -> AbsVehicleScenario:
         spec = vehicle_specs.get(controller)
-        if road_knowledge(values, controller) == "fixed":
-            raise InputError(
-                f"params.{FIELD}",
-                "fixed is not built on abs-vehicle (its laws take the target of the surface "
-                "under each wheel): oracle",
-            )
+        knowledge = road_knowledge(values, controller)
         plant_params, used = override(pre.params, values)
         used.add(FIELD)
         steering, used_steering = override(SteeringParams(), values)
@@ -410,10 +412,20 @@ class AbsVehiclePlant(Plant):
             )
         if ctrl_values.get("axle_gains") == "per-axle":
             spec = vehicle_specs.per_axle(spec)
+        spec = controller_spec(spec, knowledge)  # one fixed target for all four wheels
         plant_params = validate(plant_params, "params.")
         _check_consistency(plant_params, road_spec, steering, scoring)
         scenario = AbsVehicleScenario(
-            preset, road_spec, road_params, spec, plant_params, steering, ctrl_values, scoring, seed
+            preset,
+            road_spec,
+            road_params,
+            spec,
+            plant_params,
+            steering,
+            ctrl_values,
+            scoring,
+            seed,
+            knowledge,
         )
         for warning in implausible(plant_params) + implausible(steering) + implausible(scoring):
             warnings.warn(warning, stacklevel=3)  # valid input only

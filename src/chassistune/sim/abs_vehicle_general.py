@@ -81,6 +81,7 @@ from chassistune.sim.abs_vehicle_layout import (
     R_STEER_SIN,
     R_STRAIGHT,
     R_SX,
+    R_TGT,
     R_VR,
     R_WCOS,
     R_WSIN,
@@ -442,7 +443,7 @@ def wheel_rows(st, row, l):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def general_end(st, l, kc, srf):
+def general_end(st, l, kc):
     """The RK4 update of lane l from its sum, the step-end limits and kinematics, and the step's
     end (`end_step`, the stop included) where the general pass steps the lane; returns whether
     its run ended there."""
@@ -466,7 +467,6 @@ def general_end(st, l, kc, srf):
         lane_get(st, R_HEAD_SIN, l),
         state_of(st, R_KPREV, LANES, l),
         kc,
-        srf,
         True,
     )
     return ended & general
@@ -506,7 +506,7 @@ def general_steps(st, width, kc, srf, live):
     ended = False
     for blk in range(blocks):
         for j in range(VECTOR):
-            ended |= general_end(st, blk * VECTOR + j, kc, srf)
+            ended |= general_end(st, blk * VECTOR + j, kc)
     return ended
 
 
@@ -536,7 +536,7 @@ def trace_row(
     for j in range(4):
         trace_row[T_WV + j] = y[S_W + j] * p[P_R]
         trace_row[T_SLIP + j] = lane_get(st, R_SLIP + j, l) if not start else sc[W_SLIP, j]
-        trace_row[T_TARGET + j] = surfs[sidx[j, 0], SF_TARGET]
+        trace_row[T_TARGET + j] = lane_get(st, R_TGT + sidx[j, 0], l)
         trace_row[T_FZ + j] = sc[W_FZ, j]
         trace_row[T_TB + j] = wheel_brake_gain(p[P_KQ], p[P_FRONT_SHARE], j) * y[S_Q + j]
         trace_row[T_FX + j] = sc[W_FXW, j]

@@ -260,7 +260,7 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
                 k = int(lane_get(st, R_STEP, l))
                 if k % steps_per_sample == 0:
                     i = lane_of[l]
-                    tick(st, l, i, k, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts)
+                    tick(st, l, i, k, gains, col0, laws_key, ctrl_kind, c, table, kc, ts)
         width = -(-live // VECTOR) * VECTOR
         ended = False
         if all_general:  # skip the straight pass (the general one gives the same numbers)

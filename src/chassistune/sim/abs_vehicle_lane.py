@@ -45,6 +45,7 @@ from chassistune.sim.abs_vehicle_layout import (
     P_SPLIT_ROAD,
     P_STAU,
     P_TAU,
+    P_TCOL,
     P_TMAX,
     P_VMIN,
     P_VSTOP,
@@ -57,6 +58,7 @@ from chassistune.sim.abs_vehicle_layout import (
     R_KI,
     R_KP,
     R_SURF,
+    R_TGT,
     R_U0,
     S_DELTA,
     S_PSI,
@@ -142,6 +144,7 @@ def constants(p, geo):
         dt / 6.0,
         float(n_steps),
         n_steps * dt,
+        p[P_TCOL],
     )
 
 
@@ -251,35 +254,38 @@ def put_wheel(st, row0, j, l, commit, w):
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def laws_surfaces(st, l, srf):
-    """Lane l's wheel laws ((kp, ki, kd, u0) per wheel) and the surfaces under its wheels."""
+    """Lane l's wheel laws ((kp, ki, kd, u0) per wheel) and the surfaces under its wheels, with
+    the lane's targets on them."""
+    t0, t1 = lane_get(st, R_TGT, l), lane_get(st, R_TGT + 1, l)
     return (
         (law_of(st, 0, l), law_of(st, 1, l), law_of(st, 2, l), law_of(st, 3, l)),
         (
-            surface_of(lane_get(st, R_SURF, l), srf),
-            surface_of(lane_get(st, R_SURF + 1, l), srf),
-            surface_of(lane_get(st, R_SURF + 2, l), srf),
-            surface_of(lane_get(st, R_SURF + 3, l), srf),
+            surface_of(lane_get(st, R_SURF, l), srf, t0, t1),
+            surface_of(lane_get(st, R_SURF + 1, l), srf, t0, t1),
+            surface_of(lane_get(st, R_SURF + 2, l), srf, t0, t1),
+            surface_of(lane_get(st, R_SURF + 3, l), srf, t0, t1),
         ),
     )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def target_slip(st, j, l, srf):
-    """Target slip of the surface under wheel j of lane l."""
-    return surface_of(lane_get(st, R_SURF + j, l), srf)[4]
+def target_slip(st, j, l):
+    """The law's target slip on the surface under wheel j of lane l (`R_TGT`)."""
+    two = lane_get(st, R_SURF + j, l) != 0.0
+    return select(two, lane_get(st, R_TGT + 1, l), lane_get(st, R_TGT, l))
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def surface_of(b, srf):
+def surface_of(b, srf, t0, t1):
     """(S_T, rise, fall0, fall1, target, lateral scale) of the surface a wheel is on (b: 1.0
-    the second)."""
+    the second), the target the lane's on it (t0 on the first, t1 on the second)."""
     two = b != 0.0
     return (
         select(two, srf[6], srf[0]),
         select(two, srf[7], srf[1]),
         select(two, srf[8], srf[2]),
         select(two, srf[9], srf[3]),
-        select(two, srf[10], srf[4]),
+        select(two, t1, t0),
         select(two, srf[11], srf[5]),
     )
 

@@ -88,6 +88,12 @@ PLANT_LAYOUT = Layout(
         Slot("select_low", "-", "1: one rear channel on min(e_rl, e_rr)"),
         Slot("axle_gains", "-", "1: gains (front row, rear row) per axle"),
         Slot("yaw_window_s", "s", "window of the yaw metrics"),
+        Slot(
+            "target_gain_column",
+            "-",
+            "the gain column of a fixed target slip (road knowledge fixed); -1: the target of "
+            "the surface under each wheel",
+        ),
     ),
 )
 GEOMETRY_LAYOUT = Layout(
@@ -219,6 +225,7 @@ P_STAU = PLANT_LAYOUT["steer_tau_s"]
 P_SELECT_LOW = PLANT_LAYOUT["select_low"]
 P_AXLE = PLANT_LAYOUT["axle_gains"]
 P_WINDOW = PLANT_LAYOUT["yaw_window_s"]
+P_TCOL = PLANT_LAYOUT["target_gain_column"]
 
 G_X = GEOMETRY_LAYOUT["x_m"]
 G_Y = GEOMETRY_LAYOUT["y_m"]
@@ -396,6 +403,8 @@ LANE_LAYOUT = Layout(
         Slot("ax_m_s2", "m/s^2", "the last general load solve (the next one's start)"),
         Slot("ay_m_s2", "m/s^2"),
         Slot("load_iterations", "-", "most Newton iterations of one load solve"),
+        Slot("target_slip_surface0", "-", "the law's target on surface 0 (`fill_lane`)"),
+        Slot("target_slip_surface1", "-", "the law's target on surface 1"),
         *GENERAL_ROWS,
     ),
 )
@@ -436,6 +445,8 @@ R_DONE = LANE_LAYOUT["done"]
 R_AX = LANE_LAYOUT["ax_m_s2"]
 R_AY = LANE_LAYOUT["ay_m_s2"]
 R_ITER = LANE_LAYOUT["load_iterations"]
+R_TGT = LANE_LAYOUT["target_slip_surface0"]
+"""The law's target slip on surface s at row R_TGT + s: the surface's own, or the fixed gain."""
 R_GENERAL = LANE_LAYOUT["general"]
 R_KPREV = LANE_LAYOUT["k_prev_vx"]
 R_KSUM = LANE_LAYOUT["k_sum_vx"]
@@ -496,6 +507,7 @@ CONSTANTS_LAYOUT = Layout(
         Slot("sixth_step_s", "s", "dt / 6"),
         Slot("n_steps", "-", "steps until the timeout"),
         Slot("t_timeout_s", "s", "n_steps dt"),
+        Slot("target_gain_column", "-"),
     ),
 )
 """Slots named as a plant slot hold that slot's value, `inv_` ones its inverse,
@@ -535,3 +547,4 @@ KC_HS = CONSTANTS_LAYOUT["half_step_s"]
 KC_H6 = CONSTANTS_LAYOUT["sixth_step_s"]
 KC_NSTEPS = CONSTANTS_LAYOUT["n_steps"]
 KC_TTIMEOUT = CONSTANTS_LAYOUT["t_timeout_s"]
+KC_TCOL = CONSTANTS_LAYOUT["target_gain_column"]

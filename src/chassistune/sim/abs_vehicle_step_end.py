@@ -68,7 +68,7 @@ def put_surface(st, l, commit, j, b, cp, sp, kc):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def wheel_end(st, l, commit, j, s_new, vabs, w, w0, vabs0, acc, timing, kc, srf):
+def wheel_end(st, l, commit, j, s_new, vabs, w, w0, vabs0, acc, timing, kc):
     """Step-end integrals of wheel j (slip, its error to the target, locking), its slip at the
     step's end (at the stop when the run stops) and, in the step it first locks, that step's
     start and its margins w R - lock_ratio |V| at the start (w0, vabs0) and the end (the lock
@@ -76,7 +76,7 @@ def wheel_end(st, l, commit, j, s_new, vabs, w, w0, vabs0, acc, timing, kc, srf)
     timing = (t, the stop's crossing fraction, the step's length up to the stop, stop, moving)."""
     t, frac, h, stop, moving = timing
     slip = lane_get(st, R_SLIP + j, l)
-    target = target_slip(st, j, l, srf)
+    target = target_slip(st, j, l)
     s_end = slip + frac * (s_new - slip)
     d_iae, d_itae, d_ise = error_integrals(target - slip, target - s_end, t, h)
     lane_put(st, R_SINT + j, l, commit, lane_get(st, R_SINT + j, l) + trapezoid(slip, s_end, h))
@@ -97,7 +97,7 @@ def wheel_end(st, l, commit, j, s_new, vabs, w, w0, vabs0, acc, timing, kc, srf)
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def end_step(st, l, commit, x0, vabs0, x, slips, vabs, cp, sp, k4, kc, srf, stops):
+def end_step(st, l, commit, x0, vabs0, x, slips, vabs, cp, sp, k4, kc, stops):
     """Commit the step from state x0 (its wheels' |V|: vabs0) to state x = (b, w0, w1, w2, w3)
     and k4 of lane l where `commit`: distance, integrals, locking, surfaces, yaw metrics,
     status; at a stop the lane keeps the state at the stop (`at_stop`) and the surfaces of the
@@ -125,18 +125,10 @@ def end_step(st, l, commit, x0, vabs0, x, slips, vabs, cp, sp, k4, kc, srf, stop
         True,
     )
     timing = (t, frac, h, stop, moving)
-    acc = wheel_end(
-        st, l, commit, 0, slips[0], vabs[0], w0[0], x0[1][0], vabs0[0], acc, timing, kc, srf
-    )
-    acc = wheel_end(
-        st, l, commit, 1, slips[1], vabs[1], w1[0], x0[2][0], vabs0[1], acc, timing, kc, srf
-    )
-    acc = wheel_end(
-        st, l, commit, 2, slips[2], vabs[2], w2[0], x0[3][0], vabs0[2], acc, timing, kc, srf
-    )
-    acc = wheel_end(
-        st, l, commit, 3, slips[3], vabs[3], w3[0], x0[4][0], vabs0[3], acc, timing, kc, srf
-    )
+    acc = wheel_end(st, l, commit, 0, slips[0], vabs[0], w0[0], x0[1][0], vabs0[0], acc, timing, kc)
+    acc = wheel_end(st, l, commit, 1, slips[1], vabs[1], w1[0], x0[2][0], vabs0[1], acc, timing, kc)
+    acc = wheel_end(st, l, commit, 2, slips[2], vabs[2], w2[0], x0[3][0], vabs0[2], acc, timing, kc)
+    acc = wheel_end(st, l, commit, 3, slips[3], vabs[3], w3[0], x0[4][0], vabs0[3], acc, timing, kc)
     iae, itae, ise, locked, all_still = acc
     all_t = lane_get(st, R_ALL_T, l)
     first = all_still & (all_t != all_t) & moving

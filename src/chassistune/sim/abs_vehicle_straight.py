@@ -227,7 +227,6 @@ def lane_step(st, l, kc, srf, live):
         0.0,
         kd,
         kc,
-        srf,
         False,
     )
     st[R_DONE * LANES + l] = select(commit, 1.0, 0.0)

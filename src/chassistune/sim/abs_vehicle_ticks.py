@@ -12,6 +12,7 @@ from typing import Any
 import numba
 import numpy as np
 
+from chassistune._branchfree import select
 from chassistune.controllers.laws.dispatch import law_start, tick_pass
 from chassistune.sim.abs_vehicle_lane import NO_REFCOUNT, lane_get, target_slip
 from chassistune.sim.abs_vehicle_layout import (
@@ -19,6 +20,7 @@ from chassistune.sim.abs_vehicle_layout import (
     KC_NF,
     KC_RW,
     KC_SELECT_LOW,
+    KC_TCOL,
     KC_TTIMEOUT,
     LANES,
     MEMORY,
@@ -39,6 +41,7 @@ from chassistune.sim.abs_vehicle_layout import (
     R_STATUS,
     R_SURF,
     R_TEND,
+    R_TGT,
     R_U0,
     R_WS,
     R_Y1,
@@ -55,14 +58,14 @@ _MEMORY_ZEROS = (0.0,) * MEMORY
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _wheel_inputs(st, l, j, src, e, kc, srf, t):
+def _wheel_inputs(st, l, j, src, e, kc, t):
     """What the law's tick at time t reads for wheel j of lane l on its channel error e: the
     signals of wheel src (itself, or under select-low the rear wheel whose error it took; the
     reference speed is the CG's), wheel j's held values, pressures and memory."""
     sig = (
         e,
         lane_get(st, R_SLIP + src, l),
-        target_slip(st, src, l, srf),
+        target_slip(st, src, l),
         lane_get(st, S_W + src, l),
         lane_get(st, R_WS + src, l),
         kc[KC_RW],
@@ -98,9 +101,9 @@ def _wheel_ticks_of(law_tick: Any) -> Any:
     compilation (not cached: the entry point's cache holds it): wheel j on its channel error
     errors[j] with the signals of wheel sources[j], in wheel order."""
 
-    def wheel_ticks(st, l, i, k, errors, sources, gains, col0, c, table, kc, srf, ts):
+    def wheel_ticks(st, l, i, k, errors, sources, gains, col0, c, table, kc, ts):
         for j in range(4):
-            sig, held, mem = _wheel_inputs(st, l, j, sources[j], errors[j], kc, srf, k * kc[KC_DT])
+            sig, held, mem = _wheel_inputs(st, l, j, sources[j], errors[j], kc, k * kc[KC_DT])
             held, mem = law_tick(sig, held, mem, gains[i], col0[j], c, table, ts, k == 0)
             _wheel_store(st, l, j, held, mem)
 
@@ -114,20 +117,20 @@ code)."""
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def tick(st, l, i, k, gains, col0, laws_key, ctrl_kind, c, table, kc, srf, ts):
+def tick(st, l, i, k, gains, col0, laws_key, ctrl_kind, c, table, kc, ts):
     """A sampled law's update of lane l (candidate i) at its step k, a sample instant, on the
     channel errors after select-low (the law dispatch compiles for `laws_key`, a literal)."""
     sel = kc[KC_SELECT_LOW] != 0.0
-    e0 = target_slip(st, 0, l, srf) - lane_get(st, R_SLIP, l)
-    e1 = target_slip(st, 1, l, srf) - lane_get(st, R_SLIP + 1, l)
+    e0 = target_slip(st, 0, l) - lane_get(st, R_SLIP, l)
+    e1 = target_slip(st, 1, l) - lane_get(st, R_SLIP + 1, l)
     e2, e3, low = select_low(
-        target_slip(st, 2, l, srf) - lane_get(st, R_SLIP + 2, l),
-        target_slip(st, 3, l, srf) - lane_get(st, R_SLIP + 3, l),
+        target_slip(st, 2, l) - lane_get(st, R_SLIP + 2, l),
+        target_slip(st, 3, l) - lane_get(st, R_SLIP + 3, l),
         sel,
     )
     rear = 3 if low else 2  # select-low: the rear wheel whose error it took
     sources = (0, 1, rear, rear) if sel else (0, 1, 2, 3)
-    args = (st, l, i, k, (e0, e1, e2, e3), sources, gains, col0, c, table, kc, srf, ts)
+    args = (st, l, i, k, (e0, e1, e2, e3), sources, gains, col0, c, table, kc, ts)
     _wheel_ticks(laws_key, ctrl_kind, args)
     for j in range(4):
         st[(R_WS + j) * LANES + l] = lane_get(st, S_W + j, l)
@@ -153,12 +156,14 @@ def fill_lane(st, l, i, gains, col0, laws_key, ctrl_kind, c, kc, srf, v0):
         st[(R_KI + j) * LANES + l] = ki
         st[(R_KD + j) * LANES + l] = kd
         st[(R_SURF + j) * LANES + l] = surface_flag(0.0, 0.0, 0.0, 1.0, 0.0, j, kc)
+    col = int(kc[KC_TCOL])  # a fixed target's gain column, or -1: each surface's own
+    fixed_target = gains[i, max(col, 0)]
+    st[R_TGT * LANES + l] = select(col >= 0, fixed_target, srf[4])
+    st[(R_TGT + 1) * LANES + l] = select(col >= 0, fixed_target, srf[10])
     # e(0): the wheels roll freely
-    e2, e3, _ = select_low(
-        target_slip(st, 2, l, srf), target_slip(st, 3, l, srf), kc[KC_SELECT_LOW] != 0.0
-    )
-    st[S_XF * LANES + l] = target_slip(st, 0, l, srf)
-    st[(S_XF + 1) * LANES + l] = target_slip(st, 1, l, srf)
+    e2, e3, _ = select_low(target_slip(st, 2, l), target_slip(st, 3, l), kc[KC_SELECT_LOW] != 0.0)
+    st[S_XF * LANES + l] = target_slip(st, 0, l)
+    st[(S_XF + 1) * LANES + l] = target_slip(st, 1, l)
     st[(S_XF + 2) * LANES + l] = e2
     st[(S_XF + 3) * LANES + l] = e3
     st[R_SPEED * LANES + l] = v0
