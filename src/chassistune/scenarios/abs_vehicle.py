@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from chassistune.controllers import laws, vehicle_specs
+from chassistune.controllers import yaw_moment_delay as GMA
 from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
 from chassistune.params import as_dict, implausible, override, positive, validate
@@ -50,7 +51,12 @@ from chassistune.scenarios.abs_wheel import _no_surface, fuzzy_table
 from chassistune.scenarios.base import PENALTY, Plant, Scenario, Trace, json_scalar, pick_preset
 from chassistune.scenarios.controller_params import kernel_gains, resolve_controller_params
 from chassistune.scenarios.registry import ABS_VEHICLE
-from chassistune.scenarios.road_knowledge import FIELD, controller_spec, road_knowledge
+from chassistune.scenarios.road_knowledge import (
+    FIELD,
+    TARGET_GAIN,
+    controller_spec,
+    road_knowledge,
+)
 from chassistune.sim import abs_vehicle_kernel as K
 from chassistune.sim import abs_vehicle_layout as VL
 from chassistune.sim.batch import run_chunked
@@ -210,6 +216,11 @@ class AbsVehicleScenario(Scenario):
         self.target_slips = tuple(t.slip_opt for t in road.surfaces)
         self._kernel_args = self._pack()
 
+    def _gain_column(self, name: str) -> int:
+        """The column of gain `name` in a gain row, -1 where the law has none of that name."""
+        names = self.controller.gain_names
+        return names.index(name) if name in names else -1
+
     def _pack(self) -> tuple[Any, ...]:
         pp, st, cp = self.plant_params, self.steering, self.controller_params
         road = self.road_spec
@@ -243,9 +254,8 @@ class AbsVehicleScenario(Scenario):
             "select_low": 1.0 if cp.get("rear") == "select-low" else 0.0,
             "axle_gains": 1.0 if cp.get("axle_gains") == "per-axle" else 0.0,
             "yaw_window_s": self.scoring.yaw_window_s,
-            "target_gain_column": (
-                len(self.controller.gains) - 1 if self.road_knowledge == "fixed" else -1
-            ),
+            "target_gain_column": self._gain_column(TARGET_GAIN.name),
+            "gma_gain_column": self._gain_column(GMA.RATE_GAIN.name),
         }
         p = VL.PLANT_LAYOUT.pack(values)
         geo = geometry(pp)
@@ -284,6 +294,7 @@ class AbsVehicleScenario(Scenario):
         if self.road_knowledge == "oracle":
             out["target_slips"] = list(self.target_slips)
         out[FIELD] = self.road_knowledge
+        out[GMA.FIELD] = "on" if self._gain_column(GMA.RATE_GAIN.name) >= 0 else "off"
         out.update(self.controller_params)
         out.update(as_dict(self.scoring))
         out["seed"] = self.seed
@@ -387,8 +398,11 @@ class AbsVehiclePlant(Plant):
     ) -> AbsVehicleScenario:
         spec = vehicle_specs.get(controller)
         knowledge = road_knowledge(values, controller)
+        gma = str(values.get(GMA.FIELD, "off"))
+        if gma not in GMA.CHOICES:
+            raise InputError(f"params.{GMA.FIELD}", f"must be off or on, got {gma!r}")
         plant_params, used = override(pre.params, values)
-        used.add(FIELD)
+        used |= {FIELD, GMA.FIELD}
         steering, used_steering = override(SteeringParams(), values)
         if steering.steering not in STEERING_MODES:
             raise InputError(
@@ -404,7 +418,7 @@ class AbsVehiclePlant(Plant):
         ctrl_values = resolve_controller_params(spec, values, used, {}, amplitude)
         unknown = sorted(set(values) - used)
         if unknown:
-            known = sorted(set(self.param_names()) | set(spec.param_names) | {FIELD})
+            known = sorted(set(self.param_names()) | set(spec.param_names) | {FIELD, GMA.FIELD})
             raise InputError(
                 f"params.{unknown[0]}",
                 f"unknown parameter for abs-vehicle with "
@@ -412,6 +426,7 @@ class AbsVehiclePlant(Plant):
             )
         if ctrl_values.get("axle_gains") == "per-axle":
             spec = vehicle_specs.per_axle(spec)
+        spec = GMA.controller_spec(spec, gma == "on")
         spec = controller_spec(spec, knowledge)  # one fixed target for all four wheels
         plant_params = validate(plant_params, "params.")
         _check_consistency(plant_params, road_spec, steering, scoring)

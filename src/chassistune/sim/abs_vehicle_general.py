@@ -20,6 +20,7 @@ from chassistune.plants.abs_vehicle import (
 )
 from chassistune.sim.abs_vehicle_lane import (
     NO_REFCOUNT,
+    front_gap,
     lane_arrays,
     lane_get,
     lane_put,
@@ -448,7 +449,9 @@ def general_end(st, l, kc):
     end (`end_step`, the stop included) where the general pass steps the lane; returns whether
     its run ended there."""
     x = state_of(st, 0, LANES, l)
-    xn = held(add(x, mul(kc[KC_H6], state_of(st, R_KSUM, LANES, l))), kc[KC_QMAX])
+    xn = held(
+        add(x, mul(kc[KC_H6], state_of(st, R_KSUM, LANES, l))), kc[KC_QMAX], front_gap(st, l, kc)
+    )
     _, _, _, _, va0, sl0 = steered(st, l, xn[0], xn[1][0], 0, kc)
     _, _, _, _, va1, sl1 = steered(st, l, xn[0], xn[2][0], 1, kc)
     _, _, _, _, va2, sl2 = steered(st, l, xn[0], xn[3][0], 2, kc)

@@ -19,6 +19,7 @@ from chassistune.sim.abs_vehicle_layout import (
     G_FZ0,
     G_X,
     G_Y,
+    KC_DT,
     LANES,
     LAW_KD,
     LAW_KI,
@@ -28,6 +29,7 @@ from chassistune.sim.abs_vehicle_layout import (
     P_DRIVER,
     P_DT,
     P_FRONT_SHARE,
+    P_GCOL,
     P_HOPELESS,
     P_IZ,
     P_J,
@@ -54,9 +56,11 @@ from chassistune.sim.abs_vehicle_layout import (
     P_YSPLIT,
     R_AX,
     R_AY,
+    R_GMA,
     R_KD,
     R_KI,
     R_KP,
+    R_STEP,
     R_SURF,
     R_TGT,
     R_U0,
@@ -145,6 +149,7 @@ def constants(p, geo):
         float(n_steps),
         n_steps * dt,
         p[P_TCOL],
+        p[P_GCOL],
     )
 
 
@@ -266,6 +271,15 @@ def laws_surfaces(st, l, srf):
             surface_of(lane_get(st, R_SURF + 3, l), srf, t0, t1),
         ),
     )
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def front_gap(st, l, kc):
+    """The largest difference of the front pressures at the end of lane l's step under the
+    yaw-moment build-up delay, r_gma q_max t (`controllers.yaw_moment_delay`); -1: no delay."""
+    rate = lane_get(st, R_GMA, l)
+    t_end = (lane_get(st, R_STEP, l) + 1.0) * kc[KC_DT]
+    return select(rate >= 0.0, rate * t_end, -1.0)
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")

@@ -94,6 +94,12 @@ PLANT_LAYOUT = Layout(
             "the gain column of a fixed target slip (road knowledge fixed); -1: the target of "
             "the surface under each wheel",
         ),
+        Slot(
+            "gma_gain_column",
+            "-",
+            "the gain column of the yaw-moment build-up rate r_gma (controllers.yaw_moment_delay); "
+            "-1: no delay",
+        ),
     ),
 )
 GEOMETRY_LAYOUT = Layout(
@@ -226,6 +232,7 @@ P_SELECT_LOW = PLANT_LAYOUT["select_low"]
 P_AXLE = PLANT_LAYOUT["axle_gains"]
 P_WINDOW = PLANT_LAYOUT["yaw_window_s"]
 P_TCOL = PLANT_LAYOUT["target_gain_column"]
+P_GCOL = PLANT_LAYOUT["gma_gain_column"]
 
 G_X = GEOMETRY_LAYOUT["x_m"]
 G_Y = GEOMETRY_LAYOUT["y_m"]
@@ -405,6 +412,7 @@ LANE_LAYOUT = Layout(
         Slot("load_iterations", "-", "most Newton iterations of one load solve"),
         Slot("target_slip_surface0", "-", "the law's target on surface 0 (`fill_lane`)"),
         Slot("target_slip_surface1", "-", "the law's target on surface 1"),
+        Slot("gma_rate", "preset unit/s", "r_gma q_max, the front pressure gap's growth; -1: off"),
         *GENERAL_ROWS,
     ),
 )
@@ -446,6 +454,7 @@ R_AX = LANE_LAYOUT["ax_m_s2"]
 R_AY = LANE_LAYOUT["ay_m_s2"]
 R_ITER = LANE_LAYOUT["load_iterations"]
 R_TGT = LANE_LAYOUT["target_slip_surface0"]
+R_GMA = LANE_LAYOUT["gma_rate"]
 """The law's target slip on surface s at row R_TGT + s: the surface's own, or the fixed gain."""
 R_GENERAL = LANE_LAYOUT["general"]
 R_KPREV = LANE_LAYOUT["k_prev_vx"]
@@ -508,6 +517,7 @@ CONSTANTS_LAYOUT = Layout(
         Slot("n_steps", "-", "steps until the timeout"),
         Slot("t_timeout_s", "s", "n_steps dt"),
         Slot("target_gain_column", "-"),
+        Slot("gma_gain_column", "-"),
     ),
 )
 """Slots named as a plant slot hold that slot's value, `inv_` ones its inverse,
@@ -548,3 +558,4 @@ KC_H6 = CONSTANTS_LAYOUT["sixth_step_s"]
 KC_NSTEPS = CONSTANTS_LAYOUT["n_steps"]
 KC_TTIMEOUT = CONSTANTS_LAYOUT["t_timeout_s"]
 KC_TCOL = CONSTANTS_LAYOUT["target_gain_column"]
+KC_GCOL = CONSTANTS_LAYOUT["gma_gain_column"]

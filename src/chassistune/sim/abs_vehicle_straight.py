@@ -8,8 +8,8 @@ import math
 
 import numba
 
-from chassistune._branchfree import clip, fmax, select
-from chassistune.sim.abs_vehicle_lane import NO_REFCOUNT, laws_surfaces, state_of
+from chassistune._branchfree import clip, fmax, fmin, select
+from chassistune.sim.abs_vehicle_lane import NO_REFCOUNT, front_gap, laws_surfaces, state_of
 from chassistune.sim.abs_vehicle_layout import (
     KC_A,
     KC_DMAX,
@@ -175,13 +175,16 @@ def straight_stage(x, g, s, kc):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def held(x, q_max):
-    """The state x after the step-end limits: each wheel's w held >= 0 and q in [0, q_max]."""
+def held(x, q_max, gap):
+    """The state x after the step-end limits: each wheel's w held >= 0 and q in [0, q_max], the
+    front pressures at most `gap` apart when gap >= 0 (`front_gap`)."""
     b, w0, w1, w2, w3 = x
+    q0, q1 = clip(w0[1], 0.0, q_max), clip(w1[1], 0.0, q_max)
+    on = gap >= 0.0
     return (
         b,
-        (fmax(w0[0], 0.0), clip(w0[1], 0.0, q_max), w0[2], w0[3], w0[4]),
-        (fmax(w1[0], 0.0), clip(w1[1], 0.0, q_max), w1[2], w1[3], w1[4]),
+        (fmax(w0[0], 0.0), select(on, fmin(q0, q1 + gap), q0), w0[2], w0[3], w0[4]),
+        (fmax(w1[0], 0.0), select(on, fmin(q1, q0 + gap), q1), w1[2], w1[3], w1[4]),
         (fmax(w2[0], 0.0), clip(w2[1], 0.0, q_max), w2[2], w2[3], w2[4]),
         (fmax(w3[0], 0.0), clip(w3[1], 0.0, q_max), w3[2], w3[3], w3[4]),
     )
@@ -201,7 +204,7 @@ def lane_step(st, l, kc, srf, live):
     kb, ok2 = straight_stage(rk4_point(x, hs, ka), g, s, kc)
     kc3, ok3 = straight_stage(rk4_point(x, hs, kb), g, s, kc)
     kd, ok4 = straight_stage(rk4_point(x, dt, kc3), g, s, kc)
-    xn = held(rk4_update(x, kc[KC_H6], ka, kb, kc3, kd), kc[KC_QMAX])
+    xn = held(rk4_update(x, kc[KC_H6], ka, kb, kc3, kd), kc[KC_QMAX], front_gap(st, l, kc))
     nb, n0, n1, n2, n3 = xn
     straight = (
         ok1 & ok2 & ok3 & ok4 & (nb[1] == 0.0) & (nb[2] == 0.0) & (nb[5] == 0.0) & (nb[6] == 0.0)

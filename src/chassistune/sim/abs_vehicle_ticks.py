@@ -17,7 +17,9 @@ from chassistune.controllers.laws.dispatch import law_start, tick_pass
 from chassistune.sim.abs_vehicle_lane import NO_REFCOUNT, lane_get, target_slip
 from chassistune.sim.abs_vehicle_layout import (
     KC_DT,
+    KC_GCOL,
     KC_NF,
+    KC_QMAX,
     KC_RW,
     KC_SELECT_LOW,
     KC_TCOL,
@@ -28,6 +30,7 @@ from chassistune.sim.abs_vehicle_layout import (
     R_ALL_D,
     R_ALL_T,
     R_ALL_V,
+    R_GMA,
     R_KD,
     R_KI,
     R_KP,
@@ -160,6 +163,8 @@ def fill_lane(st, l, i, gains, col0, laws_key, ctrl_kind, c, kc, srf, v0):
     fixed_target = gains[i, max(col, 0)]
     st[R_TGT * LANES + l] = select(col >= 0, fixed_target, srf[4])
     st[(R_TGT + 1) * LANES + l] = select(col >= 0, fixed_target, srf[10])
+    gma = int(kc[KC_GCOL])  # the yaw-moment build-up rate's gain column, or -1: no delay
+    st[R_GMA * LANES + l] = select(gma >= 0, gains[i, max(gma, 0)] * kc[KC_QMAX], -1.0)
     # e(0): the wheels roll freely
     e2, e3, _ = select_low(target_slip(st, 2, l), target_slip(st, 3, l), kc[KC_SELECT_LOW] != 0.0)
     st[S_XF * LANES + l] = target_slip(st, 0, l)
