@@ -259,3 +259,10 @@ def test_interactive_without_plotly_refuses_before_writing_anything(
     assert res.code == 2 and res.err.count("\n") == 1
     assert "--interactive" in res.err and "chassistune[interactive]" in res.err
     assert not out.exists()
+
+
+@pytest.mark.parametrize("key", ("derlsp-ao-abs", "deffao-vehicle-abs", "fuzzy-immune-abs"))
+def test_each_abs_paper_states_that_it_runs_with_the_oracles_target(reproduced, key: str) -> None:
+    setting = _table(reproduced, f"{key}_setting")
+    row = setting[setting.topic == "road knowledge"]
+    assert len(row) == 1 and str(row.text.iloc[0]).startswith("oracle, the papers' setting")

@@ -34,6 +34,14 @@ RANKING_ONLY = "holds in ranking only"
 FAILS = "does not hold"
 UNDECIDED = "undecided at this budget"
 UNCHECKED = "cannot be checked"
+ORACLE_SETTING = (
+    "road knowledge",
+    "oracle, the papers' setting: every slip controller is handed the road's optimal slip (the "
+    "peak of its mu-slip curve) as its target, which no vehicle knows (docs/abs_laws.md, 'Road "
+    "knowledge'; `chassistune league` tunes a fixed target instead).",
+)
+"""The setting row every ABS paper's section states."""
+
 VERDICTS = (HOLDS, RANKING_ONLY, FAILS, UNDECIDED, UNCHECKED)
 VERDICT_MARKS = {HOLDS: "✔", RANKING_ONLY: "≈", FAILS: "✘", UNDECIDED: "⋯", UNCHECKED: "?"}
 """Shown before each verdict on the page (the same symbols as the study report's better /

@@ -186,7 +186,7 @@ def studies() -> tuple[str, ...]:
 
 def build(ctx: common.Context) -> common.PaperSection:
     """The section of deffao-vehicle-abs."""
-    sec = common.PaperSection(KEY, published.paper(KEY).citation, SETTING)
+    sec = common.PaperSection(KEY, published.paper(KEY).citation, [*SETTING, common.ORACLE_SETTING])
     sec.tables += common.budget_tables(ctx, studies())
     data = ctx.studies[FUNCTIONS_STUDY]
     rows, parts, parts_ee = [], [], []

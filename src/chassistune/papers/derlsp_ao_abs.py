@@ -332,7 +332,7 @@ def _time_bound_check(
 
 def build(ctx: common.Context) -> common.PaperSection:
     """The section of derlsp-ao-abs."""
-    sec = common.PaperSection(KEY, published.paper(KEY).citation, SETTING)
+    sec = common.PaperSection(KEY, published.paper(KEY).citation, [*SETTING, common.ORACLE_SETTING])
     sec.tables += common.budget_tables(ctx, studies())
     parts: dict[str, list[tuple[str, str]]] = {c.name: [] for c in CLAIMS}
     checks: list[common.BoundCheck] = []

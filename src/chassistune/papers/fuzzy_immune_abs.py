@@ -146,7 +146,7 @@ def build(ctx: common.Context) -> common.PaperSection:
     from chassistune.plots.abs_wheel import plot_comparison
 
     data = ctx.studies[STUDY]
-    sec = common.PaperSection(KEY, published.paper(KEY).citation, SETTING)
+    sec = common.PaperSection(KEY, published.paper(KEY).citation, [*SETTING, common.ORACLE_SETTING])
     sec.tables += common.budget_tables(ctx, (STUDY,))
     verdicts, checks, locked = [], [], []
     for road, fig in ROADS:
