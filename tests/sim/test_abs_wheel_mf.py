@@ -19,6 +19,7 @@ from test_abs_wheel_kernel import _has_avx
 from chassistune._branchfree import stack_copy
 from chassistune.controllers.laws.held_pid import HELD_PID
 from chassistune.errors import InputError
+from chassistune.perf.abs import pid_closed_loop
 from chassistune.plants.magic_formula import longitudinal_force_pure_n, longitudinal_shape
 from chassistune.plants.mf_curve import (
     POLY_SIZE,
@@ -124,32 +125,14 @@ def test_a_road_scales_the_tire_to_its_peak() -> None:
 
 
 def _reference(sc: AbsWheelScenario, kp: float, ki: float, kd: float) -> tuple[float, float]:
-    """(stop time, stop distance) of the PID closed loop (`controllers.pid.pid_step`, the wheel
-    of `sim.abs_wheel_model`) with the MF tire's scalar force, by scipy's RK45."""
+    """(stop time, stop distance) of the PID closed loop (`perf.abs.pid_closed_loop`) with the
+    MF tire's scalar force, by scipy's RK45 at tight tolerances."""
     pp = sc.plant_params
     c = sc.tire.tire.kernel_array()
     fz = pp.load_fraction * pp.mass_kg * pp.g_m_s2
-    n_filter = sc.controller_params.get("n_filter", 100.0)
-
-    def rhs(t: float, y: np.ndarray) -> list[float]:
-        v, w, q, r, z, xf, _x = y
-        s = min(max((v - w * pp.wheel_radius_m) / v, 0.0), 1.0)
-        e = sc.target_slip - s
-        fx = -longitudinal_force_pure_n(c, -s, fz)
-        dw = (pp.wheel_radius_m * fx - pp.brake_gain * q) / pp.wheel_inertia_kg_m2
-        if w <= 0.0 and dw < 0.0:
-            dw = 0.0
-        u = kp * e + ki * z + kd * n_filter * (e - xf)
-        dz = 0.0 if (q >= pp.q_max and e > 0.0) or (q <= 0.0 and e < 0.0) else e
-        dq = 0.0 if (q >= pp.q_max and r > 0) or (q <= 0 and r < 0) else r
-        dr = (pp.actuator_gain * u - r) / pp.actuator_tau_s
-        return [-fx / pp.mass_kg, dw, dq, dr, dz, n_filter * (e - xf), v]
-
-    def stopped(t: float, y: np.ndarray) -> float:
-        return float(y[0] - pp.v_stop_m_s)
-
-    stopped.terminal = True  # type: ignore[attr-defined]
-    y0 = [pp.v0_m_s, pp.v0_m_s / pp.wheel_radius_m, 0.0, 0.0, 0.0, sc.target_slip, 0.0]
+    rhs, y0, stopped = pid_closed_loop(
+        sc, np.array([kp, ki, kd]), lambda s: -longitudinal_force_pure_n(c, -s, fz) / fz
+    )
     sol = solve_ivp(
         rhs, (0.0, pp.t_max_s), y0, rtol=1e-10, atol=1e-10, max_step=1e-3, events=stopped
     )

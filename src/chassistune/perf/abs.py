@@ -29,6 +29,7 @@ is the worst error over the others and `abs_ill_conditioned_*` counts them (the 
 from __future__ import annotations
 
 import warnings
+from collections.abc import Callable
 
 import numpy as np
 
@@ -137,13 +138,17 @@ def _controller_speed(controller: str, repeats: int) -> tuple[float, float]:
     return len(gains) / wall, len(gains) / cpu
 
 
-def solve_ivp_run(scenario: AbsWheelScenario, gains: np.ndarray) -> tuple[float, float]:
-    """(stop distance, slip ITAE) of one PID run with scipy's RK45, the baseline."""
-    from scipy.integrate import solve_ivp
-
+def pid_closed_loop(
+    scenario: AbsWheelScenario,
+    gains: np.ndarray,
+    mu_of_slip: Callable[[float], float] | None = None,
+) -> tuple[Callable[[float, np.ndarray], list[float]], list[float], Callable[..., float]]:
+    """(rhs, y0, stop event) of the single wheel's PID closed loop (design.md 3.1) for scipy's
+    solve_ivp, states (v, w, q, r, z, xf, distance, slip ITAE); `mu_of_slip` the tire's mu(S)
+    (default: the scenario's curve)."""
     pp = scenario.plant_params
     kp, ki, kd = (float(g) for g in gains)
-    tire = scenario.tire
+    mu = scenario.tire.mu if mu_of_slip is None else mu_of_slip
     target = scenario.target_slip
     nf = scenario.controller_params["n_filter"]
 
@@ -151,7 +156,7 @@ def solve_ivp_run(scenario: AbsWheelScenario, gains: np.ndarray) -> tuple[float,
         v, w, q, r, z, xf, _x, _itae = y
         s = min(max((v - w * pp.wheel_radius_m) / v, 0.0), 1.0)
         e = target - s
-        fx = float(tire.mu(s)) * pp.load_fraction * pp.mass_kg * pp.g_m_s2
+        fx = float(mu(s)) * pp.load_fraction * pp.mass_kg * pp.g_m_s2
         dw = (pp.wheel_radius_m * fx - pp.brake_gain * q) / pp.wheel_inertia_kg_m2
         if w <= 0.0 and dw < 0.0:
             dw = 0.0
@@ -174,7 +179,16 @@ def solve_ivp_run(scenario: AbsWheelScenario, gains: np.ndarray) -> tuple[float,
 
     stopped.terminal = True  # type: ignore[attr-defined]
     y0 = [pp.v0_m_s, pp.v0_m_s / pp.wheel_radius_m, 0.0, 0.0, 0.0, target, 0.0, 0.0]
-    sol = solve_ivp(rhs, (0.0, pp.t_max_s), y0, method="RK45", max_step=1e-3, events=stopped)
+    return rhs, y0, stopped
+
+
+def solve_ivp_run(scenario: AbsWheelScenario, gains: np.ndarray) -> tuple[float, float]:
+    """(stop distance, slip ITAE) of one PID run with scipy's RK45, the baseline."""
+    from scipy.integrate import solve_ivp
+
+    rhs, y0, stopped = pid_closed_loop(scenario, gains)
+    t_end = scenario.plant_params.t_max_s
+    sol = solve_ivp(rhs, (0.0, t_end), y0, method="RK45", max_step=1e-3, events=stopped)
     return float(sol.y[6, -1]), float(sol.y[7, -1])
 
 
