@@ -29,7 +29,7 @@ from chassistune.studies.store import RunRecord, open_study
 SCORES = {
     "distance_ratio": "stop distance over the adhesion bound [-]",
     "r13h_epsilon": "UN R13-H adhesion utilisation [-] (single wheel)",
-    "slip_itae": "slip ITAE [s^2]",
+    "slip_itae": "slip ITAE [s^2] about the target the law is given (the road's peak without one)",
     "valve_switches_per_s": "valve switches per second [1/s] (realistic ECU)",
     "yaw_rate_peak_1s_rad_s": "peak yaw rate in the first second [rad/s] (vehicle)",
 }
