@@ -678,6 +678,10 @@ EDGE_FIELDS = ("lane", "k", "target", "theta0", "theta1", "w0", "w1", "s", "lo",
 E_LANE, E_K, E_TARGET, E_THETA0, E_THETA1, E_W0, E_W1, E_S, E_LO, E_HI, E_DONE = range(
     len(EDGE_FIELDS)
 )
+EDGE_COLUMNS = 2 * LANES
+"""Columns of `edges` (a lane's step keeps at most its last two edges, `edges_passed`): row f
+of column i at f * EDGE_COLUMNS + i, a flat array whose rows sit at constant distances, so
+that the crossing search's loop over the columns vectorizes (as the lane loops over `st`)."""
 
 
 @_inline
@@ -707,7 +711,7 @@ def _lane_edges(st, l, teeth, spacing, edges, n):
             select(done, 1.0, 0.0),
         )
         for f in range(len(EDGE_FIELDS)):
-            edges[f, n] = item[f]
+            edges[f * EDGE_COLUMNS + n] = item[f]
         n += 1
         k += 1
     return n
@@ -726,26 +730,32 @@ def _settle_sensor(st, l, k_end, teeth, spacing):
 @_inline
 def _search_crossings(edges, n, dt):
     """`crossing_fraction` of the n edges in `edges`, in lockstep (`crossing_iteration`,
-    branch-free: a vector loop over the edges), until every search is done."""
+    branch-free: a vector loop over the edges in whole vectors, the columns after the n-th
+    zeros marked done), until every search is done."""
+    width = -(-n // VECTOR) * VECTOR
+    for i in range(n, width):
+        for f in range(len(EDGE_FIELDS)):
+            edges[f * EDGE_COLUMNS + i] = 0.0
+        edges[E_DONE * EDGE_COLUMNS + i] = 1.0
     for _ in range(E.CROSSING_ITERATIONS):
         busy = False
-        for i in range(n):
+        for i in range(width):
             s, lo, hi, done = E.crossing_iteration(
-                edges[E_S, i],
-                edges[E_LO, i],
-                edges[E_HI, i],
-                edges[E_DONE, i] != 0.0,
-                edges[E_TARGET, i],
-                edges[E_THETA0, i],
-                edges[E_THETA1, i],
-                edges[E_W0, i],
-                edges[E_W1, i],
+                edges[E_S * EDGE_COLUMNS + i],
+                edges[E_LO * EDGE_COLUMNS + i],
+                edges[E_HI * EDGE_COLUMNS + i],
+                edges[E_DONE * EDGE_COLUMNS + i] != 0.0,
+                edges[E_TARGET * EDGE_COLUMNS + i],
+                edges[E_THETA0 * EDGE_COLUMNS + i],
+                edges[E_THETA1 * EDGE_COLUMNS + i],
+                edges[E_W0 * EDGE_COLUMNS + i],
+                edges[E_W1 * EDGE_COLUMNS + i],
                 dt,
             )
-            edges[E_S, i] = s
-            edges[E_LO, i] = lo
-            edges[E_HI, i] = hi
-            edges[E_DONE, i] = select(done, 1.0, 0.0)
+            edges[E_S * EDGE_COLUMNS + i] = s
+            edges[E_LO * EDGE_COLUMNS + i] = lo
+            edges[E_HI * EDGE_COLUMNS + i] = hi
+            edges[E_DONE * EDGE_COLUMNS + i] = select(done, 1.0, 0.0)
             busy |= not done
         if not busy:
             return
@@ -765,12 +775,13 @@ def sensor_edges(st, live, dt, x, spacing, jitter, edges):
             n = _lane_edges(st, l, teeth, spacing, edges, n)
     _search_crossings(edges, n, dt)
     for i in range(n):
-        l = int(edges[E_LANE, i])
-        k = int(edges[E_K, i])
+        l = int(edges[E_LANE * EDGE_COLUMNS + i])
+        k = int(edges[E_K * EDGE_COLUMNS + i])
         t0 = (st[R_STEP * LANES + l] - 1.0) * dt
+        s = edges[E_S * EDGE_COLUMNS + i]
         st[R_TPREV * LANES + l] = st[R_TLAST * LANES + l]
-        st[R_TLAST * LANES + l] = E.edge_capture(t0, edges[E_S, i], dt, k, x[X_TIMER], jitter)
-        if i == n - 1 or edges[E_LANE, i + 1] != l:  # the lane's last edge
+        st[R_TLAST * LANES + l] = E.edge_capture(t0, s, dt, k, x[X_TIMER], jitter)
+        if i == n - 1 or edges[E_LANE * EDGE_COLUMNS + i + 1] != l:  # the lane's last edge
             _settle_sensor(st, l, k, teeth, spacing)
 
 
@@ -1085,7 +1096,7 @@ def simulate_abs_wheel_ecu(
         np.empty(N_ROWS * LANES),
         np.empty(LANES, dtype=np.int64),
         np.empty((LANES, aux_width)),
-        np.empty((len(EDGE_FIELDS), 2 * LANES)),
+        np.empty(len(EDGE_FIELDS) * EDGE_COLUMNS),
     )
 
 
