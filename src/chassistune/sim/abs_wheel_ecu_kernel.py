@@ -163,6 +163,7 @@ N_ECU_METRICS = len(EL.METRICS) - M_ECU_IAE
     R_R,
     R_THETA,
     R_SLIP,
+    R_S1,
     R_STEP,
     R_TICK,
     R_V_START,
@@ -252,15 +253,21 @@ _jit = njit(cache=True, nogil=True, error_model="numpy")
 
 
 @_inline
-def _rates(law, x, u, p, tire):
-    """Derivatives of x = (v, w, q, r) of the wheel under the held command u, with the plant
-    p = (r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max) and the tire (c0 .. c3, xc, xs, ys)
-    (design.md 3.1)."""
-    v, w, q, r = x
+def _rates_at(law, x, s, u, p, tire):
+    """Derivatives of x = (v, w, q, r) of the wheel, whose slip is s, under the held command u,
+    with the plant p = (r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max) and the tire
+    (c0 .. c3, xc, xs, ys) (design.md 3.1)."""
+    _, w, q, r = x
     r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max = p
-    fx = tire_mu(law, wheel_slip(v, w, r_w), tire) * fz
+    fx = tire_mu(law, s, tire) * fz
     dv, dw, dq, dr, _, _ = wheel_rates(w, q, r, fx, u, r_w, inv_m, inv_i, kq, gain, inv_tau, q_max)
     return dv, dw, dq, dr
+
+
+@_inline
+def _rates(law, x, u, p, tire):
+    """`_rates_at` at the slip of x."""
+    return _rates_at(law, x, wheel_slip(x[0], x[1], p[0]), u, p, tire)
 
 
 @_inline
@@ -345,9 +352,8 @@ def reference_speed(st, l, w_read, x, ts, tire, tc, acc_noise):
     elif vref_mode == 1:
         vref = E.vref_slew(vref, vw, x[X_AMAX], ts)
     elif tick > 0:
-        v, w, r_w = st[R_V * LANES + l], st[R_W * LANES + l], st[R_RW * LANES + l]
         fz, inv_m = st[R_FZ * LANES + l], st[R_INV_M * LANES + l]
-        a_true = -tire_mu(tire, wheel_slip(v, w, r_w), tc) * fz * inv_m
+        a_true = -tire_mu(tire, st[R_S1 * LANES + l], tc) * fz * inv_m
         noise = acc_noise[E.cyclic_index(tick, acc_noise.shape[0])]
         a_meas = E.accelerometer(a_true, x[X_BIAS], noise)
         vref, held = E.vref_accel(
@@ -554,7 +560,7 @@ def plant_step(st, l, tire, three_state, dt, hs, h6, tc, kb, kd):
     qa, qb = _stage_pressures(st, l, t, hs, dt, kb, kd, q_max)
 
     x0 = (v, w, q, r)
-    k1 = _rates(tire, x0, u0, pr, tc)
+    k1 = _rates_at(tire, x0, st[R_S1 * LANES + l], u0, pr, tc)  # no division on the path
     x2 = _stage(rk4_point(x0, hs, k1), three_state, qa)
     k2 = _rates(tire, x2, u0, pr, tc)
     x3 = _stage(rk4_point(x0, hs, k2), three_state, qa)
@@ -629,6 +635,7 @@ def step_metrics(st, l, dt, n_steps, t_timeout, live):
     st[R_STOP * LANES + l] = select(stop, 1.0, 0.0)
     st[R_H * LANES + l] = h
     st[R_SLIP * LANES + l] = s_new
+    st[R_S1 * LANES + l] = s_new  # wheel_slip(vn, wn, r_w)
     st[R_ITAE * LANES + l] = itae
     st[R_DIST * LANES + l] = dist
     st[R_STEP * LANES + l] = k + 1.0
@@ -794,6 +801,7 @@ def _fill_lane(st, l, aux, p, x, spacing):
     r_w, v0 = p[P_RADIUS], p[P_V0]
     r[R_V] = v0
     r[R_W] = v0 / r_w
+    r[R_S1] = wheel_slip(v0, r[R_W], r_w)
     r[R_WEST] = v0 / r_w
     for row in (R_TLAST, R_TPREV, R_READ_LAST, R_READ_PREV):
         r[row] = -1.0
