@@ -163,6 +163,7 @@ N_ECU_METRICS = len(EL.METRICS) - M_ECU_IAE
     R_R,
     R_THETA,
     R_SLIP,
+    R_S1,
     R_STEP,
     R_TICK,
     R_V_START,
@@ -252,15 +253,21 @@ _jit = njit(cache=True, nogil=True, error_model="numpy")
 
 
 @_inline
-def _rates(law, x, u, p, tire):
-    """Derivatives of x = (v, w, q, r) of the wheel under the held command u, with the plant
-    p = (r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max) and the tire (c0 .. c3, xc, xs, ys)
-    (design.md 3.1)."""
-    v, w, q, r = x
+def _rates_at(law, x, s, u, p, tire):
+    """Derivatives of x = (v, w, q, r) of the wheel, whose slip is s, under the held command u,
+    with the plant p = (r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max) and the tire
+    (c0 .. c3, xc, xs, ys) (design.md 3.1)."""
+    _, w, q, r = x
     r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max = p
-    fx = tire_mu(law, wheel_slip(v, w, r_w), tire) * fz
+    fx = tire_mu(law, s, tire) * fz
     dv, dw, dq, dr, _, _ = wheel_rates(w, q, r, fx, u, r_w, inv_m, inv_i, kq, gain, inv_tau, q_max)
     return dv, dw, dq, dr
+
+
+@_inline
+def _rates(law, x, u, p, tire):
+    """`_rates_at` at the slip of x."""
+    return _rates_at(law, x, wheel_slip(x[0], x[1], p[0]), u, p, tire)
 
 
 @_inline
@@ -345,9 +352,8 @@ def reference_speed(st, l, w_read, x, ts, tire, tc, acc_noise):
     elif vref_mode == 1:
         vref = E.vref_slew(vref, vw, x[X_AMAX], ts)
     elif tick > 0:
-        v, w, r_w = st[R_V * LANES + l], st[R_W * LANES + l], st[R_RW * LANES + l]
         fz, inv_m = st[R_FZ * LANES + l], st[R_INV_M * LANES + l]
-        a_true = -tire_mu(tire, wheel_slip(v, w, r_w), tc) * fz * inv_m
+        a_true = -tire_mu(tire, st[R_S1 * LANES + l], tc) * fz * inv_m
         noise = acc_noise[E.cyclic_index(tick, acc_noise.shape[0])]
         a_meas = E.accelerometer(a_true, x[X_BIAS], noise)
         vref, held = E.vref_accel(
@@ -554,7 +560,7 @@ def plant_step(st, l, tire, three_state, dt, hs, h6, tc, kb, kd):
     qa, qb = _stage_pressures(st, l, t, hs, dt, kb, kd, q_max)
 
     x0 = (v, w, q, r)
-    k1 = _rates(tire, x0, u0, pr, tc)
+    k1 = _rates_at(tire, x0, st[R_S1 * LANES + l], u0, pr, tc)  # no division on the path
     x2 = _stage(rk4_point(x0, hs, k1), three_state, qa)
     k2 = _rates(tire, x2, u0, pr, tc)
     x3 = _stage(rk4_point(x0, hs, k2), three_state, qa)
@@ -629,6 +635,7 @@ def step_metrics(st, l, dt, n_steps, t_timeout, live):
     st[R_STOP * LANES + l] = select(stop, 1.0, 0.0)
     st[R_H * LANES + l] = h
     st[R_SLIP * LANES + l] = s_new
+    st[R_S1 * LANES + l] = s_new  # wheel_slip(vn, wn, r_w)
     st[R_ITAE * LANES + l] = itae
     st[R_DIST * LANES + l] = dist
     st[R_STEP * LANES + l] = k + 1.0
@@ -678,6 +685,10 @@ EDGE_FIELDS = ("lane", "k", "target", "theta0", "theta1", "w0", "w1", "s", "lo",
 E_LANE, E_K, E_TARGET, E_THETA0, E_THETA1, E_W0, E_W1, E_S, E_LO, E_HI, E_DONE = range(
     len(EDGE_FIELDS)
 )
+EDGE_COLUMNS = 2 * LANES
+"""Columns of `edges` (a lane's step keeps at most its last two edges, `edges_passed`): row f
+of column i at f * EDGE_COLUMNS + i, a flat array whose rows sit at constant distances, so
+that the crossing search's loop over the columns vectorizes (as the lane loops over `st`)."""
 
 
 @_inline
@@ -707,7 +718,7 @@ def _lane_edges(st, l, teeth, spacing, edges, n):
             select(done, 1.0, 0.0),
         )
         for f in range(len(EDGE_FIELDS)):
-            edges[f, n] = item[f]
+            edges[f * EDGE_COLUMNS + n] = item[f]
         n += 1
         k += 1
     return n
@@ -726,26 +737,32 @@ def _settle_sensor(st, l, k_end, teeth, spacing):
 @_inline
 def _search_crossings(edges, n, dt):
     """`crossing_fraction` of the n edges in `edges`, in lockstep (`crossing_iteration`,
-    branch-free: a vector loop over the edges), until every search is done."""
+    branch-free: a vector loop over the edges in whole vectors, the columns after the n-th
+    zeros marked done), until every search is done."""
+    width = -(-n // VECTOR) * VECTOR
+    for i in range(n, width):
+        for f in range(len(EDGE_FIELDS)):
+            edges[f * EDGE_COLUMNS + i] = 0.0
+        edges[E_DONE * EDGE_COLUMNS + i] = 1.0
     for _ in range(E.CROSSING_ITERATIONS):
         busy = False
-        for i in range(n):
+        for i in range(width):
             s, lo, hi, done = E.crossing_iteration(
-                edges[E_S, i],
-                edges[E_LO, i],
-                edges[E_HI, i],
-                edges[E_DONE, i] != 0.0,
-                edges[E_TARGET, i],
-                edges[E_THETA0, i],
-                edges[E_THETA1, i],
-                edges[E_W0, i],
-                edges[E_W1, i],
+                edges[E_S * EDGE_COLUMNS + i],
+                edges[E_LO * EDGE_COLUMNS + i],
+                edges[E_HI * EDGE_COLUMNS + i],
+                edges[E_DONE * EDGE_COLUMNS + i] != 0.0,
+                edges[E_TARGET * EDGE_COLUMNS + i],
+                edges[E_THETA0 * EDGE_COLUMNS + i],
+                edges[E_THETA1 * EDGE_COLUMNS + i],
+                edges[E_W0 * EDGE_COLUMNS + i],
+                edges[E_W1 * EDGE_COLUMNS + i],
                 dt,
             )
-            edges[E_S, i] = s
-            edges[E_LO, i] = lo
-            edges[E_HI, i] = hi
-            edges[E_DONE, i] = select(done, 1.0, 0.0)
+            edges[E_S * EDGE_COLUMNS + i] = s
+            edges[E_LO * EDGE_COLUMNS + i] = lo
+            edges[E_HI * EDGE_COLUMNS + i] = hi
+            edges[E_DONE * EDGE_COLUMNS + i] = select(done, 1.0, 0.0)
             busy |= not done
         if not busy:
             return
@@ -765,12 +782,13 @@ def sensor_edges(st, live, dt, x, spacing, jitter, edges):
             n = _lane_edges(st, l, teeth, spacing, edges, n)
     _search_crossings(edges, n, dt)
     for i in range(n):
-        l = int(edges[E_LANE, i])
-        k = int(edges[E_K, i])
+        l = int(edges[E_LANE * EDGE_COLUMNS + i])
+        k = int(edges[E_K * EDGE_COLUMNS + i])
         t0 = (st[R_STEP * LANES + l] - 1.0) * dt
+        s = edges[E_S * EDGE_COLUMNS + i]
         st[R_TPREV * LANES + l] = st[R_TLAST * LANES + l]
-        st[R_TLAST * LANES + l] = E.edge_capture(t0, edges[E_S, i], dt, k, x[X_TIMER], jitter)
-        if i == n - 1 or edges[E_LANE, i + 1] != l:  # the lane's last edge
+        st[R_TLAST * LANES + l] = E.edge_capture(t0, s, dt, k, x[X_TIMER], jitter)
+        if i == n - 1 or edges[E_LANE * EDGE_COLUMNS + i + 1] != l:  # the lane's last edge
             _settle_sensor(st, l, k, teeth, spacing)
 
 
@@ -783,6 +801,7 @@ def _fill_lane(st, l, aux, p, x, spacing):
     r_w, v0 = p[P_RADIUS], p[P_V0]
     r[R_V] = v0
     r[R_W] = v0 / r_w
+    r[R_S1] = wheel_slip(v0, r[R_W], r_w)
     r[R_WEST] = v0 / r_w
     for row in (R_TLAST, R_TPREV, R_READ_LAST, R_READ_PREV):
         r[row] = -1.0
@@ -1085,7 +1104,7 @@ def simulate_abs_wheel_ecu(
         np.empty(N_ROWS * LANES),
         np.empty(LANES, dtype=np.int64),
         np.empty((LANES, aux_width)),
-        np.empty((len(EDGE_FIELDS), 2 * LANES)),
+        np.empty(len(EDGE_FIELDS) * EDGE_COLUMNS),
     )
 
 

@@ -106,7 +106,8 @@ LANE = Layout(
         Slot("q", "preset unit", "brake pressure"),
         Slot("r", "preset unit/s", "actuator rate (continuous actuator)"),
         Slot("theta_rad", "rad", "wheel angle (toothed sensor)"),
-        Slot("slip", "-", "true slip at the last step end"),
+        Slot("slip", "-", "true slip at the last step end (0 at the start: the metrics')"),
+        Slot("state_slip", "-", "slip of (v, w) now: `wheel_slip`, the last step's s_new"),
         Slot("step", "-", "steps done (t = step dt)"),
         Slot("tick", "-", "ECU ticks done"),
         # the last step's start and end facts
