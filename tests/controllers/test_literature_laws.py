@@ -1,0 +1,98 @@
+"""The ABS literature's slip laws in the registry (docs/abs_laws.md): the ideal wheel kernel runs
+each as its scalar reference (tests/controllers/literature_laws_reference.py) at the same sample
+period and step (the kernel's RK4); the realistic ECU's batch row i is its single run i; from the
+registry defaults each stops within 1.5 adhesion bounds on the single wheel (realistic ECU: dry
+concrete, ice) and on the vehicle (dry concrete, mu-jump). The conformance check
+(tests/scenarios/test_check_plant.py) and the C export's bit-for-bit replays (tests/export) take
+every registered law, these included."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+from literature_laws_reference import DRY_CONCRETE, ICE, LAWS, closed_loop
+
+from chassistune.controllers import laws
+from chassistune.controllers.laws import mixed_slip_deceleration
+from chassistune.scenarios.registry import get_plant
+
+REGISTERED = ("sliding-mode", "mixed-slip-deceleration", "adrc")
+ROADS = {"dry-concrete": DRY_CONCRETE, "ice": ICE}
+TS_S = 0.005
+DISTANCE_RTOL = 1e-7
+"""Measured: the stops agree to 6e-9 (relative) or better on both roads."""
+SLIP_ATOL = 1e-6
+"""On the slip at every sample instant."""
+
+
+@pytest.mark.parametrize("law", REGISTERED)
+def test_the_law_is_registered_on_both_plants(law: str) -> None:
+    assert {s.plant for s in laws.get(law).specs} == {laws.ABS_WHEEL, laws.ABS_VEHICLE}
+
+
+@pytest.mark.parametrize("road", ROADS)
+@pytest.mark.parametrize("law", REGISTERED)
+def test_the_ideal_kernel_runs_the_law_as_its_reference(law: str, road: str) -> None:
+    sc = get_plant("abs-wheel").scenario(None, road, law, {"ts_s": TS_S}, 0)
+    tire = sc.tire
+    assert (tire.slip_opt, tire.mu_peak, tire.mu_lock) == dataclasses.astuple(ROADS[road])
+    step, gains = LAWS[law]
+    if law != "mixed-slip-deceleration":  # the scenario's target slip (the road's peak)
+        gains = dataclasses.replace(gains, target=sc.target_slip)
+    ref = closed_loop(step, gains, ROADS[road], ts_s=TS_S, dt_s=sc.plant_params.dt_s)
+    g = sc.gains_array(None)
+    m = sc.metrics(g[None, :])
+    assert m["status"][0] == "stopped" and ref.stopped
+    assert abs(m["stop_distance_m"][0] / ref.distance_m - 1.0) < DISTANCE_RTOL
+    slip = sc.trace(g).signals["slip"]
+    ticks = np.arange(0, len(slip), round(TS_S / sc.plant_params.dt_s))
+    n = min(len(ticks), len(ref.slip))
+    assert n > 400 and np.ptp(ref.slip) > 0.1
+    assert np.max(np.abs(slip[ticks[:n]] - ref.slip[:n])) < SLIP_ATOL
+
+
+def test_mixed_slip_deceleration_reads_no_target_slip() -> None:
+    law = mixed_slip_deceleration.LAW
+    assert law.discrete is not None and "target_slip" not in law.discrete.params
+    assert "target_slip" not in law.discrete.inputs
+    wheel = get_plant("abs-wheel")
+    runs = [
+        wheel.scenario(None, "ice", law.name, {"ts_s": TS_S, "target_slip": s}, 0)
+        for s in (0.05, 0.3)
+    ]
+    d = [float(sc.metrics(sc.gains_array(None)[None, :])["stop_distance_m"][0]) for sc in runs]
+    assert runs[0].target_slip != runs[1].target_slip and d[0] == d[1]
+
+
+@pytest.mark.parametrize("law", REGISTERED)
+def test_the_realistic_ecus_batch_row_is_its_single_run(law: str) -> None:
+    sc = get_plant("abs-wheel").scenario(None, "ice", law, {"ecu": "realistic"}, 0)
+    spec = sc.controller
+    rng = np.random.default_rng(7)
+    lo, hi = np.array([g.lo for g in spec.gains]), np.array([g.hi for g in spec.gains])
+    pop = lo + (hi - lo) * rng.random((5, len(spec.gains)))
+    batch = sc.metrics(pop)["stop_distance_m"]
+    single = [sc.metrics(row[None, :])["stop_distance_m"][0] for row in pop]
+    assert np.array_equal(batch, np.array(single))
+
+
+@pytest.mark.parametrize(
+    ("plant", "road", "params"),
+    [
+        ("abs-wheel", "dry-concrete", {"ecu": "realistic"}),
+        ("abs-wheel", "ice", {"ecu": "realistic"}),
+        ("abs-vehicle", "dry-concrete", {}),
+        ("abs-vehicle", "mu-jump", {}),
+    ],
+)
+@pytest.mark.parametrize("law", REGISTERED)
+def test_from_its_defaults_the_law_stops_within_one_and_a_half_bounds(
+    law: str, plant: str, road: str, params: dict[str, object]
+) -> None:
+    sc = get_plant(plant).scenario(None, road, law, params, 0)
+    m = sc.metrics(sc.gains_array(None)[None, :])
+    assert m["status"][0] == "stopped"
+    assert m["stop_distance_m"][0] <= 1.5 * sc.bound_distance_m
+
