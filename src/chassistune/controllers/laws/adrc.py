@@ -181,6 +181,7 @@ LAW = Law(
     ecu=EcuForm(lambda: compiled()[1], rate=True),
     c=CForm(EQUATIONS, C_STEP, helpers=(W.C_HELPERS,)),
     source=(
-        "Gao, ACC 2003 (bandwidth-parameterised linear ADRC); ESO after Han, IEEE TIE 56(3) 2009 (docs/abs_laws.md)"
+        "Gao, ACC 2003 (bandwidth-parameterised linear ADRC); extended state observer after "
+        "Han, IEEE TIE 56(3) 2009 (docs/abs_laws.md 2)"
     ),
 )

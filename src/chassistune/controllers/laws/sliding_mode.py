@@ -198,6 +198,8 @@ LAW = Law(
     ecu=EcuForm(lambda: compiled()[1], rate=True),
     c=CForm(EQUATIONS, C_STEP, helpers=(W.C_HELPERS, W.C_FORCE)),
     source=(
-        "Unsal and Kachroo, IEEE TCST 7(2) 1999 (sliding-mode slip control); boundary layer after Slotine and Li, Applied Nonlinear Control, 1991, 7.2 (docs/abs_laws.md)"
+        "Unsal and Kachroo, IEEE TCST 7(2) 1999 (sliding-mode slip control); boundary layer "
+        "after Slotine and Li, Applied Nonlinear Control, Prentice Hall 1991, 7.2 "
+        "(docs/abs_laws.md 1)"
     ),
 )
