@@ -2,7 +2,9 @@
 each as its scalar reference (tests/controllers/literature_laws_reference.py) at the same sample
 period and step (the kernel's RK4); the realistic ECU's batch row i is its single run i; from the
 registry defaults each stops within 1.5 adhesion bounds on the single wheel (realistic ECU: dry
-concrete, ice) and on the vehicle (dry concrete, mu-jump). The conformance check
+concrete, ice) and on the vehicle (dry concrete, mu-jump); mixed slip-deceleration, told no
+road, within 1.3 on Burckhardt snow and without lock on every road of the wheel at two speeds
+(in the realistic ECU: lock only at walking speed). The conformance check
 (tests/scenarios/test_check_plant.py) and the C export's bit-for-bit replays (tests/export) take
 every registered law, these included."""
 
@@ -55,6 +57,7 @@ def test_the_ideal_kernel_runs_the_law_as_its_reference(law: str, road: str) -> 
 
 def test_mixed_slip_deceleration_reads_no_target_slip() -> None:
     law = mixed_slip_deceleration.LAW
+    assert not law.needs_target  # `list controllers` says so
     assert law.discrete is not None and "target_slip" not in law.discrete.params
     assert "target_slip" not in law.discrete.inputs
     wheel = get_plant("abs-wheel")
@@ -98,3 +101,69 @@ def test_from_its_defaults_the_law_stops_within_one_and_a_half_bounds(
     m = sc.metrics(sc.gains_array(None)[None, :])
     assert m["status"][0] == "stopped"
     assert m["stop_distance_m"][0] <= 1.5 * sc.bound_distance_m
+
+
+def test_mixed_slip_deceleration_stops_within_1_3_bounds_on_snow_it_is_not_told() -> None:
+    """Realistic ECU on Burckhardt snow (peak 0.19 at S = 0.06): the scenario's target slip
+    moves (two values) and the stop does not, so the law read none; the stop is within 1.3
+    adhesion bounds (measured 1.074)."""
+    wheel = get_plant("abs-wheel")
+    runs = [
+        wheel.scenario(
+            None,
+            "burckhardt-snow",
+            "mixed-slip-deceleration",
+            {"ecu": "realistic", "target_slip": s},
+            0,
+        )
+        for s in (0.05, 0.3)
+    ]
+    m = [sc.metrics(sc.gains_array(None)[None, :]) for sc in runs]
+    assert runs[0].target_slip != runs[1].target_slip
+    assert m[0]["stop_distance_m"][0] == m[1]["stop_distance_m"][0]
+    assert m[0]["status"][0] == "stopped"
+    assert m[0]["stop_distance_m"][0] <= 1.3 * runs[0].bound_distance_m
+
+
+GRID_ROADS = tuple(get_plant("abs-wheel").roads())
+"""Every road the single wheel offers; the mixed law's defaults were set on dry concrete."""
+GRID_SPEEDS_M_S = (30.0, 15.0)
+LOCK_SPEED_M_S = 4.0
+"""In the realistic ECU the wheel may lock only below this speed: the ECU hands the brake to
+the driver below 2 m/s (`abs_cutout_m_s`) and the slip's gain to the wheel deceleration grows as
+1 / v before that (measured: no lock above 3.73 m/s on any road but Burckhardt ice)."""
+NO_PEAK = "burckhardt-ice"
+"""c3 = 0: mu(S) rises to S = 1, a locked wheel is the road's best; no lock to avoid there."""
+
+
+@pytest.mark.parametrize("v0_m_s", GRID_SPEEDS_M_S)
+def test_mixed_slip_deceleration_never_locks_on_roads_it_was_not_tuned_on(v0_m_s: float) -> None:
+    """Ideal kernel, every road of the wheel at two initial speeds: each run stops, finite,
+    within 1.4 adhesion bounds (measured at most 1.33, cobblestone), and the wheel never locks."""
+    wheel = get_plant("abs-wheel")
+    for road in GRID_ROADS:
+        sc = wheel.scenario(None, road, "mixed-slip-deceleration", {"v0_m_s": v0_m_s}, 0)
+        m = sc.metrics(sc.gains_array(None)[None, :])
+        assert m["status"][0] == "stopped", road
+        assert np.isfinite(m["stop_distance_m"][0]), road
+        assert m["stop_distance_m"][0] <= 1.4 * sc.bound_distance_m, road
+        assert m["locked_time_s"][0] == 0.0 and np.isnan(m["wheel_lock_time_s"][0]), road
+
+
+@pytest.mark.parametrize("v0_m_s", GRID_SPEEDS_M_S)
+def test_mixed_slip_deceleration_in_the_ecu_locks_only_at_walking_speed(v0_m_s: float) -> None:
+    """Realistic ECU, every road with a peak at two initial speeds: each run stops, finite,
+    within 1.4 adhesion bounds (measured at most 1.37), the slip finite throughout, and the
+    wheel locked (slip >= 0.99) only below LOCK_SPEED_M_S."""
+    wheel = get_plant("abs-wheel")
+    for road in (r for r in GRID_ROADS if r != NO_PEAK):
+        params = {"ecu": "realistic", "v0_m_s": v0_m_s}
+        sc = wheel.scenario(None, road, "mixed-slip-deceleration", params, 0)
+        g = sc.gains_array(None)
+        m = sc.metrics(g[None, :])
+        assert m["status"][0] == "stopped", road
+        assert m["stop_distance_m"][0] <= 1.4 * sc.bound_distance_m, road
+        s = sc.trace(g).signals
+        assert np.all(np.isfinite(s["slip"])), road
+        locked = s["slip"] >= 0.99
+        assert np.all(s["vehicle_speed_m_s"][locked] < LOCK_SPEED_M_S), road

@@ -151,6 +151,7 @@ LAW = Law(
     discrete=DISCRETE,
     ecu=EcuForm(lambda: compiled()[1], rate=True),
     c=CForm(EQUATIONS, C_STEP, helpers=(W.C_HELPERS,)),
+    needs_target=False,
     source=(
         "Savaresi, Tanelli and Cantoni, ASME JDSMC 129(1) 2007; Savaresi and Tanelli, Active "
         "Braking Control Systems Design for Vehicles, Springer 2010 (docs/abs_laws.md 3)"
