@@ -12,6 +12,7 @@ from helpers import case
 
 import chassistune
 from chassistune._io import write_json
+from chassistune.controllers import laws
 from chassistune.export import vectors, write
 from chassistune.studies.executors import SerialExecutor
 from chassistune.studies.runner import run_study
@@ -219,7 +220,11 @@ def test_abs_vehicle_refusal_says_why(cli: Callable[..., object], tmp_path: Path
         str(tmp_path / "out"),
     )
     assert res.code == 2
-    assert "(pid, threshold, fuzzy-pid)" in res.err and "no discrete closed loop" in res.err
+    wheel_laws = [
+        n for n in laws.names() if laws.get(n).discrete and laws.get(n).spec(laws.ABS_VEHICLE)
+    ]
+    assert wheel_laws[:3] == ["pid", "threshold", "fuzzy-pid"]
+    assert f"({', '.join(wheel_laws)})" in res.err and "no discrete closed loop" in res.err
     assert "abs-wheel" in res.err
 
 

@@ -35,6 +35,12 @@ ABS_CASES: list[tuple[str, str, str, dict[str, float]]] = [
     ("paper-fuzzy-immune", "dirt-0.2", "pid", {}),
     ("sldemo", "sldemo-table", "bang-bang", {}),
     ("sldemo", "sldemo-table", "none", {}),
+    ("paper-derlsp-ao", "dry-concrete", "sliding-mode", {}),
+    ("paper-derlsp-ao", "ice", "sliding-mode", {}),
+    ("paper-derlsp-ao", "dry-concrete", "adrc", {}),
+    ("paper-derlsp-ao", "ice", "adrc", {}),
+    ("paper-derlsp-ao", "dry-concrete", "mixed-slip-deceleration", {}),
+    ("paper-derlsp-ao", "burckhardt-snow", "mixed-slip-deceleration", {}),
 ]
 QUARTER_CASES: list[tuple[str, str, str]] = [
     ("paper-iabc", "iso-b", "passive"),

@@ -19,7 +19,15 @@ import numpy as np
 
 PINNED = Path(__file__).parents[1] / "golden" / "abs_vehicle.json"
 
-CONTROLLERS = ("none", "pid", "threshold", "fuzzy-pid")
+CONTROLLERS = (
+    "none",
+    "pid",
+    "threshold",
+    "fuzzy-pid",
+    "sliding-mode",
+    "mixed-slip-deceleration",
+    "adrc",
+)
 ROADS = ("dry-concrete", "ice", "mu-jump", "split-mu")
 
 SINGLE_CASES: list[tuple[str, str, dict[str, str]]] = [
@@ -40,6 +48,9 @@ POPULATION_CASES: list[tuple[str, str, dict[str, str]]] = [
     ("mu-jump", "pid", {}),
     ("split-mu", "fuzzy-pid", {"rear": "select-low"}),
     ("split-mu", "pid", {"steering": "driver"}),
+    ("dry-concrete", "sliding-mode", {}),
+    ("mu-jump", "mixed-slip-deceleration", {}),
+    ("dry-concrete", "adrc", {}),
 ]
 """(road, controller, params): 12 candidates uniform in the tuning box and 4 wild ones."""
 

@@ -29,7 +29,7 @@ def computed() -> dict:
 def test_every_case_is_pinned(computed):
     assert sorted(computed) == sorted(PINNED)
     n_arrays = sum(len(case["raw"]) + len(case) - 1 for case in PINNED.values())
-    assert len(PINNED) == 28 and n_arrays > 900
+    assert len(PINNED) == 43 and n_arrays > 1300
 
 
 @pytest.mark.parametrize("law", laws.names())
@@ -45,11 +45,12 @@ def test_case_is_bitwise_unchanged(computed, key):
     assert computed[key] == PINNED[key]
 
 
-def test_wild_candidates_end_with_a_status_not_an_exception():
+@pytest.mark.parametrize("law", ["fuzzy-pid", "sliding-mode", "mixed-slip-deceleration", "adrc"])
+def test_wild_candidates_end_with_a_status_not_an_exception(law):
     from chassistune.scenarios.abs_vehicle import PLANT
     from chassistune.scenarios.base import PENALTY
 
-    sc = PLANT.scenario(None, "dry-concrete", "fuzzy-pid")
+    sc = PLANT.scenario(None, "dry-concrete", law)
     pop = pins.population(sc.controller.bounds())
     cost = sc.cost(pop)
     assert np.all(np.isfinite(cost)) and cost[-1] == PENALTY

@@ -7,11 +7,14 @@ is one module whose `LAW` is registered with `registry.register` (a test law reg
 from __future__ import annotations
 
 from chassistune.controllers.laws import (
+    adrc,
     bang_bang,
     fuzzy_immune_pid,
     fuzzy_pid,
+    mixed_slip_deceleration,
     none,
     pid,
+    sliding_mode,
     threshold,
 )
 from chassistune.controllers.laws.registry import (
@@ -31,7 +34,17 @@ from chassistune.controllers.laws.registry import (
     unregister,
 )
 
-for _module in (none, pid, bang_bang, threshold, fuzzy_pid, fuzzy_immune_pid):
+for _module in (
+    none,
+    pid,
+    bang_bang,
+    threshold,
+    fuzzy_pid,
+    fuzzy_immune_pid,
+    sliding_mode,
+    mixed_slip_deceleration,
+    adrc,
+):
     register(_module.LAW)
 
 __all__ = [
