@@ -150,7 +150,7 @@ def _law_rate(form, e, x, held, c, n_filter, at_max, at_min):
 
 
 def _form_call(run: Any, key: int) -> Callable[..., Any]:
-    @njit(**_LINK)
+    @njit(**_FORM_LINK)
     def call(kind, args):
         return run(key, args)
 
@@ -158,7 +158,7 @@ def _form_call(run: Any, key: int) -> Callable[..., Any]:
 
 
 def _form_link(kinds: tuple[int, ...], run: Any, key: int, rest: Any) -> Callable[..., Any]:
-    @njit(**_LINK)
+    @njit(**_FORM_LINK)
     def link(kind, args):
         hit = False
         for k in kinds:
@@ -225,6 +225,10 @@ def _no_schedule(kind, base, params, f):
 
 _LINK = {**FORM, "cache": False}
 """A link of a chain is built per compilation (a closure over the law's form): not cached."""
+
+_FORM_LINK = {**_LINK, "inline": "never"}
+"""A link of a pass's chain by continuous form is a call (inlined, its branches trip numba's
+IR checks); the pass it calls is a whole vector loop."""
 
 
 def _start_link(k: int, start: Any, rest: Any) -> Callable[..., Any]:
