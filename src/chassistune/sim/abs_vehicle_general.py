@@ -518,32 +518,14 @@ def general_steps(form, args):
 
 @numba.njit(**NO_REFCOUNT)
 def trace_row(form, args):
-    """Trace row `trace_row` of lane l, args = (trace_row, start, t, st, l, p, geo, surfs, law,
-    sidx, guess, sc, y, dy, wbuf, tgt, inv, ctrl): its state, and loads and forces re-evaluated
-    at it (`rhs` with the laws' continuous form of key `form`, a literal, on scratch copies of
-    the lane's arrays: tracing does not change the run); the start row (`start`) takes the
-    slips of that evaluation."""
+    """Trace row `trace_row` of lane l, args = (trace_row, start, t, st, l, work), work = (p,
+    geo, surfs, law, sidx, guess, sc, y, dy, wbuf, tgt, inv, ctrl): its state, and loads and
+    forces re-evaluated at it (`rhs` with the laws' continuous form of key `form`, a literal, on
+    scratch copies of the lane's arrays: tracing does not change the run); the start row
+    (`start`) takes the slips of that evaluation."""
     numba.literally(form)
-    (
-        trace_row,
-        start,
-        t,
-        st,
-        l,
-        p,
-        geo,
-        surfs,
-        law,
-        sidx,
-        guess,
-        sc,
-        y,
-        dy,
-        wbuf,
-        tgt,
-        inv,
-        ctrl,
-    ) = args
+    trace_row, start, t, st, l, work = args
+    p, geo, surfs, law, sidx, guess, sc, y, dy, wbuf, tgt, inv, ctrl = work
     for s in range(N_STATE):
         y[s] = lane_get(st, s, l)
     lane_arrays(st, l, law, sidx, guess)

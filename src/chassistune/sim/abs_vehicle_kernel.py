@@ -238,33 +238,11 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
         lane_of[l] = l
     queued = live  # next candidate to start
     n_trace = trace.shape[0]
+    work = (p, geo, surfs, law, sidx, guess, sc, y, dy, wbuf, tgt, inv, c)  # of a trace row
     rows = 0
     all_general = False  # every live lane took the general pass in the last step (no run ended)
     if n_trace > 0 and n > 0:
-        _trace_row(
-            laws_key,
-            ctrl_kind,
-            (
-                trace[rows],
-                rows == 0,
-                0.0,
-                st,
-                0,
-                p,
-                geo,
-                surfs,
-                law,
-                sidx,
-                guess,
-                sc,
-                y,
-                dy,
-                wbuf,
-                tgt,
-                inv,
-                c,
-            ),
-        )
+        _trace_row(laws_key, ctrl_kind, (trace[rows], rows == 0, 0.0, st, 0, work))
         rows = 1
     while live > 0:
         if sampled:  # at each lane's own sample instants
@@ -290,30 +268,7 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
         if n_trace > 0 and rows < n_trace:  # one candidate, in lane 0
             t = (lane_get(st, R_STEP, 0) - 1.0) * dt
             t_row = min(t + dt, lane_get(st, R_TEND, 0))
-            _trace_row(
-                laws_key,
-                ctrl_kind,
-                (
-                    trace[rows],
-                    rows == 0,
-                    t_row,
-                    st,
-                    0,
-                    p,
-                    geo,
-                    surfs,
-                    law,
-                    sidx,
-                    guess,
-                    sc,
-                    y,
-                    dy,
-                    wbuf,
-                    tgt,
-                    inv,
-                    c,
-                ),
-            )
+            _trace_row(laws_key, ctrl_kind, (trace[rows], rows == 0, t_row, st, 0, work))
             if lane_get(st, R_STATUS, 0) == STATUS_STOPPED:  # the row at the stop
                 trace[rows, T_SPEED] = kc[KC_VSTOP]
             rows += 1
