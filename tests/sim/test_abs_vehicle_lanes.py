@@ -115,6 +115,8 @@ def test_general_pass_vectorizes():
 
     import numba
 
+    from chassistune.controllers.laws.dispatch import form_key
+    from chassistune.controllers.laws.held_pid import HELD_PID
     from chassistune.scenarios.abs_vehicle import PLANT
     from chassistune.sim import abs_vehicle_general as G
     from chassistune.sim import abs_vehicle_layout as VL
@@ -124,8 +126,11 @@ def test_general_pass_vectorizes():
         k: v for k, v in G.general_steps.targetoptions.items() if k not in ("cache", "nopython")
     }
     fresh = numba.njit(**options)(G.general_steps.py_func)
-    p, geo, surfs, *_ = PLANT.scenario(None, "split-mu", "pid", {"steering": "driver"})._kernel_args
-    fresh(np.zeros(VL.N_ROWS * VL.LANES), VL.LANES, constants(p, geo), surfaces(surfs), 0)
+    p, geo, surfs, _, c, _ = PLANT.scenario(
+        None, "split-mu", "pid", {"steering": "driver"}
+    )._kernel_args
+    args = (np.zeros(VL.N_ROWS * VL.LANES), VL.LANES, constants(p, geo), surfaces(surfs), c, 0)
+    fresh(form_key(HELD_PID), args)
     asm = fresh.inspect_asm(fresh.signatures[0])
     packed = re.findall(r"\bv(?:mul|add|sub|div|sqrt|fmadd\w*)pd\s[^\n]*%[yz]mm", asm)
     assert len(packed) >= 600, "the general pass no longer vectorizes"

@@ -134,15 +134,16 @@ from chassistune.sim.abs_vehicle_wheels import (
     select_low,
     steered_wheel,
     wheel_brake_gain,
-    wheel_pid_rates,
+    wheel_law_rates,
     wheel_speeds,
 )
 from chassistune.sim.integrate import rk4_point
 
 
 @numba.njit(**NO_REFCOUNT)
-def rhs(y, dy, i, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv):
-    """Derivatives of candidate i's state `y` into dy[:, i]; returns the load-solve iterations.
+def rhs(form, y, dy, i, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv, ctrl):
+    """Derivatives of candidate i's state `y` into dy[:, i] with the wheel laws' continuous form
+    of key `form` and controller vector ctrl; returns the load-solve iterations.
 
     guess[:, i] holds the last (ax, ay) of the candidate (start of the load iteration), updated;
     inv = (1/Iz, 1/J, 1/T, 1/tau_steer).
@@ -184,18 +185,16 @@ def rhs(y, dy, i, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv):
         sc[W_E, j] = tgt[j] - sc[W_SLIP, j]
     sc[W_E, 2], sc[W_E, 3], _ = select_low(sc[W_E, 2], sc[W_E, 3], p[P_SELECT_LOW] != 0.0)
     for j in range(4):
-        dw, dq, dqr, dz, dxf = wheel_pid_rates(
+        dw, dq, dqr, dx = wheel_law_rates(
+            form,
             y[S_W + j],
             y[S_Q + j],
             y[S_QR + j],
-            y[S_Z + j],
-            y[S_XF + j],
+            (y[S_Z + j], y[S_XF + j]),
             sc[W_E, j],
             sc[W_FXW, j],
-            law[LAW_KP, j, i],
-            law[LAW_KI, j, i],
-            law[LAW_KD, j, i],
-            law[LAW_U0, j, i],
+            (law[LAW_U0, j, i], law[LAW_KP, j, i], law[LAW_KI, j, i], law[LAW_KD, j, i]),
+            ctrl,
             p[P_R],
             wheel_brake_gain(p[P_KQ], p[P_FRONT_SHARE], j),
             inv[1],
@@ -207,8 +206,8 @@ def rhs(y, dy, i, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv):
         dy[S_W + j, i] = dw
         dy[S_Q + j, i] = dq
         dy[S_QR + j, i] = dqr
-        dy[S_Z + j, i] = dz
-        dy[S_XF + j, i] = dxf
+        dy[S_Z + j, i] = dx[0]
+        dy[S_XF + j, i] = dx[1]
     return it
 
 
@@ -391,8 +390,9 @@ def load_iteration(st, l, it, kc, srf):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def stage_end(st, l, c, first, weight, kc, srf):
-    """A stage's end in lane l: its derivatives from the solved loads (`stage_rates`) become
+def stage_end(form, st, l, c, first, weight, kc, srf, ctrl):
+    """A stage's end in lane l: its derivatives from the solved loads (`stage_rates`, the laws'
+    continuous form of key `form`, controller vector ctrl) become
     k_prev and enter the RK4 sum (weight 2 for stages 2 and 3); the load solve's result
     becomes the next one's start where the stage was not straight."""
     y = stage_point(st, l, c)
@@ -411,6 +411,7 @@ def stage_end(st, l, c, first, weight, kc, srf):
     sp = lane_get(st, R_HEAD_SIN, l)
     dxy = (select(turned, vx * cp - vy * sp, vx), select(turned, vx * sp + vy * cp, vy))
     k = stage_rates(
+        form,
         y,
         lane_get(st, R_LAX, l),
         lane_get(st, R_LAY, l),
@@ -420,6 +421,7 @@ def stage_end(st, l, c, first, weight, kc, srf):
         e,
         dxy,
         g,
+        ctrl,
         kc,
     )
     total = state_of(st, R_KSUM, LANES, l)
@@ -476,14 +478,18 @@ def general_end(st, l, kc):
 
 
 @numba.njit(**NO_REFCOUNT)
-def general_steps(st, width, kc, srf, live):
-    """One RK4 step of the live lanes among 0 .. width - 1 (whole vectors) that the vector pass
+def general_steps(form, args):
+    """One RK4 step, args = (st, width, kc, srf, ctrl, live), with the laws' continuous form of
+    key `form` (a literal: compiled once per form), of the live lanes among 0 .. width - 1
+    (whole vectors) that the vector pass
     did not commit (split-mu, a driver steering, an unloaded wheel, the step of a stop), in
     the general case, all lanes at once: each stage's kinematics and closed-form loads, the
     Newton load solve iterated while a lane's has not returned (the others frozen by select),
     the stage's derivatives; then the step's end. Each lane's numbers are those of the general
     right-hand side (`rhs`) stage by stage, straight-line stages included (their derivatives
     are the same numbers; they leave the load guess as it was). Returns 1 if a run ended."""
+    numba.literally(form)
+    st, width, kc, srf, ctrl, live = args
     blocks = width // VECTOR
     for blk in range(blocks):
         for j in range(VECTOR):
@@ -504,7 +510,7 @@ def general_steps(st, width, kc, srf, live):
         weight = 1.0 if stage == 3 else 2.0
         for blk in range(blocks):
             for j in range(VECTOR):
-                stage_end(st, blk * VECTOR + j, c, stage == 0, weight, kc, srf)
+                stage_end(form, st, blk * VECTOR + j, c, stage == 0, weight, kc, srf, ctrl)
     angles(st, width, R_KSUM, kc[KC_H6])
     ended = False
     for blk in range(blocks):
@@ -514,16 +520,19 @@ def general_steps(st, width, kc, srf, live):
 
 
 @numba.njit(**NO_REFCOUNT)
-def trace_row(
-    trace_row, start, t, st, l, p, geo, surfs, law, sidx, guess, sc, y, dy, wbuf, tgt, inv
-):
-    """Trace row `trace_row` of lane l: its state, and loads and forces re-evaluated at it (`rhs`
-    on scratch copies of the lane's arrays: tracing does not change the run); the start row
+def trace_row(form, args):
+    """Trace row `trace_row` of lane l, args = (trace_row, start, t, st, l, work), work = (p,
+    geo, surfs, law, sidx, guess, sc, y, dy, wbuf, tgt, inv, ctrl): its state, and loads and
+    forces re-evaluated at it (`rhs` with the laws' continuous form of key `form`, a literal, on
+    scratch copies of the lane's arrays: tracing does not change the run); the start row
     (`start`) takes the slips of that evaluation."""
+    numba.literally(form)
+    trace_row, start, t, st, l, work = args
+    p, geo, surfs, law, sidx, guess, sc, y, dy, wbuf, tgt, inv, ctrl = work
     for s in range(N_STATE):
         y[s] = lane_get(st, s, l)
     lane_arrays(st, l, law, sidx, guess)
-    rhs(y, dy, 0, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv)
+    rhs(form, y, dy, 0, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv, ctrl)
     trace_row[T_TIME] = t
     trace_row[T_VX] = y[S_VX]
     trace_row[T_VY] = y[S_VY]

@@ -65,7 +65,7 @@ import numba
 import numpy as np
 
 from chassistune.controllers.laws import registry as laws
-from chassistune.controllers.laws.dispatch import law_sampled
+from chassistune.controllers.laws.dispatch import by_continuous_form, law_sampled
 from chassistune.sim.abs_vehicle_general import general_steps, trace_row
 from chassistune.sim.abs_vehicle_lane import NO_REFCOUNT, constants, lane_get, surfaces
 from chassistune.sim.abs_vehicle_layout import (
@@ -153,6 +153,13 @@ __all__ = [
 metrics and trace rows (declared in `abs_vehicle_layout`, with the other slots)."""
 
 
+_straight_pass = by_continuous_form(lane_steps)
+_general_pass = by_continuous_form(general_steps)
+_trace_row = by_continuous_form(trace_row)
+"""The passes of the law's continuous form (one compiled pass per form of the registered laws,
+`dispatch.rate_groups`), by kind (in compiled code)."""
+
+
 @numba.njit(**NO_REFCOUNT)
 def _finish_lane(st, l, out_row, dt):
     """Write the metrics row of the run that ended in lane l (step dt)."""
@@ -231,28 +238,11 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
         lane_of[l] = l
     queued = live  # next candidate to start
     n_trace = trace.shape[0]
+    work = (p, geo, surfs, law, sidx, guess, sc, y, dy, wbuf, tgt, inv, c)  # of a trace row
     rows = 0
     all_general = False  # every live lane took the general pass in the last step (no run ended)
     if n_trace > 0 and n > 0:
-        trace_row(
-            trace[rows],
-            rows == 0,
-            0.0,
-            st,
-            0,
-            p,
-            geo,
-            surfs,
-            law,
-            sidx,
-            guess,
-            sc,
-            y,
-            dy,
-            wbuf,
-            tgt,
-            inv,
-        )
+        _trace_row(laws_key, ctrl_kind, (trace[rows], rows == 0, 0.0, st, 0, work))
         rows = 1
     while live > 0:
         if sampled:  # at each lane's own sample instants
@@ -267,35 +257,18 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
             for l in range(width):
                 st[R_DONE * LANES + l] = 0.0
         else:
-            ended = lane_steps(st, width, kc, srf, live)
+            ended = _straight_pass(laws_key, ctrl_kind, (st, width, kc, srf, c, live))
         general = False
         all_general = True
         for l in range(live):
             general |= lane_get(st, R_DONE, l) == 0.0
             all_general &= lane_get(st, R_DONE, l) == 0.0
         if general:
-            ended |= general_steps(st, width, kc, srf, live)
+            ended |= _general_pass(laws_key, ctrl_kind, (st, width, kc, srf, c, live))
         if n_trace > 0 and rows < n_trace:  # one candidate, in lane 0
             t = (lane_get(st, R_STEP, 0) - 1.0) * dt
-            trace_row(
-                trace[rows],
-                rows == 0,
-                min(t + dt, lane_get(st, R_TEND, 0)),
-                st,
-                0,
-                p,
-                geo,
-                surfs,
-                law,
-                sidx,
-                guess,
-                sc,
-                y,
-                dy,
-                wbuf,
-                tgt,
-                inv,
-            )
+            t_row = min(t + dt, lane_get(st, R_TEND, 0))
+            _trace_row(laws_key, ctrl_kind, (trace[rows], rows == 0, t_row, st, 0, work))
             if lane_get(st, R_STATUS, 0) == STATUS_STOPPED:  # the row at the stop
                 trace[rows, T_SPEED] = kc[KC_VSTOP]
             rows += 1

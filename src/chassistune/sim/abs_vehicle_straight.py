@@ -45,27 +45,26 @@ from chassistune.sim.abs_vehicle_wheels import (
     select_low,
     straight_wheel,
     unsteered,
-    wheel_pid_rates,
+    wheel_law_rates,
 )
 from chassistune.sim.integrate import rk4_point, rk4_update
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def lane_wheel_rates(wt, e, fx, g, kc, j):
-    """`wheel_pid_rates` of wheel j's state wt = (w, q, qr, z, xf) with law g = (kp, ki, kd,
-    u0)."""
-    return wheel_pid_rates(
+def lane_wheel_rates(form, wt, e, fx, g, ctrl, kc, j):
+    """`wheel_law_rates` of wheel j's state wt = (w, q, qr, x0, x1), x the law's continuous
+    state (`ContinuousForm.state`, padded), with held values g = (kp, ki, kd, u0), the law's
+    continuous form of key `form` and the controller vector ctrl."""
+    dw, dq, dqr, dx = wheel_law_rates(
+        form,
         wt[0],
         wt[1],
         wt[2],
-        wt[3],
-        wt[4],
+        (wt[3], wt[4]),
         e,
         fx,
-        g[0],
-        g[1],
-        g[2],
-        g[3],
+        (g[3], g[0], g[1], g[2]),
+        ctrl,
         kc[KC_RW],
         kc[KC_KQ + j],
         kc[KC_INV_J],
@@ -74,6 +73,7 @@ def lane_wheel_rates(wt, e, fx, g, kc, j):
         kc[KC_INV_TAU],
         kc[KC_QMAX],
     )
+    return dw, dq, dqr, dx[0], dx[1]
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -113,13 +113,14 @@ def closed_loads(c, kc):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def stage_rates(x, ax, ay, fxb, fyb, fxw, e, dxy, g, kc):
+def stage_rates(form, x, ax, ay, fxb, fyb, fxw, e, dxy, g, ctrl, kc):
     """Derivatives at state x = (b, w0, w1, w2, w3), body b = (vx, vy, r, X, Y, psi, delta),
-    wheels wj = (w, q, qr, z, xf), given the solved loads: CG accelerations (ax, ay), the
+    wheels wj = (w, q, qr, x0, x1), given the solved loads: CG accelerations (ax, ay), the
     body-frame forces fxb, fyb and wheel-frame Fx per wheel fxw, the wheels' slip errors e
-    (before select-low), the position's rates dxy = (dX/dt, dY/dt) and the laws g: ((body
-    rates), four wheel rates). The equations of `abs_vehicle_kernel` (design.md 3.3), in the
-    order of `abs_vehicle_general.rhs`."""
+    (before select-low), the position's rates dxy = (dX/dt, dY/dt), the laws' held values g and
+    continuous form `form` with the controller vector ctrl: ((body rates), four wheel rates).
+    The equations of `abs_vehicle_kernel` (design.md 3.3), in the order of
+    `abs_vehicle_general.rhs`."""
     b, w0, w1, w2, w3 = x
     g0, g1, g2, g3 = g
     vx = b[0]
@@ -146,16 +147,17 @@ def stage_rates(x, ax, ay, fxb, fyb, fxw, e, dxy, g, kc):
     e2, e3, _ = select_low(e[2], e[3], kc[KC_SELECT_LOW] != 0.0)
     return (
         db,
-        lane_wheel_rates(w0, e[0], fxw[0], g0, kc, 0),
-        lane_wheel_rates(w1, e[1], fxw[1], g1, kc, 1),
-        lane_wheel_rates(w2, e2, fxw[2], g2, kc, 2),
-        lane_wheel_rates(w3, e3, fxw[3], g3, kc, 3),
+        lane_wheel_rates(form, w0, e[0], fxw[0], g0, ctrl, kc, 0),
+        lane_wheel_rates(form, w1, e[1], fxw[1], g1, ctrl, kc, 1),
+        lane_wheel_rates(form, w2, e2, fxw[2], g2, ctrl, kc, 2),
+        lane_wheel_rates(form, w3, e3, fxw[3], g3, ctrl, kc, 3),
     )
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def straight_stage(x, g, s, kc):
-    """Derivatives at state x (`stage_rates`) with laws g and surfaces s (per wheel) in the
+def straight_stage(form, x, g, s, ctrl, kc):
+    """Derivatives at state x (`stage_rates`) with laws g (form `form`, controller vector ctrl)
+    and surfaces s (per wheel) in the
     straight-line case (no yaw, lateral velocity, heading or steering; loads in closed form,
     `closed_loads`): (rates, ok), ok false where the case does not hold (the general pass
     then applies). The same numbers as the general pass where it holds."""
@@ -171,7 +173,8 @@ def straight_stage(x, g, s, kc):
     ax, fx, loaded = closed_loads((c0, c1, c2, c3), kc)
     ok = (b[1] == 0.0) & (b[2] == 0.0) & (b[5] == 0.0) & (b[6] == 0.0) & loaded
     e = (s0[4] - sl0, s1[4] - sl1, s2[4] - sl2, s3[4] - sl3)
-    return stage_rates(x, ax, 0.0, fx, (0.0, 0.0, 0.0, 0.0), fx, e, (vx, b[1]), g, kc), ok
+    zero = (0.0, 0.0, 0.0, 0.0)
+    return stage_rates(form, x, ax, 0.0, fx, zero, fx, e, (vx, b[1]), g, ctrl, kc), ok
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -191,8 +194,9 @@ def held(x, q_max, gap):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def lane_step(st, l, kc, srf, live):
-    """One RK4 step of lane l in the straight-line case, committed (R_DONE 1) only if every
+def lane_step(form, st, l, kc, srf, ctrl, live):
+    """One RK4 step of lane l in the straight-line case (the laws' continuous form of key `form`,
+    controller vector ctrl), committed (R_DONE 1) only if every
     stage and the step's end are straight and the run does not stop in it (that step, once a
     run, is the scalar pass's: it locates the stop); returns 1 if a live lane ended.
     Straight-line code: the body of the vector loop."""
@@ -200,10 +204,10 @@ def lane_step(st, l, kc, srf, live):
     g, s = laws_surfaces(st, l, srf)
     hs = kc[KC_HS]
     dt = kc[KC_DT]
-    ka, ok1 = straight_stage(rk4_point(x, 0.0, state_of(st, R_K4, LANES, l)), g, s, kc)
-    kb, ok2 = straight_stage(rk4_point(x, hs, ka), g, s, kc)
-    kc3, ok3 = straight_stage(rk4_point(x, hs, kb), g, s, kc)
-    kd, ok4 = straight_stage(rk4_point(x, dt, kc3), g, s, kc)
+    ka, ok1 = straight_stage(form, rk4_point(x, 0.0, state_of(st, R_K4, LANES, l)), g, s, ctrl, kc)
+    kb, ok2 = straight_stage(form, rk4_point(x, hs, ka), g, s, ctrl, kc)
+    kc3, ok3 = straight_stage(form, rk4_point(x, hs, kb), g, s, ctrl, kc)
+    kd, ok4 = straight_stage(form, rk4_point(x, dt, kc3), g, s, ctrl, kc)
     xn = held(rk4_update(x, kc[KC_H6], ka, kb, kc3, kd), kc[KC_QMAX], front_gap(st, l, kc))
     nb, n0, n1, n2, n3 = xn
     straight = (
@@ -237,10 +241,14 @@ def lane_step(st, l, kc, srf, live):
 
 
 @numba.njit(**NO_REFCOUNT)
-def lane_steps(st, width, kc, srf, live):
-    """One step of lanes 0 .. width - 1 (a whole number of vectors); 1 if a live lane ended."""
+def lane_steps(form, args):
+    """One step of lanes 0 .. width - 1 (a whole number of vectors), args = (st, width, kc, srf,
+    ctrl, live), with the laws' continuous form of key `form` (a literal: compiled once per
+    form); 1 if a live lane ended."""
+    numba.literally(form)
+    st, width, kc, srf, ctrl, live = args
     any_end = False
     for blk in range(width // VECTOR):
         for j in range(VECTOR):
-            any_end |= lane_step(st, blk * VECTOR + j, kc, srf, live)
+            any_end |= lane_step(form, st, blk * VECTOR + j, kc, srf, ctrl, live)
     return any_end

@@ -13,7 +13,7 @@ import numba
 import numpy as np
 
 from chassistune._branchfree import select
-from chassistune.controllers.laws.dispatch import law_start, tick_pass
+from chassistune.controllers.laws.dispatch import law_initial_state, law_start, tick_pass
 from chassistune.sim.abs_vehicle_lane import NO_REFCOUNT, lane_get, target_slip
 from chassistune.sim.abs_vehicle_layout import (
     KC_DT,
@@ -52,6 +52,7 @@ from chassistune.sim.abs_vehicle_layout import (
     S_VX,
     S_W,
     S_XF,
+    S_Z,
     STATUS_TIMEOUT,
 )
 from chassistune.sim.abs_vehicle_wheels import select_low, surface_flag
@@ -144,8 +145,9 @@ def tick(st, l, i, k, gains, col0, laws_key, ctrl_kind, c, table, kc, ts):
 def fill_lane(st, l, i, gains, col0, laws_key, ctrl_kind, c, kc, srf, v0):
     """Start candidate i in lane l: wheels rolling freely at v0, zero metrics, the law's held
     values at the start (`Law.forms`: the PID's gains, the driver's command without ABS), the
-    surfaces under the wheels at t = 0 and the derivative filters at e(0) (no kick; the law
-    dispatch compiles for `laws_key`, a literal)."""
+    surfaces under the wheels at t = 0 and the law's continuous state at e(0)
+    (`law_initial_state`: the PID's derivative filters there, no kick; the law dispatch compiles
+    for `laws_key`, a literal)."""
     for row in range(N_ROWS):
         st[row * LANES + l] = 0.0
     st[S_VX * LANES + l] = v0
@@ -167,10 +169,10 @@ def fill_lane(st, l, i, gains, col0, laws_key, ctrl_kind, c, kc, srf, v0):
     st[R_GMA * LANES + l] = select(gma >= 0, gains[i, max(gma, 0)] * kc[KC_QMAX], -1.0)
     # e(0): the wheels roll freely
     e2, e3, _ = select_low(target_slip(st, 2, l), target_slip(st, 3, l), kc[KC_SELECT_LOW] != 0.0)
-    st[S_XF * LANES + l] = target_slip(st, 0, l)
-    st[(S_XF + 1) * LANES + l] = target_slip(st, 1, l)
-    st[(S_XF + 2) * LANES + l] = e2
-    st[(S_XF + 3) * LANES + l] = e3
+    errors = (target_slip(st, 0, l), target_slip(st, 1, l), e2, e3)
+    for j in range(4):
+        x0 = law_initial_state(laws_key, ctrl_kind, errors[j])
+        st[(S_Z + j) * LANES + l], st[(S_XF + j) * LANES + l] = x0[0], x0[1]
     st[R_SPEED * LANES + l] = v0
     for row in (R_ALL_T, R_ALL_V, R_ALL_D, R_PSI1, R_Y1, R_SPIN_T):
         st[row * LANES + l] = np.nan

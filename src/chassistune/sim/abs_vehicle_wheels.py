@@ -11,7 +11,7 @@ import math
 import numba
 
 from chassistune._branchfree import clip, fmax, fmin, select
-from chassistune.controllers.pid import pid_step
+from chassistune.controllers.laws.dispatch import law_rate
 from chassistune.plants.vehicle_roads import ROAD_MU_JUMP, ROAD_SPLIT
 from chassistune.sim.abs_vehicle_layout import (
     G_X,
@@ -130,16 +130,16 @@ def wheel_brake_gain(kq, front_share, j):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def wheel_pid_rates(
-    w, q, qr, z, xf, e, fxw, kp, ki, kd, u0, r_w, kq, inv_j, nf, gain, inv_tau, q_max
-):
-    """Rates (dw, dq, dqr, dz, dxf) of a wheel's spin, brake actuator and PID states (design.md
-    3.1, 4): the single wheel's equations (`abs_wheel_model.wheel_rates`, its tire force
-    -fxw: the wheel-frame force Fx acts against the travel) under u = u0 + kp e + ki z +
-    kd N (e - xf) with conditional integration (`pid_step`). Branch-free."""
-    u, dz, dxf = pid_step(e, z, xf, u0, kp, ki, kd, nf, q >= q_max, q <= 0.0)
+def wheel_law_rates(form, w, q, qr, x, e, fxw, held, c, r_w, kq, inv_j, nf, gain, inv_tau, q_max):
+    """Rates (dw, dq, dqr, dx) of a wheel's spin, brake actuator and law state x (design.md
+    3.1): the single wheel's equations (`abs_wheel_model.wheel_rates`, its tire force -fxw: the
+    wheel-frame force Fx acts against the travel) under the command u of the law's continuous
+    form of key `form` (`dispatch.law_rate`: the PID u = u0 + kp e + ki z + kd N (e - xf) with
+    conditional integration for the held PID) with the held values (u0, kp, ki, kd) and the
+    controller vector c. Branch-free."""
+    u, dx = law_rate(form, e, x, held, c, nf, q >= q_max, q <= 0.0)
     _, dw, dq, dqr, _, _ = wheel_rates(w, q, qr, -fxw, u, r_w, 0.0, inv_j, kq, gain, inv_tau, q_max)
-    return dw, dq, dqr, dz, dxf
+    return dw, dq, dqr, dx
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")

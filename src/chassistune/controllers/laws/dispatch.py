@@ -25,6 +25,8 @@ or another, compiles the kernel anew instead of reusing a dispatch without it.
 
 from __future__ import annotations
 
+import hashlib
+import inspect
 from collections.abc import Callable
 from typing import Any
 
@@ -94,6 +96,105 @@ def continuous_groups() -> list[tuple[registry.ContinuousForm, bool, tuple[int, 
     return [(form, sampled, tuple(kinds)) for form, sampled, kinds in groups.values()]
 
 
+_RATES: dict[int, registry.ContinuousForm] = {}
+"""The continuous forms named so far, by key (`form_key`)."""
+
+
+def form_key(form: registry.ContinuousForm) -> int:
+    """The integer naming `form` in compiled code (`law_rate`): a digest of its state and of the
+    source of the module that builds it, so that a kernel numba cached on disk for one form is
+    never loaded for another (in this process or the next)."""
+    module = inspect.getmodule(form.forms)
+    source = inspect.getsource(module) if module is not None else ""
+    key = int(hashlib.sha1(repr((form.state, source)).encode()).hexdigest()[:15], 16)
+    _RATES[key] = form
+    return key
+
+
+def rate_groups() -> list[tuple[int, tuple[int, ...]]]:
+    """(form key, kinds) of the registered laws by continuous form alone (sampled or not), the
+    held PID's first (`continuous_groups`): a kernel integrating every law with one method
+    compiles its passes once per group."""
+    groups: dict[int, list[int]] = {}
+    for form, _, kinds in continuous_groups():
+        groups.setdefault(form_key(form), []).extend(kinds)
+    return [(key, tuple(kinds)) for key, kinds in groups.items()]
+
+
+def law_rate(form, e, x, held, c, n_filter, at_max, at_min):
+    """(u, dx) of the continuous form of key `form` (`form_key`, a literal) at slip error e, its
+    state x and rates dx padded with zeros to `registry.CONTINUOUS` floats (in compiled code)."""
+    raise NotImplementedError("law_rate runs in compiled code only")
+
+
+@overload(law_rate, prefer_literal=True, inline="always")
+def _law_rate(form, e, x, held, c, n_filter, at_max, at_min):
+    if not isinstance(form, types.IntegerLiteral):
+        raise TypingError("the continuous form's key must be a compile-time constant")
+    continuous = _RATES[form.literal_value]
+    rate = continuous.forms()[1]
+    n = len(continuous.state)
+    if n == registry.CONTINUOUS:
+
+        def impl(form, e, x, held, c, n_filter, at_max, at_min):
+            return rate(e, x, held, c, n_filter, at_max, at_min)
+
+        return impl
+    pad = (0.0,) * (registry.CONTINUOUS - n)
+
+    def padded(form, e, x, held, c, n_filter, at_max, at_min):
+        u, dx = rate(e, x[:n], held, c, n_filter, at_max, at_min)
+        return u, dx + pad
+
+    return padded
+
+
+def _form_call(run: Any, key: int) -> Callable[..., Any]:
+    @njit(**_FORM_LINK)
+    def call(kind, args):
+        return run(key, args)
+
+    return call
+
+
+def _form_link(kinds: tuple[int, ...], run: Any, key: int, rest: Any) -> Callable[..., Any]:
+    @njit(**_FORM_LINK)
+    def link(kind, args):
+        hit = False
+        for k in kinds:
+            hit |= kind == k
+        if hit:
+            return run(key, args)
+        return rest(kind, args)
+
+    return link
+
+
+def by_continuous_form(run: Any) -> Callable[..., Any]:
+    """`pass(laws_key, kind, args)` in compiled code: `run(form, args)` with `form` the key
+    (`form_key`, a literal) of the continuous form of law `kind`; a kind no law holds runs the
+    held PID's (whose held values are then NaN: the run diverges). One branch per continuous
+    form of the registered laws (`rate_groups`), so that `run` compiles once per form."""
+
+    def by_form(laws_key, kind, args):
+        raise NotImplementedError("a pass by continuous form runs in compiled code only")
+
+    @overload(by_form, prefer_literal=True, inline="always")
+    def _by_form(laws_key, kind, args):
+        _literal(laws_key)
+        groups = rate_groups()
+        chain = _form_call(run, groups[0][0])
+        for key, kinds in reversed(groups[1:]):
+            chain = _form_link(kinds, run, key, chain)
+
+        def impl(laws_key, kind, args):
+            return chain(kind, args)
+
+        return impl
+
+    return by_form
+
+
 @njit(**FORM)
 def _no_start(kind, g, g0, c):
     return _NAN4
@@ -124,6 +225,10 @@ def _no_schedule(kind, base, params, f):
 
 _LINK = {**FORM, "cache": False}
 """A link of a chain is built per compilation (a closure over the law's form): not cached."""
+
+_FORM_LINK = {**_LINK, "inline": "never"}
+"""A link of a pass's chain by continuous form is a call (inlined, its branches trip numba's
+IR checks); the pass it calls is a whole vector loop."""
 
 
 def _start_link(k: int, start: Any, rest: Any) -> Callable[..., Any]:
