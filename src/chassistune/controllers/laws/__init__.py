@@ -9,6 +9,7 @@ from __future__ import annotations
 from chassistune.controllers.laws import (
     adrc,
     bang_bang,
+    extremum_seeking,
     fuzzy_immune_pid,
     fuzzy_pid,
     mixed_slip_deceleration,
@@ -44,6 +45,7 @@ for _module in (
     sliding_mode,
     mixed_slip_deceleration,
     adrc,
+    extremum_seeking,
 ):
     register(_module.LAW)
 
