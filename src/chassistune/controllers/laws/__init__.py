@@ -13,6 +13,7 @@ from chassistune.controllers.laws import (
     fuzzy_immune_pid,
     fuzzy_pid,
     mixed_slip_deceleration,
+    mpc,
     none,
     pid,
     sliding_mode,
@@ -46,6 +47,7 @@ for _module in (
     mixed_slip_deceleration,
     adrc,
     extremum_seeking,
+    mpc,
 ):
     register(_module.LAW)
 
