@@ -9,8 +9,8 @@ friction estimate J = F / (M g) and its demodulation by the dither,
 
 with F_k the ECU's force estimate (`wheel_estimates`), theta = `start` and Jlp = J_0 at the
 first sample, u = r / K, r limited to +-rate_limit. It reads no target slip and nothing of the
-road. The sine is `sine`: an odd polynomial after reduction of the phase, the same operations in
-C (which then needs no libm), within 1e-15 of math.sin.
+road. The sine is `sine_form`: an odd polynomial after reduction of the phase, the same operations
+in C (which then needs no libm); within 3e-16 of math.sin over one period, 2e-13 at 1200 rad.
 """
 
 from __future__ import annotations
