@@ -204,6 +204,7 @@ def figures(quick: bool = False) -> dict[str, float]:
     t_ivp = best_time(lambda: [solve_ivp_run(sc, g) for g in subset], 1) / len(subset)
     fuzzy_wall, fuzzy_cpu = _controller_speed("fuzzy-pid", repeats)
     immune_wall, immune_cpu = _controller_speed("fuzzy-immune-pid", repeats)
+    mpc_wall, mpc_cpu = _controller_speed("mpc", repeats)
     return {
         "abs_sims_per_s": sims_per_s,
         "abs_sims_per_s_cpu": cpu,
@@ -216,4 +217,6 @@ def figures(quick: bool = False) -> dict[str, float]:
         "abs_fuzzy_pid_sims_per_s_cpu": fuzzy_cpu,
         "abs_immune_sims_per_s": immune_wall,
         "abs_immune_sims_per_s_cpu": immune_cpu,
+        "abs_mpc_sims_per_s": mpc_wall,
+        "abs_mpc_sims_per_s_cpu": mpc_cpu,
     }

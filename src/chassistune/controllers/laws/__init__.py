@@ -9,9 +9,11 @@ from __future__ import annotations
 from chassistune.controllers.laws import (
     adrc,
     bang_bang,
+    extremum_seeking,
     fuzzy_immune_pid,
     fuzzy_pid,
     mixed_slip_deceleration,
+    mpc,
     none,
     pid,
     sliding_mode,
@@ -44,6 +46,8 @@ for _module in (
     sliding_mode,
     mixed_slip_deceleration,
     adrc,
+    extremum_seeking,
+    mpc,
 ):
     register(_module.LAW)
 
