@@ -41,6 +41,10 @@ ABS_CASES: list[tuple[str, str, str, dict[str, float]]] = [
     ("paper-derlsp-ao", "ice", "adrc", {}),
     ("paper-derlsp-ao", "dry-concrete", "mixed-slip-deceleration", {}),
     ("paper-derlsp-ao", "burckhardt-snow", "mixed-slip-deceleration", {}),
+    ("paper-derlsp-ao", "dry-concrete", "extremum-seeking", {}),
+    ("paper-derlsp-ao", "burckhardt-snow", "extremum-seeking", {}),
+    ("paper-derlsp-ao", "dry-concrete", "mpc", {}),
+    ("paper-derlsp-ao", "ice", "mpc", {}),
 ]
 QUARTER_CASES: list[tuple[str, str, str]] = [
     ("paper-iabc", "iso-b", "passive"),

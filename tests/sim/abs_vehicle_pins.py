@@ -27,6 +27,8 @@ CONTROLLERS = (
     "sliding-mode",
     "mixed-slip-deceleration",
     "adrc",
+    "extremum-seeking",
+    "mpc",
 )
 ROADS = ("dry-concrete", "ice", "mu-jump", "split-mu")
 
@@ -51,6 +53,8 @@ POPULATION_CASES: list[tuple[str, str, dict[str, str]]] = [
     ("dry-concrete", "sliding-mode", {}),
     ("mu-jump", "mixed-slip-deceleration", {}),
     ("dry-concrete", "adrc", {}),
+    ("mu-jump", "extremum-seeking", {}),
+    ("dry-concrete", "mpc", {}),
 ]
 """(road, controller, params): 12 candidates uniform in the tuning box and 4 wild ones."""
 
