@@ -17,12 +17,12 @@ from typing import Any
 from numba.core import event
 
 COMPILE_CPU_S = {
-    "abs_wheel_kernel": 22,
-    "abs_wheel_ecu_kernel": 25,
-    "abs_vehicle_kernel": 43,
-    "quarter_car_kernel": 8,
-    "lyapunov": 5,
-    "discrete": 8,
+    "abs_wheel_kernel": 33,
+    "abs_wheel_ecu_kernel": 48,
+    "abs_vehicle_kernel": 60,
+    "quarter_car_kernel": 10,
+    "lyapunov": 6,
+    "discrete": 32,
 }
 """CPU seconds numba takes to compile a kernel of each module (the single wheel's one entry
 point, with every tire law and integration method; the realistic ECU kernel, whose step loop
