@@ -29,7 +29,7 @@ def computed() -> dict:
 def test_every_case_is_pinned(computed):
     assert sorted(computed) == sorted(PINNED)
     n_arrays = sum(len(case["raw"]) + len(case) - 1 for case in PINNED.values())
-    assert len(PINNED) == 43 and n_arrays > 1300
+    assert len(PINNED) == len(pins.SINGLE_CASES) + len(pins.POPULATION_CASES) and n_arrays > 1300
 
 
 @pytest.mark.parametrize("law", laws.names())
