@@ -60,6 +60,7 @@ def test_scores_are_in_their_ranges(quick: Path) -> None:
     eps = wheel.r13h_epsilon.dropna()
     assert len(eps) > 0 and ((eps >= 0.0) & (eps <= 1.2)).all()
     assert (wheel[wheel.law == "none"].r13h_epsilon == 0.0).all()  # a locked wheel never cycles
+    assert wheel[wheel.law == "pid"].r13h_epsilon.notna().any()  # a law told a fixed target
     vehicle = scores[scores.plant == "abs-vehicle"]
     assert vehicle.r13h_epsilon.isna().all() and vehicle.valve_switches_per_s.isna().all()
     straight = vehicle[vehicle.case != "split-mu"]

@@ -98,7 +98,8 @@ def _r13h(lp: LeaguePlant, case: Case, t: Tuned, params: dict[str, object]) -> f
 
     if lp.plant != "abs-wheel":
         return math.nan
-    adhesion = _adhesion(lp.preset, case.road, tuple(sorted(params.items())))
+    plant = {k: v for k, v in params.items() if k != "road_knowledge"}  # k_M is the road's
+    adhesion = _adhesion(lp.preset, case.road, tuple(sorted(plant.items())))
     if adhesion is None:
         return math.nan
     return r13h_epsilon(t.law, lp.preset, case.road, t.gains, params, adhesion).epsilon
