@@ -136,7 +136,7 @@ def test_vector_loops_vectorize(law: int, method: int) -> None:
     def run(st, c4, xc_tuple, xs_tuple, ys_tuple, c):  # type: ignore[no-untyped-def]
         xc, xs, ys = stack_copy(xc_tuple), stack_copy(xs_tuple), stack_copy(ys_tuple)
         tire = (c4[0], c4[1], c4[2], c4[3], xc, xs, ys, K._NO_POLY)
-        return steps(st, K.LANES, 1e-3, 5e-4, 1e-3 / 6.0, 0.2, 100.0, 0.1, 0, tire, c)
+        return steps(st, K.LANES, 1e-3, 5e-4, 1e-3 / 6.0, 100.0, 0.1, 0, tire, c)
 
     _p, _kind, coef, xs, ys, _ck, c, _table = PLANT.scenario(*ROADS[law], "pid")._kernel_args
     c4 = np.zeros(4)

@@ -187,7 +187,7 @@ def test_the_magic_formula_loop_vectorizes() -> None:
     def run(st, c4, xc_tuple, xs_tuple, ys_tuple, poly, c):  # type: ignore[no-untyped-def]
         xc, xs, ys = stack_copy(xc_tuple), stack_copy(xs_tuple), stack_copy(ys_tuple)
         tire = (c4[0], c4[1], c4[2], c4[3], xc, xs, ys, poly)
-        return steps(st, K.LANES, 1e-3, 5e-4, 1e-3 / 6.0, 0.2, 100.0, 0.1, 0, tire, c)
+        return steps(st, K.LANES, 1e-3, 5e-4, 1e-3 / 6.0, 100.0, 0.1, 0, tire, c)
 
     _p, _kind, coef, poly, _ys, _ck, c, _table = _scenario("pid")._kernel_args
     no_table = table_tuples(np.array([0.0, 1.0]), np.array([0.0, 0.0]))
