@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 from numba import njit
+from numba.np.unsafe.ndarray import to_fixed_tuple
 from numpy.typing import NDArray
 
 from chassistune.controllers.laws import registry
@@ -53,6 +54,8 @@ N_STATE = registry.slots("discrete_state")
 """Floats of a law's state vector: the most any registered law's `DiscreteLaw.state` holds."""
 ECU_INPUTS = registry.slots("ecu_inputs")
 """Floats of a law's input vector: the most inputs any registered law reads."""
+N_SIGNALS = len(ECU_SIGNALS)
+"""Floats of the signal tuple a law's ECU form reads its inputs from (`forms.ECU_SIGNALS`)."""
 
 INPUT_DESCRIPTIONS = {
     "slip": "wheel slip (v - w R) / v against the reference speed, in [0, 1]",
@@ -99,7 +102,8 @@ def _steps_entry(laws_key: int) -> Any:
         inputs = np.zeros(ECU_INPUTS)
         out = np.empty(signals.shape[0])
         for k in range(signals.shape[0]):
-            out[k] = law_ecu_step(laws_key, kind, state, inputs, signals[k], params, table, grid)
+            sig = to_fixed_tuple(signals[k], N_SIGNALS)
+            out[k] = law_ecu_step(laws_key, kind, state, inputs, sig, params, table, grid)
         return out
 
     return njit(cache=True, nogil=True, error_model="numpy")(steps)

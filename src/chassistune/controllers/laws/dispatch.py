@@ -25,6 +25,7 @@ or another, compiles the kernel anew instead of reusing a dispatch without it.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import inspect
 from collections.abc import Callable
@@ -60,8 +61,14 @@ def law_initial_state(laws_key, kind, target):
 
 def law_ecu_step(laws_key, kind, state, inputs, sig, params, table, grid):
     """The ECU command u of law `kind` at a tick, its inputs taken from the signals `sig`
-    (`forms.ECU_SIGNALS`); `state` is updated in place (in compiled code)."""
+    (`forms.ECU_SIGNALS`); `state` is updated in place (in compiled code). A call of
+    `ecu_step(laws_key)`, compiled once for every caller."""
     raise NotImplementedError("law_ecu_step runs in compiled code only")
+
+
+def _ecu_chain(laws_key, kind, state, inputs, sig, params, table, grid):
+    """`law_ecu_step`'s if-chain over the registered kinds (in compiled code)."""
+    raise NotImplementedError("_ecu_chain runs in compiled code only")
 
 
 def law_ecu_schedule(laws_key, kind, base, params, f):
@@ -365,8 +372,8 @@ def _law_initial_state(laws_key, kind, target):
     return impl
 
 
-@overload(law_ecu_step, prefer_literal=True)
-def _law_ecu_step(laws_key, kind, state, inputs, sig, params, table, grid):
+@overload(_ecu_chain, prefer_literal=True)
+def _ecu_chain_impl(laws_key, kind, state, inputs, sig, params, table, grid):
     _literal(laws_key)
     chain = _no_ecu_step
     for k, law in reversed(list(enumerate(_kinds()))):
@@ -376,6 +383,31 @@ def _law_ecu_step(laws_key, kind, state, inputs, sig, params, table, grid):
 
     def impl(laws_key, kind, state, inputs, sig, params, table, grid):
         return chain(kind, state, inputs, sig, params, table, grid)
+
+    return impl
+
+
+@functools.cache
+def ecu_step(laws_key: int) -> Any:
+    """`law_ecu_step` of the laws named by `laws_key` as a function of its own, cached on disk
+    (keyed on `laws_key`, a closure variable) and never inlined: the realistic ECU kernel and
+    the C export's replay (`controllers.discrete`) call this one compilation of every law's
+    ECU form instead of each compiling its own. Compiled without reference counting, as the
+    ECU kernel is (it allocates nothing)."""
+
+    def ecu_step(kind, state, inputs, sig, params, table, grid):
+        return _ecu_chain(laws_key, kind, state, inputs, sig, params, table, grid)
+
+    return njit(cache=True, nogil=True, error_model="numpy", _nrt=False)(ecu_step)
+
+
+@overload(law_ecu_step, prefer_literal=True, inline="always")
+def _law_ecu_step(laws_key, kind, state, inputs, sig, params, table, grid):
+    _literal(laws_key)
+    step = ecu_step(laws_key.literal_value)
+
+    def impl(laws_key, kind, state, inputs, sig, params, table, grid):
+        return step(kind, state, inputs, sig, params, table, grid)
 
     return impl
 
