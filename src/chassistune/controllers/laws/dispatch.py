@@ -259,12 +259,16 @@ def _initial_link(k: int, initial: Any, pad: tuple[float, ...], rest: Any) -> Ca
 
 
 def _ecu_link(k: int, step: Any, picks: tuple[int, ...], rest: Any) -> Callable[..., Any]:
+    @njit(**{**_LINK, "inline": "never"})
+    def call(state, inputs, params, table, grid):
+        return step(state, inputs, params, table, grid)
+
     @njit(**_LINK)
     def link(kind, state, inputs, sig, params, table, grid):
         if kind == k:
             for j in range(len(picks)):
                 inputs[j] = sig[picks[j]]
-            return step(state, inputs, params, table, grid)
+            return call(state, inputs, params, table, grid)
         return rest(kind, state, inputs, sig, params, table, grid)
 
     return link
