@@ -36,7 +36,6 @@ from typing import Any
 
 import numpy as np
 from numba import njit
-from numba.np.unsafe.ndarray import to_fixed_tuple
 from numpy.typing import NDArray
 
 from chassistune.controllers.laws import registry
@@ -45,6 +44,7 @@ from chassistune.controllers.laws.forms import ECU_SIGNALS
 from chassistune.controllers.laws.registry import DiscreteLaw
 from chassistune.fuzzy.engine import evaluate
 from chassistune.fuzzy.rulebase import RuleBase
+from chassistune.sim.lanes import read_rows
 
 DEFAULT_TABLE_POINTS = 49
 """`fuzzy_table_points`: nodes per input of the ECU lookup table (see the module docstring)."""
@@ -54,8 +54,9 @@ N_STATE = registry.slots("discrete_state")
 """Floats of a law's state vector: the most any registered law's `DiscreteLaw.state` holds."""
 ECU_INPUTS = registry.slots("ecu_inputs")
 """Floats of a law's input vector: the most inputs any registered law reads."""
-N_SIGNALS = len(ECU_SIGNALS)
-"""Floats of the signal tuple a law's ECU form reads its inputs from (`forms.ECU_SIGNALS`)."""
+_NO_SIGNALS = (0.0,) * len(ECU_SIGNALS)
+"""The shape of the signal tuple a law's ECU form reads its inputs from (`forms.ECU_SIGNALS`),
+as the ECU kernel hands it: one compilation of the dispatch serves both."""
 
 INPUT_DESCRIPTIONS = {
     "slip": "wheel slip (v - w R) / v against the reference speed, in [0, 1]",
@@ -102,7 +103,7 @@ def _steps_entry(laws_key: int) -> Any:
         inputs = np.zeros(ECU_INPUTS)
         out = np.empty(signals.shape[0])
         for k in range(signals.shape[0]):
-            sig = to_fixed_tuple(signals[k], N_SIGNALS)
+            sig = read_rows(signals[k], 0, 1, _NO_SIGNALS)
             out[k] = law_ecu_step(laws_key, kind, state, inputs, sig, params, table, grid)
         return out
 

@@ -9,10 +9,10 @@ short horizon (`exercise`, `Case.cut_short`: a run to the stop is seconds of sim
 which no compiler needs). Building one scenario of each (plant, controller, ECU mode) first,
 in this process, compiles what scenarios share (the fuzzy surfaces) and names the compiled
 entry point each kind of case goes through (`entry_point`); the cases are then grouped by entry
-point and the groups, with `extra` (kernels no case reaches) as a group of its own, spread over
-worker processes, the largest estimated compilation first. No kernel is compiled in two
-groups, so no two processes write one function's cache index at once (numba's index is
-rewritten whole: two writers would lose an entry).
+point and the groups, with `extra` (kernels no case reaches) run after the group whose kernels
+it shares (`EXTRA_WITH`), spread over worker processes, the largest estimated compilation
+first. No kernel is compiled in two groups, so no two processes write one function's cache
+index at once (numba's index is rewritten whole: two writers would lose an entry).
 """
 
 from __future__ import annotations
@@ -164,7 +164,10 @@ class Warmup:
 
 
 EXTRA = "extra"
-"""The group name of `warm_up`'s `extra` kernels."""
+"""The group name of `warm_up`'s `extra` kernels where no case goes through `EXTRA_WITH`."""
+EXTRA_WITH = "abs_wheel_ecu_kernel"
+"""The entry point whose group runs `extra` after its cases: the realistic ECU kernel, whose
+law dispatch (`controllers.laws.dispatch.ecu_step`) the C export's replay calls too."""
 
 
 Job = tuple[list[Case], Callable[[], None] | None]
@@ -181,7 +184,9 @@ def _plan(
         warnings.simplefilter("ignore")
         groups = group_by_entry_point(cases())
     jobs: dict[str, Job] = {key: (cases_, None) for key, cases_ in groups.items()}
-    if extra is not None:
+    if extra is not None and EXTRA_WITH in jobs:
+        jobs[EXTRA_WITH] = (jobs[EXTRA_WITH][0], extra)
+    elif extra is not None:
         jobs[EXTRA] = ([], extra)
     order = sorted(jobs, key=lambda k: -estimate_cpu_s(k))
     return groups, {key: jobs[key] for key in order}, list(log.done)
@@ -194,7 +199,7 @@ def warm_up(
 ) -> Warmup:
     """Compile the kernels of every case, in `processes` worker processes (1: here); `extra`
     compiles kernels no case reaches (such as the C export's replay; a module-level function,
-    since it runs in a worker), as a group of its own that shares no kernel with the cases';
+    since it runs in a worker), after the cases of `EXTRA_WITH`, with which it shares a kernel;
     `progress(entry point, compiled)` as each group finishes."""
     t0 = time.perf_counter()
     if processes <= 1:

@@ -391,6 +391,9 @@ def _ecu_chain_impl(laws_key, kind, state, inputs, sig, params, table, grid):
     return impl
 
 
+_ECU_STEP: dict[str, Any] = {"cache": True, "nogil": True, "error_model": "numpy", "_nrt": False}
+
+
 @functools.cache
 def ecu_step(laws_key: int) -> Any:
     """`law_ecu_step` of the laws named by `laws_key` as a function of its own, cached on disk
@@ -402,7 +405,7 @@ def ecu_step(laws_key: int) -> Any:
     def ecu_step(kind, state, inputs, sig, params, table, grid):
         return _ecu_chain(laws_key, kind, state, inputs, sig, params, table, grid)
 
-    return njit(cache=True, nogil=True, error_model="numpy", _nrt=False)(ecu_step)
+    return njit(**_ECU_STEP)(ecu_step)
 
 
 @overload(law_ecu_step, prefer_literal=True, inline="always")
