@@ -190,6 +190,7 @@ def compiled() -> tuple[Any, Any]:
     from numba import njit
 
     force_estimate, rate_limit = W.forms()
+    tick_force = W.tick_force()
     sine = sine_form()
 
     @njit(**F.FORM)
@@ -216,17 +217,7 @@ def compiled() -> tuple[Any, Any]:
 
     @njit(**F.FORM)
     def tick(sig, held, mem, g, g0, c, table, ts, first):
-        radius, inertia, kq = sig[F.SIG_RADIUS], c[F.P_INERTIA], c[F.P_BRAKE_GAIN]
-        f = force_estimate(
-            sig[F.SIG_PRESSURE],
-            sig[F.SIG_PRESSURE_PREV],
-            sig[F.SIG_WHEEL_SPEED],
-            sig[F.SIG_WHEEL_SPEED_PREV],
-            ts,
-            radius,
-            inertia,
-            kq,
-        )
+        f = tick_force(sig, c, ts)
         gains = (
             g[g0 + G_START],
             g[g0 + G_A],

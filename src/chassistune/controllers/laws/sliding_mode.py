@@ -117,6 +117,7 @@ def compiled() -> tuple[Any, Any]:
     from numba import njit
 
     force_estimate, rate_limit = W.forms()
+    tick_force = W.tick_force()
 
     @njit(**F.FORM)
     def rate(slip, target, v_ref, q, f, reach, layer, tau, q_max, radius, inertia, mass, kq):
@@ -142,8 +143,7 @@ def compiled() -> tuple[Any, Any]:
     def tick(sig, held, mem, g, g0, c, table, ts, first):
         radius, inertia, kq = sig[F.SIG_RADIUS], c[F.P_INERTIA], c[F.P_BRAKE_GAIN]
         q = sig[F.SIG_PRESSURE]
-        w, w_prev = sig[F.SIG_WHEEL_SPEED], sig[F.SIG_WHEEL_SPEED_PREV]
-        f = force_estimate(q, sig[F.SIG_PRESSURE_PREV], w, w_prev, ts, radius, inertia, kq)
+        f = tick_force(sig, c, ts)
         r = rate(
             sig[F.SIG_SLIP],
             sig[F.SIG_TARGET],

@@ -11,6 +11,7 @@ from __future__ import annotations
 import functools
 from typing import Any
 
+from chassistune.controllers.laws import forms as F
 from chassistune.controllers.laws.forms import FORM
 from chassistune.controllers.specs import ParamSpec
 
@@ -99,3 +100,29 @@ def forms() -> tuple[Any, Any]:
         return r
 
     return force_estimate, rate_limit
+
+
+@functools.cache
+def tick_force() -> Any:
+    """The numba function F(sig, c, ts): `forms`' force estimate at a tick of the ideal kernels,
+    from the law signals `sig` (`forms.SIGNALS`: the pressure and wheel speed now and at the last
+    sample, R) and the controller vector `c` (`forms.PARAMS`: the nominal I and kq)."""
+    from numba import njit
+
+    force_estimate, _ = forms()
+
+    @njit(**FORM)
+    def at_tick(sig, c, ts):
+        return force_estimate(
+            sig[F.SIG_PRESSURE],
+            sig[F.SIG_PRESSURE_PREV],
+            sig[F.SIG_WHEEL_SPEED],
+            sig[F.SIG_WHEEL_SPEED_PREV],
+            ts,
+            sig[F.SIG_RADIUS],
+            c[F.P_INERTIA],
+            c[F.P_BRAKE_GAIN],
+        )
+
+    return at_tick
+
