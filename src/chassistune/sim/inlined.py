@@ -11,8 +11,16 @@ from typing import Any, TypeVar
 
 from numba.extending import register_jitable
 
-INLINE: dict[str, Any] = {"cache": True, "nogil": True, "error_model": "numpy", "forceinline": True}
-"""numba options of a helper LLVM inlines (`forceinline` is not in numba's type stubs)."""
+INLINE: dict[str, Any] = {
+    "cache": True,
+    "nogil": True,
+    "error_model": "numpy",
+    "forceinline": True,
+    "_nrt": False,
+}
+"""numba options of a helper LLVM inlines: without numba's runtime, as the kernel's entry point
+(`abs_vehicle_lane.NO_REFCOUNT`), whichever caller compiles it first, Python included
+(`forceinline` and `_nrt` are not in numba's type stubs)."""
 
 INDEXING: dict[str, Any] = {
     "cache": True,
