@@ -1,9 +1,9 @@
 """The vehicle's general path (design.md 3.3), for yaw, lateral velocity, steering or an
 unloaded wheel: the step of the lanes the vector pass did not commit, on lanes (`general_steps`:
 each stage in branch-free vector loops over the lanes, the loads by Newton's method iterated
-while a lane's solve has not returned, the others frozen by select); and the right-hand side
-with the loads by `plants.abs_vehicle.solve_loads` for a trace row, re-evaluated at the lane's
-state. The two give the same numbers (the same formulas in the same order)."""
+while a lane's solve has not returned, the others frozen by select, in the operations of
+`plants.abs_vehicle.solve_loads`); and a trace row, its loads by `solve_loads` re-evaluated at
+the lane's state."""
 
 from __future__ import annotations
 
@@ -15,7 +15,6 @@ from chassistune._branchfree import add, clip, fmax, mul, select
 from chassistune.plants.abs_vehicle import (
     LOAD_TOL_M_S2,
     MAX_LOAD_ITERATIONS,
-    SF_TARGET,
     solve_loads,
 )
 from chassistune.sim.abs_vehicle_lane import (
@@ -29,8 +28,6 @@ from chassistune.sim.abs_vehicle_lane import (
     state_of,
 )
 from chassistune.sim.abs_vehicle_layout import (
-    G_X,
-    G_Y,
     KC_A,
     KC_B,
     KC_DT,
@@ -40,23 +37,11 @@ from chassistune.sim.abs_vehicle_layout import (
     KC_MASS,
     KC_QMAX,
     LANES,
-    LAW_KD,
-    LAW_KI,
-    LAW_KP,
-    LAW_U0,
     N_STATE,
-    P_DMAX,
-    P_DRIVER,
     P_FRONT_SHARE,
-    P_K,
-    P_KPSI,
     P_KQ,
-    P_KR,
     P_MASS,
-    P_NF,
-    P_QMAX,
     P_R,
-    P_SELECT_LOW,
     R_AX,
     R_AY,
     R_DIST,
@@ -89,15 +74,12 @@ from chassistune.sim.abs_vehicle_layout import (
     S_DELTA,
     S_PSI,
     S_Q,
-    S_QR,
     S_VX,
     S_VY,
     S_W,
     S_X,
-    S_XF,
     S_Y,
     S_YR,
-    S_Z,
     T_AX,
     T_AY,
     T_DELTA,
@@ -118,10 +100,7 @@ from chassistune.sim.abs_vehicle_layout import (
     T_Y,
     T_YR,
     VECTOR,
-    W_E,
-    W_FXB,
     W_FXW,
-    W_FYB,
     W_FZ,
     W_SLIP,
 )
@@ -131,87 +110,15 @@ from chassistune.sim.abs_vehicle_wheels import (
     combined_force,
     force_per_load,
     kinematics,
-    select_low,
     steered_wheel,
     wheel_brake_gain,
-    wheel_law_rates,
     wheel_speeds,
 )
+from chassistune.sim.inlined import INDEXING, INLINE, inlined
 from chassistune.sim.integrate import rk4_point
 
 
-@numba.njit(**NO_REFCOUNT)
-def rhs(form, y, dy, i, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv, ctrl):
-    """Derivatives of candidate i's state `y` into dy[:, i] with the wheel laws' continuous form
-    of key `form` and controller vector ctrl; returns the load-solve iterations.
-
-    guess[:, i] holds the last (ax, ay) of the candidate (start of the load iteration), updated;
-    inv = (1/Iz, 1/J, 1/T, 1/tau_steer).
-    """
-    vx = y[S_VX]
-    vy = y[S_VY]
-    r = y[S_YR]
-    psi = y[S_PSI]
-    delta = y[S_DELTA]
-    for j in range(4):
-        wbuf[j] = y[S_W + j]
-    kinematics(vx, vy, r, delta, wbuf, p, geo, sc)
-    for j in range(4):
-        tgt[j] = surfs[sidx[j, i], SF_TARGET]
-    ax, ay, it = solve_loads(sc, surfs, sidx, i, geo, p[P_MASS], guess[0, i], guess[1, i])
-    guess[0, i] = ax
-    guess[1, i] = ay
-    mz = 0.0
-    for j in range(4):
-        mz += geo[G_X, j] * sc[W_FYB, j] - geo[G_Y, j] * sc[W_FXB, j]
-    dy[S_VX, i] = ax + vy * r
-    dy[S_VY, i] = ay - vx * r
-    dy[S_YR, i] = mz * inv[0]
-    if psi != 0.0:
-        cp = math.cos(psi)
-        sp = math.sin(psi)
-        dy[S_X, i] = vx * cp - vy * sp
-        dy[S_Y, i] = vx * sp + vy * cp
-    else:
-        dy[S_X, i] = vx
-        dy[S_Y, i] = vy
-    dy[S_PSI, i] = r
-    if p[P_DRIVER] != 0.0:
-        cmd = min(max(-p[P_KPSI] * psi - p[P_KR] * r, -p[P_DMAX]), p[P_DMAX])
-        dy[S_DELTA, i] = (cmd - delta) * inv[3]
-    else:
-        dy[S_DELTA, i] = 0.0
-    for j in range(4):
-        sc[W_E, j] = tgt[j] - sc[W_SLIP, j]
-    sc[W_E, 2], sc[W_E, 3], _ = select_low(sc[W_E, 2], sc[W_E, 3], p[P_SELECT_LOW] != 0.0)
-    for j in range(4):
-        dw, dq, dqr, dx = wheel_law_rates(
-            form,
-            y[S_W + j],
-            y[S_Q + j],
-            y[S_QR + j],
-            (y[S_Z + j], y[S_XF + j]),
-            sc[W_E, j],
-            sc[W_FXW, j],
-            (law[LAW_U0, j, i], law[LAW_KP, j, i], law[LAW_KI, j, i], law[LAW_KD, j, i]),
-            ctrl,
-            p[P_R],
-            wheel_brake_gain(p[P_KQ], p[P_FRONT_SHARE], j),
-            inv[1],
-            p[P_NF],
-            p[P_K],
-            inv[2],
-            p[P_QMAX],
-        )
-        dy[S_W + j, i] = dw
-        dy[S_Q + j, i] = dq
-        dy[S_QR + j, i] = dqr
-        dy[S_Z + j, i] = dx[0]
-        dy[S_XF + j, i] = dx[1]
-    return it
-
-
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def lane_start(st, l, live):
     """Lane l at a step's start: whether the general pass steps it (a live lane the vector
     pass did not commit), and its first stage's k_prev, the last step's k4."""
@@ -220,7 +127,7 @@ def lane_start(st, l, live):
     put_state(st, R_KPREV, l, True, state_of(st, R_K4, LANES, l))
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def angles(st, width, row_k, c):
     """(cos, sin) of the heading and of the steering angle at the point x + c k (k in the rows
     from row_k) of lanes 0 .. width - 1, (1, 0) at 0 as `kinematics`: the calls, in a scalar
@@ -234,7 +141,7 @@ def angles(st, width, row_k, c):
         st[R_STEER_SIN * LANES + l] = math.sin(delta) if delta != 0.0 else 0.0
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def steered(st, l, b, w, j, kc):
     """`steered_wheel` of wheel j (spin w, body state b) with lane l's steering rows."""
     cd = lane_get(st, R_STEER_COS, l)
@@ -242,13 +149,13 @@ def steered(st, l, b, w, j, kc):
     return steered_wheel(b, w, cd, sd, j, kc)
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def stage_point(st, l, c):
     """Lane l's stage point x + c k_prev."""
     return rk4_point(state_of(st, 0, LANES, l), c, state_of(st, R_KPREV, LANES, l))
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**INDEXING)
 def put_wheel_kinematics(st, l, j, k):
     """Wheel j's (sx, v/|V|, wheel-to-body cos, sin) of `steered_wheel` into its rows."""
     st[(R_SX + j) * LANES + l] = k[0]
@@ -257,7 +164,7 @@ def put_wheel_kinematics(st, l, j, k):
     st[(R_WSIN + j) * LANES + l] = k[3]
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def put_loads(st, l, commit, ax, ay, it, fxw, fxb, fyb):
     """A load solve's result into lane l's rows where `commit`."""
     lane_put(st, R_LAX, l, commit, ax)
@@ -268,7 +175,7 @@ def put_loads(st, l, commit, ax, ay, it, fxw, fxb, fyb):
     put_wheels(st, R_FYB, l, commit, fyb)
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**INDEXING)
 def put_wheels(st, row, l, commit, v):
     """The four wheels' values v into lane l's rows from `row` on, where `commit`."""
     lane_put(st, row, l, commit, v[0])
@@ -277,7 +184,7 @@ def put_wheels(st, row, l, commit, v):
     lane_put(st, row + 3, l, commit, v[3])
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def stage_start(st, l, c, kc, srf):
     """A stage's start in lane l: the wheels' kinematics at the stage point, and the load solve
     returned where the loop is linear (no lateral slip or steering, every load >= 0: the closed
@@ -310,7 +217,7 @@ def stage_start(st, l, c, kc, srf):
     st[R_STRAIGHT * LANES + l] = select(straight, 1.0, 0.0)
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**INDEXING)
 def wheel_load(st, l, ax, ay, j, s, kc):
     """Wheel j's load at (ax, ay) (held >= 0) and its forces: (wheel-frame Fx, body-frame Fx,
     Fy and their derivatives in the load)."""
@@ -321,7 +228,7 @@ def wheel_load(st, l, ax, ay, j, s, kc):
     return fx, cs * fx - sn * fy, sn * fx + cs * fy, cs * dfx - sn * dfy, sn * dfx + cs * dfy
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def wheel_sum(a0, a1, a2, a3):
     """0 + a0 + a1 + a2 + a3 in that order (a sum over the wheels as a loop adds it)."""
     total = 0.0
@@ -332,7 +239,7 @@ def wheel_sum(a0, a1, a2, a3):
     return total
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def load_iteration(st, l, it, kc, srf):
     """Iteration `it` of lane l's load solve by Newton's method on (ax, ay) (`solve_loads`,
     the same operations), where it has not returned: the forces at the iterate, then the
@@ -389,7 +296,7 @@ def load_iteration(st, l, it, kc, srf):
     return going
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**INLINE)
 def stage_end(form, st, l, c, first, weight, kc, srf, ctrl):
     """A stage's end in lane l: its derivatives from the solved loads (`stage_rates`, the laws'
     continuous form of key `form`, controller vector ctrl) become
@@ -434,7 +341,7 @@ def stage_end(form, st, l, c, first, weight, kc, srf, ctrl):
     lane_put(st, R_ITER, l, solved, fmax(lane_get(st, R_ITER, l), lane_get(st, R_LIT, l)))
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**INDEXING)
 def wheel_rows(st, row, l):
     """The four wheels' values of lane l from row `row` on."""
     return (
@@ -445,7 +352,7 @@ def wheel_rows(st, row, l):
     )
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def general_end(st, l, kc):
     """The RK4 update of lane l from its sum, the step-end limits and kinematics, and the step's
     end (`end_step`, the stop included) where the general pass steps the lane; returns whether
@@ -485,9 +392,9 @@ def general_steps(form, args):
     did not commit (split-mu, a driver steering, an unloaded wheel, the step of a stop), in
     the general case, all lanes at once: each stage's kinematics and closed-form loads, the
     Newton load solve iterated while a lane's has not returned (the others frozen by select),
-    the stage's derivatives; then the step's end. Each lane's numbers are those of the general
-    right-hand side (`rhs`) stage by stage, straight-line stages included (their derivatives
-    are the same numbers; they leave the load guess as it was). Returns 1 if a run ended."""
+    the stage's derivatives (`stage_rates`, as the straight pass); then the step's end.
+    Straight-line stages give the straight pass's numbers (they leave the load guess as it
+    was). Returns 1 if a run ended."""
     numba.literally(form)
     st, width, kc, srf, ctrl, live = args
     blocks = width // VECTOR
@@ -520,19 +427,21 @@ def general_steps(form, args):
 
 
 @numba.njit(**NO_REFCOUNT)
-def trace_row(form, args):
-    """Trace row `trace_row` of lane l, args = (trace_row, start, t, st, l, work), work = (p,
-    geo, surfs, law, sidx, guess, sc, y, dy, wbuf, tgt, inv, ctrl): its state, and loads and
-    forces re-evaluated at it (`rhs` with the laws' continuous form of key `form`, a literal, on
-    scratch copies of the lane's arrays: tracing does not change the run); the start row
-    (`start`) takes the slips of that evaluation."""
-    numba.literally(form)
-    trace_row, start, t, st, l, work = args
-    p, geo, surfs, law, sidx, guess, sc, y, dy, wbuf, tgt, inv, ctrl = work
+def trace_row(trace_row, start, t, st, l, work):
+    """Trace row `trace_row` of lane l, work = (p, geo, surfs, sidx, guess, sc, y, wbuf): its
+    state, and the wheels' kinematics, loads and forces re-evaluated at it (`kinematics`,
+    `solve_loads` from the lane's last solution) on scratch copies of the lane's arrays (tracing
+    does not change the run); the start row (`start`) takes the slips of that evaluation."""
+    p, geo, surfs, sidx, guess, sc, y, wbuf = work
     for s in range(N_STATE):
         y[s] = lane_get(st, s, l)
-    lane_arrays(st, l, law, sidx, guess)
-    rhs(form, y, dy, 0, law, sidx, guess, p, geo, surfs, sc, wbuf, tgt, inv, ctrl)
+    lane_arrays(st, l, sidx, guess)
+    for j in range(4):
+        wbuf[j] = y[S_W + j]
+    kinematics(y[S_VX], y[S_VY], y[S_YR], y[S_DELTA], wbuf, p, geo, sc)
+    guess[0, 0], guess[1, 0], _ = solve_loads(
+        sc, surfs, sidx, 0, geo, p[P_MASS], guess[0, 0], guess[1, 0]
+    )
     trace_row[T_TIME] = t
     trace_row[T_VX] = y[S_VX]
     trace_row[T_VY] = y[S_VY]

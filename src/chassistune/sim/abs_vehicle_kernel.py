@@ -46,11 +46,12 @@ stay packed in front).
 
 Compilation: the entry point (`entry_point`) is a closure over the registry's fingerprint (on
 which numba keys its disk cache); it passes the fingerprint to the lane loop (`_simulate`) as a
-literal argument, so that the loop, with the ticks and the lane fill that dispatch on the laws
-inlined into it (calls there slow the ticking laws), compiles as a cached function of its own,
-keyed on the registered laws. The stages that do not depend on the laws (the vector loop, the
-general pass, the trace row and its right-hand side) are cached functions of their modules,
-compiled once.
+literal argument, so that the loop, with the ticks that dispatch on the laws inlined into it
+(calls there slow the ticking laws), and the lane fill (`fill_lane`, a call: once per run)
+compile as cached functions of their own, keyed on the registered laws. The vector loop and the
+general pass compile once per continuous form of the registered laws (`by_continuous_form`); the
+trace row, which reads no law, once. Their helpers are functions of their own that LLVM inlines
+(`sim.inlined`), each compiled once rather than copied by numba into every call site.
 
 No reference counting. The entry point and its scalar passes (the functions not inlined) are
 compiled without numba's runtime (`_nrt=False`): the caller passes every array the kernel works
@@ -70,10 +71,6 @@ from chassistune.sim.abs_vehicle_general import general_steps, trace_row
 from chassistune.sim.abs_vehicle_lane import NO_REFCOUNT, constants, lane_get, surfaces
 from chassistune.sim.abs_vehicle_layout import (
     KC_DT,
-    KC_INV_IZ,
-    KC_INV_J,
-    KC_INV_ST,
-    KC_INV_TAU,
     KC_VSTOP,
     LANES,
     M_ALL_D,
@@ -100,7 +97,6 @@ from chassistune.sim.abs_vehicle_layout import (
     M_YAWPK,
     M_YAWPK1,
     METRIC_LAYOUT,
-    N_LAW,
     N_ROWS,
     N_SCRATCH,
     N_STATE,
@@ -155,9 +151,8 @@ metrics and trace rows (declared in `abs_vehicle_layout`, with the other slots).
 
 _straight_pass = by_continuous_form(lane_steps)
 _general_pass = by_continuous_form(general_steps)
-_trace_row = by_continuous_form(trace_row)
 """The passes of the law's continuous form (one compiled pass per form of the registered laws,
-`dispatch.rate_groups`), by kind (in compiled code)."""
+`dispatch.rate_groups`), by kind (in compiled code); a trace row reads no law."""
 
 
 @numba.njit(**NO_REFCOUNT)
@@ -205,7 +200,7 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
     (n must be 1), also the TRACE_LAYOUT time series, one row per step. `scratch`: the arrays
     of `scratch()` (any contents: reset here; nothing is allocated).
     """
-    y, dy, law, sidx, guess, sc, wbuf, tgt, inv, st, lane_of, col0 = scratch
+    y, sidx, guess, sc, wbuf, st, lane_of, col0 = scratch
     n = gains.shape[0]
     kc = constants(p, geo)
     srf = surfaces(surfs)
@@ -219,17 +214,10 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
     sampled = law_sampled(laws_key, ctrl_kind)
     # scratch of the trace row
     y[:] = 0.0
-    dy[:] = 0.0
-    law[:] = 0.0
     sidx[:] = 0
     guess[:] = 0.0
     sc[:] = 0.0
     wbuf[:] = 0.0
-    tgt[:] = 0.0
-    inv[0] = kc[KC_INV_IZ]
-    inv[1] = kc[KC_INV_J]
-    inv[2] = kc[KC_INV_TAU]
-    inv[3] = kc[KC_INV_ST]
     st[:] = 0.0
     lane_of[:] = -1  # candidate in each lane
     live = min(n, LANES)
@@ -238,11 +226,11 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
         lane_of[l] = l
     queued = live  # next candidate to start
     n_trace = trace.shape[0]
-    work = (p, geo, surfs, law, sidx, guess, sc, y, dy, wbuf, tgt, inv, c)  # of a trace row
+    work = (p, geo, surfs, sidx, guess, sc, y, wbuf)  # of a trace row
     rows = 0
     all_general = False  # every live lane took the general pass in the last step (no run ended)
     if n_trace > 0 and n > 0:
-        _trace_row(laws_key, ctrl_kind, (trace[rows], rows == 0, 0.0, st, 0, work))
+        trace_row(trace[rows], rows == 0, 0.0, st, 0, work)
         rows = 1
     while live > 0:
         if sampled:  # at each lane's own sample instants
@@ -268,7 +256,7 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
         if n_trace > 0 and rows < n_trace:  # one candidate, in lane 0
             t = (lane_get(st, R_STEP, 0) - 1.0) * dt
             t_row = min(t + dt, lane_get(st, R_TEND, 0))
-            _trace_row(laws_key, ctrl_kind, (trace[rows], rows == 0, t_row, st, 0, work))
+            trace_row(trace[rows], rows == 0, t_row, st, 0, work)
             if lane_get(st, R_STATUS, 0) == STATUS_STOPPED:  # the row at the stop
                 trace[rows, T_SPEED] = kc[KC_VSTOP]
             rows += 1
@@ -324,18 +312,13 @@ def simulate_abs_vehicle(
 def scratch() -> tuple[np.ndarray, ...]:
     """The scratch arrays `simulate_abs_vehicle` works in (it allocates nothing: compiled
     without reference counting), one tuple per call (a call on another thread needs its own):
-    the trace row's state, derivative column, wheel laws,
-    surface indices, load guess, evaluation scratch, wheel speeds, targets and inverses, then the
-    lane rows `st`, the candidate in each lane and each wheel's first gain column."""
+    the trace row's state, surface indices, load guess, evaluation scratch and wheel speeds, then
+    the lane rows `st`, the candidate in each lane and each wheel's first gain column."""
     return (
         np.empty(N_STATE),
-        np.empty((N_STATE, 1)),
-        np.empty((N_LAW, 4, 1)),
         np.empty((4, 1), dtype=np.int64),
         np.empty((2, 1)),
         np.empty((N_SCRATCH, 4)),
-        np.empty(4),
-        np.empty(4),
         np.empty(4),
         np.empty(N_ROWS * LANES),
         np.empty(LANES, dtype=np.int64),

@@ -21,10 +21,6 @@ from chassistune.sim.abs_vehicle_layout import (
     G_Y,
     KC_DT,
     LANES,
-    LAW_KD,
-    LAW_KI,
-    LAW_KP,
-    LAW_U0,
     P_DMAX,
     P_DRIVER,
     P_DT,
@@ -78,6 +74,7 @@ from chassistune.sim.abs_vehicle_layout import (
     S_Z,
 )
 from chassistune.sim.abs_vehicle_wheels import wheel_brake_gain
+from chassistune.sim.inlined import INDEXING, INLINE, inlined
 
 NO_REFCOUNT: dict[str, Any] = {
     "cache": True,
@@ -90,7 +87,7 @@ compiled without numba's runtime, hence no reference counting (`_nrt` is not in 
 stubs)."""
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**INLINE)
 def constants(p, geo):
     """The constants tuple (KC_* entries) of a plant vector and geometry."""
     dt = p[P_DT]
@@ -153,7 +150,7 @@ def constants(p, geo):
     )
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**INLINE)
 def surfaces(surfs):
     """The road's two surfaces as the lanes read them (`surface_of`): (S_T, rise, fall0,
     fall1, target, lateral scale C S_T / mu_h) of surface 0, then of surface 1."""
@@ -188,7 +185,7 @@ def lane_put(st, row, l, commit, value):
     st[row * LANES + l] = select(commit, value, st[row * LANES + l])
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**INDEXING)
 def state_of(a, row0, stride, l):
     """The state as tuples (body, wheel fl, fr, rl, rr), state row s at a[(row0 + s) stride + l]:
     the rows of lane l in `st` (stride LANES) or a state vector (stride 1, l = 0)."""
@@ -209,7 +206,7 @@ def state_of(a, row0, stride, l):
     )
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**INDEXING)
 def wheel_of(a, row0, stride, j, l):
     """Wheel j's (w, q, qr, z, xf) in the rows of `state_of`."""
     return (
@@ -221,7 +218,7 @@ def wheel_of(a, row0, stride, j, l):
     )
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**INDEXING)
 def law_of(st, j, l):
     return (
         lane_get(st, R_KP + j, l),
@@ -231,7 +228,7 @@ def law_of(st, j, l):
     )
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**INDEXING)
 def put_state(st, row0, l, commit, x):
     """`state_of` rows of lane l become x = (body, wheels) where `commit`."""
     b = x[0]
@@ -248,7 +245,7 @@ def put_state(st, row0, l, commit, x):
     put_wheel(st, row0, 3, l, commit, x[4])
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**INDEXING)
 def put_wheel(st, row0, j, l, commit, w):
     lane_put(st, row0 + S_W + j, l, commit, w[0])
     lane_put(st, row0 + S_Q + j, l, commit, w[1])
@@ -257,7 +254,7 @@ def put_wheel(st, row0, j, l, commit, w):
     lane_put(st, row0 + S_XF + j, l, commit, w[4])
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def laws_surfaces(st, l, srf):
     """Lane l's wheel laws ((kp, ki, kd, u0) per wheel) and the surfaces under its wheels, with
     the lane's targets on them."""
@@ -273,7 +270,7 @@ def laws_surfaces(st, l, srf):
     )
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def front_gap(st, l, kc):
     """The largest difference of the front pressures at the end of lane l's step under the
     yaw-moment build-up delay, r_gma q_max t (`controllers.yaw_moment_delay`); -1: no delay."""
@@ -282,14 +279,14 @@ def front_gap(st, l, kc):
     return select(rate >= 0.0, rate * t_end, -1.0)
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**INDEXING)
 def target_slip(st, j, l):
     """The law's target slip on the surface under wheel j of lane l (`R_TGT`)."""
     two = lane_get(st, R_SURF + j, l) != 0.0
     return select(two, lane_get(st, R_TGT + 1, l), lane_get(st, R_TGT, l))
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def surface_of(b, srf, t0, t1):
     """(S_T, rise, fall0, fall1, target, lateral scale) of the surface a wheel is on (b: 1.0
     the second), the target the lane's on it (t0 on the first, t1 on the second)."""
@@ -304,14 +301,11 @@ def surface_of(b, srf, t0, t1):
     )
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def lane_arrays(st, l, law, sidx, guess):
-    """Lane l's wheel laws, surfaces and load guess as the arrays `rhs` reads (column 0)."""
+@inlined
+def lane_arrays(st, l, sidx, guess):
+    """Lane l's surfaces and load guess as the arrays `plants.abs_vehicle.solve_loads` reads
+    (column 0)."""
     for j in range(4):
-        law[LAW_KP, j, 0] = lane_get(st, R_KP + j, l)
-        law[LAW_KI, j, 0] = lane_get(st, R_KI + j, l)
-        law[LAW_KD, j, 0] = lane_get(st, R_KD + j, l)
-        law[LAW_U0, j, 0] = lane_get(st, R_U0 + j, l)
         sidx[j, 0] = 1 if lane_get(st, R_SURF + j, l) != 0.0 else 0
     guess[0, 0] = lane_get(st, R_AX, l)
     guess[1, 0] = lane_get(st, R_AY, l)

@@ -301,10 +301,6 @@ T_FX = TRACE_LAYOUT["fx_fl_n"]
 T_SURF = TRACE_LAYOUT["surface_fl"]
 N_TRACE = len(TRACE_LAYOUT)
 
-# the wheel laws' gains and held command per wheel, as `_rhs` reads them: law[LAW_*, j, i]
-LAW_KP, LAW_KI, LAW_KD, LAW_U0 = range(4)
-N_LAW = 4
-
 # scratch rows of one evaluation (columns: the wheels): the physics' work rows, then ours
 W_SX, W_VR, W_CS, W_SN, W_FZ, W_FXW, W_FXB, W_FYB = (
     WK_SX,
@@ -316,8 +312,8 @@ W_SX, W_VR, W_CS, W_SN, W_FZ, W_FXW, W_FXB, W_FYB = (
     WK_FXB,
     WK_FYB,
 )
-W_SLIP, W_VABS, W_E = N_WORK, N_WORK + 1, N_WORK + 2
-N_SCRATCH = N_WORK + 3
+W_SLIP, W_VABS = N_WORK, N_WORK + 1
+N_SCRATCH = N_WORK + 2
 
 
 LANES = 16

@@ -52,10 +52,11 @@ from chassistune.sim.abs_vehicle_layout import (
 )
 from chassistune.sim.abs_vehicle_stop import at_stop
 from chassistune.sim.abs_vehicle_wheels import surface_flag
+from chassistune.sim.inlined import INDEXING, inlined
 from chassistune.sim.integrate import crossing_fraction, error_integrals, trapezoid
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**INDEXING)
 def put_surface(st, l, commit, j, b, cp, sp, kc):
     """The surface flag of wheel j of lane l at the body state b (`surface_flag`)."""
     lane_put(
@@ -67,7 +68,7 @@ def put_surface(st, l, commit, j, b, cp, sp, kc):
     )
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**INDEXING)
 def wheel_end(st, l, commit, j, s_new, vabs, w, w0, vabs0, acc, timing, kc):
     """Step-end integrals of wheel j (slip, its error to the target, locking), its slip at the
     step's end (at the stop when the run stops) and, in the step it first locks, that step's
@@ -96,7 +97,7 @@ def wheel_end(st, l, commit, j, s_new, vabs, w, w0, vabs0, acc, timing, kc):
     )
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def end_step(st, l, commit, x0, vabs0, x, slips, vabs, cp, sp, k4, kc, stops):
     """Commit the step from state x0 (its wheels' |V|: vabs0) to state x = (b, w0, w1, w2, w3)
     and k4 of lane l where `commit`: distance, integrals, locking, surfaces, yaw metrics,

@@ -4,22 +4,21 @@ lock time (its margin w R - lock_ratio |V|, linear over the step, crossing 0).""
 
 from __future__ import annotations
 
-import numba
-
 from chassistune._branchfree import select
 from chassistune.sim.abs_vehicle_lane import lane_get
 from chassistune.sim.abs_vehicle_layout import R_LOCK_M0, R_LOCK_M1, R_LOCK_T
+from chassistune.sim.inlined import inlined
 from chassistune.sim.integrate import crossing_fraction
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def rate_at_stop(a, b, stop, back):
     """b, or at a stop the value linear from a (step start) to b (end) a fraction `back` of the
     step before its end: the crossing fraction of the speed, linear over the step."""
     return select(stop, b - back * (b - a), b)
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def integral_at_stop(a, b, rate_b, stop, back, dt):
     """b, or at a stop the integral of a rate linear over the step (a position under the
     speed's linear law): the parabola through a (step start) and b with the slope rate_b at
@@ -27,7 +26,7 @@ def integral_at_stop(a, b, rate_b, stop, back, dt):
     return select(stop, b - back * dt * rate_b + back * back * (a - b + dt * rate_b), b)
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def wheel_at_stop(a, b, stop, back):
     return (
         rate_at_stop(a[0], b[0], stop, back),
@@ -38,7 +37,7 @@ def wheel_at_stop(a, b, stop, back):
     )
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def at_stop(x0, x, stop, back, dt, cp, sp):
     """The state x, or at a stop the state at the stop instant, `back` of the step before x
     (x0 the step's start): the speeds, wheel and controller states linear over the step as
@@ -65,7 +64,7 @@ def at_stop(x0, x, stop, back, dt, cp, sp):
     )
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def lock_time(st, j, l, dt):
     """Wheel j's lock time (NaN: never): where its margin w R - lock_ratio |V|, linear over the
     step in which it first locked, crosses 0."""

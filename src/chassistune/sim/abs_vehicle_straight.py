@@ -47,14 +47,16 @@ from chassistune.sim.abs_vehicle_wheels import (
     unsteered,
     wheel_law_rates,
 )
+from chassistune.sim.inlined import INLINE, inlined
 from chassistune.sim.integrate import rk4_point, rk4_update
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def lane_wheel_rates(form, wt, e, fx, g, ctrl, kc, j):
+@numba.njit(**INLINE)
+def lane_wheel_rates(form, wt, e, fx, g, ctrl, kc, kq):
     """`wheel_law_rates` of wheel j's state wt = (w, q, qr, x0, x1), x the law's continuous
     state (`ContinuousForm.state`, padded), with held values g = (kp, ki, kd, u0), the law's
-    continuous form of key `form` and the controller vector ctrl."""
+    continuous form of key `form`, the controller vector ctrl and brake torque per unit pressure
+    kq."""
     dw, dq, dqr, dx = wheel_law_rates(
         form,
         wt[0],
@@ -66,7 +68,7 @@ def lane_wheel_rates(form, wt, e, fx, g, ctrl, kc, j):
         (g[3], g[0], g[1], g[2]),
         ctrl,
         kc[KC_RW],
-        kc[KC_KQ + j],
+        kq,
         kc[KC_INV_J],
         kc[KC_NF],
         kc[KC_GAIN],
@@ -76,7 +78,7 @@ def lane_wheel_rates(form, wt, e, fx, g, ctrl, kc, j):
     return dw, dq, dqr, dx[0], dx[1]
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def closed_loads(c, kc):
     """The load/force loop in closed form (`plants.abs_vehicle.solve_loads` without lateral
     slip or steering) with the wheels' forces per unit load c: ax = sum c_i Fz0_i /
@@ -112,15 +114,15 @@ def closed_loads(c, kc):
     return total / mass, (fx0, fx1, fx2, fx3), ok
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**INLINE)
 def stage_rates(form, x, ax, ay, fxb, fyb, fxw, e, dxy, g, ctrl, kc):
     """Derivatives at state x = (b, w0, w1, w2, w3), body b = (vx, vy, r, X, Y, psi, delta),
     wheels wj = (w, q, qr, x0, x1), given the solved loads: CG accelerations (ax, ay), the
     body-frame forces fxb, fyb and wheel-frame Fx per wheel fxw, the wheels' slip errors e
     (before select-low), the position's rates dxy = (dX/dt, dY/dt), the laws' held values g and
     continuous form `form` with the controller vector ctrl: ((body rates), four wheel rates).
-    The equations of `abs_vehicle_kernel` (design.md 3.3), in the order of
-    `abs_vehicle_general.rhs`."""
+    The equations of `abs_vehicle_kernel` (design.md 3.3), shared by the straight and the
+    general pass."""
     b, w0, w1, w2, w3 = x
     g0, g1, g2, g3 = g
     vx = b[0]
@@ -147,14 +149,14 @@ def stage_rates(form, x, ax, ay, fxb, fyb, fxw, e, dxy, g, ctrl, kc):
     e2, e3, _ = select_low(e[2], e[3], kc[KC_SELECT_LOW] != 0.0)
     return (
         db,
-        lane_wheel_rates(form, w0, e[0], fxw[0], g0, ctrl, kc, 0),
-        lane_wheel_rates(form, w1, e[1], fxw[1], g1, ctrl, kc, 1),
-        lane_wheel_rates(form, w2, e2, fxw[2], g2, ctrl, kc, 2),
-        lane_wheel_rates(form, w3, e3, fxw[3], g3, ctrl, kc, 3),
+        lane_wheel_rates(form, w0, e[0], fxw[0], g0, ctrl, kc, kc[KC_KQ]),
+        lane_wheel_rates(form, w1, e[1], fxw[1], g1, ctrl, kc, kc[KC_KQ + 1]),
+        lane_wheel_rates(form, w2, e2, fxw[2], g2, ctrl, kc, kc[KC_KQ + 2]),
+        lane_wheel_rates(form, w3, e3, fxw[3], g3, ctrl, kc, kc[KC_KQ + 3]),
     )
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**INLINE)
 def straight_stage(form, x, g, s, ctrl, kc):
     """Derivatives at state x (`stage_rates`) with laws g (form `form`, controller vector ctrl)
     and surfaces s (per wheel) in the
@@ -177,7 +179,7 @@ def straight_stage(form, x, g, s, ctrl, kc):
     return stage_rates(form, x, ax, 0.0, fx, zero, fx, e, (vx, b[1]), g, ctrl, kc), ok
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def held(x, q_max, gap):
     """The state x after the step-end limits: each wheel's w held >= 0 and q in [0, q_max], the
     front pressures at most `gap` apart when gap >= 0 (`front_gap`)."""
@@ -193,7 +195,7 @@ def held(x, q_max, gap):
     )
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**INLINE)
 def lane_step(form, st, l, kc, srf, ctrl, live):
     """One RK4 step of lane l in the straight-line case (the laws' continuous form of key `form`,
     controller vector ctrl), committed (R_DONE 1) only if every

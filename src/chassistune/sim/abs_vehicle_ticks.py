@@ -56,12 +56,13 @@ from chassistune.sim.abs_vehicle_layout import (
     STATUS_TIMEOUT,
 )
 from chassistune.sim.abs_vehicle_wheels import select_low, surface_flag
+from chassistune.sim.inlined import inlined
 from chassistune.sim.lanes import read_rows, write_rows
 
 _MEMORY_ZEROS = (0.0,) * MEMORY
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def _wheel_inputs(st, l, j, src, e, kc, t):
     """What the law's tick at time t reads for wheel j of lane l on its channel error e: the
     signals of wheel src (itself, or under select-low the rear wheel whose error it took; the
@@ -89,7 +90,7 @@ def _wheel_inputs(st, l, j, src, e, kc, t):
     return sig, held, mem
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def _wheel_store(st, l, j, held, mem):
     """Wheel j of lane l after the law's tick: its held values and memory (the slots its tick
     returns)."""
@@ -141,7 +142,7 @@ def tick(st, l, i, k, gains, col0, laws_key, ctrl_kind, c, table, kc, ts):
         st[(R_QS + j) * LANES + l] = lane_get(st, S_Q + j, l)
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**NO_REFCOUNT)
 def fill_lane(st, l, i, gains, col0, laws_key, ctrl_kind, c, kc, srf, v0):
     """Start candidate i in lane l: wheels rolling freely at v0, zero metrics, the law's held
     values at the start (`Law.forms`: the PID's gains, the driver's command without ABS), the

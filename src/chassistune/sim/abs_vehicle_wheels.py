@@ -2,7 +2,7 @@
 over |V|), the bilinear tire in straight-line braking (`abs_wheel_tires.tire_law_mu`), the
 wheel, actuator and PID rates (the single wheel's, `abs_wheel_model.wheel_rates`), select-low on
 the rear channels and the surface under each wheel. Scalar and branch-free where the vector
-loop reads them (inline)."""
+loop reads them (inlined by LLVM: `sim.inlined`)."""
 
 from __future__ import annotations
 
@@ -35,9 +35,10 @@ from chassistune.sim.abs_vehicle_layout import (
 )
 from chassistune.sim.abs_wheel_model import wheel_rates
 from chassistune.sim.abs_wheel_tires import KIND_BILINEAR, tire_law_mu
+from chassistune.sim.inlined import INLINE, inlined
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def wheel_kinematics(uw, vw, w, r_w, vmin):
     """(sx, v/|V|, |V|, clipped slip) of a wheel with wheel-frame velocity (uw, vw)."""
     vabs = fmax(math.sqrt(uw * uw + vw * vw), vmin)
@@ -46,7 +47,7 @@ def wheel_kinematics(uw, vw, w, r_w, vmin):
     return sx, vw * inv, vabs, clip(sx, 0.0, 1.0)
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def kinematics(vx, vy, r, delta, w, p, geo, sc):
     """Wheel-frame slips of the four wheels into the scratch rows (front wheels steered)."""
     if delta != 0.0:
@@ -75,7 +76,7 @@ def kinematics(vx, vy, r, delta, w, p, geo, sc):
         sc[W_SLIP, j] = slip
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def steered_wheel(b, w, cd, sd, j, kc):
     """`kinematics` of wheel j (spin w) at body state b, the steering angle given as its
     (cos, sin) = (cd, sd) (1, 0 at 0): (sx, v/|V|, wheel-to-body (cos, sin), |V|, clipped
@@ -92,14 +93,14 @@ def steered_wheel(b, w, cd, sd, j, kc):
     return sx, vr, select(turned, cd, 1.0), select(turned, sd, 0.0), vabs, slip
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def unsteered(b, wt, j, kc):
     """(|V|, clipped slip) of wheel j (state wt) unsteered, body b: `kinematics` with delta 0."""
     _, _, _, _, vabs, slip = steered_wheel(b, wt[0], 1.0, 0.0, j, kc)
     return vabs, slip
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def wheel_speeds(x, kc):
     """The four wheels' |V| at state x (unsteered: steering turns a wheel's velocity, not its
     norm)."""
@@ -112,7 +113,7 @@ def wheel_speeds(x, kc):
     )
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def select_low(e2, e3, on):
     """The rear channels' slip errors from the rear wheels' (e2, e3): with select-low (`on`)
     both get min(e2, e3), the error of the wheel with the larger slip, else each its own; and
@@ -121,7 +122,7 @@ def select_low(e2, e3, on):
     return select(on & low, e3, e2), select(on & (not low), e2, e3), on & low
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def wheel_brake_gain(kq, front_share, j):
     """Brake torque per unit pressure of wheel j (0, 1 front; 2, 3 rear) with the front axle's
     share s of the torque at equal pressure (design.md 3.3): 2 s kq in front, 2 (1 - s) kq
@@ -129,7 +130,7 @@ def wheel_brake_gain(kq, front_share, j):
     return 2.0 * select(j < 2, front_share, 1.0 - front_share) * kq
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@numba.njit(**INLINE)
 def wheel_law_rates(form, w, q, qr, x, e, fxw, held, c, r_w, kq, inv_j, nf, gain, inv_tau, q_max):
     """Rates (dw, dq, dqr, dx) of a wheel's spin, brake actuator and law state x (design.md
     3.1): the single wheel's equations (`abs_wheel_model.wheel_rates`, its tire force -fxw: the
@@ -142,7 +143,7 @@ def wheel_law_rates(form, w, q, qr, x, e, fxw, held, c, r_w, kq, inv_j, nf, gain
     return dw, dq, dqr, dx
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def straight_wheel(vx, w, s, r_w, vmin):
     """Force per unit load and clipped slip of a wheel on surface s in straight-line braking
     (r = vy = 0, no steering): `kinematics` and `straight_force_per_load` in that case, bit for
@@ -152,14 +153,14 @@ def straight_wheel(vx, w, s, r_w, vmin):
     return force_per_load(sx, s), clip(sx, 0.0, 1.0)
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def bilinear(s, surface):
     """mu(s) of the bilinear curve of `surface` (design.md 3.2)."""
     c = surface
     return tire_law_mu(KIND_BILINEAR, s, c[0], c[1], c[2], c[3], c, c, c)  # no table
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def force_per_load(sx, s):
     """Fx / Fz of a wheel without lateral slip on surface s: -mu(min(|sx|, 1)) sign(sx), 0 at
     sx = 0 (`plants.abs_vehicle.straight_force_per_load`, bit for bit)."""
@@ -167,7 +168,7 @@ def force_per_load(sx, s):
     return select(a > 0.0, -math.copysign(bilinear(fmin(a, 1.0), s), sx), 0.0)
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def combined_force(sx, vr, fz, s):
     """(Fx, Fy, dFx/dFz, dFy/dFz) of a wheel in its own frame on surface s (design.md 3.3):
     `plants.abs_vehicle.tire_force` bit for bit, branch-free (0 where fz <= 0 or s = 0)."""
@@ -190,7 +191,7 @@ def combined_force(sx, vr, fz, s):
     )
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def surface_flag(b_old, x, y, cp, sp, j, kc):
     """Surface under wheel j (1.0: the second) from its contact point's global position on
     mu-jump and split-mu roads (kept on uniform roads), heading psi given as (cos, sin)."""

@@ -157,7 +157,7 @@ def _law_rate(form, e, x, held, c, n_filter, at_max, at_min):
 
 
 def _form_call(run: Any, key: int) -> Callable[..., Any]:
-    @njit(**_FORM_LINK)
+    @njit(**_LINK)
     def call(kind, args):
         return run(key, args)
 
@@ -235,7 +235,8 @@ _LINK = {**FORM, "cache": False}
 
 _FORM_LINK = {**_LINK, "inline": "never"}
 """A link of a pass's chain by continuous form is a call (inlined, its branches trip numba's
-IR checks); the pass it calls is a whole vector loop."""
+IR checks); the pass it calls is a whole vector loop. The chain's last, without a branch, is
+inlined (`_LINK`): each call level links in and optimizes the whole pass again."""
 
 
 def _start_link(k: int, start: Any, rest: Any) -> Callable[..., Any]:
