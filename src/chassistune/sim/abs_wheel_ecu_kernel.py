@@ -102,6 +102,7 @@ from chassistune.sim.abs_wheel_tires import (
     local_table,
     table_tuples,
 )
+from chassistune.sim.inlined import INLINE, inlined
 from chassistune.sim.integrate import error_integrals, rk4_point, rk4_update, trapezoid
 from chassistune.sim.lanes import close_lane
 
@@ -252,7 +253,7 @@ _inline = njit(cache=True, nogil=True, error_model="numpy", inline="always")
 _jit = njit(cache=True, nogil=True, error_model="numpy")
 
 
-@_inline
+@njit(**INLINE)
 def _rates_at(law, x, s, u, p, tire):
     """Derivatives of x = (v, w, q, r) of the wheel, whose slip is s, under the held command u,
     with the plant p = (r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max) and the tire
@@ -264,13 +265,13 @@ def _rates_at(law, x, s, u, p, tire):
     return dv, dw, dq, dr
 
 
-@_inline
+@njit(**INLINE)
 def _rates(law, x, u, p, tire):
     """`_rates_at` at the slip of x."""
     return _rates_at(law, x, wheel_slip(x[0], x[1], p[0]), u, p, tire)
 
 
-@_inline
+@inlined
 def _stage(y, three_state, q):
     """The stage point y = (v, w, q, r), with three-state valves at the exact pressure q."""
     return (y[0], y[1], select(three_state, q, y[2]), y[3])
@@ -302,7 +303,7 @@ def _retire_pulse(mode, start, on, ts, t_lim, cur, last_t, n_sw, min_iv):
     return cur, last_t, n_sw, min_iv
 
 
-@_inline
+@inlined
 def _account_pulse(st, l, ts, t_lim):
     """Account lane l's current pulse's valve state changes up to t_lim (`_retire_pulse`)."""
     valve, last_change, n_sw, min_iv = _retire_pulse(
@@ -322,7 +323,7 @@ def _account_pulse(st, l, ts, t_lim):
     st[R_MIN_IV * LANES + l] = min_iv
 
 
-@_inline
+@inlined
 def sensor(st, l, t, x):
     """Tick stage 1 (docs/ecu.md, the realistic kernel, 1): the wheel speed the ECU reads, the
     true one or the toothed wheel's estimate held or bounded (`sensor_read`); records the edge
@@ -336,7 +337,7 @@ def sensor(st, l, t, x):
     )
 
 
-@_inline
+@inlined
 def reference_speed(st, l, w_read, x, ts, tire, tc, acc_noise):
     """Tick stage 2 (docs/ecu.md, the realistic kernel, 2; Reference speed): the true speed,
     `vref_slew`, or `vref_accel` fed `accelerometer(a_true, bias, noise[tick])`."""
@@ -373,7 +374,7 @@ def reference_speed(st, l, w_read, x, ts, tire, tc, acc_noise):
     return vref
 
 
-@_inline
+@inlined
 def ecu_slip(st, l, vref, w_read):
     """Tick stage 3 (docs/ecu.md, the realistic kernel, 3): the slip the ECU computes,
     (vref - w_est R) / vref clipped to [0, 1]."""
@@ -382,7 +383,7 @@ def ecu_slip(st, l, vref, w_read):
     return s
 
 
-@_inline
+@inlined
 def cutout(st, l, vref, t, x):
     """Tick stage 4 (docs/ecu.md, Low-speed cut-out): the latch (its time is a metric), and the
     largest |v - vref| while the ABS works."""
@@ -396,7 +397,7 @@ def cutout(st, l, vref, t, x):
     return cut
 
 
-@_inline
+@njit(**INLINE)
 def schedule(laws_key, kind, base, params, vref, v0, x):
     """Tick stage 5 (docs/ecu.md, Speed-scheduled gains): the law's parameters with its
     scheduled ones (kp and kd, or their table scales: `EcuForm.scheduled`) times
@@ -405,7 +406,7 @@ def schedule(laws_key, kind, base, params, vref, v0, x):
     law_ecu_schedule(laws_key, kind, base, params, f)
 
 
-@_inline
+@njit(**INLINE)
 def law(laws_key, kind, state, inputs, params, table, grid, st, l, slip, w_read, vref, t, amp):
     """Tick stage 6 (docs/ecu.md, the realistic kernel, 4): the command of the law `kind`, its
     ECU form from the registry (`controllers.laws.dispatch.law_ecu_step`: the discrete form of
@@ -425,7 +426,7 @@ def law(laws_key, kind, state, inputs, params, table, grid, st, l, slip, w_read,
     return law_ecu_step(laws_key, kind, state, inputs, sig, params, table, grid)
 
 
-@_inline
+@inlined
 def delay_line(line, tick, delay, u):
     """Tick stage 7 (docs/ecu.md, the realistic kernel, 5): the command of tick j - delay
     (zero for the first ticks); u enters the line."""
@@ -437,7 +438,7 @@ def delay_line(line, tick, delay, u):
     return cmd
 
 
-@_inline
+@inlined
 def valves(st, l, rate, cmd, cut, t, ts, x):
     """Tick stage 8 (docs/ecu.md, Three-state modulator; the realistic kernel, 6): the held
     command of the continuous actuator, or the next valve pulse from t + dead time
@@ -474,7 +475,7 @@ def valves(st, l, rate, cmd, cut, t, ts, x):
     st[R_PO1 * LANES + l] = on
 
 
-@_inline
+@njit(**INLINE)
 def _tick(st, l, aux, base, x, ts, t, tire, tc, table, grid, acc_noise, laws_key):
     """One ECU tick of lane l at t (docs/ecu.md, the realistic kernel): the tick stages in
     order. aux: the lane's scratch row (law state, scheduled parameters, inputs, delay line);
@@ -502,7 +503,7 @@ def _tick(st, l, aux, base, x, ts, t, tire, tc, table, grid, acc_noise, laws_key
     st[R_TICK * LANES + l] = tick + 1.0
 
 
-@_inline
+@inlined
 def valve_switches(st, l, t, hs, dt, x):
     """Three-state valves (docs/ecu.md, Three-state modulator): whether a pulse boundary falls
     inside the step from t; if so, the exact pressures at t + dt/2 and t + dt through it
@@ -792,7 +793,7 @@ def sensor_edges(st, live, dt, x, spacing, jitter, edges):
             _settle_sensor(st, l, k, teeth, spacing)
 
 
-@_inline
+@inlined
 def _fill_lane(st, l, aux, p, x, spacing):
     """Start a candidate with plant row p in lane l: the initial state, zero metrics."""
     r = st[l::LANES]  # lane l's rows
@@ -837,7 +838,7 @@ def _fill_lane(st, l, aux, p, x, spacing):
     r[R_HOPELESS] = p[P_HOPELESS_M]
 
 
-@_inline
+@inlined
 def _finish_lane(st, l, out_row, ts, x):
     """Write the metrics row of the run that ended in lane l (three-state valves: the last
     pulse's changes up to the end of the run first)."""
@@ -854,7 +855,7 @@ def _finish_lane(st, l, out_row, ts, x):
         out_row[M_ECU_IAE + j] = r[R_ECU_IAE + j]
 
 
-@_inline
+@inlined
 def _write_trace(trace_row, st, dt, tire, tc, x):
     """The trace row of lane 0's last step."""
     r = st[0::LANES]  # lane 0's rows
@@ -885,7 +886,7 @@ def _write_trace(trace_row, st, dt, tire, tc, x):
     trace_row[T_EDGE_LAST] = r[R_READ_LAST]
 
 
-@_inline
+@inlined
 def _first_trace_row(trace_row, v0, target):
     """The trace row at t = 0."""
     trace_row[:] = 0.0

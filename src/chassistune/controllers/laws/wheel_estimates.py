@@ -125,4 +125,3 @@ def tick_force() -> Any:
         )
 
     return at_tick
-
