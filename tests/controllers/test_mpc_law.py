@@ -108,11 +108,10 @@ def test_the_move_is_the_qps_minimiser() -> None:
     assert 10 < active < 190  # both the free minimiser and the limits are exercised
 
 
-@pytest.mark.xfail(strict=True, reason="solve_moves stops at -25.0, the minimiser is -25.49")
 def test_the_interior_point_solves_a_qp_started_on_the_pressure_limit() -> None:
-    """An instance of the law's QP (q = q_max, the free minimiser inside its interval) on which
-    `slip_mpc_qp.solve_moves` misses (1 of the 200 above): the law's horizon-1 form does not
-    use it, a longer horizon would."""
+    """An instance of the law's QP (q = q_max, the free minimiser -25.49 inside its interval)
+    that a start at z = 0, on the pressure limit, sent into a cycle ending at -25.0
+    (`slip_mpc_qp` module docstring)."""
     h, f = np.array([[5.448022641609194e-06]]), np.array([0.00013884674186551857])
     lo, hi = np.array([-50.0]), np.array([50.0])
     mat, vec = qp.scratch(1)

@@ -15,8 +15,9 @@ convergence, no early exit, only selects (min, max, a ? b : c) on the data.
    Wright, "Numerical Optimization", 2nd ed., Springer 2006, section 16.6 for QPs; the fixed
    iteration count as in Wang and Boyd, "Fast model predictive control using online
    optimization", IEEE Trans. Control Syst. Technol. 18(2), 2010): slacks su = u - Cz,
-   sl = Cz - l and multipliers lu, ll, started at z = 0 (feasible for move_lo <= 0 <= move_hi,
-   0 <= q0 <= q_max) on the central path; each step solves the N x N normal equations
+   sl = Cz - l and multipliers lu, ll, started strictly inside the feasible set (each move half
+   of the way to the middle pressure, within half its interval) on the central path; each step
+   solves the N x N normal equations
    (H + C' W C) dz = ... (W = lu/su + ll/sl) by Cholesky twice (predictor, corrector) and moves
    0.99 of the longest step that keeps slacks and multipliers positive. The centring target
    never falls below MU_FLOOR, which keeps W finite and the Cholesky factorable after
@@ -33,13 +34,22 @@ gradients converge linearly at a rate set by the conditioning of C H^-1 C', whic
 here (2N rows, rank N): on the test's instances Hildreth still erred by 5 pressure units after
 1600 sweeps. An interior point needs a number of iterations almost independent of the data.
 
+The start matters: from z = 0 a QP whose pressure starts on its limit (q0 = q_max: the row
+q0 + z_0 <= q_max has zero slack at z = 0, floored to START_SLACK with a multiplier of 100
+times the others') sends the predictor-corrector into a cycle of period 4 (z alternating
+between two points that each take 0.99 of the step to a bound, the complementarity stuck near
+1 at any iteration count), and the polish then clamps onto two contradictory active rows
+(tests/controllers/test_mpc_law.py: minimiser -25.49, result -25.0). Started strictly inside,
+every slack is a true distance and the iterates stay centred.
+
 Measured (tests/controllers/test_slip_mpc_qp.py: 60 random instances per horizon 1..5, half
 the MPC law's own QPs, half generic): `ITERATIONS_MEASURED` iterations with `POLISH_STEPS`
 polish steps bring every instance within 1e-8 (in units of its largest move limit; the largest
 absolute error 1.4e-8 pressure units on moves of up to 100) of the exact solution (an active-set
-enumeration in the test); `IPM_ITERATIONS` keeps a margin. One N = 5 solve with those counts
-costs about 26,000 ns inside compiled code (N = 1: about 6,000 ns), measured on the
-shared 2-core test machine under a load of 5 (an idle core was not available to measure on);
+enumeration in the test; 400 more per horizon from other seeds, by hand: within 1.3e-9);
+`IPM_ITERATIONS` keeps a margin. One solve with those counts costs about 16,500 ns inside
+compiled code at N = 5 (N = 3: 9,100 ns; N = 1: 3,400 ns), measured on the shared 2-core test
+machine under a load of 4.6 (an idle core was not available to measure on);
 mostly the divisions of the slack and multiplier updates. The caller allocates the scratch once
 (`scratch`); a solve allocates nothing and makes no array view in its loop.
 """
@@ -52,18 +62,19 @@ from numba import njit
 MAX_HORIZON = 5
 """The longest horizon the law offers (the QP has at most 5 variables and 10 two-sided rows)."""
 
-IPM_ITERATIONS = 20
+IPM_ITERATIONS = 12
 """Predictor-corrector iterations of every solve (`ITERATIONS_MEASURED` plus a margin)."""
 POLISH_STEPS = 2
 """Augmented-Lagrangian steps of the polish on the identified active set."""
-ITERATIONS_MEASURED = 16
+ITERATIONS_MEASURED = 10
 """The fewest iterations (with POLISH_STEPS) that met 1e-8 on every instance of the test."""
 
 MU_FLOOR = 1e-12
 """Smallest complementarity target (scaled units): the iterates settle on the central path at
 s l = MU_FLOOR instead of driving slacks to zero, which keeps the normal matrix factorable."""
 START_SLACK = 1e-2
-"""Smallest starting slack (scaled units), for a start on a bound."""
+"""Smallest starting slack (scaled units), for an interval of zero width (the start is on a
+bound only then)."""
 STEP_FRACTION = 0.99
 """Fraction of the longest step that keeps the slacks and multipliers positive."""
 POLISH_RHO = 1e6
@@ -249,15 +260,21 @@ def solve_moves(
     for j in range(n):
         lo[j], hi[j] = move_lo[j] / scale, move_hi[j] / scale
         lo[n + j], hi[n + j] = -q0 / scale, (q_max - q0) / scale
-    # start at x = 0 (feasible when move_lo <= 0 <= move_hi and 0 <= q0 <= q_max), slacks its
-    # distances to the bounds (at least START_SLACK), multipliers on the central path at mu0
-    x[:] = 0.0
+    # start strictly inside: each move half of the way to the middle pressure, within half
+    # its interval; slacks its distances to the bounds (at least START_SLACK), multipliers on
+    # the central path at mu0
+    middle = 0.5 * (lo[n] + hi[n])
+    reached = 0.0
+    for j in range(n):
+        x[j] = clamp(0.5 * (middle - reached), 0.5 * lo[j], 0.5 * hi[j])
+        reached += x[j]
     mu0 = 1.0
     for j in range(n):
         mu0 = max(mu0, abs(fs[j]))
     for row in range(m):
-        su[row] = max(hi[row], START_SLACK)
-        sl[row] = max(-lo[row], START_SLACK)
+        cx[row] = _row_value(row, n, x)
+        su[row] = max(hi[row] - cx[row], START_SLACK)
+        sl[row] = max(cx[row] - lo[row], START_SLACK)
         lu[row] = mu0 / su[row]
         ll[row] = mu0 / sl[row]
     for _ in range(iterations):
