@@ -17,13 +17,12 @@ convergence, no early exit, only selects (min, max, a ? b : c) on the data.
    optimization", IEEE Trans. Control Syst. Technol. 18(2), 2010): slacks su = u - Cz,
    sl = Cz - l and multipliers lu, ll, started strictly inside the feasible set (each move half
    of the way to the middle pressure, within half its interval) on the central path; each step
-   solves the N x N normal equations
-   (H + C' W C) dz = ... (W = lu/su + ll/sl) by Cholesky twice (predictor, corrector) and moves
-   0.99 of the longest step that keeps slacks and multipliers positive. The centring target
-   never falls below MU_FLOOR, which keeps W finite and the Cholesky factorable after
-   convergence (further steps change nothing).
+   solves the N x N normal equations (H + C' W C) dz = ... (W = lu/su + ll/sl) by an L D L'
+   factorisation twice (predictor, corrector) and moves 0.99 of the longest step that keeps
+   slacks and multipliers positive. The centring target never falls below MU_FLOOR, which keeps
+   W finite and the normal matrix factorable after convergence (further steps change nothing).
 3. `polish_steps` augmented-Lagrangian steps on the rows the interior point marks active
-   (multiplier above slack), each one Cholesky solve of (H + rho C_A' C_A): they remove the
+   (multiplier above slack), each one L D L' solve of (H + rho C_A' C_A): they remove the
    central path's offset (the same polish as OSQP's, Stellato et al., Math. Prog. Comp. 2020).
 4. A clamp of each move, in order, into what the previous moves leave of its interval
    (`feasible`): the result satisfies every constraint exactly.
@@ -56,30 +55,28 @@ mostly the divisions of the slack and multiplier updates. The caller allocates t
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
-from numba import njit
+from llvmlite import ir
+from numba import carray, njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic
 
-MAX_HORIZON = 5
-"""The longest horizon the law offers (the QP has at most 5 variables and 10 two-sided rows)."""
-
-IPM_ITERATIONS = 12
-"""Predictor-corrector iterations of every solve (`ITERATIONS_MEASURED` plus a margin)."""
-POLISH_STEPS = 2
-"""Augmented-Lagrangian steps of the polish on the identified active set."""
-ITERATIONS_MEASURED = 10
-"""The fewest iterations (with POLISH_STEPS) that met 1e-8 on every instance of the test."""
-
-MU_FLOOR = 1e-12
-"""Smallest complementarity target (scaled units): the iterates settle on the central path at
-s l = MU_FLOOR instead of driving slacks to zero, which keeps the normal matrix factorable."""
-START_SLACK = 1e-2
-"""Smallest starting slack (scaled units), for an interval of zero width (the start is on a
-bound only then)."""
-STEP_FRACTION = 0.99
-"""Fraction of the longest step that keeps the slacks and multipliers positive."""
-POLISH_RHO = 1e6
-"""Penalty of the polish (scaled units: the largest entry of H is 1)."""
-
+from chassistune.controllers.slip_mpc_qp_c import (
+    IPM_ITERATIONS as IPM_ITERATIONS,
+)
+from chassistune.controllers.slip_mpc_qp_c import (
+    ITERATIONS_MEASURED as ITERATIONS_MEASURED,
+)
+from chassistune.controllers.slip_mpc_qp_c import (
+    MAX_HORIZON,
+    MU_FLOOR,
+    POLISH_RHO,
+    START_SLACK,
+    STEP_FRACTION,
+)
+from chassistune.controllers.slip_mpc_qp_c import POLISH_STEPS as POLISH_STEPS
 
 (
     V_F,
@@ -115,6 +112,42 @@ def scratch(n: int) -> tuple[np.ndarray, np.ndarray]:
     return np.empty((3, n, n)), np.empty((N_VECTORS, 2 * n))
 
 
+def _stack_doubles(count: int) -> Any:
+    """An intrinsic returning a pointer to `count` uninitialised floats on the stack of the
+    function it is compiled into (one block per call site, in the entry block: a call in a loop
+    reuses it)."""
+
+    @intrinsic
+    def stack_doubles(typingctx):  # type: ignore[no-untyped-def]
+        def codegen(context, builder, signature, args):  # type: ignore[no-untyped-def]
+            slot = cgutils.alloca_once(builder, ir.ArrayType(ir.DoubleType(), count))
+            return builder.bitcast(slot, ir.DoubleType().as_pointer())
+
+        return types.CPointer(types.float64)(), codegen
+
+    return stack_doubles
+
+
+_STACK_MAT = _stack_doubles(3 * MAX_HORIZON * MAX_HORIZON)
+_STACK_VEC = _stack_doubles(N_VECTORS * 2 * MAX_HORIZON)
+_STACK_SQUARE = _stack_doubles(MAX_HORIZON * MAX_HORIZON)
+_STACK_ROW = _stack_doubles(MAX_HORIZON)
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def stack_scratch(n: int) -> Any:  # pragma: no cover - compiled
+    """(h, f, move_lo, move_hi, z, mat, vec) of one solve of horizon n <= MAX_HORIZON, on the
+    stack of the function this is inlined into, of the largest horizon's size (h
+    MAX_HORIZON x MAX_HORIZON, the vectors n long): no allocation, for code compiled without
+    numba's runtime (the kernels)."""
+    h = carray(_STACK_SQUARE(), (MAX_HORIZON, MAX_HORIZON))
+    mat = carray(_STACK_MAT(), (3, MAX_HORIZON, MAX_HORIZON))
+    vec = carray(_STACK_VEC(), (N_VECTORS, 2 * MAX_HORIZON))
+    f, move_lo = carray(_STACK_ROW(), n), carray(_STACK_ROW(), n)
+    move_hi, z = carray(_STACK_ROW(), n), carray(_STACK_ROW(), n)
+    return h, f, move_lo, move_hi, z, mat, vec
+
+
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def clamp(x: float, lo: float, hi: float) -> float:  # pragma: no cover - compiled
     """x clamped into [lo, hi] (hi wins if lo > hi)."""
@@ -131,33 +164,33 @@ def horizon1_move(
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _cholesky_solve(
+def _ldl_solve(
     mat: np.ndarray, vec: np.ndarray, n: int, out: np.ndarray
 ) -> None:  # pragma: no cover - compiled
-    """out = K^-1 rhs for the small symmetric positive definite K = mat[1] (K = R'R, R in mat[2],
-    two triangular solves through vec[V_Y]) and rhs = vec[V_RHS], the operation order fixed by
-    the size. Indexes the scratch directly: no array view is made in the loop."""
+    """out = K^-1 rhs for the small symmetric positive definite K = mat[1] (K = L D L', L' and D
+    in mat[2] with D on its diagonal, two triangular solves through vec[V_Y]) and rhs =
+    vec[V_RHS], the operation order fixed by the size; no square root, so that the C needs no
+    library. Indexes the scratch directly: no array view is made in the loop."""
     for j in range(n):
         d = mat[1, j, j]
         for i in range(j):
-            d -= mat[2, i, j] * mat[2, i, j]
-        d = np.sqrt(d)
+            d -= mat[2, i, j] * mat[2, i, j] * mat[2, i, i]
         mat[2, j, j] = d
         for i in range(j + 1, n):
             s = mat[1, j, i]
             for m in range(j):
-                s -= mat[2, m, j] * mat[2, m, i]
+                s -= mat[2, m, j] * mat[2, m, i] * mat[2, m, m]
             mat[2, j, i] = s / d
     for i in range(n):
         s = vec[V_RHS, i]
         for m in range(i):
             s -= mat[2, m, i] * vec[V_Y, m]
-        vec[V_Y, i] = s / mat[2, i, i]
+        vec[V_Y, i] = s
     for i in range(n - 1, -1, -1):
-        s = vec[V_Y, i]
+        s = vec[V_Y, i] / mat[2, i, i]
         for m in range(i + 1, n):
             s -= mat[2, i, m] * out[m]
-        out[i] = s / mat[2, i, i]
+        out[i] = s
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -198,7 +231,7 @@ def _weighted_solve(
             vec[V_RHS, a] -= rows_rhs[row]
             for b in range(first, last + 1):
                 mat[1, a, b] += w[row]
-    _cholesky_solve(mat, vec, n, out)
+    _ldl_solve(mat, vec, n, out)
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -319,7 +352,8 @@ def solve_moves(
                 for row in range(m):
                     mu_aff += (su[row] + step * dsu[row]) * (lu[row] + step * dlu[row])
                     mu_aff += (sl[row] + step * dsl[row]) * (ll[row] + step * dll[row])
-                target = (mu_aff / (2 * m * mu)) ** 3 * mu + MU_FLOOR
+                ratio = mu_aff / (2 * m * mu)
+                target = ratio * ratio * ratio * mu + MU_FLOOR
                 for row in range(m):
                     tu[row] += target - dsu[row] * dlu[row]
                     tl[row] += target - dsl[row] * dll[row]
