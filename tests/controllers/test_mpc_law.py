@@ -41,6 +41,8 @@ SLIP_ATOL = 1e-6
 """On the slip at every sample instant."""
 MOVE_RTOL = 1e-9
 """On the move, in units of the move limit r_max ts, against the exact minimiser."""
+QP_MOVE_RTOL = 1e-8
+"""The same at horizons 2 .. 5 (the interior point: the solver's 1e-8 of its largest move)."""
 HORIZONS = (1, 3)
 """The closed form (the registry default) and a horizon the interior point solves."""
 
@@ -74,44 +76,50 @@ def test_the_ideal_kernel_runs_the_law_as_its_reference(road: str, horizon: int)
     assert np.max(np.abs(slip[ticks[:n]] - ref.slip[:n])) < SLIP_ATOL
 
 
+def _random_qp(rng: np.random.Generator, i: int, horizon: int) -> tuple:
+    """A random instance of the law's own QP (every fourth with q on a limit): (the law's first
+    move, the exact enumeration's, the move limit dq, q, H, f)."""
+    ts = float(rng.choice([1e-3, 5e-3, 1e-2]))
+    q = float(rng.uniform(0.0, WHEEL.q_max)) if i % 4 else float(rng.choice([0.0, 1500.0]))
+    case = {
+        "slip": rng.uniform(0.0, 1.0),
+        "target": rng.uniform(0.03, 0.4),
+        "v_m_s": rng.uniform(0.5, 40.0),
+        "q": q,
+        "force_n": rng.uniform(0.0, 1200.0),
+        "lookahead_s": rng.uniform(0.005, 0.3),
+        "move_weight": 10.0 ** rng.uniform(-5.0, 1.0),
+    }
+    got = mpc.compiled()[2](
+        case["slip"],
+        case["target"],
+        case["v_m_s"],
+        q,
+        case["force_n"],
+        case["lookahead_s"],
+        case["move_weight"],
+        ts,
+        WHEEL.q_max,
+        RATE_MAX,
+        WHEEL.radius_m,
+        WHEEL.inertia_kg_m2,
+        WHEEL.mass_kg,
+        WHEEL.brake_gain,
+        horizon,
+    )
+    h, f, dq = mpc_qp(horizon, ts_s=ts, rate_max=RATE_MAX, **case)
+    box = np.full(horizon, dq)
+    exact = qp_by_enumeration(h, f, -box, box, q, WHEEL.q_max)[0]
+    return got, exact, dq, q, h, f
+
+
 def test_the_move_is_the_qps_minimiser() -> None:
     """On random instances of the law's own QP: the law's move equals the exact minimiser and
     the solver's closed form (horizon 1)."""
-    move = mpc.compiled()[2]
     rng = np.random.default_rng(3)
     active = 0
     for i in range(200):
-        ts = float(rng.choice([1e-3, 5e-3, 1e-2]))
-        q = float(rng.uniform(0.0, WHEEL.q_max)) if i % 4 else float(rng.choice([0.0, 1500.0]))
-        case = {
-            "slip": rng.uniform(0.0, 1.0),
-            "target": rng.uniform(0.03, 0.4),
-            "v_m_s": rng.uniform(0.5, 40.0),
-            "q": q,
-            "force_n": rng.uniform(0.0, 1200.0),
-            "lookahead_s": rng.uniform(0.005, 0.3),
-            "move_weight": 10.0 ** rng.uniform(-5.0, 1.0),
-        }
-        got = move(
-            case["slip"],
-            case["target"],
-            case["v_m_s"],
-            q,
-            case["force_n"],
-            case["lookahead_s"],
-            case["move_weight"],
-            ts,
-            WHEEL.q_max,
-            RATE_MAX,
-            WHEEL.radius_m,
-            WHEEL.inertia_kg_m2,
-            WHEEL.mass_kg,
-            WHEEL.brake_gain,
-            1,
-        )
-        h, f, dq = mpc_qp(1, ts_s=ts, rate_max=RATE_MAX, **case)
-        lo, hi = np.array([-dq]), np.array([dq])
-        exact = qp_by_enumeration(h, f, lo, hi, q, WHEEL.q_max)[0]
+        got, exact, dq, q, h, f = _random_qp(rng, i, 1)
         assert abs(got - exact) <= MOVE_RTOL * dq
         closed_form = qp.horizon1_move(h[0, 0], f[0], -dq, dq, q, WHEEL.q_max)
         assert abs(got - closed_form) <= MOVE_RTOL * dq
@@ -124,38 +132,10 @@ def test_the_move_is_the_qps_minimiser() -> None:
 def test_a_longer_horizons_move_is_the_qps_first_move(horizon: int) -> None:
     """On random instances of the law's own QP of horizon 2 .. 5 (the interior point in the
     law's stack scratch) against the exact enumeration's first move."""
-    move = mpc.compiled()[2]
     rng = np.random.default_rng(horizon)
     for i in range(60):
-        ts = float(rng.choice([1e-3, 5e-3, 1e-2]))
-        q = float(rng.uniform(0.0, WHEEL.q_max)) if i % 4 else float(rng.choice([0.0, 1500.0]))
-        case = {
-            "slip": rng.uniform(0.0, 1.0),
-            "target": rng.uniform(0.03, 0.4),
-            "v_m_s": rng.uniform(0.5, 40.0),
-            "q": q,
-            "force_n": rng.uniform(0.0, 1200.0),
-            "lookahead_s": rng.uniform(0.005, 0.3),
-            "move_weight": 10.0 ** rng.uniform(-5.0, 1.0),
-        }
-        args = (case["slip"], case["target"], case["v_m_s"], q, case["force_n"])
-        got = move(
-            *args,
-            case["lookahead_s"],
-            case["move_weight"],
-            ts,
-            WHEEL.q_max,
-            RATE_MAX,
-            WHEEL.radius_m,
-            WHEEL.inertia_kg_m2,
-            WHEEL.mass_kg,
-            WHEEL.brake_gain,
-            horizon,
-        )
-        h, f, dq = mpc_qp(horizon, ts_s=ts, rate_max=RATE_MAX, **case)
-        box = np.full(horizon, dq)
-        exact = qp_by_enumeration(h, f, -box, box, q, WHEEL.q_max)[0]
-        assert abs(got - exact) <= 1e-8 * dq
+        got, exact, dq, _, _, _ = _random_qp(rng, i, horizon)
+        assert abs(got - exact) <= QP_MOVE_RTOL * dq
 
 
 def test_the_interior_point_solves_a_qp_started_on_the_pressure_limit() -> None:
