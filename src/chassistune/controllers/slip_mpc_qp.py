@@ -59,9 +59,10 @@ from typing import Any
 
 import numpy as np
 from llvmlite import ir
-from numba import carray, njit, types
+from numba import njit, types
 from numba.core import cgutils
 from numba.extending import intrinsic
+from numba.np.arrayobj import populate_array
 
 from chassistune.controllers.slip_mpc_qp_c import (
     IPM_ITERATIONS as IPM_ITERATIONS,
@@ -112,26 +113,38 @@ def scratch(n: int) -> tuple[np.ndarray, np.ndarray]:
     return np.empty((3, n, n)), np.empty((N_VECTORS, 2 * n))
 
 
-def _stack_doubles(count: int) -> Any:
-    """An intrinsic returning a pointer to `count` uninitialised floats on the stack of the
-    function it is compiled into (one block per call site, in the entry block: a call in a loop
-    reuses it)."""
+def _stack_array(shape: tuple[int, ...]) -> Any:
+    """An intrinsic returning a C-ordered float array of `shape` on the stack of the function it
+    is compiled into (one block per call site, in the entry block: a call in a loop reuses it),
+    built in place: no allocation and no runtime call, as code compiled without numba's runtime
+    needs (numba's `carray` returns an array from a function, which that code refuses)."""
+    array_type = types.Array(types.float64, len(shape), "C")
+    strides = tuple(8 * int(np.prod(shape[k + 1 :])) for k in range(len(shape)))
 
     @intrinsic
-    def stack_doubles(typingctx):  # type: ignore[no-untyped-def]
+    def stack_array(typingctx):  # type: ignore[no-untyped-def]
         def codegen(context, builder, signature, args):  # type: ignore[no-untyped-def]
-            slot = cgutils.alloca_once(builder, ir.ArrayType(ir.DoubleType(), count))
-            return builder.bitcast(slot, ir.DoubleType().as_pointer())
+            slot = cgutils.alloca_once(builder, ir.ArrayType(ir.DoubleType(), int(np.prod(shape))))
+            array = context.make_array(array_type)(context, builder)
+            populate_array(
+                array,
+                data=builder.bitcast(slot, ir.DoubleType().as_pointer()),
+                shape=tuple(context.get_constant(types.intp, n) for n in shape),
+                strides=tuple(context.get_constant(types.intp, n) for n in strides),
+                itemsize=context.get_constant(types.intp, 8),
+                meminfo=None,
+            )
+            return array._getvalue()
 
-        return types.CPointer(types.float64)(), codegen
+        return array_type(), codegen
 
-    return stack_doubles
+    return stack_array
 
 
-_STACK_MAT = _stack_doubles(3 * MAX_HORIZON * MAX_HORIZON)
-_STACK_VEC = _stack_doubles(N_VECTORS * 2 * MAX_HORIZON)
-_STACK_SQUARE = _stack_doubles(MAX_HORIZON * MAX_HORIZON)
-_STACK_ROW = _stack_doubles(MAX_HORIZON)
+_STACK_MAT = _stack_array((3, MAX_HORIZON, MAX_HORIZON))
+_STACK_VEC = _stack_array((N_VECTORS, 2 * MAX_HORIZON))
+_STACK_SQUARE = _stack_array((MAX_HORIZON, MAX_HORIZON))
+_STACK_ROW = _stack_array((MAX_HORIZON,))
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -140,12 +153,8 @@ def stack_scratch(n: int) -> Any:  # pragma: no cover - compiled
     stack of the function this is inlined into, of the largest horizon's size (h
     MAX_HORIZON x MAX_HORIZON, the vectors n long): no allocation, for code compiled without
     numba's runtime (the kernels)."""
-    h = carray(_STACK_SQUARE(), (MAX_HORIZON, MAX_HORIZON))
-    mat = carray(_STACK_MAT(), (3, MAX_HORIZON, MAX_HORIZON))
-    vec = carray(_STACK_VEC(), (N_VECTORS, 2 * MAX_HORIZON))
-    f, move_lo = carray(_STACK_ROW(), n), carray(_STACK_ROW(), n)
-    move_hi, z = carray(_STACK_ROW(), n), carray(_STACK_ROW(), n)
-    return h, f, move_lo, move_hi, z, mat, vec
+    f, move_lo, move_hi, z = _STACK_ROW(), _STACK_ROW(), _STACK_ROW(), _STACK_ROW()
+    return _STACK_SQUARE(), f[:n], move_lo[:n], move_hi[:n], z[:n], _STACK_MAT(), _STACK_VEC()
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
