@@ -218,7 +218,7 @@ def _row_value(row: int, n: int, z: np.ndarray) -> float:  # pragma: no cover - 
     return s
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@njit(cache=True, nogil=True, error_model="numpy")
 def _weighted_solve(
     n: int,
     w: np.ndarray,
