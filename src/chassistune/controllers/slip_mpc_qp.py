@@ -44,13 +44,13 @@ every slack is a true distance and the iterates stay centred.
 Measured (tests/controllers/test_slip_mpc_qp.py: 60 random instances per horizon 1..5, half
 the MPC law's own QPs, half generic): `ITERATIONS_MEASURED` iterations with `POLISH_STEPS`
 polish steps bring every instance within 1e-8 (in units of its largest move limit; the largest
-absolute error 1.4e-8 pressure units on moves of up to 100) of the exact solution (an active-set
-enumeration in the test; 400 more per horizon from other seeds, by hand: within 1.3e-9);
-`IPM_ITERATIONS` keeps a margin. One solve with those counts costs about 16,500 ns inside
-compiled code at N = 5 (N = 3: 9,100 ns; N = 1: 3,400 ns), measured on the shared 2-core test
-machine under a load of 4.6 (an idle core was not available to measure on);
-mostly the divisions of the slack and multiplier updates. The caller allocates the scratch once
-(`scratch`); a solve allocates nothing and makes no array view in its loop.
+absolute error 1.6e-8 pressure units on moves of up to 100) of the exact solution (an active-set
+enumeration in the test; 400 more per horizon from other seeds, by hand: within 3e-9);
+`IPM_ITERATIONS` keeps a margin. One solve with those counts costs about 4 us at N = 3 and 8 us
+at N = 5 inside the law in the ideal kernel (docs/abs_laws.md, "The registered model-predictive
+law"), mostly the divisions of the slack and multiplier updates. The caller provides the
+scratch (`scratch`, or `stack_scratch` on its own stack in the kernels); a solve allocates nothing
+and makes no array view in its loop.
 """
 
 from __future__ import annotations
