@@ -1,12 +1,13 @@
-"""Model-predictive slip control (controllers/laws/mpc.py, docs/abs_laws.md 5), horizon 1: the
-ideal wheel kernel runs it as its scalar reference (tests/controllers/literature_laws_reference.py:
-the QP built from the published prediction model and solved by exact active-set enumeration, in
-a plain loop at RK4 steps of 1 ms); its move is the QP's minimiser (exact enumeration, and
-`slip_mpc_qp.horizon1_move`); in closed loop every move respects the QP's
-pressure-rate and pressure limits; from its registry defaults it stops within 1.5 adhesion bounds
-(single wheel in the realistic ECU: dry concrete, ice; vehicle: dry concrete, mu-jump); the
-realistic ECU's batch row is its single run. Wild gains, conformance and the C replay are the
-registry-wide tests (tests/export, tests/scenarios/test_check_plant.py)."""
+"""Model-predictive slip control (controllers/laws/mpc.py, docs/abs_laws.md 5), horizons 1 (the
+default, closed form) and 3 (the interior point): the ideal wheel kernel runs it as its scalar
+reference (tests/controllers/literature_laws_reference.py: the QP built from the published
+prediction model and solved by exact active-set enumeration, in a plain loop at RK4 steps of
+1 ms); its move is the QP's first move (exact enumeration, and `slip_mpc_qp.horizon1_move` at
+N = 1) at horizons 1 to 5; in closed loop every move respects the QP's pressure-rate and pressure
+limits; from its registry defaults it stops within 1.5 adhesion bounds (single wheel in the
+realistic ECU: dry concrete, ice; vehicle: dry concrete, mu-jump; and N = 3); a batch row is its
+single run. Wild gains, conformance and the C replay are the registry-wide tests (tests/export,
+with N = 3 in test_c99.py; tests/scenarios/test_check_plant.py)."""
 
 from __future__ import annotations
 
@@ -28,29 +29,41 @@ from literature_laws_reference import (
 
 from chassistune.controllers import slip_mpc_qp as qp
 from chassistune.controllers.laws import mpc
+from chassistune.errors import InputError
 from chassistune.scenarios.registry import get_plant
 
 LAW = mpc.LAW.name
 ROADS = {"dry-concrete": DRY_CONCRETE, "ice": ICE}
 TS_S = 0.005
 DISTANCE_RTOL = 1e-7
-"""Measured: 7e-9 on dry concrete, 3e-11 on ice."""
+"""Measured: 7e-9 (N = 1) and 1.1e-8 (N = 3) on dry concrete, 3e-11 on ice."""
 SLIP_ATOL = 1e-6
 """On the slip at every sample instant."""
 MOVE_RTOL = 1e-9
 """On the move, in units of the move limit r_max ts, against the exact minimiser."""
+QP_MOVE_RTOL = 1e-8
+"""The same at horizons 2 .. 5 (the interior point: the solver's 1e-8 of its largest move)."""
+HORIZONS = (1, 3)
+"""The closed form (the registry default) and a horizon the interior point solves."""
 
 
-def _reference_gains(target: float):
-    return dataclasses.replace(LAWS[LAW][1], horizon=mpc.HORIZON, target=target)
+def _reference_gains(target: float, horizon: int):
+    return dataclasses.replace(LAWS[LAW][1], horizon=horizon, target=target)
 
 
+@pytest.mark.parametrize("horizon", HORIZONS)
 @pytest.mark.parametrize("road", ROADS)
-def test_the_ideal_kernel_runs_the_law_as_its_reference(road: str) -> None:
-    sc = get_plant("abs-wheel").scenario(None, road, LAW, {"ts_s": TS_S}, 0)
+def test_the_ideal_kernel_runs_the_law_as_its_reference(road: str, horizon: int) -> None:
+    """The kernel's QP (closed form at N = 1, the interior point at N = 3) against the
+    reference's exact enumeration, in closed loop."""
+    sc = get_plant("abs-wheel").scenario(None, road, LAW, {"ts_s": TS_S, "horizon": horizon}, 0)
     step = LAWS[LAW][0]
     ref = closed_loop(
-        step, _reference_gains(sc.target_slip), ROADS[road], ts_s=TS_S, dt_s=sc.plant_params.dt_s
+        step,
+        _reference_gains(sc.target_slip, horizon),
+        ROADS[road],
+        ts_s=TS_S,
+        dt_s=sc.plant_params.dt_s,
     )
     g = sc.gains_array(None)
     m = sc.metrics(g[None, :])
@@ -63,43 +76,50 @@ def test_the_ideal_kernel_runs_the_law_as_its_reference(road: str) -> None:
     assert np.max(np.abs(slip[ticks[:n]] - ref.slip[:n])) < SLIP_ATOL
 
 
+def _random_qp(rng: np.random.Generator, i: int, horizon: int) -> tuple:
+    """A random instance of the law's own QP (every fourth with q on a limit): (the law's first
+    move, the exact enumeration's, the move limit dq, q, H, f)."""
+    ts = float(rng.choice([1e-3, 5e-3, 1e-2]))
+    q = float(rng.uniform(0.0, WHEEL.q_max)) if i % 4 else float(rng.choice([0.0, 1500.0]))
+    case = {
+        "slip": rng.uniform(0.0, 1.0),
+        "target": rng.uniform(0.03, 0.4),
+        "v_m_s": rng.uniform(0.5, 40.0),
+        "q": q,
+        "force_n": rng.uniform(0.0, 1200.0),
+        "lookahead_s": rng.uniform(0.005, 0.3),
+        "move_weight": 10.0 ** rng.uniform(-5.0, 1.0),
+    }
+    got = mpc.compiled()[2](
+        case["slip"],
+        case["target"],
+        case["v_m_s"],
+        q,
+        case["force_n"],
+        case["lookahead_s"],
+        case["move_weight"],
+        ts,
+        WHEEL.q_max,
+        RATE_MAX,
+        WHEEL.radius_m,
+        WHEEL.inertia_kg_m2,
+        WHEEL.mass_kg,
+        WHEEL.brake_gain,
+        horizon,
+    )
+    h, f, dq = mpc_qp(horizon, ts_s=ts, rate_max=RATE_MAX, **case)
+    box = np.full(horizon, dq)
+    exact = qp_by_enumeration(h, f, -box, box, q, WHEEL.q_max)[0]
+    return got, exact, dq, q, h, f
+
+
 def test_the_move_is_the_qps_minimiser() -> None:
     """On random instances of the law's own QP: the law's move equals the exact minimiser and
     the solver's closed form (horizon 1)."""
-    move = mpc.compiled()[2]
     rng = np.random.default_rng(3)
     active = 0
     for i in range(200):
-        ts = float(rng.choice([1e-3, 5e-3, 1e-2]))
-        q = float(rng.uniform(0.0, WHEEL.q_max)) if i % 4 else float(rng.choice([0.0, 1500.0]))
-        case = {
-            "slip": rng.uniform(0.0, 1.0),
-            "target": rng.uniform(0.03, 0.4),
-            "v_m_s": rng.uniform(0.5, 40.0),
-            "q": q,
-            "force_n": rng.uniform(0.0, 1200.0),
-            "lookahead_s": rng.uniform(0.005, 0.3),
-            "move_weight": 10.0 ** rng.uniform(-5.0, 1.0),
-        }
-        got = move(
-            case["slip"],
-            case["target"],
-            case["v_m_s"],
-            q,
-            case["force_n"],
-            case["lookahead_s"],
-            case["move_weight"],
-            ts,
-            WHEEL.q_max,
-            RATE_MAX,
-            WHEEL.radius_m,
-            WHEEL.inertia_kg_m2,
-            WHEEL.mass_kg,
-            WHEEL.brake_gain,
-        )
-        h, f, dq = mpc_qp(1, ts_s=ts, rate_max=RATE_MAX, **case)
-        lo, hi = np.array([-dq]), np.array([dq])
-        exact = qp_by_enumeration(h, f, lo, hi, q, WHEEL.q_max)[0]
+        got, exact, dq, q, h, f = _random_qp(rng, i, 1)
         assert abs(got - exact) <= MOVE_RTOL * dq
         closed_form = qp.horizon1_move(h[0, 0], f[0], -dq, dq, q, WHEEL.q_max)
         assert abs(got - closed_form) <= MOVE_RTOL * dq
@@ -108,11 +128,20 @@ def test_the_move_is_the_qps_minimiser() -> None:
     assert 10 < active < 190  # both the free minimiser and the limits are exercised
 
 
-@pytest.mark.xfail(strict=True, reason="solve_moves stops at -25.0, the minimiser is -25.49")
+@pytest.mark.parametrize("horizon", range(2, qp.MAX_HORIZON + 1))
+def test_a_longer_horizons_move_is_the_qps_first_move(horizon: int) -> None:
+    """On random instances of the law's own QP of horizon 2 .. 5 (the interior point in the
+    law's stack scratch) against the exact enumeration's first move."""
+    rng = np.random.default_rng(horizon)
+    for i in range(60):
+        got, exact, dq, _, _, _ = _random_qp(rng, i, horizon)
+        assert abs(got - exact) <= QP_MOVE_RTOL * dq
+
+
 def test_the_interior_point_solves_a_qp_started_on_the_pressure_limit() -> None:
-    """An instance of the law's QP (q = q_max, the free minimiser inside its interval) on which
-    `slip_mpc_qp.solve_moves` misses (1 of the 200 above): the law's horizon-1 form does not
-    use it, a longer horizon would."""
+    """An instance of the law's QP (q = q_max, the free minimiser -25.49 inside its interval)
+    that a start at z = 0, on the pressure limit, sent into a cycle ending at -25.0
+    (`slip_mpc_qp` module docstring)."""
     h, f = np.array([[5.448022641609194e-06]]), np.array([0.00013884674186551857])
     lo, hi = np.array([-50.0]), np.array([50.0])
     mat, vec = qp.scratch(1)
@@ -121,8 +150,9 @@ def test_the_interior_point_solves_a_qp_started_on_the_pressure_limit() -> None:
     assert abs(z[0] + f[0] / h[0, 0]) <= 1e-8 * 50.0
 
 
+@pytest.mark.parametrize("horizon", HORIZONS)
 @pytest.mark.parametrize("road", ROADS)
-def test_in_closed_loop_every_move_respects_the_qps_limits(road: str) -> None:
+def test_in_closed_loop_every_move_respects_the_qps_limits(road: str, horizon: int) -> None:
     """The law's discrete step (what the ECU runs and C ships) in the reference loop: each
     sample's rate r keeps |r| <= r_max and 0 <= q + r ts <= q_max."""
     _, step, _ = mpc.compiled()
@@ -139,6 +169,7 @@ def test_in_closed_loop_every_move_respects_the_qps_limits(road: str) -> None:
         "target_slip": ROADS[road].slip_opt,
         "ts_s": TS_S,
         "wheel_radius_m": wheel.radius_m,
+        "horizon": horizon,
     }
     params = np.array([values[n] for n in mpc.DISCRETE.params])
     state, table, grid = np.zeros(len(mpc.DISCRETE.state)), np.zeros(1), np.zeros(1)
@@ -169,8 +200,17 @@ def test_in_closed_loop_every_move_respects_the_qps_limits(road: str) -> None:
     assert np.any(np.abs(r) >= RATE_MAX * (1.0 - 1e-12))  # the rate limit is active at times
 
 
-def test_the_realistic_ecus_batch_row_is_its_single_run() -> None:
-    sc = get_plant("abs-wheel").scenario(None, "ice", LAW, {"ecu": "realistic"}, 0)
+@pytest.mark.parametrize(
+    ("road", "params"),
+    [
+        ("ice", {"ecu": "realistic"}),
+        ("ice", {"ecu": "realistic", "horizon": 3}),
+        ("dry-concrete", {"horizon": 3}),
+    ],
+)
+def test_the_batch_row_is_its_single_run(road: str, params: dict[str, object]) -> None:
+    """In the realistic ECU and, at N = 3, in the ideal kernel."""
+    sc = get_plant("abs-wheel").scenario(None, road, LAW, params, 0)
     rng = np.random.default_rng(7)
     lo, hi = (np.array([getattr(g, b) for g in sc.controller.gains]) for b in ("lo", "hi"))
     pop = lo + (hi - lo) * rng.random((5, len(lo)))
@@ -186,6 +226,8 @@ def test_the_realistic_ecus_batch_row_is_its_single_run() -> None:
         ("abs-wheel", "ice", {"ecu": "realistic"}),
         ("abs-vehicle", "dry-concrete", {}),
         ("abs-vehicle", "mu-jump", {}),
+        ("abs-wheel", "dry-concrete", {"ecu": "realistic", "horizon": 3}),
+        ("abs-vehicle", "dry-concrete", {"horizon": 3}),
     ],
 )
 def test_from_its_defaults_the_law_stops_within_one_and_a_half_bounds(
@@ -195,3 +237,9 @@ def test_from_its_defaults_the_law_stops_within_one_and_a_half_bounds(
     m = sc.metrics(sc.gains_array(None)[None, :])
     assert m["status"][0] == "stopped"
     assert m["stop_distance_m"][0] <= 1.5 * sc.bound_distance_m
+
+
+@pytest.mark.parametrize("value", ["0", "6", "2.5", "-1"])
+def test_a_horizon_outside_one_to_five_is_refused_naming_the_field(value: str) -> None:
+    with pytest.raises(InputError, match=r"params\.horizon.*integer 1 \.\. 5"):
+        get_plant("abs-wheel").scenario(None, "ice", LAW, {"horizon": value}, 0)

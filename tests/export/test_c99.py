@@ -176,6 +176,7 @@ def test_shipped_check_program_replays_the_vectors_and_catches_a_change(tmp_path
         ("fuzzy-immune-pid", "dirt-0.2", {"ts_s": 0.002}),
         ("pid", "wet-asphalt", {"ecu_ts_s": 0.01, "dt_s": 5e-4}),
         ("threshold", "ice", {"ts_s": 0.005}),
+        ("mpc", "ice", {"horizon": 3}),
     ],
 )
 def test_bitwise_on_other_roads_presets_rule_bases_and_random_gains(

@@ -15,14 +15,14 @@ convergence, no early exit, only selects (min, max, a ? b : c) on the data.
    Wright, "Numerical Optimization", 2nd ed., Springer 2006, section 16.6 for QPs; the fixed
    iteration count as in Wang and Boyd, "Fast model predictive control using online
    optimization", IEEE Trans. Control Syst. Technol. 18(2), 2010): slacks su = u - Cz,
-   sl = Cz - l and multipliers lu, ll, started at z = 0 (feasible for move_lo <= 0 <= move_hi,
-   0 <= q0 <= q_max) on the central path; each step solves the N x N normal equations
-   (H + C' W C) dz = ... (W = lu/su + ll/sl) by Cholesky twice (predictor, corrector) and moves
-   0.99 of the longest step that keeps slacks and multipliers positive. The centring target
-   never falls below MU_FLOOR, which keeps W finite and the Cholesky factorable after
-   convergence (further steps change nothing).
+   sl = Cz - l and multipliers lu, ll, started strictly inside the feasible set (each move half
+   of the way to the middle pressure, within half its interval) on the central path; each step
+   solves the N x N normal equations (H + C' W C) dz = ... (W = lu/su + ll/sl) by an L D L'
+   factorisation twice (predictor, corrector) and moves 0.99 of the longest step that keeps
+   slacks and multipliers positive. The centring target never falls below MU_FLOOR, which keeps
+   W finite and the normal matrix factorable after convergence (further steps change nothing).
 3. `polish_steps` augmented-Lagrangian steps on the rows the interior point marks active
-   (multiplier above slack), each one Cholesky solve of (H + rho C_A' C_A): they remove the
+   (multiplier above slack), each one L D L' solve of (H + rho C_A' C_A): they remove the
    central path's offset (the same polish as OSQP's, Stellato et al., Math. Prog. Comp. 2020).
 4. A clamp of each move, in order, into what the previous moves leave of its interval
    (`feasible`): the result satisfies every constraint exactly.
@@ -33,42 +33,51 @@ gradients converge linearly at a rate set by the conditioning of C H^-1 C', whic
 here (2N rows, rank N): on the test's instances Hildreth still erred by 5 pressure units after
 1600 sweeps. An interior point needs a number of iterations almost independent of the data.
 
+The start matters: from z = 0 a QP whose pressure starts on its limit (q0 = q_max: the row
+q0 + z_0 <= q_max has zero slack at z = 0, floored to START_SLACK with a multiplier of 100
+times the others') sends the predictor-corrector into a cycle of period 4 (z alternating
+between two points that each take 0.99 of the step to a bound, the complementarity stuck near
+1 at any iteration count), and the polish then clamps onto two contradictory active rows
+(tests/controllers/test_mpc_law.py: minimiser -25.49, result -25.0). Started strictly inside,
+every slack is a true distance and the iterates stay centred.
+
 Measured (tests/controllers/test_slip_mpc_qp.py: 60 random instances per horizon 1..5, half
 the MPC law's own QPs, half generic): `ITERATIONS_MEASURED` iterations with `POLISH_STEPS`
 polish steps bring every instance within 1e-8 (in units of its largest move limit; the largest
-absolute error 1.4e-8 pressure units on moves of up to 100) of the exact solution (an active-set
-enumeration in the test); `IPM_ITERATIONS` keeps a margin. One N = 5 solve with those counts
-costs about 26,000 ns inside compiled code (N = 1: about 6,000 ns), measured on the
-shared 2-core test machine under a load of 5 (an idle core was not available to measure on);
-mostly the divisions of the slack and multiplier updates. The caller allocates the scratch once
-(`scratch`); a solve allocates nothing and makes no array view in its loop.
+absolute error 1.6e-8 pressure units on moves of up to 100) of the exact solution (an active-set
+enumeration in the test; 400 more per horizon from other seeds, by hand: within 3e-9);
+`IPM_ITERATIONS` keeps a margin. One solve with those counts costs about 4 us at N = 3 and 8 us
+at N = 5 inside the law in the ideal kernel (docs/abs_laws.md, "The registered model-predictive
+law"), mostly the divisions of the slack and multiplier updates. The caller provides the
+scratch (`scratch`, or `stack_scratch` on its own stack in the kernels); a solve allocates nothing
+and makes no array view in its loop.
 """
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
-from numba import njit
+from llvmlite import ir
+from numba import njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic
+from numba.np.arrayobj import populate_array
 
-MAX_HORIZON = 5
-"""The longest horizon the law offers (the QP has at most 5 variables and 10 two-sided rows)."""
-
-IPM_ITERATIONS = 20
-"""Predictor-corrector iterations of every solve (`ITERATIONS_MEASURED` plus a margin)."""
-POLISH_STEPS = 2
-"""Augmented-Lagrangian steps of the polish on the identified active set."""
-ITERATIONS_MEASURED = 16
-"""The fewest iterations (with POLISH_STEPS) that met 1e-8 on every instance of the test."""
-
-MU_FLOOR = 1e-12
-"""Smallest complementarity target (scaled units): the iterates settle on the central path at
-s l = MU_FLOOR instead of driving slacks to zero, which keeps the normal matrix factorable."""
-START_SLACK = 1e-2
-"""Smallest starting slack (scaled units), for a start on a bound."""
-STEP_FRACTION = 0.99
-"""Fraction of the longest step that keeps the slacks and multipliers positive."""
-POLISH_RHO = 1e6
-"""Penalty of the polish (scaled units: the largest entry of H is 1)."""
-
+from chassistune.controllers.slip_mpc_qp_c import (
+    IPM_ITERATIONS as IPM_ITERATIONS,
+)
+from chassistune.controllers.slip_mpc_qp_c import (
+    ITERATIONS_MEASURED as ITERATIONS_MEASURED,
+)
+from chassistune.controllers.slip_mpc_qp_c import (
+    MAX_HORIZON,
+    MU_FLOOR,
+    POLISH_RHO,
+    START_SLACK,
+    STEP_FRACTION,
+)
+from chassistune.controllers.slip_mpc_qp_c import POLISH_STEPS as POLISH_STEPS
 
 (
     V_F,
@@ -104,6 +113,50 @@ def scratch(n: int) -> tuple[np.ndarray, np.ndarray]:
     return np.empty((3, n, n)), np.empty((N_VECTORS, 2 * n))
 
 
+def _stack_array(shape: tuple[int, ...]) -> Any:
+    """An intrinsic returning a C-ordered float array of `shape` on the stack of the function it
+    is compiled into (one block per call site, in the entry block: a call in a loop reuses it),
+    built in place: no allocation and no runtime call, as code compiled without numba's runtime
+    needs (numba's `carray` returns an array from a function, which that code refuses)."""
+    array_type = types.Array(types.float64, len(shape), "C")
+    strides = tuple(8 * int(np.prod(shape[k + 1 :])) for k in range(len(shape)))
+
+    @intrinsic
+    def stack_array(typingctx):  # type: ignore[no-untyped-def]
+        def codegen(context, builder, signature, args):  # type: ignore[no-untyped-def]
+            slot = cgutils.alloca_once(builder, ir.ArrayType(ir.DoubleType(), int(np.prod(shape))))
+            array = context.make_array(array_type)(context, builder)
+            populate_array(
+                array,
+                data=builder.bitcast(slot, ir.DoubleType().as_pointer()),
+                shape=tuple(context.get_constant(types.intp, n) for n in shape),
+                strides=tuple(context.get_constant(types.intp, n) for n in strides),
+                itemsize=context.get_constant(types.intp, 8),
+                meminfo=None,
+            )
+            return array._getvalue()
+
+        return array_type(), codegen
+
+    return stack_array
+
+
+_STACK_MAT = _stack_array((3, MAX_HORIZON, MAX_HORIZON))
+_STACK_VEC = _stack_array((N_VECTORS, 2 * MAX_HORIZON))
+_STACK_SQUARE = _stack_array((MAX_HORIZON, MAX_HORIZON))
+_STACK_ROW = _stack_array((MAX_HORIZON,))
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def stack_scratch(n: int) -> Any:  # pragma: no cover - compiled
+    """(h, f, move_lo, move_hi, z, mat, vec) of one solve of horizon n <= MAX_HORIZON, on the
+    stack of the function this is inlined into, of the largest horizon's size (h
+    MAX_HORIZON x MAX_HORIZON, the vectors n long): no allocation, for code compiled without
+    numba's runtime (the kernels)."""
+    f, move_lo, move_hi, z = _STACK_ROW(), _STACK_ROW(), _STACK_ROW(), _STACK_ROW()
+    return _STACK_SQUARE(), f[:n], move_lo[:n], move_hi[:n], z[:n], _STACK_MAT(), _STACK_VEC()
+
+
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def clamp(x: float, lo: float, hi: float) -> float:  # pragma: no cover - compiled
     """x clamped into [lo, hi] (hi wins if lo > hi)."""
@@ -120,33 +173,33 @@ def horizon1_move(
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _cholesky_solve(
+def _ldl_solve(
     mat: np.ndarray, vec: np.ndarray, n: int, out: np.ndarray
 ) -> None:  # pragma: no cover - compiled
-    """out = K^-1 rhs for the small symmetric positive definite K = mat[1] (K = R'R, R in mat[2],
-    two triangular solves through vec[V_Y]) and rhs = vec[V_RHS], the operation order fixed by
-    the size. Indexes the scratch directly: no array view is made in the loop."""
+    """out = K^-1 rhs for the small symmetric positive definite K = mat[1] (K = L D L', L' and D
+    in mat[2] with D on its diagonal, two triangular solves through vec[V_Y]) and rhs =
+    vec[V_RHS], the operation order fixed by the size; no square root, so that the C needs no
+    library. Indexes the scratch directly: no array view is made in the loop."""
     for j in range(n):
         d = mat[1, j, j]
         for i in range(j):
-            d -= mat[2, i, j] * mat[2, i, j]
-        d = np.sqrt(d)
+            d -= mat[2, i, j] * mat[2, i, j] * mat[2, i, i]
         mat[2, j, j] = d
         for i in range(j + 1, n):
             s = mat[1, j, i]
             for m in range(j):
-                s -= mat[2, m, j] * mat[2, m, i]
+                s -= mat[2, m, j] * mat[2, m, i] * mat[2, m, m]
             mat[2, j, i] = s / d
     for i in range(n):
         s = vec[V_RHS, i]
         for m in range(i):
             s -= mat[2, m, i] * vec[V_Y, m]
-        vec[V_Y, i] = s / mat[2, i, i]
+        vec[V_Y, i] = s
     for i in range(n - 1, -1, -1):
-        s = vec[V_Y, i]
+        s = vec[V_Y, i] / mat[2, i, i]
         for m in range(i + 1, n):
             s -= mat[2, i, m] * out[m]
-        out[i] = s / mat[2, i, i]
+        out[i] = s
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -165,7 +218,7 @@ def _row_value(row: int, n: int, z: np.ndarray) -> float:  # pragma: no cover - 
     return s
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@njit(cache=True, nogil=True, error_model="numpy")
 def _weighted_solve(
     n: int,
     w: np.ndarray,
@@ -187,7 +240,7 @@ def _weighted_solve(
             vec[V_RHS, a] -= rows_rhs[row]
             for b in range(first, last + 1):
                 mat[1, a, b] += w[row]
-    _cholesky_solve(mat, vec, n, out)
+    _ldl_solve(mat, vec, n, out)
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -249,15 +302,21 @@ def solve_moves(
     for j in range(n):
         lo[j], hi[j] = move_lo[j] / scale, move_hi[j] / scale
         lo[n + j], hi[n + j] = -q0 / scale, (q_max - q0) / scale
-    # start at x = 0 (feasible when move_lo <= 0 <= move_hi and 0 <= q0 <= q_max), slacks its
-    # distances to the bounds (at least START_SLACK), multipliers on the central path at mu0
-    x[:] = 0.0
+    # start strictly inside: each move half of the way to the middle pressure, within half
+    # its interval; slacks its distances to the bounds (at least START_SLACK), multipliers on
+    # the central path at mu0
+    middle = 0.5 * (lo[n] + hi[n])
+    reached = 0.0
+    for j in range(n):
+        x[j] = clamp(0.5 * (middle - reached), 0.5 * lo[j], 0.5 * hi[j])
+        reached += x[j]
     mu0 = 1.0
     for j in range(n):
         mu0 = max(mu0, abs(fs[j]))
     for row in range(m):
-        su[row] = max(hi[row], START_SLACK)
-        sl[row] = max(-lo[row], START_SLACK)
+        cx[row] = _row_value(row, n, x)
+        su[row] = max(hi[row] - cx[row], START_SLACK)
+        sl[row] = max(cx[row] - lo[row], START_SLACK)
         lu[row] = mu0 / su[row]
         ll[row] = mu0 / sl[row]
     for _ in range(iterations):
@@ -302,7 +361,8 @@ def solve_moves(
                 for row in range(m):
                     mu_aff += (su[row] + step * dsu[row]) * (lu[row] + step * dlu[row])
                     mu_aff += (sl[row] + step * dsl[row]) * (ll[row] + step * dll[row])
-                target = (mu_aff / (2 * m * mu)) ** 3 * mu + MU_FLOOR
+                ratio = mu_aff / (2 * m * mu)
+                target = ratio * ratio * ratio * mu + MU_FLOOR
                 for row in range(m):
                     tu[row] += target - dsu[row] * dlu[row]
                     tl[row] += target - dsl[row] * dll[row]

@@ -43,6 +43,8 @@ class ParamSpec:
     description: str = ""
     choices: tuple[str, ...] = ()
     positive: bool = False
+    integers: tuple[int, int] | None = None
+    """An integer in this closed range (lo, hi), or None for any number."""
 
     def as_dict(self) -> dict[str, object]:
         out: dict[str, object] = {
@@ -53,6 +55,8 @@ class ParamSpec:
         }
         if self.choices:
             out["choices"] = list(self.choices)
+        if self.integers is not None:
+            out["integers"] = list(self.integers)
         return out
 
 

@@ -44,6 +44,12 @@ def resolve_controller_params(
             out[ps.name] = ps.default
         if ps.positive and ps.name in out and not out[ps.name] > 0:
             raise InputError(f"params.{ps.name}", f"must be positive, got {out[ps.name]:g}")
+        if ps.integers is not None and ps.name in out:
+            lo, hi = ps.integers
+            if out[ps.name] not in range(lo, hi + 1):
+                raise InputError(
+                    f"params.{ps.name}", f"must be an integer {lo} .. {hi}, got {out[ps.name]:g}"
+                )
     if "amplitude" in spec.param_names and "amplitude" not in out:
         out["amplitude"] = amplitude
     return out

@@ -96,6 +96,7 @@ PARAMS = Layout(
         Slot("nominal_q_max", "unit", "the literature laws' pressure limit"),
         Slot("nominal_actuator_gain", "unit/s", "the literature laws' actuator gain K"),
         Slot("rate_limit", "unit/s", "the literature laws' largest pressure rate"),
+        Slot("horizon", "samples", "model-predictive law: samples predicted, 1 .. 5"),
     ),
 )
 """The controller vector `c` of the ideal kernels: the laws' fixed numeric parameters."""
@@ -122,6 +123,7 @@ P_PRESSURE_TAU, P_INERTIA, P_MASS, P_BRAKE_GAIN, P_QMAX, P_ACTUATOR_GAIN, P_RATE
         "rate_limit",
     )
 )
+P_HORIZON = PARAMS["horizon"]
 
 
 def gains(spec: ControllerSpec) -> Layout:
