@@ -103,6 +103,7 @@ from chassistune.sim.abs_wheel_tires import (
     table_tuples,
     tire_law_mu,
 )
+from chassistune.sim.inlined import INLINE, inlined
 from chassistune.sim.integrate import (
     error_integrals,
     rk3_point2,
@@ -288,7 +289,7 @@ def _form_rate_inline(form, e, x, held, c, n_filter, at_max, at_min):
     return impl
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@njit(**INLINE)
 def _rates_at(mu_of, form, x, s, p, tire):
     """Derivatives of the state x = (v, w, q, r, xc) at its slip s, xc the continuous law's
     state, and the command u of its form of key `form` (`_form_rate`), with the lane's
@@ -302,7 +303,7 @@ def _rates_at(mu_of, form, x, s, p, tire):
     return (dv, dw, dq, dr, dxc), u
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@njit(**INLINE)
 def _rates(mu_of, form, x, p, tire):
     """`_rates_at` at the slip of x."""
     return _rates_at(mu_of, form, x, wheel_slip(x[0], x[1], p[3]), p, tire)
@@ -334,7 +335,7 @@ def _lane_params(st, l, c):
     )
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@njit(**INLINE)
 def _rk_step(mu_of, form, method, x, s, dt, hs, h6, p, tire):
     """One RK step (`method` RK3 or RK4, a constant at each call site) of the state tuple x
     whose slip is s: (the new state, the command u at its start). Each stage is one tuple
@@ -542,7 +543,7 @@ def _vector_loop_chain(
     return impl
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@njit(**INLINE)
 def _fill_lane(st, l, i, gains, plant, laws_key, ctrl_kind, c):
     """Start candidate i in lane l: initial state, zero metrics, the law's held values at the
     start (`Law.forms`), its plant row."""
@@ -581,14 +582,14 @@ def _fill_lane(st, l, i, gains, plant, laws_key, ctrl_kind, c):
 TRACE_SLOTS = (T_TIME, T_V, T_WHEEL_V, T_SLIP, T_TARGET, T_Q, T_TB, T_U, T_X, T_MU)
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def _put(row, slots, values):
     """row[slots[j]] = values[j] for a tuple of slots and a tuple of as many floats."""
     for j in range(len(slots)):
         row[slots[j]] = values[j]
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def write_metrics(out_row, end, integrals, extremes):
     """A run's METRICS row (trace rows 0) from end = (status, stop time, distance, lock time),
     integrals = (IAE, ITAE, ISE, integral of the slip) and extremes = (peak slip, locked time,
@@ -608,7 +609,7 @@ def write_trace_row(row, t, v, wheel_v, slip, target, q, tb, u, x, mu):
     _put(row, TRACE_SLOTS, (t, v, wheel_v, slip, target, q, tb, u, x, mu))
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def _finish_lane(st, l, out_row):
     """Write the metrics row of the run that ended in lane l."""
     _add_pending_integrals(st, l)
@@ -621,7 +622,7 @@ def _finish_lane(st, l, out_row):
     )
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def _tick_inputs(st, l, t):
     """What a sampled law's tick at time t reads in lane l: its signals
     (`controllers.laws.forms.SIGNALS`), held values and memory (`MEMORY` rows)."""
@@ -647,7 +648,7 @@ def _tick_inputs(st, l, t):
     return sig, held, mem
 
 
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@inlined
 def _tick_store(st, l, held, mem, w, q):
     """Lane l after a sampled law's tick: its held values, its memory (the slots its tick
     returns) and the wheel speed w and pressure q at this sample."""
