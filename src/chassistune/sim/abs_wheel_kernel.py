@@ -89,7 +89,7 @@ from chassistune.controllers.laws.forms import SIG_PRESSURE, SIG_WHEEL_SPEED
 from chassistune.controllers.laws.held_pid import HELD_PID
 from chassistune.controllers.laws.registry import ContinuousForm
 from chassistune.plants.mf_curve import POLY_SIZE
-from chassistune.plants.mf_relaxation import lagged_slip_rate_per_s
+from chassistune.plants.mf_relaxation import lagged_slip_rate_from_slip_speed_per_s
 from chassistune.sim import abs_wheel_layout as L
 from chassistune.sim.abs_wheel_model import step_end, wheel_rates, wheel_slip
 from chassistune.sim.abs_wheel_tires import (
@@ -320,14 +320,15 @@ def _rates(mu_of, form, x, p, tire):
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _relaxed_rates_at(mu_of, form, x, s, p_sigma, tire):
-    """Derivatives of x = (v, w, q, r, xc, S') at its kinematic slip s, the tire read at the
-    lagged slip S' (clipped to [0, 1], a guard: S' is a weighted mean of past s), and
-    sigma dS'/dt = v (s - S') (`mf_relaxation.lagged_slip_rate_per_s`; docs/tires.md, transient
-    slip); p_sigma = (the lane's parameters, sigma)."""
+    """Derivatives of x = (v, w, q, r, xc, S') at its kinematic slip s (clipped, what the law
+    reads), the tire read at the lagged slip S' (`mu_of`: `_odd_tire_mu`), and
+    sigma dS'/dt = (v - w R) - v S' (`mf_relaxation.lagged_slip_rate_from_slip_speed_per_s`;
+    docs/tires.md, transient slip); p_sigma = (the lane's parameters, sigma)."""
     v, w, q, r, xc, lag = x
     p, sigma = p_sigma
-    k, u = _plant_rates(mu_of, form, (v, w, q, r, xc), s, clip(lag, 0.0, 1.0), p, tire)
-    return k + (lagged_slip_rate_per_s(s, lag, v, sigma),), u  # noqa: RUF005 (numba)
+    k, u = _plant_rates(mu_of, form, (v, w, q, r, xc), s, lag, p, tire)
+    dlag = lagged_slip_rate_from_slip_speed_per_s(v - w * p[3], lag, v, sigma)
+    return k + (dlag,), u  # noqa: RUF005 (numba)
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -516,10 +517,18 @@ def _lane_steps_of(law: int, method: int, form: ContinuousForm) -> Any:
     return _lanes_loop(step, len(form.state), name)
 
 
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _odd_tire_mu(law, s, tire):
+    """`_wheel_tire_mu` extended to S < 0 as an odd function, its slip capped at 1: the lagged
+    slip turns negative while the wheel spins faster than the road, and the tire then drives
+    it back (the tire curves are braking curves, S in [0, 1])."""
+    return math.copysign(_wheel_tire_mu(law, fmin(abs(s), 1.0), tire), s)
+
+
 @njit(nogil=True, error_model="numpy", inline="always")
 def _mu_of_runtime_law(s, tire):
-    """`_wheel_tire_mu` of the tire law that follows the tire's constants, tire[8]."""
-    return _wheel_tire_mu(tire[8], s, tire)
+    """`_odd_tire_mu` of the tire law that follows the tire's constants, tire[8]."""
+    return _odd_tire_mu(tire[8], s, tire)
 
 
 @functools.cache
@@ -885,6 +894,7 @@ def _simulate(
             t = (st[R_STEP * LANES] - 1.0) * dt
             r = st[0::LANES]  # lane 0's rows
             v = r[R_V]
+            mu_static = _wheel_tire_mu(law, r[R_SLIP], tire)
             write_trace_row(
                 trace[rows],
                 min(t + dt, trace_t_end),
@@ -896,7 +906,7 @@ def _simulate(
                 r[R_KQ] * r[R_Q],
                 r[R_U1],
                 r[R_DIST],
-                _wheel_tire_mu(law, clip(r[R_LAG], 0.0, 1.0) if relaxed else r[R_SLIP], tire),
+                _odd_tire_mu(law, r[R_LAG], tire) if relaxed else mu_static,
             )
             rows += 1
     if n_trace > 0:
