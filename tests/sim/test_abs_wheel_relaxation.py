@@ -20,7 +20,8 @@ from chassistune._branchfree import stack_copy
 from chassistune.controllers.laws.held_pid import HELD_PID
 from chassistune.errors import InputError
 from chassistune.perf.abs import pid_closed_loop
-from chassistune.plants.mf_curve import TIRE_SURFACE
+from chassistune.plants.mf_curve import TIRE_SURFACE, MagicFormulaCurve
+from chassistune.plants.mf_relaxation import longitudinal_relaxation_length_m
 from chassistune.plants.tir import TirWarning
 from chassistune.plants.tires import KIND_BILINEAR
 from chassistune.scenarios.abs_wheel import PLANT, AbsWheelScenario
@@ -311,3 +312,32 @@ def test_plant_rows_mixing_zero_and_positive_lengths_are_refused() -> None:
         K.simulate_abs_wheel(
             np.zeros((2, 3)), rows, kind, coef, xs, ys, ckind, c, table, np.zeros((0, 10)), out
         )
+
+
+# the length from a TIR file
+
+MF61 = str(Path(__file__).parents[1] / "plants" / "data" / "MagicFormula61_Parameters.tir")
+
+
+def test_the_tir_files_length_at_the_wheels_load() -> None:
+    sc = _scenario(
+        "paper-derlsp-ao", TIRE_SURFACE, "pid", {"tire": MF61, "relaxation_length_m": "tire"}
+    )
+    assert isinstance(sc.tire, MagicFormulaCurve)
+    sigma = longitudinal_relaxation_length_m(sc.tire.tire.kernel_array(), sc.tire.fz_n)
+    assert sc.plant_params.relaxation_length_m == sigma > 0.0
+    assert sc.params()["relaxation_length_m"] == sigma  # echoed as a number: replayable
+    given = _scenario(
+        "paper-derlsp-ao", TIRE_SURFACE, "pid", {"tire": MF61, "relaxation_length_m": sigma}
+    )
+    g = _population(sc, 3, 1)
+    assert sc.raw(g, workers=1).tobytes() == given.raw(g, workers=1).tobytes()
+
+
+def test_a_tir_file_without_the_length_or_no_tir_file_is_refused() -> None:
+    with pytest.raises(InputError, match="LONGITUDINAL_STIFFNESS"):
+        _scenario(
+            "paper-derlsp-ao", TIRE_SURFACE, "pid", {"tire": CHRONO, "relaxation_length_m": "tire"}
+        )
+    with pytest.raises(InputError, match="needs --tire"):
+        _scenario("paper-derlsp-ao", "dry-concrete", "pid", {"relaxation_length_m": "tire"})
