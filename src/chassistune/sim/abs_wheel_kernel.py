@@ -9,6 +9,11 @@ with gains fixed (PID) or scheduled at each sample (fuzzy PID), plus a held comm
 sampled laws (none, bang-bang, threshold, fuzzy immune PID), evaluated every `ts_s` (a whole
 number of steps) so that the controller does not change when the step is refined.
 
+Transient slip (docs/tires.md): with `relaxation_length_m` sigma > 0 the tire reads a lagged slip
+S', a state, sigma dS'/dt = (v - w R) - v S' (`_relaxed_rates_at`), in one more vector loop
+(`_relaxed_lane_steps_of`) that a run takes by a run-time test of sigma; sigma = 0 runs the
+static loops below, unchanged.
+
 Integration at a fixed step on (v, w, q, r, z, xf) (`sim.integrate`): Kutta's RK3 with explicit
 fused multiply-adds for the PID and no ABS, classic RK4 for the sampled laws (bang-bang,
 threshold, fuzzy PID, fuzzy immune PID). Measured against dt/100, RK3 at 1 ms is the
