@@ -11,7 +11,7 @@ from collections.abc import Collection
 from dataclasses import dataclass, field
 
 from chassistune.errors import InputError
-from chassistune.params import positive, unit_interval
+from chassistune.params import nonnegative, positive, unit_interval
 from chassistune.plants.presets import Preset, PresetInfo
 from chassistune.units import PRESSURE
 
@@ -50,6 +50,9 @@ class AbsWheelParams:
     """Wheel load as a fraction of M g: 1 here; 0.25 only in `sldemo` (MathWorks' quirk)."""
     lock_ratio: float = field(default=0.01, metadata=unit_interval(0.001, 0.2))
     """The wheel counts as locked while w R < lock_ratio v."""
+    relaxation_length_m: float = field(default=0.0, metadata=nonnegative(0.0, 1.0))
+    """sigma of the tire's lagged slip, sigma dS'/dt = v (S - S') (docs/tires.md, transient
+    slip); 0: the static tire, which reads the kinematic slip S itself."""
 
 
 def bound_time_s(pp: AbsWheelParams, mu_peak: float) -> float:
@@ -127,8 +130,9 @@ PRESETS: dict[str, Preset[AbsWheelParams]] = {
 
 
 def check_consistency(pp: AbsWheelParams, given: Collection[str] = ()) -> None:
-    """Checks across fields: a stop speed below v0 and an RK4 step the plant tolerates; the
-    field blamed is the one the user set (`given`) when only one of a pair was."""
+    """Checks across fields: a stop speed below v0, an RK4 step the plant tolerates and a
+    relaxation length the step resolves; the field blamed is the one the user set (`given`) when
+    only one of a pair was."""
     if pp.v0_m_s <= pp.v_stop_m_s:
         if "v_stop_m_s" in given and "v0_m_s" not in given:
             raise InputError(
@@ -148,4 +152,11 @@ def check_consistency(pp: AbsWheelParams, given: Collection[str] = ()) -> None:
         raise InputError(
             f"params.{blame}",
             f"too many steps: t_max_s / dt_s = {pp.t_max_s / pp.dt_s:.3g} is above 5e7",
+        )
+    shortest = pp.v0_m_s * pp.dt_s
+    if 0.0 < pp.relaxation_length_m < shortest:
+        raise InputError(
+            "params.relaxation_length_m",
+            f"must be 0 or at least v0_m_s dt_s = {shortest:g} m (a step no longer than the lag's "
+            f"time constant sigma / v), got {pp.relaxation_length_m:g}",
         )

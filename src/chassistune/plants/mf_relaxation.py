@@ -28,6 +28,16 @@ def lagged_slip_rate_per_s(
 
 
 @numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def lagged_slip_rate_from_slip_speed_per_s(
+    slip_speed_m_s: float, lagged_slip: float, speed_m_s: float, relaxation_length_m: float
+) -> float:
+    """dkappa'/dt = (V_s - |V| kappa') / sigma, V_s = |V| kappa the slip speed: the same ODE in
+    the form that stays well posed as V -> 0 (no division by V; Pacejka 2012, eq. 7.9), for
+    sigma > 0."""
+    return (slip_speed_m_s - abs(speed_m_s) * lagged_slip) / relaxation_length_m
+
+
+@numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
 def lagged_slip_after(
     slip: float, lagged_slip: float, speed_m_s: float, relaxation_length_m: float, dt_s: float
 ) -> float:

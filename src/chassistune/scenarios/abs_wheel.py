@@ -18,6 +18,7 @@ from chassistune.controllers import catalogue, laws
 from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
 from chassistune.params import as_dict, implausible, override, to_float, validate
+from chassistune.plants import mf_coefficients as mfc
 from chassistune.plants.abs_wheel import (
     PRESETS,
     AbsWheelParams,
@@ -26,6 +27,7 @@ from chassistune.plants.abs_wheel import (
     default_t_max_s,
 )
 from chassistune.plants.mf_curve import TIRE_SURFACE, MagicFormulaCurve, wheel_tire
+from chassistune.plants.mf_relaxation import longitudinal_relaxation_length_m
 from chassistune.plants.presets import Preset
 from chassistune.plants.roads import tire_for_road
 from chassistune.plants.tires import TireCurve
@@ -331,9 +333,17 @@ class AbsWheelPlant(Plant[AbsWheelScenario]):
         knowledge = road_knowledge(values, controller)
         spec = controller_spec(catalogue.get(ABS_WHEEL.name, controller), knowledge)
         mode = ecu_mode(values)
-        plant_params, used = override(pre.params, values)
+        from_tire = values.get("relaxation_length_m") == LENGTH_FROM_TIRE
+        numeric = {
+            k: v for k, v in values.items() if not (from_tire and k == "relaxation_length_m")
+        }
+        plant_params, used = override(pre.params, numeric)
         used |= {"ecu", FIELD}
         tire, used_tire = _tire(road, values, plant_params, mode)
+        if from_tire:
+            sigma = _tire_relaxation_length_m(tire)
+            plant_params = dataclasses.replace(plant_params, relaxation_length_m=sigma)
+            used.add("relaxation_length_m")
         scoring, used_scoring = override(Scoring(), values)
         used |= used_tire | used_scoring
         # default command: reaches q_max in 0.15 s through the integrating actuator
@@ -369,6 +379,12 @@ class AbsWheelPlant(Plant[AbsWheelScenario]):
                 f"{spec.name} on {road} (known: {', '.join(known)})",
             )
         check_consistency(plant_params, set(values))
+        if mode == "realistic" and plant_params.relaxation_length_m > 0.0:
+            raise InputError(
+                "params.relaxation_length_m",
+                "the lagged slip runs on the ideal single wheel only so far, "
+                "not with --ecu realistic",
+            )
         plant_params = validate(plant_params, "params.")
         ecu = (
             ecu_setup(values, spec.name, ctrl_values, plant_params, seed)
@@ -391,6 +407,26 @@ class AbsWheelPlant(Plant[AbsWheelScenario]):
         for warning in implausible(plant_params) + implausible(tire):  # valid input only
             warnings.warn(warning, stacklevel=2)
         return scenario
+
+
+LENGTH_FROM_TIRE = "tire"
+"""`--param relaxation_length_m=tire`: the TIR file's own length (`_tire_relaxation_length_m`)."""
+
+
+def _tire_relaxation_length_m(tire: TireCurve) -> float:
+    """MF 6.1's sigma_kappa = |K_xkappa / C_x| of the TIR file at the wheel's load
+    (`mf_relaxation.longitudinal_relaxation_length_m`; docs/tires.md, transient slip)."""
+    field = "params.relaxation_length_m"
+    if not isinstance(tire, MagicFormulaCurve):
+        raise InputError(field, f"{LENGTH_FROM_TIRE!r} takes the TIR file's length: needs --tire")
+    c = tire.tire.kernel_array()
+    if not c[mfc.LONGITUDINAL_STIFFNESS_N_M] > 0.0:
+        raise InputError(
+            field,
+            f"{tire.path} gives no relaxation length: it has no LONGITUDINAL_STIFFNESS "
+            "(MF 5.2's PTX1-3 are not read); give the length in metres",
+        )
+    return float(longitudinal_relaxation_length_m(c, tire.fz_n))
 
 
 def _tire(

@@ -9,6 +9,11 @@ with gains fixed (PID) or scheduled at each sample (fuzzy PID), plus a held comm
 sampled laws (none, bang-bang, threshold, fuzzy immune PID), evaluated every `ts_s` (a whole
 number of steps) so that the controller does not change when the step is refined.
 
+Transient slip (docs/tires.md): with `relaxation_length_m` sigma > 0 the tire reads a lagged slip
+S', a state, sigma dS'/dt = (v - w R) - v S' (`_relaxed_rates_at`), in one more vector loop
+(`_relaxed_lane_steps_of`) that a run takes by a run-time test of sigma; sigma = 0 runs the
+static loops below, unchanged.
+
 Integration at a fixed step on (v, w, q, r, z, xf) (`sim.integrate`): Kutta's RK3 with explicit
 fused multiply-adds for the PID and no ABS, classic RK4 for the sampled laws (bang-bang,
 threshold, fuzzy PID, fuzzy immune PID). Measured against dt/100, RK3 at 1 ms is the
@@ -89,6 +94,7 @@ from chassistune.controllers.laws.forms import SIG_PRESSURE, SIG_WHEEL_SPEED
 from chassistune.controllers.laws.held_pid import HELD_PID
 from chassistune.controllers.laws.registry import ContinuousForm
 from chassistune.plants.mf_curve import POLY_SIZE
+from chassistune.plants.mf_relaxation import lagged_slip_rate_from_slip_speed_per_s
 from chassistune.sim import abs_wheel_layout as L
 from chassistune.sim.abs_wheel_model import step_end, wheel_rates, wheel_slip
 from chassistune.sim.abs_wheel_tires import (
@@ -125,8 +131,8 @@ P_G, P_K, P_TAU, P_KQ, P_QMAX = (
 P_VSTOP, P_TMAX, P_DT, P_LOAD, P_TARGET = (
     L.PLANT[n] for n in ("v_stop_m_s", "t_max_s", "dt_s", "load_fraction", "target_slip")
 )
-P_HOPELESS_M, P_LOCK_RATIO, P_NFILTER = (
-    L.PLANT[n] for n in ("hopeless_distance_m", "lock_ratio", "n_filter")
+P_HOPELESS_M, P_LOCK_RATIO, P_NFILTER, P_SIGMA = (
+    L.PLANT[n] for n in ("hopeless_distance_m", "lock_ratio", "n_filter", "relaxation_length_m")
 )
 
 Q_TS = L.CONTROLLER["ts_s"]
@@ -211,8 +217,10 @@ RK3, RK4 = 3, 4
     R_EH,
     R_QS,
     R_TARGET,
+    R_LAG,
+    R_SIGMA,
     R_MEM,
-) = range(45)
+) = range(47)
 MEMORY = laws.slots("memory")
 """Rows of the law's memory (`Law.state`): the most any registered law keeps."""
 R_X = R_MEM + MEMORY
@@ -290,23 +298,50 @@ def _form_rate_inline(form, e, x, held, c, n_filter, at_max, at_min):
 
 
 @njit(**INLINE)
-def _rates_at(mu_of, form, x, s, p, tire):
+def _plant_rates(mu_of, form, x, s, s_tire, p, tire):
     """Derivatives of the state x = (v, w, q, r, xc) at its slip s, xc the continuous law's
     state, and the command u of its form of key `form` (`_form_rate`), with the lane's
-    parameters p (`_lane_params`) and the tire (c0, c1, c2, c3, xc, xs, ys, poly)."""
+    parameters p (`_lane_params`) and the tire (c0, c1, c2, c3, xc, xs, ys, poly) read at the
+    slip s_tire."""
     _, w, q, r, xc = x
     held, c, target, r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max, nf = p
     e = target - s
-    fx = mu_of(s, tire) * fz
+    fx = mu_of(s_tire, tire) * fz
     u, dxc = _form_rate(form, e, xc, held, c, nf, q >= q_max, q <= 0.0)
     dv, dw, dq, dr, _, _ = wheel_rates(w, q, r, fx, u, r_w, inv_m, inv_i, kq, gain, inv_tau, q_max)
     return (dv, dw, dq, dr, dxc), u
 
 
 @njit(**INLINE)
+def _rates_at(mu_of, form, x, s, p, tire):
+    """`_plant_rates` of the static tire, which reads the slip s of x."""
+    return _plant_rates(mu_of, form, x, s, s, p, tire)
+
+
+@njit(**INLINE)
 def _rates(mu_of, form, x, p, tire):
     """`_rates_at` at the slip of x."""
     return _rates_at(mu_of, form, x, wheel_slip(x[0], x[1], p[3]), p, tire)
+
+
+@njit(**INLINE)
+def _relaxed_rates_at(mu_of, form, x, s, p_sigma, tire):
+    """Derivatives of x = (v, w, q, r, xc, S') at its kinematic slip s (clipped, what the law
+    reads), the tire read at the lagged slip S' (`mu_of`: `_odd_tire_mu`), and
+    sigma dS'/dt = (v - w R) - v S' (`mf_relaxation.lagged_slip_rate_from_slip_speed_per_s`;
+    docs/tires.md, transient slip); p_sigma = (the lane's parameters, sigma)."""
+    v, w, q, r, xc, lag = x
+    p, sigma = p_sigma
+    k, u = _plant_rates(mu_of, form, (v, w, q, r, xc), s, lag, p, tire)
+    dlag = lagged_slip_rate_from_slip_speed_per_s(v - w * p[3], lag, v, sigma)
+    return k + (dlag,), u  # noqa: RUF005 (numba)
+
+
+@njit(**INLINE)
+def _relaxed_rates(mu_of, form, x, p_sigma, tire):
+    """`_relaxed_rates_at` at the kinematic slip of x."""
+    s = wheel_slip(x[0], x[1], p_sigma[0][3])
+    return _relaxed_rates_at(mu_of, form, x, s, p_sigma, tire)
 
 
 @register_jitable
@@ -336,18 +371,19 @@ def _lane_params(st, l, c):
 
 
 @njit(**INLINE)
-def _rk_step(mu_of, form, method, x, s, dt, hs, h6, p, tire):
+def _rk_step(rates_at, rates, mu_of, form, method, x, s, dt, hs, h6, p, tire):
     """One RK step (`method` RK3 or RK4, a constant at each call site) of the state tuple x
-    whose slip is s: (the new state, the command u at its start). Each stage is one tuple
-    operation."""
-    k1, u1 = _rates_at(mu_of, form, x, s, p, tire)
+    whose slip is s, by its right side `rates_at` (`_rates_at` or `_relaxed_rates_at`; `rates`
+    the same at the slip of its state): (the new state, the command u at its start). Each
+    stage is one tuple operation."""
+    k1, u1 = rates_at(mu_of, form, x, s, p, tire)
     if method == RK4:
-        k2, _ = _rates(mu_of, form, rk4_point(x, hs, k1), p, tire)
-        k3, _ = _rates(mu_of, form, rk4_point(x, hs, k2), p, tire)
-        k4, _ = _rates(mu_of, form, rk4_point(x, dt, k3), p, tire)
+        k2, _ = rates(mu_of, form, rk4_point(x, hs, k1), p, tire)
+        k3, _ = rates(mu_of, form, rk4_point(x, hs, k2), p, tire)
+        k4, _ = rates(mu_of, form, rk4_point(x, dt, k3), p, tire)
         return rk4_update(x, h6, k1, k2, k3, k4), u1
-    k2, _ = _rates(mu_of, form, rk3_point2(x, hs, k1), p, tire)
-    k3, _ = _rates(mu_of, form, rk3_point3(x, -dt, dt + dt, k1, k2), p, tire)
+    k2, _ = rates(mu_of, form, rk3_point2(x, hs, k1), p, tire)
+    k3, _ = rates(mu_of, form, rk3_point3(x, -dt, dt + dt, k1, k2), p, tire)
     return rk3_update(x, h6, k1, k2, k3), u1
 
 
@@ -370,20 +406,52 @@ def _add_pending_integrals(st, l):
 def _lane_step(st, l, xc, mu_of, form, method, dt, hs, h6, n_steps, t_timeout, live, tire, c):
     """One fused step (`method` RK3 or RK4, a constant at each call site) of lane l, whose
     control law's continuous state is xc and its form's key `form` (`_form_rate`), with its
-    metrics and end flags; returns 1 if a live lane ended. Straight-line code: the body of the
-    vector loop."""
-    v, w, q, r = _get(st, R_V, l), _get(st, R_W, l), _get(st, R_Q, l), _get(st, R_R, l)
-    x = (v, w, q, r, xc)
+    metrics and end flags (`_end_lane_step`); returns 1 if a live lane ended. Straight-line
+    code: the body of the vector loop."""
+    x = (_get(st, R_V, l), _get(st, R_W, l), _get(st, R_Q, l), _get(st, R_R, l), xc)
     p = _lane_params(st, l, c)
+    s1 = _get(st, R_S1, l)  # the slip of x, kept from the last step: no division on the path
+    xn, u1 = _rk_step(_rates_at, _rates, mu_of, form, method, x, s1, dt, hs, h6, p, tire)
+    return _end_lane_step(st, l, x[0], xn, u1, p, dt, n_steps, t_timeout, live)
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _relaxed_lane_step(st, l, xc, mu_of, form, dt, hs, h6, n_steps, t_timeout, live, tire, c):
+    """`_lane_step` (RK3) with the tire's lagged slip S' a state (row R_LAG,
+    `_relaxed_rates_at`)."""
+    x = (_get(st, R_V, l), _get(st, R_W, l), _get(st, R_Q, l), _get(st, R_R, l), xc)
+    p_sigma = (_lane_params(st, l, c), _get(st, R_SIGMA, l))
+    s1 = _get(st, R_S1, l)
+    xn, u1 = _rk_step(
+        _relaxed_rates_at,
+        _relaxed_rates,
+        mu_of,
+        form,
+        RK3,
+        x + (_get(st, R_LAG, l),),  # noqa: RUF005 (numba)
+        s1,
+        dt,
+        hs,
+        h6,
+        p_sigma,
+        tire,
+    )
+    st[R_LAG * LANES + l] = xn[5]
+    return _end_lane_step(st, l, x[0], xn[:5], u1, p_sigma[0], dt, n_steps, t_timeout, live)
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _end_lane_step(st, l, v, xn, u1, p, dt, n_steps, t_timeout, live):
+    """Lane l after its step from speed v to the state xn = (v, w, q, r, xc) (w >= 0, q in
+    [0, q_max]), the command u1 at its start: its metrics, end flags and new state; 1 if a
+    live lane ended."""
+    vn, wn, qn, rn, xcn = xn
     target = p[2]
     r_w = p[3]
     q_max = p[10]
     v_stop = _get(st, R_VSTOP, l)
     k = _get(st, R_STEP, l)
     t = k * dt
-
-    s1 = _get(st, R_S1, l)  # the slip of x, kept from the last step: no division on the path
-    (vn, wn, qn, rn, xcn), u1 = _rk_step(mu_of, form, method, x, s1, dt, hs, h6, p, tire)
     wn = fmax(wn, 0.0)
     qn = clip(qn, 0.0, q_max)
 
@@ -439,40 +507,76 @@ _NO_NRT: dict[str, Any] = {"_nrt": False}
 
 @functools.cache
 def _lane_steps_of(law: int, method: int, form: ContinuousForm) -> Any:
-    """The vector loop of tire law `law`, `method` and the control laws' continuous form `form`
-    (constants inside: numba freezes a closure's variables), compiled as a function of its own,
-    once per entry point compilation (not cached: the entry point's cache holds it): one step
-    of lanes 0 .. width - 1 (a whole number of vectors); 1 if a live lane ended."""
-    n_state = len(form.state)
+    """The vector loop (`_lanes_loop`) of tire law `law`, `method` and the control laws'
+    continuous form `form` (constants inside: numba freezes a closure's variables), compiled once
+    per entry point compilation."""
     key = _form_key(form)
     mu_of = _mu_of_law(law)
 
+    @njit(**_LINK)
+    def step(st, l, xc, dt, hs, h6, n_steps, t_timeout, live, tire, c):
+        return _lane_step(
+            st, l, xc, mu_of, key, method, dt, hs, h6, n_steps, t_timeout, live, tire, c
+        )
+
+    name = f"lane_steps_tire_law_{law}_rk{method}_{'_'.join(form.state)}"
+    return _lanes_loop(step, len(form.state), name)
+
+
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _odd_tire_mu(law, s, tire):
+    """`_wheel_tire_mu` extended to S < 0 as an odd function, its slip capped at 1 (on [0, 1]
+    the law itself, bit for bit): the lagged slip turns negative while the wheel spins faster
+    than the road, and the tire then drives it back (the tire curves are braking curves, S in
+    [0, 1])."""
+    mu = _wheel_tire_mu(law, fmin(abs(s), 1.0), tire)
+    return select(s < 0.0, -mu, mu)
+
+
+@njit(nogil=True, error_model="numpy", **_NO_NRT)
+def _mu_of_runtime_law(s, tire):
+    """`_odd_tire_mu` of the tire law that follows the tire's constants, tire[8]: a call, not
+    inlined (the four tire laws inlined at each stage doubled the relaxed loop's compile time,
+    for a loop 1.2x (bilinear) to 1.6x (Magic Formula) faster)."""
+    return _odd_tire_mu(tire[8], s, tire)
+
+
+@functools.cache
+def _relaxed_lane_steps_of(form: ContinuousForm) -> Any:
+    """The vector loop with the lagged slip (`_relaxed_lane_step`) of the control laws'
+    continuous form `form`, RK3 for every law, its tire law a run-time value (the last of the
+    caller's tire tuple): one loop for every tire law and group of laws, so that relaxation adds
+    one loop, not one per tire law and method, to the entry point's compile time."""
+    key = _form_key(form)
+
+    @njit(**_LINK)
+    def step(st, l, xc, dt, hs, h6, n_steps, t_timeout, live, tire, c):
+        mu_of = _mu_of_runtime_law
+        return _relaxed_lane_step(
+            st, l, xc, mu_of, key, dt, hs, h6, n_steps, t_timeout, live, tire, c
+        )
+
+    return _lanes_loop(step, len(form.state), f"relaxed_lane_steps_{'_'.join(form.state)}")
+
+
+def _lanes_loop(step: Any, n_state: int, name: str) -> Any:
+    """One step of lanes 0 .. width - 1 (a whole number of vectors) by `step` (`_lane_step`
+    with its constants), compiled as a function of its own (not cached: the entry point's cache
+    holds it); 1 if a live lane ended. The caller's tire tuple (c0, c1, c2, c3, xc, xs, ys,
+    poly, ...) is copied to the loop's stack (`local_table`)."""
+
     def lane_steps(st, width, dt, hs, h6, n_steps, t_timeout, live, tire_of_caller, c):
-        tire = local_table(tire_of_caller[:7]) + (local_poly(tire_of_caller[7]),)  # noqa: RUF005
+        own = local_table(tire_of_caller[:7]) + (local_poly(tire_of_caller[7]),)  # noqa: RUF005
+        tire = own + tire_of_caller[8:]
         any_end = 0
         for b in range(width // VECTOR):
             for j in range(VECTOR):
                 l = b * VECTOR + j
                 xc = (st[R_X * LANES + l], st[(R_X + 1) * LANES + l])[:n_state]  # CONTINUOUS rows
-                any_end |= _lane_step(
-                    st,
-                    l,
-                    xc,
-                    mu_of,
-                    key,
-                    method,
-                    dt,
-                    hs,
-                    h6,
-                    n_steps,
-                    t_timeout,
-                    live,
-                    tire,
-                    c,
-                )
+                any_end |= step(st, l, xc, dt, hs, h6, n_steps, t_timeout, live, tire, c)
         return any_end
 
-    lane_steps.__qualname__ = f"lane_steps_tire_law_{law}_rk{method}_{'_'.join(form.state)}"
+    lane_steps.__qualname__ = name
     return njit(nogil=True, error_model="numpy", **_NO_NRT)(lane_steps)
 
 
@@ -480,6 +584,13 @@ def _vector_loop(laws_key, kind, law, st, width, dt, hs, h6, n_steps, t_timeout,
     """One step of lanes 0 .. width - 1 by the vector loop (`_lane_steps_of`) of tire law `law`
     and of the continuous form and method of control law `kind` (in compiled code)."""
     raise NotImplementedError("_vector_loop runs in compiled code only")
+
+
+def _relaxed_vector_loop(
+    laws_key, kind, law, st, width, dt, hs, h6, n_steps, t_timeout, live, tire, c
+):
+    """`_vector_loop` with the tire's lagged slip (`_relaxed_lane_steps_of`; in compiled code)."""
+    raise NotImplementedError("_relaxed_vector_loop runs in compiled code only")
 
 
 _LINK: dict[str, Any] = {"nogil": True, "error_model": "numpy", "inline": "always"}
@@ -509,6 +620,19 @@ def _tire_switch(form: ContinuousForm, sampled: bool) -> Any:
     return steps
 
 
+def _relaxed_switch(form: ContinuousForm, sampled: bool) -> Any:
+    """The relaxed vector loop of `form` (`_relaxed_lane_steps_of`) for every tire law `law` and
+    method, the law passed as the last of the tire tuple."""
+    relaxed = _relaxed_lane_steps_of(form)
+
+    @njit(**_LINK)
+    def steps(kind, law, args):
+        st, width, dt, hs, h6, n_steps, t_timeout, live, tire, c = args
+        return relaxed(st, width, dt, hs, h6, n_steps, t_timeout, live, tire + (law,), c)  # noqa: RUF005
+
+    return steps
+
+
 def _kinds_link(kinds: tuple[int, ...], steps: Any, rest: Any) -> Any:
     @njit(**_LINK)
     def link(kind, law, args):
@@ -522,25 +646,39 @@ def _kinds_link(kinds: tuple[int, ...], steps: Any, rest: Any) -> Any:
     return link
 
 
-@overload(_vector_loop, prefer_literal=True)
-def _vector_loop_chain(
-    laws_key, kind, law, st, width, dt, hs, h6, n_steps, t_timeout, live, tire, c
-):
+def _law_chain(laws_key: Any, switch_of: Any) -> Any:
     """An if-chain over the registry's groups of laws by continuous form and method
-    (`continuous_groups`), each branch a switch over the tire laws; a kind no law holds runs
-    the first group's loops (the held PID, whose held values are then NaN: the run diverges)."""
+    (`continuous_groups`), each branch `switch_of(form, sampled)` (a switch over the tire laws);
+    a kind no law holds runs the first group's loops (the held PID, whose held values are then
+    NaN: the run diverges): the implementation of `_vector_loop` or `_relaxed_vector_loop`."""
     if not isinstance(laws_key, types.IntegerLiteral):
         raise TypingError("laws_key must be a compile-time constant (the registry's fingerprint)")
     groups = continuous_groups()
-    chain = _tire_switch(*groups[0][:2])
+    chain = switch_of(*groups[0][:2])
     for form, sampled, kinds in reversed(groups):
         if kinds:
-            chain = _kinds_link(kinds, _tire_switch(form, sampled), chain)
+            chain = _kinds_link(kinds, switch_of(form, sampled), chain)
 
     def impl(laws_key, kind, law, st, width, dt, hs, h6, n_steps, t_timeout, live, tire, c):
         return chain(kind, law, (st, width, dt, hs, h6, n_steps, t_timeout, live, tire, c))
 
     return impl
+
+
+@overload(_vector_loop, prefer_literal=True)
+def _vector_loop_chain(
+    laws_key, kind, law, st, width, dt, hs, h6, n_steps, t_timeout, live, tire, c
+):
+    """`_law_chain` of the static tire's loops (`_tire_switch`)."""
+    return _law_chain(laws_key, _tire_switch)
+
+
+@overload(_relaxed_vector_loop, prefer_literal=True)
+def _relaxed_vector_loop_chain(
+    laws_key, kind, law, st, width, dt, hs, h6, n_steps, t_timeout, live, tire, c
+):
+    """`_law_chain` of the relaxed loops (`_relaxed_switch`)."""
+    return _law_chain(laws_key, _relaxed_switch)
 
 
 @njit(**INLINE)
@@ -576,6 +714,8 @@ def _fill_lane(st, l, i, gains, plant, laws_key, ctrl_kind, c):
     st[R_LOCK_RATIO * LANES + l] = p[P_LOCK_RATIO]
     st[R_HOPELESS * LANES + l] = p[P_HOPELESS_M]
     st[R_S1 * LANES + l] = wheel_slip(p[P_V0], p[P_V0] / r_w, r_w)
+    st[R_LAG * LANES + l] = st[R_S1 * LANES + l]
+    st[R_SIGMA * LANES + l] = p[P_SIGMA]
     st[R_TARGET * LANES + l] = p[P_TARGET]
 
 
@@ -715,6 +855,7 @@ def _simulate(
     ts = steps_per_sample * dt
     tire = (coef[0], coef[1], coef[2], coef[3], xc, xs, ys, poly)
     sampled = law_sampled(laws_key, ctrl_kind)
+    relaxed = p0[P_SIGMA] > 0.0  # the same in every row (`simulate_abs_wheel`)
     st[:] = 0.0
     lane_of[:] = -1  # candidate in each lane
     live = min(n, LANES)
@@ -736,21 +877,14 @@ def _simulate(
             args = (st, live, lane_of, gains, c, table, ts, steps_per_sample, dt)
             _tick_lanes(laws_key, ctrl_kind, args)
         width = -(-live // VECTOR) * VECTOR
-        ended = _vector_loop(
-            laws_key,
-            ctrl_kind,
-            law,
-            st,
-            width,
-            dt,
-            hs,
-            h6,
-            n_steps,
-            t_timeout,
-            live,
-            tire,
-            c,
-        )
+        if relaxed:  # laws_key passed as it is: a literal
+            ended = _relaxed_vector_loop(
+                laws_key, ctrl_kind, law, st, width, dt, hs, h6, n_steps, t_timeout, live, tire, c
+            )
+        else:
+            ended = _vector_loop(
+                laws_key, ctrl_kind, law, st, width, dt, hs, h6, n_steps, t_timeout, live, tire, c
+            )
         if ended:
             for l in range(live - 1, -1, -1):  # high to low: lanes moved down are done
                 if st[R_ENDED * LANES + l] == 0.0:
@@ -770,6 +904,7 @@ def _simulate(
             t = (st[R_STEP * LANES] - 1.0) * dt
             r = st[0::LANES]  # lane 0's rows
             v = r[R_V]
+            s_tire = r[R_LAG] if relaxed else r[R_SLIP]  # S' of `_odd_tire_mu`, or S
             write_trace_row(
                 trace[rows],
                 min(t + dt, trace_t_end),
@@ -781,7 +916,7 @@ def _simulate(
                 r[R_KQ] * r[R_Q],
                 r[R_U1],
                 r[R_DIST],
-                _wheel_tire_mu(law, r[R_SLIP], tire),
+                _odd_tire_mu(law, s_tire, tire),
             )
             rows += 1
     if n_trace > 0:
@@ -863,6 +998,9 @@ def simulate_abs_wheel(
         if poly.shape != (POLY_SIZE,):
             raise ValueError(f"a Magic Formula tire has {POLY_SIZE} coefficients")
     rows = np.ascontiguousarray(np.atleast_2d(plant), dtype=np.float64)
+    relaxed = rows[:, L.PLANT["relaxation_length_m"]] > 0.0
+    if relaxed.any() and not relaxed.all():
+        raise ValueError("relaxation_length_m must be 0 in every plant row or in none")
     st = np.empty(N_ROWS * LANES)
     lane_of = np.empty(LANES, dtype=np.int64)
     entry_point()(

@@ -36,6 +36,11 @@ PLANT = Layout(
         Slot("hopeless_distance_m", "m", "the run ends as hopeless beyond this distance"),
         Slot("lock_ratio", "-", "the wheel counts as locked while w R < lock_ratio v"),
         Slot("n_filter", "rad/s", "derivative filter coefficient N of the PID laws"),
+        Slot(
+            "relaxation_length_m",
+            "m",
+            "sigma of the lagged longitudinal slip (0: the tire reads the kinematic slip)",
+        ),
     ),
 )
 
