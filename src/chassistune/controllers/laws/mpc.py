@@ -189,6 +189,7 @@ def compiled() -> tuple[Any, Any, Any]:
     from chassistune.controllers import slip_mpc_qp as qp
 
     force_estimate, rate_limit = W.forms()
+    tick_force = W.tick_force()
 
     @njit(cache=True, nogil=True, error_model="numpy")
     def horizon_move(n, slip, target, q0, drift, beta, gamma, lookahead, ts, weight, q_max, dq):
@@ -266,8 +267,7 @@ def compiled() -> tuple[Any, Any, Any]:
     def tick(sig, held, mem, g, g0, c, table, ts, first):
         radius, inertia, kq = sig[F.SIG_RADIUS], c[F.P_INERTIA], c[F.P_BRAKE_GAIN]
         q = sig[F.SIG_PRESSURE]
-        w, w_prev = sig[F.SIG_WHEEL_SPEED], sig[F.SIG_WHEEL_SPEED_PREV]
-        f = force_estimate(q, sig[F.SIG_PRESSURE_PREV], w, w_prev, ts, radius, inertia, kq)
+        f = tick_force(sig, c, ts)
         z = move(
             sig[F.SIG_SLIP],
             sig[F.SIG_TARGET],
