@@ -38,13 +38,13 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
+from chassistune._rows import read_rows
 from chassistune.controllers.laws import registry
 from chassistune.controllers.laws.dispatch import law_ecu_step
 from chassistune.controllers.laws.forms import ECU_SIGNALS
 from chassistune.controllers.laws.registry import DiscreteLaw
 from chassistune.fuzzy.engine import evaluate
 from chassistune.fuzzy.rulebase import RuleBase
-from chassistune.sim.lanes import read_rows
 
 DEFAULT_TABLE_POINTS = 49
 """`fuzzy_table_points`: nodes per input of the ECU lookup table (see the module docstring)."""

@@ -13,6 +13,7 @@ import numba
 import numpy as np
 
 from chassistune._branchfree import select
+from chassistune._rows import read_rows, write_rows
 from chassistune.controllers.laws.dispatch import law_initial_state, law_start, tick_pass
 from chassistune.sim.abs_vehicle_lane import NO_REFCOUNT, lane_get, target_slip
 from chassistune.sim.abs_vehicle_layout import (
@@ -57,7 +58,6 @@ from chassistune.sim.abs_vehicle_layout import (
 )
 from chassistune.sim.abs_vehicle_wheels import select_low, surface_flag
 from chassistune.sim.inlined import inlined
-from chassistune.sim.lanes import read_rows, write_rows
 
 _MEMORY_ZEROS = (0.0,) * MEMORY
 

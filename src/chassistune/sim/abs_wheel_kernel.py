@@ -82,6 +82,7 @@ from numba.core.errors import TypingError
 from numba.extending import overload, register_jitable
 
 from chassistune._branchfree import clip, fmax, fmin, select, stack_copy
+from chassistune._rows import read_rows, write_rows
 from chassistune.controllers.laws import registry as laws
 from chassistune.controllers.laws.dispatch import (
     continuous_groups,
@@ -119,7 +120,7 @@ from chassistune.sim.integrate import (
     rk4_update,
     trapezoid,
 )
-from chassistune.sim.lanes import close_lane, read_rows, write_rows
+from chassistune.sim.lanes import close_lane
 
 # slots of the declared layouts (numba freezes these module integers as constants)
 P_MASS, P_INERTIA, P_RADIUS, P_V0 = (

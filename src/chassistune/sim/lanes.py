@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import numpy as np
 from numba import njit
-from numba.cpython.unsafe.tuple import tuple_setitem
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -21,21 +20,3 @@ def close_lane(
             st[row * lanes + l] = st[row * lanes + live]
         lane_of[l] = lane_of[live]
     return live
-
-
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def read_rows(st: np.ndarray, first: int, step: int, zeros: tuple) -> tuple:  # pragma: no cover
-    """The values st[first], st[first + step], ... as a tuple shaped like `zeros` (a constant
-    tuple of the length wanted): a loop of known length that LLVM unrolls into loads, where a
-    strided view copied into a tuple costs a view and a bounds-checked loop at every tick."""
-    out = zeros
-    for m in range(len(zeros)):
-        out = tuple_setitem(out, m, st[first + m * step])  # type: ignore[call-arg]
-    return out
-
-
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def write_rows(st: np.ndarray, first: int, step: int, values: tuple) -> None:  # pragma: no cover
-    """st[first + m * step] = values[m] for every m (`read_rows`'s inverse)."""
-    for m in range(len(values)):
-        st[first + m * step] = values[m]
