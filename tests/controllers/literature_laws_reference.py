@@ -17,6 +17,7 @@ import itertools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -482,3 +483,31 @@ LAWS: dict[str, tuple[Step, object]] = {
     "mpc": (mpc_step, Mpc()),
 }
 """Registry name -> (step, default gains)."""
+
+
+def assert_kernel_runs_reference(
+    sc: Any, ref: Any, ts_s: float, distance_rtol: float, slip_atol: float
+) -> None:
+    """The scenario's run from its default gains stops, as the reference `closed_loop` run
+    `ref` does, at its distance within distance_rtol, with its slip at every sample instant
+    (ts_s) within slip_atol of the reference's (over more than 400 samples of a moving slip)."""
+    g = sc.gains_array(None)
+    m = sc.metrics(g[None, :])
+    assert m["status"][0] == "stopped" and ref.stopped
+    assert abs(m["stop_distance_m"][0] / ref.distance_m - 1.0) < distance_rtol
+    slip = sc.trace(g).signals["slip"]
+    ticks = np.arange(0, len(slip), round(ts_s / sc.plant_params.dt_s))
+    n = min(len(ticks), len(ref.slip))
+    assert n > 400 and np.ptp(ref.slip) > 0.1
+    assert np.max(np.abs(slip[ticks[:n]] - ref.slip[:n])) < slip_atol
+
+
+def assert_batch_rows_are_single_runs(sc: Any, rows: int = 5, seed: int = 7) -> None:
+    """Random gains in the controller's box: each row's stop distance in one batch equals its
+    run alone, bit for bit."""
+    rng = np.random.default_rng(seed)
+    lo, hi = (np.array([getattr(g, b) for g in sc.controller.gains]) for b in ("lo", "hi"))
+    pop = lo + (hi - lo) * rng.random((rows, len(lo)))
+    batch = sc.metrics(pop)["stop_distance_m"]
+    single = [sc.metrics(row[None, :])["stop_distance_m"][0] for row in pop]
+    assert np.array_equal(batch, np.array(single))

@@ -13,7 +13,13 @@ import math
 
 import numpy as np
 import pytest
-from literature_laws_reference import DRY_CONCRETE, ICE, LAWS, closed_loop
+from literature_laws_reference import (
+    DRY_CONCRETE,
+    ICE,
+    LAWS,
+    assert_batch_rows_are_single_runs,
+    closed_loop,
+)
 
 from chassistune.controllers.laws import extremum_seeking as es
 from chassistune.scenarios.registry import get_plant
@@ -105,12 +111,7 @@ def test_the_law_reads_no_target_slip() -> None:
 
 def test_the_realistic_ecus_batch_row_is_its_single_run() -> None:
     sc = _wheel("ice", {"ecu": "realistic"})
-    rng = np.random.default_rng(7)
-    lo, hi = (np.array([getattr(g, b) for g in sc.controller.gains]) for b in ("lo", "hi"))
-    pop = lo + (hi - lo) * rng.random((5, len(lo)))
-    batch = sc.metrics(pop)["stop_distance_m"]
-    single = [sc.metrics(row[None, :])["stop_distance_m"][0] for row in pop]
-    assert np.array_equal(batch, np.array(single))
+    assert_batch_rows_are_single_runs(sc)
 
 
 @pytest.mark.parametrize(

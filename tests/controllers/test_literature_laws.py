@@ -15,7 +15,13 @@ import dataclasses
 
 import numpy as np
 import pytest
-from literature_laws_reference import DRY_CONCRETE, ICE, LAWS, closed_loop
+from literature_laws_reference import (
+    DRY_CONCRETE,
+    ICE,
+    LAWS,
+    assert_kernel_runs_reference,
+    closed_loop,
+)
 
 from chassistune.controllers import discrete, laws
 from chassistune.controllers.laws import mixed_slip_deceleration
@@ -45,15 +51,7 @@ def test_the_ideal_kernel_runs_the_law_as_its_reference(law: str, road: str) -> 
     if law != "mixed-slip-deceleration":  # the scenario's target slip (the road's peak)
         gains = dataclasses.replace(gains, target=sc.target_slip)
     ref = closed_loop(step, gains, ROADS[road], ts_s=TS_S, dt_s=sc.plant_params.dt_s)
-    g = sc.gains_array(None)
-    m = sc.metrics(g[None, :])
-    assert m["status"][0] == "stopped" and ref.stopped
-    assert abs(m["stop_distance_m"][0] / ref.distance_m - 1.0) < DISTANCE_RTOL
-    slip = sc.trace(g).signals["slip"]
-    ticks = np.arange(0, len(slip), round(TS_S / sc.plant_params.dt_s))
-    n = min(len(ticks), len(ref.slip))
-    assert n > 400 and np.ptp(ref.slip) > 0.1
-    assert np.max(np.abs(slip[ticks[:n]] - ref.slip[:n])) < SLIP_ATOL
+    assert_kernel_runs_reference(sc, ref, TS_S, DISTANCE_RTOL, SLIP_ATOL)
 
 
 def test_mixed_slip_deceleration_reads_no_target_slip() -> None:

@@ -22,6 +22,8 @@ from literature_laws_reference import (
     RATE_MAX,
     WHEEL,
     Measured,
+    assert_batch_rows_are_single_runs,
+    assert_kernel_runs_reference,
     closed_loop,
     mpc_qp,
     qp_by_enumeration,
@@ -65,15 +67,7 @@ def test_the_ideal_kernel_runs_the_law_as_its_reference(road: str, horizon: int)
         ts_s=TS_S,
         dt_s=sc.plant_params.dt_s,
     )
-    g = sc.gains_array(None)
-    m = sc.metrics(g[None, :])
-    assert m["status"][0] == "stopped" and ref.stopped
-    assert abs(m["stop_distance_m"][0] / ref.distance_m - 1.0) < DISTANCE_RTOL
-    slip = sc.trace(g).signals["slip"]
-    ticks = np.arange(0, len(slip), round(TS_S / sc.plant_params.dt_s))
-    n = min(len(ticks), len(ref.slip))
-    assert n > 400 and np.ptp(ref.slip) > 0.1
-    assert np.max(np.abs(slip[ticks[:n]] - ref.slip[:n])) < SLIP_ATOL
+    assert_kernel_runs_reference(sc, ref, TS_S, DISTANCE_RTOL, SLIP_ATOL)
 
 
 def _random_qp(rng: np.random.Generator, i: int, horizon: int) -> tuple:
@@ -211,12 +205,7 @@ def test_in_closed_loop_every_move_respects_the_qps_limits(road: str, horizon: i
 def test_the_batch_row_is_its_single_run(road: str, params: dict[str, object]) -> None:
     """In the realistic ECU and, at N = 3, in the ideal kernel."""
     sc = get_plant("abs-wheel").scenario(None, road, LAW, params, 0)
-    rng = np.random.default_rng(7)
-    lo, hi = (np.array([getattr(g, b) for g in sc.controller.gains]) for b in ("lo", "hi"))
-    pop = lo + (hi - lo) * rng.random((5, len(lo)))
-    batch = sc.metrics(pop)["stop_distance_m"]
-    single = [sc.metrics(row[None, :])["stop_distance_m"][0] for row in pop]
-    assert np.array_equal(batch, np.array(single))
+    assert_batch_rows_are_single_runs(sc)
 
 
 @pytest.mark.parametrize(
