@@ -1,6 +1,6 @@
 """`--tire FILE.tir` on `simulate` and `tune` of abs-wheel: the Magic Formula tire on its own
-surface or scaled to a road, refused in one line (exit 2) for a bad file and where it does not
-run yet (the realistic ECU, the vehicle)."""
+surface or scaled to a road, with the ideal or the realistic ECU; refused in one line (exit 2)
+for a bad file and where it does not run yet (the vehicle, `--vary`)."""
 
 from __future__ import annotations
 
@@ -60,7 +60,6 @@ def test_a_bad_file_is_one_line_naming_its_line(cli, tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     "args",
     [
-        ("simulate", "abs-wheel", "--ecu", "realistic"),
         ("simulate", "abs-vehicle"),
         ("tune", "abs-wheel", "--optimizer", "de", "--vary", "mass_kg=300:400"),
     ],
@@ -70,6 +69,14 @@ def test_where_it_does_not_run_yet_it_is_refused_naming_tire(cli, args: tuple[st
     assert r.code == 2 and r.out == ""
     assert r.err.startswith("chassistune: error: --tire: ")
     assert len(r.err.splitlines()) == 1
+
+
+def test_the_realistic_ecu_runs_on_the_tire(cli) -> None:
+    r = cli("simulate", "abs-wheel", "--ecu", "realistic", "--tire", CHRONO, "--json")
+    assert r.code == 0, r.err
+    doc = json.loads(r.out)
+    assert doc["params"]["tire"] == CHRONO and doc["params"]["ecu"] == "realistic"
+    assert doc["metrics"]["status"] == "stopped"
 
 
 def test_tune_on_the_tire(cli) -> None:

@@ -11,15 +11,18 @@ import numba
 import numpy as np
 import pytest
 from test_abs_wheel_kernel import CONTROLLERS, ROADS, _has_avx, _population
+from test_abs_wheel_mf import CHRONO
 
 from chassistune._branchfree import stack_copy
 from chassistune.controllers import laws
 from chassistune.errors import InputError
+from chassistune.plants.mf_curve import TIRE_SURFACE
+from chassistune.plants.tires import KIND_MAGIC_FORMULA
 from chassistune.scenarios.abs_wheel import PLANT
 from chassistune.sim import abs_wheel_ecu_kernel as EK
 from chassistune.sim import abs_wheel_ecu_layout as EL
+from chassistune.sim import abs_wheel_kernel as K
 from chassistune.sim import abs_wheel_layout as KL
-from chassistune.sim.abs_wheel_tires import table_tuples
 
 PRESET = "paper-derlsp-ao"
 PID_GAINS = np.array([[5000.0, 0.0, 230.0]])
@@ -320,7 +323,7 @@ def _packed(f: numba.core.dispatcher.Dispatcher) -> int:
 
 @pytest.mark.slow
 @pytest.mark.skipif(not _has_avx(), reason="needs an x86 CPU with AVX2")
-@pytest.mark.parametrize("law", sorted(ROADS))
+@pytest.mark.parametrize("law", [*sorted(ROADS), KIND_MAGIC_FORMULA])
 def test_vector_loops_vectorize(law: int) -> None:
     """Packed double arithmetic in the step's vector loop of each tire law and in the metrics'
     vector loop: a call or a branch added to `plant_step` or `step_metrics` would silently fall
@@ -328,15 +331,17 @@ def test_vector_loops_vectorize(law: int) -> None:
     steps = EK._plant_steps_of(law)
 
     @numba.njit(_nrt=False)  # type: ignore[misc]
-    def run(st, c4, xc_tuple, xs_tuple, ys_tuple):  # type: ignore[no-untyped-def]
+    def run(st, c4, xc_tuple, xs_tuple, ys_tuple, poly):  # type: ignore[no-untyped-def]
         xc, xs, ys = stack_copy(xc_tuple), stack_copy(xs_tuple), stack_copy(ys_tuple)
-        tire = (c4[0], c4[1], c4[2], c4[3], xc, xs, ys)
+        tire = (c4[0], c4[1], c4[2], c4[3], xc, xs, ys, poly)
         steps(st, EK.LANES, True, (1e-3, 5e-4, 1e-3 / 6.0, tire, 1.0, 1.0))
 
-    _p, _kind, coef, xs, ys, *_ = PLANT.scenario(*ROADS[law], "pid")._kernel_args
-    c4 = np.zeros(4)
-    c4[: len(coef)] = coef
-    run(np.zeros(EK.N_ROWS * EK.LANES), c4, *table_tuples(xs, ys))
+    if law == KIND_MAGIC_FORMULA:
+        sc = PLANT.scenario("paper-derlsp-ao", TIRE_SURFACE, "pid", {"tire": CHRONO})
+    else:
+        sc = PLANT.scenario(*ROADS[law], "pid")
+    _p, kind, coef, xs, ys, *_ = sc._kernel_args
+    run(np.zeros(EK.N_ROWS * EK.LANES), *K.tire_arguments(kind, coef, xs, ys))
     metrics = numba.njit(error_model="numpy", _nrt=False)(
         EK._metric_steps.py_func
     )  # uncached: its code to read

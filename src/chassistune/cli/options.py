@@ -79,7 +79,7 @@ def with_tire(plant: str, tire: str | None, values: MutableMapping[str, Any]) ->
 
         raise InputError(
             "--tire",
-            f"the Magic Formula tire runs on the ideal single wheel (abs-wheel) only "
+            f"the Magic Formula tire runs on the single wheel (abs-wheel) only "
             f"so far, not on {plant}",
         )
     values["tire"] = tire

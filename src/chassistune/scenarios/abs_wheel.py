@@ -339,7 +339,7 @@ class AbsWheelPlant(Plant[AbsWheelScenario]):
         }
         plant_params, used = override(pre.params, numeric)
         used |= {"ecu", FIELD}
-        tire, used_tire = _tire(road, values, plant_params, mode)
+        tire, used_tire = _tire(road, values, plant_params)
         if from_tire:
             sigma = _tire_relaxation_length_m(tire)
             plant_params = dataclasses.replace(plant_params, relaxation_length_m=sigma)
@@ -430,7 +430,7 @@ def _tire_relaxation_length_m(tire: TireCurve) -> float:
 
 
 def _tire(
-    road: str, values: dict[str, object], plant_params: AbsWheelParams, mode: str
+    road: str, values: dict[str, object], plant_params: AbsWheelParams
 ) -> tuple[TireCurve, set[str]]:
     """The road's tire curve, or the Magic Formula tire of the TIR file `values["tire"]` at the
     wheel's load on it (`mf_curve.wheel_tire`; on the file's own surface on road TIRE_SURFACE),
@@ -439,12 +439,6 @@ def _tire(
         if road == TIRE_SURFACE:
             raise InputError("road", f"{TIRE_SURFACE} is a TIR file's surface: needs --tire")
         return tire_for_road(road, values)
-    if mode != "ideal":
-        raise InputError(
-            "tire",
-            "the Magic Formula tire runs on the ideal single wheel only so far, "
-            "not with --ecu realistic",
-        )
     own = road == TIRE_SURFACE
     road_curve, used = (None, set()) if own else tire_for_road(road, values)
     pp = plant_params

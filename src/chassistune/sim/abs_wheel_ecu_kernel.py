@@ -90,7 +90,8 @@ from chassistune.sim.abs_wheel_kernel import (
     T_TARGET,
     T_V,
     T_WHEEL_V,
-    tire_mu,
+    tire_arguments,
+    wheel_tire_mu,
     write_metrics,
     write_trace_row,
 )
@@ -98,9 +99,10 @@ from chassistune.sim.abs_wheel_model import step_end, wheel_rates, wheel_slip
 from chassistune.sim.abs_wheel_tires import (
     KIND_BILINEAR,
     KIND_BURCKHARDT,
+    KIND_MAGIC_FORMULA,
     KIND_TABLE,
+    local_poly,
     local_table,
-    table_tuples,
 )
 from chassistune.sim.inlined import INLINE, inlined
 from chassistune.sim.integrate import error_integrals, rk4_point, rk4_update, trapezoid
@@ -257,10 +259,10 @@ _jit = njit(cache=True, nogil=True, error_model="numpy")
 def _rates_at(law, x, s, u, p, tire):
     """Derivatives of x = (v, w, q, r) of the wheel, whose slip is s, under the held command u,
     with the plant p = (r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max) and the tire
-    (c0 .. c3, xc, xs, ys) (design.md 3.1)."""
+    (c0 .. c3, xc, xs, ys, poly) (design.md 3.1)."""
     _, w, q, r = x
     r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max = p
-    fx = tire_mu(law, s, tire) * fz
+    fx = wheel_tire_mu(law, s, tire) * fz
     dv, dw, dq, dr, _, _ = wheel_rates(w, q, r, fx, u, r_w, inv_m, inv_i, kq, gain, inv_tau, q_max)
     return dv, dw, dq, dr
 
@@ -354,7 +356,7 @@ def reference_speed(st, l, w_read, x, ts, tire, tc, acc_noise):
         vref = E.vref_slew(vref, vw, x[X_AMAX], ts)
     elif tick > 0:
         fz, inv_m = st[R_FZ * LANES + l], st[R_INV_M * LANES + l]
-        a_true = -tire_mu(tire, st[R_S1 * LANES + l], tc) * fz * inv_m
+        a_true = -wheel_tire_mu(tire, st[R_S1 * LANES + l], tc) * fz * inv_m
         noise = acc_noise[E.cyclic_index(tick, acc_noise.shape[0])]
         a_meas = E.accelerometer(a_true, x[X_BIAS], noise)
         vref, held = E.vref_accel(
@@ -656,7 +658,7 @@ def _plant_steps_of(tire: int) -> Any:
 
     def plant_steps(st, width, three_state, step):
         dt, hs, h6, tc_of_caller, kb, kd = step
-        tc = local_table(tc_of_caller)
+        tc = local_table(tc_of_caller[:7]) + (local_poly(tc_of_caller[7]),)  # noqa: RUF005
         for b in range(width // VECTOR):
             for j in range(VECTOR):
                 plant_step(st, b * VECTOR + j, tire, three_state, dt, hs, h6, tc, kb, kd)
@@ -676,8 +678,8 @@ def _metric_steps(st, width, live, dt, n_steps, t_timeout):
     return any_end
 
 
-_BILINEAR_STEPS, _BURCKHARDT_STEPS, _TABLE_STEPS = (
-    _plant_steps_of(k) for k in (KIND_BILINEAR, KIND_BURCKHARDT, KIND_TABLE)
+_BILINEAR_STEPS, _BURCKHARDT_STEPS, _TABLE_STEPS, _MAGIC_FORMULA_STEPS = (
+    _plant_steps_of(k) for k in (KIND_BILINEAR, KIND_BURCKHARDT, KIND_TABLE, KIND_MAGIC_FORMULA)
 )
 
 
@@ -872,7 +874,7 @@ def _write_trace(trace_row, st, dt, tire, tc, x):
         r[R_KQ] * qn,
         r[R_CMD],
         r[R_DIST],
-        tire_mu(tire, s_new, tc),
+        wheel_tire_mu(tire, s_new, tc),
     )
     trace_row[T_VREF] = r[R_VREF]
     trace_row[T_WEST] = r[R_VW]
@@ -909,6 +911,7 @@ def _simulate(
     xc_tuple,
     xs_tuple,
     ys_tuple,
+    poly,
     table,
     grid,
     spacing,
@@ -922,12 +925,12 @@ def _simulate(
     edges,
 ):
     """The lane loop (module docstring): candidate i runs law parameters lp[i] on plant row
-    min(i, rows - 1), with the ECU vector x, on the tire of law `tire` with coefficients coef and
-    table nodes (xc, xs, ys)."""
+    min(i, rows - 1), with the ECU vector x, on the tire of law `tire` with coefficients coef,
+    table nodes (xc, xs, ys) and Magic Formula polynomial poly."""
     xc = stack_copy(xc_tuple)
     xs = stack_copy(xs_tuple)
     ys = stack_copy(ys_tuple)
-    tc = (coef[0], coef[1], coef[2], coef[3], xc, xs, ys)
+    tc = (coef[0], coef[1], coef[2], coef[3], xc, xs, ys, poly)
     n = lp.shape[0]
     p0 = plant[0]
     dt = p0[P_DT]
@@ -966,6 +969,8 @@ def _simulate(
             _BILINEAR_STEPS(st, width, three_state, step)
         elif tire == KIND_BURCKHARDT:
             _BURCKHARDT_STEPS(st, width, three_state, step)
+        elif tire == KIND_MAGIC_FORMULA:
+            _MAGIC_FORMULA_STEPS(st, width, three_state, step)
         else:
             _TABLE_STEPS(st, width, three_state, step)
         ended = _metric_steps(st, width, live, dt, n_steps, t_timeout)
@@ -1009,6 +1014,7 @@ def _entry_point(laws_key):
         xc,
         xs,
         ys,
+        poly,
         table,
         grid,
         spacing,
@@ -1031,6 +1037,7 @@ def _entry_point(laws_key):
             xc,
             xs,
             ys,
+            poly,
             table,
             grid,
             spacing,
@@ -1050,9 +1057,6 @@ def _entry_point(laws_key):
 
 entry_point = laws.per_fingerprint(_entry_point)
 """The compiled loop for the laws registered now."""
-
-
-_NO_TABLE = table_tuples(np.array([0.0, 1.0]), np.array([0.0, 0.0]))
 
 
 def simulate_abs_wheel_ecu(
@@ -1082,9 +1086,7 @@ def simulate_abs_wheel_ecu(
     law = laws.by_kind(int(ecu[X_LAW]))
     if law.ecu is None:
         raise ValueError(f"control law {law.name!r} has no form in the realistic ECU")
-    coef4 = np.zeros(4)
-    coef4[: len(tire_coef)] = tire_coef
-    xc, xs, ys = table_tuples(tire_xs, tire_ys) if tire_kind == KIND_TABLE else _NO_TABLE
+    coef4, xc, xs, ys, poly = tire_arguments(tire_kind, tire_coef, tire_xs, tire_ys)
     rows = np.ascontiguousarray(np.atleast_2d(plant), dtype=np.float64)
     lp = np.ascontiguousarray(law_params, dtype=np.float64)
     aux_width = D.N_STATE + lp.shape[1] + ECU_INPUTS + max(int(ecu[X_DELAY]), 1)
@@ -1097,6 +1099,7 @@ def simulate_abs_wheel_ecu(
         xc,
         xs,
         ys,
+        poly,
         table,
         grid,
         *noise,

@@ -242,7 +242,7 @@ def tire_mu(law, s, tire):
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _wheel_tire_mu(law, s, tire):
+def wheel_tire_mu(law, s, tire):
     """`tire_mu` or, for KIND_MAGIC_FORMULA, `magic_formula_mu` at slip s of the wheel's tire
     (c0, c1, c2, c3, xc, xs, ys, poly), the law known at run time."""
     if law == KIND_MAGIC_FORMULA:
@@ -526,11 +526,11 @@ def _lane_steps_of(law: int, method: int, form: ContinuousForm) -> Any:
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _odd_tire_mu(law, s, tire):
-    """`_wheel_tire_mu` extended to S < 0 as an odd function, its slip capped at 1 (on [0, 1]
+    """`wheel_tire_mu` extended to S < 0 as an odd function, its slip capped at 1 (on [0, 1]
     the law itself, bit for bit): the lagged slip turns negative while the wheel spins faster
     than the road, and the tire then drives it back (the tire curves are braking curves, S in
     [0, 1])."""
-    mu = _wheel_tire_mu(law, fmin(abs(s), 1.0), tire)
+    mu = wheel_tire_mu(law, fmin(abs(s), 1.0), tire)
     return select(s < 0.0, -mu, mu)
 
 
@@ -967,6 +967,23 @@ _NO_TABLE = table_tuples(np.array([0.0, 1.0]), np.array([0.0, 0.0]))
 _NO_POLY = np.zeros(POLY_SIZE)
 
 
+def tire_arguments(
+    tire_kind: int, tire_coef: np.ndarray, tire_xs: np.ndarray, tire_ys: np.ndarray
+) -> tuple[np.ndarray, tuple[float, ...], tuple[float, ...], tuple[float, ...], np.ndarray]:
+    """The single-wheel kernels' tire arguments (coef, xc, xs, ys, poly) from
+    `TireCurve.kernel_data()`: the four constants, the table's nodes (a table tire's; else
+    unused ones) and the Magic Formula's piecewise polynomial (its xs; else unused zeros)."""
+    coef4 = np.zeros(4)
+    coef4[: len(tire_coef)] = tire_coef
+    xc, xs, ys = table_tuples(tire_xs, tire_ys) if tire_kind == KIND_TABLE else _NO_TABLE
+    poly = _NO_POLY
+    if tire_kind == KIND_MAGIC_FORMULA:
+        poly = np.ascontiguousarray(tire_xs, dtype=np.float64)
+        if poly.shape != (POLY_SIZE,):
+            raise ValueError(f"a Magic Formula tire has {POLY_SIZE} coefficients")
+    return coef4, xc, xs, ys, poly
+
+
 def simulate_abs_wheel(
     gains: np.ndarray,
     plant: np.ndarray,
@@ -990,14 +1007,7 @@ def simulate_abs_wheel(
     (n, N_METRICS); when `trace` has rows (n must be 1), also the time series (TRACE columns),
     one row per step.
     """
-    coef4 = np.zeros(4)
-    coef4[: len(tire_coef)] = tire_coef
-    xc, xs, ys = table_tuples(tire_xs, tire_ys) if tire_kind == KIND_TABLE else _NO_TABLE
-    poly = _NO_POLY
-    if tire_kind == KIND_MAGIC_FORMULA:  # its piecewise polynomial comes as its xs
-        poly = np.ascontiguousarray(tire_xs, dtype=np.float64)
-        if poly.shape != (POLY_SIZE,):
-            raise ValueError(f"a Magic Formula tire has {POLY_SIZE} coefficients")
+    coef4, xc, xs, ys, poly = tire_arguments(tire_kind, tire_coef, tire_xs, tire_ys)
     rows = np.ascontiguousarray(np.atleast_2d(plant), dtype=np.float64)
     relaxed = rows[:, L.PLANT["relaxation_length_m"]] > 0.0
     if relaxed.any() and not relaxed.all():
