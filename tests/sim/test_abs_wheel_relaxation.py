@@ -292,16 +292,6 @@ def test_a_length_the_step_cannot_resolve_is_refused() -> None:
         _scenario("paper-derlsp-ao", "dry-concrete", "pid", {"relaxation_length_m": -0.3})
 
 
-def test_the_realistic_ecu_refuses_a_relaxation_length() -> None:
-    with pytest.raises(InputError, match=r"relaxation_length_m.*ideal single wheel"):
-        _scenario(
-            "paper-derlsp-ao",
-            "dry-concrete",
-            "pid",
-            {"relaxation_length_m": 0.3, "ecu": "realistic"},
-        )
-
-
 def test_plant_rows_mixing_zero_and_positive_lengths_are_refused() -> None:
     sc = _scenario("paper-derlsp-ao", "dry-concrete", "pid")
     p, kind, coef, xs, ys, ckind, c, table = sc._kernel_args

@@ -379,12 +379,6 @@ class AbsWheelPlant(Plant[AbsWheelScenario]):
                 f"{spec.name} on {road} (known: {', '.join(known)})",
             )
         check_consistency(plant_params, set(values))
-        if mode == "realistic" and plant_params.relaxation_length_m > 0.0:
-            raise InputError(
-                "params.relaxation_length_m",
-                "the lagged slip runs on the ideal single wheel only so far, "
-                "not with --ecu realistic",
-            )
         plant_params = validate(plant_params, "params.")
         ecu = (
             ecu_setup(values, spec.name, ctrl_values, plant_params, seed)

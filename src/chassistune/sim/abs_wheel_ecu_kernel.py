@@ -6,7 +6,11 @@
 Plant: the ideal kernel's (`sim.abs_wheel_model.wheel_rates`, `sim.abs_wheel_tires`), RK4 at
 the fixed step dt (`sim.integrate`), plus the wheel angle (dtheta/dt = w, RK4 on the stage
 speeds) for the toothed sensor. With three-state valves the pressure is not integrated: it is
-the exact orifice solution (`controllers.ecu.modulator_advance`) at the stage times.
+the exact orifice solution (`controllers.ecu.modulator_advance`) at the stage times. With a
+relaxation length sigma > 0 (docs/tires.md, transient slip) the tire reads a lagged slip S', a
+fifth state, sigma dS'/dt = (v - w R) - |v| S', in one more vector loop for every tire law
+(`lagged_plant_step`), which a run takes by a run-time test of sigma; sigma = 0 runs the
+loops above, unchanged.
 
 Each iteration of the lane loop, per lane, in the order of docs/ecu.md "The realistic kernel":
 - the ECU tick (every ecu_ts_s = m dt, before the step at t = k dt, k a multiple of m), one named
@@ -63,6 +67,7 @@ from chassistune.controllers import ecu as E
 from chassistune.controllers.laws import registry as laws
 from chassistune.controllers.laws.dispatch import law_ecu_rate, law_ecu_schedule, law_ecu_step
 from chassistune.controllers.laws.forms import ECU_SIGNALS
+from chassistune.plants.mf_relaxation import lagged_slip_rate_from_slip_speed_per_s
 from chassistune.sim import abs_wheel_ecu_layout as EL
 from chassistune.sim import abs_wheel_layout as KL
 from chassistune.sim.abs_wheel_kernel import (
@@ -78,6 +83,7 @@ from chassistune.sim.abs_wheel_kernel import (
     P_MASS,
     P_QMAX,
     P_RADIUS,
+    P_SIGMA,
     P_TARGET,
     P_TAU,
     P_TMAX,
@@ -90,6 +96,8 @@ from chassistune.sim.abs_wheel_kernel import (
     T_TARGET,
     T_V,
     T_WHEEL_V,
+    odd_tire_mu,
+    odd_tire_mu_of_runtime_law,
     tire_arguments,
     wheel_tire_mu,
     write_metrics,
@@ -237,6 +245,8 @@ N_ECU_METRICS = len(EL.METRICS) - M_ECU_IAE
     R_TARGET,
     R_LOCK_RATIO,
     R_HOPELESS,
+    R_LAG,
+    R_SIGMA,
 ) = range(len(EL.LANE))
 N_ROWS = len(EL.LANE)
 
@@ -273,10 +283,40 @@ def _rates(law, x, u, p, tire):
     return _rates_at(law, x, wheel_slip(x[0], x[1], p[0]), u, p, tire)
 
 
+@njit(**INLINE)
+def _lagged_rates_at(law, x, s, u, p_sigma, tire):
+    """Derivatives of x = (v, w, q, r, S') with the tire read at the lagged slip S' (its law
+    tire[8], `odd_tire_mu_of_runtime_law`: a call) and sigma dS'/dt = (v - w R) - |v| S'
+    (`mf_relaxation.lagged_slip_rate_from_slip_speed_per_s`; docs/tires.md, transient slip);
+    p_sigma = (`_rates_at`'s p, sigma). The slip s and the law are not read (the ECU's law
+    runs at its ticks)."""
+    v, w, q, r, lag = x
+    p, sigma = p_sigma
+    r_w, fz, inv_m, inv_i, kq, gain, inv_tau, q_max = p
+    fx = odd_tire_mu_of_runtime_law(lag, tire) * fz
+    dv, dw, dq, dr, _, _ = wheel_rates(w, q, r, fx, u, r_w, inv_m, inv_i, kq, gain, inv_tau, q_max)
+    return dv, dw, dq, dr, lagged_slip_rate_from_slip_speed_per_s(v - w * r_w, lag, v, sigma)
+
+
+@njit(**INLINE)
+def _lagged_rates(law, x, u, p_sigma, tire):
+    """`_lagged_rates_at` (which reads no slip)."""
+    return _lagged_rates_at(law, x, 0.0, u, p_sigma, tire)
+
+
+@inlined
+def _friction(st, l, tire, tc):
+    """The friction coefficient the tire of lane l gives now: at its lagged slip S' with a
+    relaxation length (`odd_tire_mu`), else at its slip."""
+    if st[R_SIGMA * LANES + l] > 0.0:
+        return odd_tire_mu(tire, st[R_LAG * LANES + l], tc)
+    return wheel_tire_mu(tire, st[R_S1 * LANES + l], tc)
+
+
 @inlined
 def _stage(y, three_state, q):
-    """The stage point y = (v, w, q, r), with three-state valves at the exact pressure q."""
-    return (y[0], y[1], select(three_state, q, y[2]), y[3])
+    """The stage point y = (v, w, q, r, ...), with three-state valves at the exact pressure q."""
+    return (y[0], y[1], select(three_state, q, y[2])) + y[3:]  # noqa: RUF005 (numba)
 
 
 @_jit
@@ -356,7 +396,7 @@ def reference_speed(st, l, w_read, x, ts, tire, tc, acc_noise):
         vref = E.vref_slew(vref, vw, x[X_AMAX], ts)
     elif tick > 0:
         fz, inv_m = st[R_FZ * LANES + l], st[R_INV_M * LANES + l]
-        a_true = -wheel_tire_mu(tire, st[R_S1 * LANES + l], tc) * fz * inv_m
+        a_true = -_friction(st, l, tire, tc) * fz * inv_m
         noise = acc_noise[E.cyclic_index(tick, acc_noise.shape[0])]
         a_meas = E.accelerometer(a_true, x[X_BIAS], noise)
         vref, held = E.vref_accel(
@@ -541,12 +581,10 @@ def _stage_pressures(st, l, t, hs, dt, kb, kd, q_max):
 
 
 @_inline
-def plant_step(st, l, tire, three_state, dt, hs, h6, tc, kb, kd):
-    """One RK4 step of lane l from t = k dt under its held command (design.md 3.1; three-state
-    valves: the stages read the exact pressures) and the wheel angle; keeps the step's start
-    for `step_metrics`. Straight-line code, a body of the vector loop."""
-    v, w, q, r = st[R_V * LANES + l], st[R_W * LANES + l], st[R_Q * LANES + l], st[R_R * LANES + l]
-    theta = st[R_THETA * LANES + l]
+def _step_start(st, l, dt, hs, kb, kd):
+    """Lane l at the start of its step: the state x = (v, w, q, r), the plant p of
+    `_rates_at`, the held command, the pressures of the three-state valves at t + dt/2 and
+    t + dt (`_stage_pressures`) and the wheel angle."""
     r_w, q_max = st[R_RW * LANES + l], st[R_QMAX * LANES + l]
     pr = (
         r_w,
@@ -558,19 +596,35 @@ def plant_step(st, l, tire, three_state, dt, hs, h6, tc, kb, kd):
         st[R_INV_TAU * LANES + l],
         q_max,
     )
-    u0 = st[R_U0 * LANES + l]
     t = st[R_STEP * LANES + l] * dt
     qa, qb = _stage_pressures(st, l, t, hs, dt, kb, kd, q_max)
+    x0 = (st[R_V * LANES + l], st[R_W * LANES + l], st[R_Q * LANES + l], st[R_R * LANES + l])
+    return x0, pr, st[R_U0 * LANES + l], qa, qb, st[R_THETA * LANES + l]
 
-    x0 = (v, w, q, r)
-    k1 = _rates_at(tire, x0, st[R_S1 * LANES + l], u0, pr, tc)  # no division on the path
+
+@_inline
+def _rk4_stages(rates_at, rates, tire, x0, s1, u0, p, tc, three_state, dt, hs, h6, qa, qb):
+    """One classic RK4 step of x0 = (v, w, q, r, ...) by the right side `rates_at` (first stage,
+    at the slip s1 the last step left: no division on the path) and `rates` (design.md 3.1;
+    three-state valves: the stages read the exact pressures qa, qb): the step's end and the
+    wheel speeds of stages 2 to 4 (for the wheel angle)."""
+    k1 = rates_at(tire, x0, s1, u0, p, tc)
     x2 = _stage(rk4_point(x0, hs, k1), three_state, qa)
-    k2 = _rates(tire, x2, u0, pr, tc)
+    k2 = rates(tire, x2, u0, p, tc)
     x3 = _stage(rk4_point(x0, hs, k2), three_state, qa)
-    k3 = _rates(tire, x3, u0, pr, tc)
+    k3 = rates(tire, x3, u0, p, tc)
     x4 = _stage(rk4_point(x0, dt, k3), three_state, qb)
-    k4 = _rates(tire, x4, u0, pr, tc)
-    vn, wn, qn, rn = rk4_update(x0, h6, k1, k2, k3, k4)
+    k4 = rates(tire, x4, u0, p, tc)
+    return rk4_update(x0, h6, k1, k2, k3, k4), x2[1], x3[1], x4[1]
+
+
+@_inline
+def _step_end(st, l, x0, xn, theta, w234, three_state, qb, h6, q_max):
+    """Lane l after its step from x0 = (v, w, q, r) to xn (the wheel speed floored at 0, the
+    pressure clipped, or the valves' exact one) and its wheel angle (RK4 on the stage speeds
+    w234); keeps the step's start for `step_metrics`."""
+    v, w, _, r = x0
+    vn, wn, qn, rn = xn
     st[R_V_START * LANES + l] = v
     st[R_THETA0 * LANES + l] = theta
     st[R_W0 * LANES + l] = w
@@ -578,7 +632,47 @@ def plant_step(st, l, tire, three_state, dt, hs, h6, tc, kb, kd):
     st[R_W * LANES + l] = fmax(wn, 0.0)
     st[R_Q * LANES + l] = select(three_state, qb, clip(qn, 0.0, q_max))
     st[R_R * LANES + l] = select(three_state, r, rn)
-    st[R_THETA * LANES + l] = rk4_update(theta, h6, w, x2[1], x3[1], x4[1])
+    st[R_THETA * LANES + l] = rk4_update(theta, h6, w, w234[0], w234[1], w234[2])
+
+
+@_inline
+def plant_step(st, l, tire, three_state, dt, hs, h6, tc, kb, kd):
+    """One RK4 step of lane l from t = k dt under its held command (`_rk4_stages`) and its
+    wheel angle. Straight-line code, a body of the vector loop."""
+    x0, pr, u0, qa, qb, theta = _step_start(st, l, dt, hs, kb, kd)
+    s1 = st[R_S1 * LANES + l]
+    xn, w2, w3, w4 = _rk4_stages(
+        _rates_at, _rates, tire, x0, s1, u0, pr, tc, three_state, dt, hs, h6, qa, qb
+    )
+    _step_end(st, l, x0, xn, theta, (w2, w3, w4), three_state, qb, h6, pr[7])
+
+
+@_inline
+def lagged_plant_step(st, l, tire, three_state, dt, hs, h6, tc, kb, kd):
+    """`plant_step` with the tire's lagged slip S' a fifth state (row R_LAG,
+    `_lagged_rates_at`; its tire law tc[8], `tire` unused)."""
+    x0, pr, u0, qa, qb, theta = _step_start(st, l, dt, hs, kb, kd)
+    xl = x0 + (st[R_LAG * LANES + l],)  # noqa: RUF005 (numba)
+    p_sigma = (pr, st[R_SIGMA * LANES + l])
+    s1 = st[R_S1 * LANES + l]
+    xn, w2, w3, w4 = _rk4_stages(
+        _lagged_rates_at,
+        _lagged_rates,
+        tire,
+        xl,
+        s1,
+        u0,
+        p_sigma,
+        tc,
+        three_state,
+        dt,
+        hs,
+        h6,
+        qa,
+        qb,
+    )
+    _step_end(st, l, x0, xn[:4], theta, (w2, w3, w4), three_state, qb, h6, pr[7])
+    st[R_LAG * LANES + l] = xn[4]
 
 
 @_inline
@@ -650,20 +744,23 @@ _NO_NRT: dict[str, Any] = {"_nrt": False}
 
 
 @functools.cache
-def _plant_steps_of(tire: int) -> Any:
+def _plant_steps_of(tire: int, lagged: bool = False) -> Any:
     """The vector loop of `plant_step` over lanes 0 .. width - 1 (a whole number of vectors)
-    with the tire law `tire` (a constant inside: numba freezes a closure's variables), compiled
-    as a function of its own, once per entry point compilation (not cached: the entry point's
-    cache holds it). step = (dt, dt / 2, dt / 6, tire data, kb, kd)."""
+    with the tire law `tire` (a constant inside: numba freezes a closure's variables), or of
+    `lagged_plant_step` (`lagged`: the tire law the last of the tire tuple, at run time),
+    compiled as a function of its own, once per entry point compilation (not cached: the entry
+    point's cache holds it). step = (dt, dt / 2, dt / 6, tire data, kb, kd)."""
+    step_of = lagged_plant_step if lagged else plant_step
 
     def plant_steps(st, width, three_state, step):
         dt, hs, h6, tc_of_caller, kb, kd = step
-        tc = local_table(tc_of_caller[:7]) + (local_poly(tc_of_caller[7]),)  # noqa: RUF005
+        own = local_table(tc_of_caller[:7]) + (local_poly(tc_of_caller[7]),)  # noqa: RUF005
+        tc = own + tc_of_caller[8:]
         for b in range(width // VECTOR):
             for j in range(VECTOR):
-                plant_step(st, b * VECTOR + j, tire, three_state, dt, hs, h6, tc, kb, kd)
+                step_of(st, b * VECTOR + j, tire, three_state, dt, hs, h6, tc, kb, kd)
 
-    plant_steps.__qualname__ = f"plant_steps_tire_law_{tire}"
+    plant_steps.__qualname__ = "lagged_plant_steps" if lagged else f"plant_steps_tire_law_{tire}"
     return njit(nogil=True, error_model="numpy", **_NO_NRT)(plant_steps)
 
 
@@ -681,6 +778,8 @@ def _metric_steps(st, width, live, dt, n_steps, t_timeout):
 _BILINEAR_STEPS, _BURCKHARDT_STEPS, _TABLE_STEPS, _MAGIC_FORMULA_STEPS = (
     _plant_steps_of(k) for k in (KIND_BILINEAR, KIND_BURCKHARDT, KIND_TABLE, KIND_MAGIC_FORMULA)
 )
+_LAGGED_STEPS = _plant_steps_of(-1, lagged=True)
+"""Every tire law's, with the lagged slip: one loop, not one per tire law, for compile time."""
 
 
 EDGE_FIELDS = ("lane", "k", "target", "theta0", "theta1", "w0", "w1", "s", "lo", "hi", "done")
@@ -838,6 +937,8 @@ def _fill_lane(st, l, aux, p, x, spacing):
     r[R_TARGET] = p[P_TARGET]
     r[R_LOCK_RATIO] = p[P_LOCK_RATIO]
     r[R_HOPELESS] = p[P_HOPELESS_M]
+    r[R_LAG] = r[R_S1]
+    r[R_SIGMA] = p[P_SIGMA]
 
 
 @inlined
@@ -874,7 +975,7 @@ def _write_trace(trace_row, st, dt, tire, tc, x):
         r[R_KQ] * qn,
         r[R_CMD],
         r[R_DIST],
-        wheel_tire_mu(tire, s_new, tc),
+        _friction(st, 0, tire, tc),
     )
     trace_row[T_VREF] = r[R_VREF]
     trace_row[T_WEST] = r[R_VW]
@@ -943,6 +1044,8 @@ def _simulate(
     three_state = x[X_VALVES] != 0.0
     toothed = x[X_TOOTHED] != 0.0
     step = (dt, hs, h6, tc, x[X_KB], x[X_KD])
+    lagged = p0[P_SIGMA] > 0.0
+    lagged_step = (dt, hs, h6, tc + (tire,), x[X_KB], x[X_KD])  # noqa: RUF005 (numba)
     n_plant = plant.shape[0]
     st[:] = 0.0
     lane_of[:] = -1
@@ -965,7 +1068,9 @@ def _simulate(
             if three_state:
                 valve_switches(st, l, t, hs, dt, x)
         width = -(-live // VECTOR) * VECTOR
-        if tire == KIND_BILINEAR:  # one vector loop per tire law, each a function of its own
+        if lagged:
+            _LAGGED_STEPS(st, width, three_state, lagged_step)
+        elif tire == KIND_BILINEAR:  # one vector loop per tire law, each a function of its own
             _BILINEAR_STEPS(st, width, three_state, step)
         elif tire == KIND_BURCKHARDT:
             _BURCKHARDT_STEPS(st, width, three_state, step)
@@ -1088,6 +1193,9 @@ def simulate_abs_wheel_ecu(
         raise ValueError(f"control law {law.name!r} has no form in the realistic ECU")
     coef4, xc, xs, ys, poly = tire_arguments(tire_kind, tire_coef, tire_xs, tire_ys)
     rows = np.ascontiguousarray(np.atleast_2d(plant), dtype=np.float64)
+    lagged = rows[:, P_SIGMA] > 0.0
+    if lagged.any() and not lagged.all():
+        raise ValueError("relaxation_length_m must be 0 in every plant row or in none")
     lp = np.ascontiguousarray(law_params, dtype=np.float64)
     aux_width = D.N_STATE + lp.shape[1] + ECU_INPUTS + max(int(ecu[X_DELAY]), 1)
     entry_point()(

@@ -177,6 +177,9 @@ LANE = Layout(
         Slot("target_slip", "-"),
         Slot("lock_ratio", "-"),
         Slot("hopeless_distance_m", "m"),
+        # transient slip (docs/tires.md)
+        Slot("lagged_slip", "-", "the slip the tire reads, S' (relaxation length > 0)"),
+        Slot("relaxation_length_m", "m", "0: the tire reads the slip itself"),
     ),
 )
 """Rows of the realistic kernel's lane array: row r of lane l at r * LANES + l."""

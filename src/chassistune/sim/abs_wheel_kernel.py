@@ -328,7 +328,7 @@ def _rates(mu_of, form, x, p, tire):
 @njit(**INLINE)
 def _relaxed_rates_at(mu_of, form, x, s, p_sigma, tire):
     """Derivatives of x = (v, w, q, r, xc, S') at its kinematic slip s (clipped, what the law
-    reads), the tire read at the lagged slip S' (`mu_of`: `_odd_tire_mu`), and
+    reads), the tire read at the lagged slip S' (`mu_of`: `odd_tire_mu`), and
     sigma dS'/dt = (v - w R) - v S' (`mf_relaxation.lagged_slip_rate_from_slip_speed_per_s`;
     docs/tires.md, transient slip); p_sigma = (the lane's parameters, sigma)."""
     v, w, q, r, xc, lag = x
@@ -525,7 +525,7 @@ def _lane_steps_of(law: int, method: int, form: ContinuousForm) -> Any:
 
 
 @njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _odd_tire_mu(law, s, tire):
+def odd_tire_mu(law, s, tire):
     """`wheel_tire_mu` extended to S < 0 as an odd function, its slip capped at 1 (on [0, 1]
     the law itself, bit for bit): the lagged slip turns negative while the wheel spins faster
     than the road, and the tire then drives it back (the tire curves are braking curves, S in
@@ -535,11 +535,11 @@ def _odd_tire_mu(law, s, tire):
 
 
 @njit(nogil=True, error_model="numpy", **_NO_NRT)
-def _mu_of_runtime_law(s, tire):
-    """`_odd_tire_mu` of the tire law that follows the tire's constants, tire[8]: a call, not
+def odd_tire_mu_of_runtime_law(s, tire):
+    """`odd_tire_mu` of the tire law that follows the tire's constants, tire[8]: a call, not
     inlined (the four tire laws inlined at each stage doubled the relaxed loop's compile time,
     for a loop 1.2x (bilinear) to 1.6x (Magic Formula) faster)."""
-    return _odd_tire_mu(tire[8], s, tire)
+    return odd_tire_mu(tire[8], s, tire)
 
 
 @functools.cache
@@ -552,7 +552,7 @@ def _relaxed_lane_steps_of(form: ContinuousForm) -> Any:
 
     @njit(**_LINK)
     def step(st, l, xc, dt, hs, h6, n_steps, t_timeout, live, tire, c):
-        mu_of = _mu_of_runtime_law
+        mu_of = odd_tire_mu_of_runtime_law
         return _relaxed_lane_step(
             st, l, xc, mu_of, key, dt, hs, h6, n_steps, t_timeout, live, tire, c
         )
@@ -905,7 +905,7 @@ def _simulate(
             t = (st[R_STEP * LANES] - 1.0) * dt
             r = st[0::LANES]  # lane 0's rows
             v = r[R_V]
-            s_tire = r[R_LAG] if relaxed else r[R_SLIP]  # S' of `_odd_tire_mu`, or S
+            s_tire = r[R_LAG] if relaxed else r[R_SLIP]  # S' of `odd_tire_mu`, or S
             write_trace_row(
                 trace[rows],
                 min(t + dt, trace_t_end),
@@ -917,7 +917,7 @@ def _simulate(
                 r[R_KQ] * r[R_Q],
                 r[R_U1],
                 r[R_DIST],
-                _odd_tire_mu(law, s_tire, tire),
+                odd_tire_mu(law, s_tire, tire),
             )
             rows += 1
     if n_trace > 0:
