@@ -3,9 +3,11 @@
 Thread CPU ns per candidate-step on one core of the PID with the bench population of `perf.abs`
 (50 rows, paper-derlsp-ao, dry concrete) run to v_stop, per tire law on the same road: the
 bilinear curve, Burckhardt's dry concrete, and the Magic Formula of the Chrono 185/80 R14 sample
-file scaled to the road's peak (`--tire`, docs/tires.md); steps are stop time / dt summed over
-the candidates. Best of 7 timed runs (`quick`: 3); the ratio of the Magic Formula to the bilinear
-tire is measured in the same run.
+file scaled to the road's peak (`--tire`, docs/tires.md); in the ideal kernel and in the
+realistic ECU's (`tire_ecu_*`: the default `EcuParams`), and each kernel's bilinear tire with the
+lagged slip (`*_lagged_bilinear_*`: relaxation length 0.3 m, docs/tires.md, transient slip);
+steps are stop time / dt summed over the candidates. Best of 7 timed runs (`quick`: 3); the ratio
+of the Magic Formula to the bilinear tire is measured in the same run, per kernel.
 """
 
 from __future__ import annotations
@@ -26,8 +28,11 @@ LAWS = {
     "bilinear": ("dry-concrete", {}),
     "burckhardt": ("burckhardt-dry-concrete", {}),
     "magic_formula": ("dry-concrete", {"tire": SAMPLE_TIR}),
+    "lagged_bilinear": ("dry-concrete", {"relaxation_length_m": 0.3}),
 }
 """Tire law -> (road, parameters) of its scenario."""
+KERNELS = {"": {}, "ecu_": {"ecu": "realistic"}}
+"""Figure prefix -> the kernel's parameters: the ideal single wheel, the realistic ECU."""
 
 
 def ns_per_candidate_step(sc: AbsWheelScenario, gains: np.ndarray, repeats: int) -> float:
@@ -41,14 +46,18 @@ def figures(quick: bool = False) -> dict[str, float]:
     """ns per candidate-step per tire law, and the Magic Formula's over the bilinear's."""
     gains = abs_perf.bench_population()
     out = {}
-    for law, (road, params) in LAWS.items():
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", TirWarning)
-            sc = PLANT.scenario("paper-derlsp-ao", road, "pid", params)
-        out[f"tire_{law}_ns_per_candidate_step"] = ns_per_candidate_step(
-            sc, gains, 3 if quick else 7
+    for kernel, kernel_params in KERNELS.items():
+        for law, (road, params) in LAWS.items():
+            if kernel and law == "burckhardt":
+                continue
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", TirWarning)
+                sc = PLANT.scenario("paper-derlsp-ao", road, "pid", {**params, **kernel_params})
+            out[f"tire_{kernel}{law}_ns_per_candidate_step"] = ns_per_candidate_step(
+                sc, gains, 3 if quick else 7
+            )
+        out[f"tire_{kernel}magic_formula_over_bilinear"] = (
+            out[f"tire_{kernel}magic_formula_ns_per_candidate_step"]
+            / out[f"tire_{kernel}bilinear_ns_per_candidate_step"]
         )
-    out["tire_magic_formula_over_bilinear"] = (
-        out["tire_magic_formula_ns_per_candidate_step"] / out["tire_bilinear_ns_per_candidate_step"]
-    )
     return out
