@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from importlib.resources import files
 from pathlib import Path
 
 import numpy as np
@@ -11,12 +12,16 @@ import pytest
 from mf_tires import SAMPLE_TIR
 from scipy.integrate import solve_ivp
 
+from chassistune.plants import mf_coefficients as mfc
 from chassistune.plants.mf_relaxation import (
+    carcass_relaxation_length_m,
     lagged_slip_after,
     lagged_slip_rate_per_s,
     longitudinal_relaxation_length_m,
 )
 from chassistune.plants.tir import read_tir
+
+CHRONO = str(files("chassistune") / "data" / "tires" / "chrono_185_80R14_pac2002.tir")
 
 SIGMA_M = 0.25
 SPEED_M_S = 10.0
@@ -73,6 +78,30 @@ def test_relaxation_length_from_the_tir_carcass_stiffness(tmp_path: Path, force_
         sigma = longitudinal_relaxation_length_m(tire.kernel_array(), fz)
         assert sigma == pytest.approx(expected, rel=1e-12)
     assert longitudinal_relaxation_length_m(tire.kernel_array(), 4000.0) == pytest.approx(0.22303)
+
+
+def test_relaxation_length_from_mf52_ptx_coefficients() -> None:
+    """Chrono's PAC2002 sample (PTX1 1.9021, PTX2 -0.0014739, PTX3 0.03631, R0 0.376 m, FNOMIN
+    3800 N, LSGKP 1): sigma = F_z (PTX1 + PTX2 dfz) exp(-PTX3 dfz) R0 / FNOMIN, by hand; at the
+    nominal load PTX1 R0 = 0.7152 m. A carcass stiffness, where given, takes precedence."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        tire = read_tir(CHRONO)
+    c = tire.kernel_array()
+    assert (tire.ptx1, tire.ptx2, tire.ptx3, tire.lsgkp) == (1.9021, -0.0014739, 0.03631, 1.0)
+    for fz in (981.0, 3800.0, 6000.0):
+        dfz = (fz - 3800.0) / 3800.0
+        expected = fz * (1.9021 - 0.0014739 * dfz) * math.exp(-0.03631 * dfz) * 0.376 / 3800.0
+        assert longitudinal_relaxation_length_m(c, fz) == pytest.approx(expected, rel=1e-14)
+    assert longitudinal_relaxation_length_m(c, 3800.0) == pytest.approx(1.9021 * 0.376, rel=1e-14)
+    stiff = c.copy()
+    stiff[mfc.LONGITUDINAL_STIFFNESS_N_M] = 4e5
+    assert longitudinal_relaxation_length_m(stiff, 3800.0) == carcass_relaxation_length_m(
+        stiff, 3800.0
+    )
+    none = c.copy()
+    none[mfc.PTX1] = 0.0
+    assert math.isnan(longitudinal_relaxation_length_m(none, 3800.0))
 
 
 def test_a_file_without_carcass_stiffness_gives_none_silently() -> None:

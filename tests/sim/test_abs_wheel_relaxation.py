@@ -37,6 +37,7 @@ from golden_cases import PINNED
 GOLDEN = __import__("json").loads(PINNED.read_text())
 SIGMA_M = 0.3
 CHRONO = str(files("chassistune") / "data" / "tires" / "chrono_185_80R14_pac2002.tir")
+COMMONROAD = str(files("chassistune") / "data" / "tires" / "commonroad_pac2002.tir")
 
 
 def _scenario(
@@ -324,10 +325,23 @@ def test_the_tir_files_length_at_the_wheels_load() -> None:
     assert sc.raw(g, workers=1).tobytes() == given.raw(g, workers=1).tobytes()
 
 
+def test_an_mf52_files_length_from_its_ptx_coefficients() -> None:
+    """Chrono's PAC2002 file gives no LONGITUDINAL_STIFFNESS but PTX1-3: MF 5.2's length."""
+    sc = _scenario(
+        "paper-derlsp-ao", TIRE_SURFACE, "pid", {"tire": CHRONO, "relaxation_length_m": "tire"}
+    )
+    assert isinstance(sc.tire, MagicFormulaCurve)
+    sigma = longitudinal_relaxation_length_m(sc.tire.tire.kernel_array(), sc.tire.fz_n)
+    assert sc.plant_params.relaxation_length_m == sigma > 0.0
+
+
 def test_a_tir_file_without_the_length_or_no_tir_file_is_refused() -> None:
-    with pytest.raises(InputError, match="LONGITUDINAL_STIFFNESS"):
+    with pytest.raises(InputError, match=r"neither LONGITUDINAL_STIFFNESS .* nor a positive PTX1"):
         _scenario(
-            "paper-derlsp-ao", TIRE_SURFACE, "pid", {"tire": CHRONO, "relaxation_length_m": "tire"}
+            "paper-derlsp-ao",
+            TIRE_SURFACE,
+            "pid",
+            {"tire": COMMONROAD, "relaxation_length_m": "tire"},
         )
     with pytest.raises(InputError, match="needs --tire"):
         _scenario("paper-derlsp-ao", "dry-concrete", "pid", {"relaxation_length_m": "tire"})

@@ -24,14 +24,14 @@ from chassistune.scenarios.abs_wheel import PLANT, AbsWheelScenario
 from chassistune.sim import abs_wheel_layout as KL
 
 SAMPLE_TIR = str(files("chassistune") / "data" / "tires" / "chrono_185_80R14_pac2002.tir")
-LAWS = {
+LAWS: dict[str, tuple[str, dict[str, object]]] = {
     "bilinear": ("dry-concrete", {}),
     "burckhardt": ("burckhardt-dry-concrete", {}),
     "magic_formula": ("dry-concrete", {"tire": SAMPLE_TIR}),
     "lagged_bilinear": ("dry-concrete", {"relaxation_length_m": 0.3}),
 }
 """Tire law -> (road, parameters) of its scenario."""
-KERNELS = {"": {}, "ecu_": {"ecu": "realistic"}}
+KERNELS: dict[str, dict[str, object]] = {"": {}, "ecu_": {"ecu": "realistic"}}
 """Figure prefix -> the kernel's parameters: the ideal single wheel, the realistic ECU."""
 
 

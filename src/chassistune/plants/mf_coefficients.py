@@ -3,10 +3,10 @@
 `MagicFormulaTire` is what `plants.tir.read_tir` returns: one frozen dataclass of floats, in the
 order of the kernel array (`kernel_array`), whose indices are the upper-case names below, so a
 compiled force function reads `c[PCX1]`. Names are the TIR file's, lower-case; the three
-dimensional ones carry their SI unit. LONGITUDINAL_STIFFNESS and PCFX1-2 give the relaxation
-length (`plants.mf_relaxation`). Absent coefficients take the neutral values of `neutral`:
-0 for shifts and load terms, 1 for the scaling factors (LFZO, LCX, ...), PKY4 = 2 (MF 5.2's
-constant, which 6.1 made a coefficient).
+dimensional ones carry their SI unit. LONGITUDINAL_STIFFNESS and PCFX1-2 (MF 6.1), or PTX1-3
+and LSGKP (MF 5.2), give the relaxation length (`plants.mf_relaxation`). Absent coefficients
+take the neutral values of `neutral`: 0 for shifts and load terms, 1 for the scaling factors
+(LFZO, LCX, ...), PKY4 = 2 (MF 5.2's constant, which 6.1 made a coefficient).
 """
 
 from __future__ import annotations
@@ -91,6 +91,10 @@ class MagicFormulaTire:
     longitudinal_stiffness_n_m: float
     pcfx1: float
     pcfx2: float
+    ptx1: float
+    ptx2: float
+    ptx3: float
+    lsgkp: float
 
     def kernel_array(self) -> np.ndarray:
         """The coefficients as one float64 array, indexed by the module's upper-case constants."""
@@ -167,7 +171,11 @@ class MagicFormulaTire:
     LONGITUDINAL_STIFFNESS_N_M,
     PCFX1,
     PCFX2,
-) = range(69)
+    PTX1,
+    PTX2,
+    PTX3,
+    LSGKP,
+) = range(73)
 """Index of each coefficient in `MagicFormulaTire.kernel_array()` (the dataclass's field order)."""
 
 REQUIRED_LONGITUDINAL = ("FNOMIN", "UNLOADED_RADIUS", "PCX1", "PDX1", "PKX1")

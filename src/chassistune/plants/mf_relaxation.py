@@ -5,7 +5,8 @@ kappa = -V_sx / |V|).
 The lagged slip kappa' (longitudinal, or the lateral slip alpha' alike) follows the kinematic slip
 with the time constant sigma / |V|: the tire must roll its relaxation length sigma for the force
 to build up. The forces are then evaluated at kappa' instead of kappa. sigma = 0 is the static
-tire (kappa' = kappa). sigma is a parameter, or MF 6.1's from the TIR file's carcass stiffness.
+tire (kappa' = kappa). sigma is a parameter, or the TIR file's: MF 6.1's from the carcass
+stiffness, or MF 5.2's from PTX1-3.
 """
 
 from __future__ import annotations
@@ -50,6 +51,28 @@ def lagged_slip_after(
 
 @numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
 def longitudinal_relaxation_length_m(c: np.ndarray, fz_n: float) -> float:
+    """The TIR file's sigma_kappa at load fz_n: MF 6.1's |K_xkappa / C_x| where the file gives
+    LONGITUDINAL_STIFFNESS (`carcass_relaxation_length_m`), else MF 5.2's from PTX1-3
+    (`pac2002_relaxation_length_m`); NaN where it gives neither."""
+    if c[mfc.LONGITUDINAL_STIFFNESS_N_M] > 0.0:
+        return carcass_relaxation_length_m(c, fz_n)
+    if c[mfc.PTX1] > 0.0:
+        return pac2002_relaxation_length_m(c, fz_n)
+    return math.nan
+
+
+@numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def pac2002_relaxation_length_m(c: np.ndarray, fz_n: float) -> float:
+    """MF 5.2's sigma_kappa = F_z (PTX1 + PTX2 dfz) exp(-PTX3 dfz) (R_0 / F_z0) LSGKP, with
+    R_0 = UNLOADED_RADIUS and F_z0 = FNOMIN (MF-Tyre 5.2's equation manual, as MFeval 4.0 and
+    the Modelica PlanarMechanics MF 5.2 tire write it)."""
+    dfz = load_increment(c, fz_n)
+    shape = (c[mfc.PTX1] + c[mfc.PTX2] * dfz) * math.exp(-c[mfc.PTX3] * dfz)
+    return fz_n * shape * (c[mfc.UNLOADED_RADIUS_M] / c[mfc.FNOMIN_N]) * c[mfc.LSGKP]
+
+
+@numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def carcass_relaxation_length_m(c: np.ndarray, fz_n: float) -> float:
     """MF 6.1's sigma_kappa = |K_xkappa / C_x| at load fz_n, with the longitudinal carcass
     stiffness C_x = LONGITUDINAL_STIFFNESS (1 + PCFX1 dfz + PCFX2 dfz^2) (Besselink, Schmeitz and
     Pacejka 2010, Vehicle System Dynamics 48 sup. 1, eqs. 17 and 19, at nominal pressure). Needs

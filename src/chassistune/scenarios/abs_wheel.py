@@ -18,7 +18,6 @@ from chassistune.controllers import catalogue, laws
 from chassistune.controllers.specs import ControllerSpec
 from chassistune.errors import InputError
 from chassistune.params import as_dict, implausible, override, to_float, validate
-from chassistune.plants import mf_coefficients as mfc
 from chassistune.plants.abs_wheel import (
     PRESETS,
     AbsWheelParams,
@@ -413,14 +412,14 @@ def _tire_relaxation_length_m(tire: TireCurve) -> float:
     field = "params.relaxation_length_m"
     if not isinstance(tire, MagicFormulaCurve):
         raise InputError(field, f"{LENGTH_FROM_TIRE!r} takes the TIR file's length: needs --tire")
-    c = tire.tire.kernel_array()
-    if not c[mfc.LONGITUDINAL_STIFFNESS_N_M] > 0.0:
+    sigma = float(longitudinal_relaxation_length_m(tire.tire.kernel_array(), tire.fz_n))
+    if not sigma > 0.0:
         raise InputError(
             field,
-            f"{tire.path} gives no relaxation length: it has no LONGITUDINAL_STIFFNESS "
-            "(MF 5.2's PTX1-3 are not read); give the length in metres",
+            f"{tire.path} gives no relaxation length: it has neither LONGITUDINAL_STIFFNESS "
+            "(MF 6.1) nor a positive PTX1 (MF 5.2); give the length in metres",
         )
-    return float(longitudinal_relaxation_length_m(c, tire.fz_n))
+    return sigma
 
 
 def _tire(
