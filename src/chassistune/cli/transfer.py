@@ -96,13 +96,16 @@ def transfer_command(
     --out transfer-quick
     """
     from chassistune.studies.executors import make_executor
-    from chassistune.transfer.plan import Setting, check_sources, plans
-    from chassistune.transfer.run import run_transfer
+    from chassistune.transfer.plan import Setting, check_sources, plans, source_folders
+    from chassistune.transfer.run import RETUNE, run_transfer
 
-    check_output_dir(from_dir, "--from")
     setting = Setting(check_sources(sources), cars or CARS, quick, seeds, pop, evals)
+    source_folders(from_dir, setting)
+    check_output_dir(out_dir, "--out")
     for plan in plans(setting).values():
-        check_study_folder(str(Path(out_dir) / "retune" / plan.config.study.name), executor)
+        folder = Path(out_dir) / RETUNE / plan.config.study.name
+        if folder.exists():
+            check_study_folder(str(folder), executor)
     with make_executor(executor, workers, scheduler) as ex:
         outcome = run_transfer(setting, from_dir, Path(out_dir), ex)
     if outcome.failed:

@@ -72,12 +72,14 @@ def source_table(scores: pd.DataFrame, setting: Setting, source: Source) -> pd.D
             "ecu": c.ecu,
             "status": status if status.startswith(NOT_AVAILABLE) else "",
         }
+        sums: dict[str, float] = {}
         for g in GAINS:
             rows = _of(scores, c, g)
             s = summary(rows) if len(rows) else dict.fromkeys(summary(paper_rows), math.nan)
-            row |= {f"{k} {g}": v for k, v in s.items()}
-        row["loss"] = row["distance_ratio paper"] - base  # type: ignore[operator]
-        row["recovered"] = row["distance_ratio paper"] - row["distance_ratio re-tuned"]  # type: ignore[operator]
+            sums |= {f"{k} {g}": v for k, v in s.items()}
+        sums["loss"] = sums["distance_ratio paper"] - base
+        sums["recovered"] = sums["distance_ratio paper"] - sums["distance_ratio re-tuned"]
+        row |= sums
         out.append(row)
     return pd.DataFrame(out)
 

@@ -74,6 +74,12 @@ def tunings(folder: Path, source: Source, group: str) -> Tunings:
     return out
 
 
+def source_folders(from_dir: str | Path, setting: Setting) -> list[Path]:
+    """The reproduction's store of each source study (InputError naming `--from` for one
+    missing), before any work."""
+    return [source_folder(from_dir, s) for s in dict.fromkeys(s.study for s in setting.sources)]
+
+
 def source_tunings(from_dir: str | Path, source: Source) -> Tunings:
     """The paper's tunings of the source, from the reproduction's store (InputError naming
     `--from` where a road set has no finished run)."""

@@ -53,6 +53,7 @@ def run_transfer(setting: Setting, from_dir: str | Path, out: Path, executor: Ex
         lambda: f"the finished runs are stored in {out / RETUNE}; run the same command to resume"
     )
     total = skipped = failed = 0
+    (out / RETUNE).mkdir(parents=True, exist_ok=True)
     for plan in by_study.values():
         outcome = run_study(plan, out / RETUNE / plan.config.study.name, executor)
         total, skipped, failed = (
