@@ -29,16 +29,17 @@ from chassistune.transfer.run import run_transfer
 from chassistune.transfer.score import NOT_AVAILABLE
 
 TINY_SOURCE = "fuzzy-immune-abs:pid"
-TINY = ("--source", TINY_SOURCE, "--car", "ford-escort", "--seeds", "1", "--pop", "2")
-TINY_EVALS = ("--evals", "2")
+TINY = ("--source", TINY_SOURCE, "--car", "ford-escort", "--seeds", "1", "--pop", "4")
+TINY_EVALS = ("--evals", "4")
 
 
 def _reproduction(out: Path, studies: tuple[str, ...]) -> Path:
-    """A reproduction's quick stores of `studies`, shrunk to 1 seed, population 2, 1 iteration
+    """A reproduction's quick stores of `studies`, shrunk to 1 seed, population 4, 1 iteration
     (what `chassistune reproduce PAPER --quick` writes under DIR/studies/)."""
+    (out / "studies").mkdir()
     for name in studies:
         tiny = shipped_config(name).model_copy(
-            update={"quick": QuickConfig(seeds=1, pop_size=2, iterations=1)}
+            update={"quick": QuickConfig(seeds=1, pop_size=4, iterations=1)}
         )
         plan = plan_study(quick_config(tiny))
         run_study(plan, out / "studies" / plan.config.study.name, SerialExecutor())
@@ -153,7 +154,7 @@ class _Interrupted(SerialExecutor):
 def test_an_interrupted_transfer_resumes_to_the_same_table(
     repro: Path, tiny: Path, tmp_path: Path
 ) -> None:
-    setting = Setting(check_sources((TINY_SOURCE,)), ("ford-escort",), False, 1, 2, 2)
+    setting = Setting(check_sources((TINY_SOURCE,)), ("ford-escort",), False, 1, 4, 4)
     with pytest.raises(KeyboardInterrupt):
         run_transfer(setting, repro, tmp_path, _Interrupted(keep=3))
     assert not (tmp_path / SCORES_CSV).exists()
@@ -183,7 +184,7 @@ def test_the_whole_study_at_a_tiny_budget(tmp_path: Path) -> None:
     studies = tuple(dict.fromkeys(s.study for s in SOURCES))
     repro = _reproduction(tmp_path / "repro", studies)
     out = tmp_path / "transfer"
-    _transfer(repro, out, "--seeds", "1", "--pop", "2", *TINY_EVALS)
+    _transfer(repro, out, "--seeds", "1", "--pop", "4", *TINY_EVALS)
     scores = pd.read_csv(out / SCORES_CSV)
     _distances_respect_their_bounds(scores)
     _not_available_are_the_refused(scores, Setting(SOURCES, CARS))
