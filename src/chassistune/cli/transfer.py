@@ -91,9 +91,11 @@ def transfer_command(
     controller is re-tuned on every runnable cell (its paper's optimizer, objective and roads)
     and scored again: stop distance over the adhesion bound, R13-H utilisation, locked time,
     split-mu yaw. Runs are recorded one by one in DIR/retune/: kill the command and run it again
-    to finish. Example:
-    chassistune reproduce all --quick --out repro && chassistune transfer --quick --from repro
-    --out transfer-quick
+    to finish. Example (docs/transfer.md):
+
+    \b
+    chassistune reproduce all --quick --out repro
+    chassistune transfer --quick --from repro --out transfer-quick
     """
     from chassistune.studies.executors import make_executor
     from chassistune.transfer.plan import Setting, check_sources, plans, source_folders
