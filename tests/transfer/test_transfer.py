@@ -36,7 +36,7 @@ TINY_EVALS = ("--evals", "4")
 def _reproduction(out: Path, studies: tuple[str, ...]) -> Path:
     """A reproduction's quick stores of `studies`, shrunk to 1 seed, population 4, 1 iteration
     (what `chassistune reproduce PAPER --quick` writes under DIR/studies/)."""
-    (out / "studies").mkdir()
+    (out / "studies").mkdir(parents=True)
     for name in studies:
         tiny = shipped_config(name).model_copy(
             update={"quick": QuickConfig(seeds=1, pop_size=4, iterations=1)}
