@@ -16,7 +16,7 @@ from chassistune.papers.reproduce import shipped_config
 from chassistune.reports.tables import load_study
 from chassistune.studies.spec import StudyConfig, StudyPlan, plan_study, quick_config
 from chassistune.studies.store import open_study
-from chassistune.transfer.cells import Cell, Source, cells, missing
+from chassistune.transfer.cells import SOURCES, Cell, Source, cells, missing
 
 
 @dataclass(frozen=True)
@@ -32,6 +32,7 @@ class Setting:
     evaluations: int | None = None
 
     def cells(self, source: Source) -> list[Cell]:
+        """The source's cells on this setting's cars."""
         return cells(source, self.cars)
 
 
@@ -169,8 +170,6 @@ def retuned(
 
 def check_sources(names: Sequence[str]) -> tuple[Source, ...]:
     """The sources named `study:cell` (all when none), InputError naming `--source` else."""
-    from chassistune.transfer.cells import SOURCES
-
     if not names:
         return SOURCES
     by_key = {s.key: s for s in SOURCES}
