@@ -179,6 +179,22 @@ def test_bad_input_names_the_field(
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "derlsp-ao-abs" in err[0] and "--from" in err[0], err
     assert not (tmp_path / "o").exists()
+    with pytest.raises(SystemExit) as exc:  # DERLSP-AO needs a population of 4
+        main(
+            [
+                "transfer",
+                "--from",
+                str(repro),
+                "--out",
+                str(tmp_path / "o"),
+                *TINY[:2],
+                "--pop",
+                "2",
+            ]
+        )
+    assert exc.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("chassistune: error: --pop:"), err
 
 
 @pytest.mark.slow

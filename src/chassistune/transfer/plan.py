@@ -143,14 +143,22 @@ def retune_config(setting: Setting, study: str) -> StudyConfig:
     )
 
 
+OPTIONS = {"budget.pop_size": "--pop", "budget.evaluations": "--evals"}
+"""The command's option behind a budget field that its overrides set."""
+
+
 def plans(setting: Setting) -> dict[str, StudyPlan]:
-    """The re-tuning study plan of each source study with a cell to re-tune, by study."""
+    """The re-tuning study plan of each source study with a cell to re-tune, by study
+    (InputError naming `--pop` or `--evals` for an override the optimizer refuses)."""
     studies = dict.fromkeys(s.study for s in setting.sources)
     out = {}
     for study in studies:
         config = retune_config(setting, study)
         if config.scenarios:
-            out[study] = plan_study(config)
+            try:
+                out[study] = plan_study(config)
+            except InputError as exc:
+                raise InputError(OPTIONS.get(exc.field, exc.field), exc.problem) from None
     return out
 
 
