@@ -193,9 +193,9 @@ def test_bad_input_names_the_field(
             ]
         )
     assert exc.value.code == 2
+    # the TIR file's warning of its absent coefficients may come first: the one error line
     err = [e for e in capsys.readouterr().err.splitlines() if "warning: " not in e]
-    assert len(err) == 1 and err[0].startswith("chassistune: error: --pop:"), err  # the TIR
-    # file's warning about its absent coefficients may come before it
+    assert len(err) == 1 and err[0].startswith("chassistune: error: --pop:"), err
 
 
 @pytest.mark.slow
