@@ -1,7 +1,8 @@
 """The transfer study at a tiny budget: fuzzy-immune-abs's PID carried to the Ford Escort and
 re-tuned there, end to end through the command; no stop beats its adhesion bound; the cells
 marked `not available` are exactly those the plant refuses; an interrupted run resumes to the
-same table. The whole study (every source, car and the vehicle) runs behind `slow`."""
+same table. Behind `slow`: the whole study (every source, car and the vehicle), and the process
+executor giving the serial table byte for byte."""
 
 from __future__ import annotations
 
@@ -210,3 +211,9 @@ def test_the_whole_study_at_a_tiny_budget(tmp_path: Path) -> None:
     vehicle = scores[(scores.plant == "abs-vehicle")]
     split = vehicle[vehicle.road == "split-mu"].yaw_rate_peak_1s_rad_s
     assert len(split) > 0 and np.isfinite(split).all()
+
+
+@pytest.mark.slow
+def test_the_process_executor_gives_the_same_table(repro: Path, tiny: Path, tmp_path: Path) -> None:
+    _transfer(repro, tmp_path, *TINY, *TINY_EVALS, "--executor", "process", "--workers", "2")
+    assert (tmp_path / SCORES_CSV).read_bytes() == (tiny / SCORES_CSV).read_bytes()
