@@ -2,13 +2,13 @@
 included, is parsed and checked against the layers
 
     plants, controllers (-> fuzzy), fuzzy, optimizers, benchmarks  <-  sim  <-  scenarios
-    <-  tuning  <-  studies  <-  reports, export  <-  papers  <-  cli
+    <-  tuning  <-  studies  <-  reports, export  <-  papers, league  <-  transfer  <-  cli
 
-plots are imported by reports, papers and cli only; nothing imports cli; matplotlib is imported in
-plots only. The shared helpers at the top of the package (errors, params, stats, _registry, ...)
-sit below every layer; the package's __init__ (its public API) may import any layer but cli, and
-no module of the package imports it. No import cycle either, inside a package or across: the
-same imports (lazy and type-only ones too) may not lead from a module back to itself.
+plots are imported by reports, papers, league, transfer and cli only; nothing imports cli;
+matplotlib is imported in plots only. The shared helpers at the top of the package (errors, params,
+stats, _registry, ...) sit below every layer; the package's __init__ (its public API) may import any
+layer but cli, and no module of the package imports it. No import cycle either, inside a package or
+across: the same imports (lazy and type-only ones too) may not lead from a module back to itself.
 """
 
 from __future__ import annotations
@@ -38,14 +38,15 @@ RANK = {
     "papers": 6,
     "league": 6,
     "results": 6,
-    "cli": 7,
+    "transfer": 7,
+    "cli": 8,
 }
 """Layer of each subpackage (or top-level module); unlisted top-level modules are helpers."""
 
 ALLOWED_PEERS = {("controllers", "fuzzy")}
 """Imports between different packages of one layer that the design allows."""
 
-PLOT_USERS = {"reports", "papers", "league", "cli", "plots"}
+PLOT_USERS = {"reports", "papers", "league", "transfer", "cli", "plots"}
 
 
 def _modules() -> list[Path]:

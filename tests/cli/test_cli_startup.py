@@ -25,6 +25,7 @@ COMMANDS = {
     "bbob",
     "tire",
     "league",
+    "transfer",
 }
 
 PROBE = """
@@ -70,6 +71,7 @@ def test_no_arguments_prints_the_multi_line_help(cli) -> None:  # type: ignore[n
         ("--version",),
         ("study", "--help"),
         ("export", "--help"),
+        ("transfer", "--help"),
         ("list", "plants"),
         ("list", "plants", "--json"),
         ("list", "controllers"),

@@ -85,7 +85,7 @@ def test_help_lists_the_choices_of_the_registries(cli, private_cache):
         presets = ", ".join(
             f"{p} (default)" if p == info["default_preset"] else p for p in info["presets"]
         )
-        assert f"{plant}: {presets}" in lines
+        assert f"{plant}: {presets}" in " ".join(lines)  # may wrap, as the objectives
         objectives = ", ".join(
             f"{o} (default)" if o == info["default_objective"] else o for o in info["objectives"]
         )

@@ -27,6 +27,7 @@ from chassistune.cli.reproduce import reproduce_command
 from chassistune.cli.simulate import simulate_command
 from chassistune.cli.study import study_group
 from chassistune.cli.tire import tire_command
+from chassistune.cli.transfer import transfer_command
 from chassistune.cli.tune import tune_command
 from chassistune.cli.warmup import warmup_command
 from chassistune.errors import InputError
@@ -57,6 +58,7 @@ for _command in (
     bbob_command,
     tire_command,
     league_command,
+    transfer_command,
 ):
     cli.add_command(_command)
 

@@ -30,6 +30,7 @@ SCORES = {
     "distance_ratio": "stop distance over the adhesion bound [-]",
     "r13h_epsilon": "UN R13-H adhesion utilisation [-] (single wheel)",
     "slip_itae": "slip ITAE [s^2] about the target the law is given (the road's peak without one)",
+    "locked_time_s": "time a wheel was locked [s] (vehicle: the four wheels' times added)",
     "valve_switches_per_s": "valve switches per second [1/s] (realistic ECU)",
     "yaw_rate_peak_1s_rad_s": "peak yaw rate in the first second [rad/s] (vehicle)",
 }
@@ -106,8 +107,12 @@ def _r13h(lp: LeaguePlant, case: Case, t: Tuned, params: dict[str, object]) -> f
 
 
 def score(t: Tuned, case: Case, setting: Setting) -> dict[str, object]:
-    """One law's scores on one case."""
-    lp = PLANTS[t.plant]
+    """One law's scores on one case of its league plant."""
+    return score_on(PLANTS[t.plant], t, case, setting)
+
+
+def score_on(lp: LeaguePlant, t: Tuned, case: Case, setting: Setting) -> dict[str, object]:
+    """One law's scores on one case of the plant `lp` (a league plant or another study's)."""
     params = case_params(lp, case, t.law, setting)
     sc = get_plant(lp.plant).scenario(lp.preset, case.road, t.law, params)
     gains = np.array([[float(t.gains[n]) for n in sc.gain_names]]).reshape(1, -1)
@@ -126,6 +131,7 @@ def score(t: Tuned, case: Case, setting: Setting) -> dict[str, object]:
         "distance_ratio": float(m["distance_ratio"][0]) if stopped else math.nan,
         "r13h_epsilon": _r13h(lp, case, t, params),
         "slip_itae": float(m["slip_itae"][0]),
+        "locked_time_s": float(m["locked_time_s"][0]),
         "valve_switches_per_s": (
             float(switches[0]) / time_s
             if realistic and switches is not None and stopped

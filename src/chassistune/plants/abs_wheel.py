@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 from chassistune.errors import InputError
 from chassistune.params import nonnegative, positive, unit_interval
+from chassistune.plants.cars import CARS, read_car
 from chassistune.plants.presets import Preset, PresetInfo
 from chassistune.units import PRESSURE
 
@@ -88,6 +89,36 @@ def _sldemo_params() -> AbsWheelParams:
     )
 
 
+BRAKE_FIELDS = ("actuator_gain", "actuator_tau_s", "brake_gain", "q_max")
+"""The brake and actuator: not car data (CommonRoad's cars take a brake torque), so a car's wheel
+keeps the paper preset's (docs/cars.md, "One wheel of the car")."""
+CAR_WHEEL_BASE = "paper-derlsp-ao"
+"""The paper preset a car's single wheel takes every field from that is not car data."""
+CAR_WHEEL_DT_S = FINE_DT_S
+"""The step of the car wheels: their wheel mode is about 13 times as fast as paper-derlsp-ao's
+(R^2 Fz / J: 0.344 m, 1.7 kg m^2, 3.8 kN against 0.5 m, 12 kg m^2, 1 kN; docs/cars.md)."""
+
+
+def car_wheel_preset(name: str) -> Preset[AbsWheelParams]:
+    """A front wheel of the measured car `name` (plants.cars) on paper-derlsp-ao's brake,
+    speed and roads (docs/cars.md, "One wheel of the car")."""
+    car = read_car(name)
+    values = car.front_wheel_values()
+    return Preset(
+        PresetInfo(
+            name,
+            f"a front wheel of the {car.title} (CommonRoad vehicle {car.source['vehicle_id']}): "
+            f"M = m b / (2 L) = {values['mass_kg']:.1f} kg, "
+            f"R = {values['wheel_radius_m']} m, J = {values['wheel_inertia_kg_m2']} kg m^2; "
+            f"brake, actuator, v0 and roads of {CAR_WHEEL_BASE}; "
+            f"dt = {CAR_WHEEL_DT_S * 1e3:g} ms",
+            ("dry-concrete", "wet-asphalt", "ice"),
+            "derlsp-ao-abs unit",
+        ),
+        AbsWheelParams(**values, dt_s=CAR_WHEEL_DT_S),
+    )
+
+
 PRESETS: dict[str, Preset[AbsWheelParams]] = {
     "paper-derlsp-ao": Preset(
         PresetInfo(
@@ -126,6 +157,7 @@ PRESETS: dict[str, Preset[AbsWheelParams]] = {
         _sldemo_params(),
         {"amplitude": 1.0},
     ),
+    **{name: car_wheel_preset(name) for name in CARS},
 }
 
 

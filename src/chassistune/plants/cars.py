@@ -58,6 +58,18 @@ class Car:
         out["dt_s"] = self.dt_s
         return out
 
+    def front_wheel_values(self) -> dict[str, float]:
+        """One front wheel as the single wheel (docs/cars.md, "One wheel of the car"): the mass
+        whose weight is the front wheel's static load, m b / (2 (a + b)) (the front axle carries
+        m g b / L at rest, split evenly), and the shared wheel radius and inertia."""
+        v = self.vehicle
+        a, b = float(v["a"]), float(v["b"])
+        return {
+            "mass_kg": float(v["m"]) * b / (2.0 * (a + b)),
+            "wheel_radius_m": float(v["R_w"]),
+            "wheel_inertia_kg_m2": float(v["I_y_w"]),
+        }
+
     def description(self, g_m_s2: float) -> str:
         """One line for `list presets`: the car, its source and its key numbers."""
         v = self.values(g_m_s2)
@@ -91,3 +103,9 @@ def read_car(name: str) -> Car:
         float(data["preset"]["dt_s"]),
         data["source"],
     )
+
+
+def shared_tir_path() -> str:
+    """The path of the TIR file the three cars share (data/cars/commonroad-shared.toml's
+    `tire.tir_file`: CommonRoad's PAC2002 set, docs/tires.md)."""
+    return str(resources.files("chassistune").joinpath("data", _read(SHARED)["tire"]["tir_file"]))

@@ -20,8 +20,11 @@ class CaseGrid:
     values: np.ndarray
 
 
-def plot_league_cases(grids: Mapping[str, CaseGrid], path: str) -> None:
-    """One heatmap panel per plant (the values' colour scale starts at the bound, 1)."""
+def plot_league_cases(
+    grids: Mapping[str, CaseGrid], path: str, what: str = "median over seeds"
+) -> None:
+    """One heatmap panel per plant (the values' colour scale starts at the bound, 1); `what`
+    says in each title which run's value a cell shows."""
     plt = pyplot()
     fig, axes = plt.subplots(1, len(grids), figsize=(6.2 * len(grids), 4.2), squeeze=False)
     for ax, (plant, g) in zip(axes[0], grids.items(), strict=True):
@@ -40,7 +43,7 @@ def plot_league_cases(grids: Mapping[str, CaseGrid], path: str) -> None:
             )
         ax.set_xticks(range(len(g.cases)), list(g.cases), rotation=30, ha="right")
         ax.set_yticks(range(len(g.laws)), list(g.laws))
-        ax.set_title(f"{plant}: stop distance / adhesion bound (median over seeds)")
+        ax.set_title(f"{plant}: stop distance / adhesion bound ({what})")
         ax.grid(False)
         fig.colorbar(im, ax=ax, shrink=0.8)
     fig.tight_layout()
