@@ -348,6 +348,13 @@ GENERAL_ROWS = (
     Slot("newton_ax_m_s2", "m/s^2", "the load solve's iterate"),
     Slot("newton_ay_m_s2", "m/s^2"),
     Slot("newton_done", "-", "1: the lane's load solve has returned"),
+    Slot("newton_r_ax_m_s2", "m/s^2", "the residual at the iterate (sum Fx / m - ax)"),
+    Slot("newton_r_ay_m_s2", "m/s^2"),
+    *_per_wheel("slip_lateral", "-", "the tire at the iterate (`combined_slip`): sy"),
+    *_per_wheel("slip_norm", "-", "|s|"),
+    *_per_wheel("friction", "-", "mu(min(|s|, 1))"),
+    *_per_wheel("slip_cos", "-", "sx / |s|"),
+    *_per_wheel("no_force", "-", "1: no force (Fz <= 0 or s = 0)"),
     Slot("load_ax_m_s2", "m/s^2", "the load solve's result"),
     Slot("load_ay_m_s2", "m/s^2"),
     Slot("load_iteration", "-", "its Newton iterations"),
@@ -466,6 +473,13 @@ R_WSIN = LANE_LAYOUT["wheel_sin_fl"]
 R_NAX = LANE_LAYOUT["newton_ax_m_s2"]
 R_NAY = LANE_LAYOUT["newton_ay_m_s2"]
 R_NDONE = LANE_LAYOUT["newton_done"]
+R_NR1 = LANE_LAYOUT["newton_r_ax_m_s2"]
+R_NR2 = LANE_LAYOUT["newton_r_ay_m_s2"]
+R_SY = LANE_LAYOUT["slip_lateral_fl"]
+R_SN = LANE_LAYOUT["slip_norm_fl"]
+R_MU = LANE_LAYOUT["friction_fl"]
+R_CX = LANE_LAYOUT["slip_cos_fl"]
+R_NOF = LANE_LAYOUT["no_force_fl"]
 R_LAX = LANE_LAYOUT["load_ax_m_s2"]
 R_LAY = LANE_LAYOUT["load_ay_m_s2"]
 R_LIT = LANE_LAYOUT["load_iteration"]
