@@ -51,6 +51,7 @@ from chassistune.sim.abs_vehicle_layout import (
     R_FXW,
     R_FYB,
     R_GENERAL,
+    R_HEAD,
     R_HEAD_COS,
     R_HEAD_SIN,
     R_ITER,
@@ -69,6 +70,7 @@ from chassistune.sim.abs_vehicle_layout import (
     R_NR2,
     R_SLIP,
     R_SN,
+    R_STEER,
     R_STEER_COS,
     R_STEER_SIN,
     R_STRAIGHT,
@@ -139,15 +141,27 @@ def lane_start(st, l, live):
 @inlined
 def angles(st, width, row_k, c):
     """(cos, sin) of the heading and of the steering angle at the point x + c k (k in the rows
-    from row_k) of lanes 0 .. width - 1, (1, 0) at 0 as `kinematics`: the calls, in a scalar
-    loop, whose values the vector loops read as rows."""
+    from row_k) of lanes 0 .. width - 1 (`put_angle`), in a scalar loop whose values the vector
+    loops read as rows."""
     for l in range(width):
         psi = lane_get(st, S_PSI, l) + c * lane_get(st, row_k + S_PSI, l)
         delta = lane_get(st, S_DELTA, l) + c * lane_get(st, row_k + S_DELTA, l)
-        st[R_HEAD_COS * LANES + l] = math.cos(psi) if psi != 0.0 else 1.0
-        st[R_HEAD_SIN * LANES + l] = math.sin(psi) if psi != 0.0 else 0.0
-        st[R_STEER_COS * LANES + l] = math.cos(delta) if delta != 0.0 else 1.0
-        st[R_STEER_SIN * LANES + l] = math.sin(delta) if delta != 0.0 else 0.0
+        put_angle(st, R_HEAD, l, psi)
+        put_angle(st, R_STEER, l, delta)
+
+
+@numba.njit(**INDEXING)
+def put_angle(st, row, l, a):
+    """(cos a, sin a) of lane l into rows row + 1 and row + 2, (1, 0) at 0 as `kinematics`, and
+    a into row: computed only where row does not hold a already (a step's end is the next
+    step's first stage point)."""
+    if a == 0.0:
+        st[(row + 1) * LANES + l] = 1.0
+        st[(row + 2) * LANES + l] = 0.0
+    elif a != st[row * LANES + l]:
+        st[(row + 1) * LANES + l] = math.cos(a)
+        st[(row + 2) * LANES + l] = math.sin(a)
+    st[row * LANES + l] = a
 
 
 @inlined
@@ -347,6 +361,15 @@ def load_step(st, l, it, kc, srf):
     lane_put(st, R_NAY, l, going, ay + select(newton, (-r2 * a11 + r1 * a21) / det, r2))
 
 
+@inlined
+def solving(st, blk):
+    """Whether a lane of vector `blk` has a load solve that has not returned."""
+    pending = False
+    for j in range(VECTOR):
+        pending |= lane_get(st, R_NDONE, blk * VECTOR + j) == 0.0
+    return pending
+
+
 @numba.njit(**INLINE)
 def stage_end(form, st, l, c, first, weight, kc, srf, ctrl):
     """A stage's end in lane l: its derivatives from the solved loads (`stage_rates`, the laws'
@@ -462,13 +485,15 @@ def general_steps(form, args):
         for it in range(MAX_LOAD_ITERATIONS + 1):
             going = False
             for blk in range(blocks):
-                for j in range(VECTOR):
-                    going |= load_residual(st, blk * VECTOR + j, it, kc, srf)
+                if solving(st, blk):
+                    for j in range(VECTOR):
+                        going |= load_residual(st, blk * VECTOR + j, it, kc, srf)
             if not going:
                 break
             for blk in range(blocks):
-                for j in range(VECTOR):
-                    load_step(st, blk * VECTOR + j, it, kc, srf)
+                if solving(st, blk):
+                    for j in range(VECTOR):
+                        load_step(st, blk * VECTOR + j, it, kc, srf)
         weight = 1.0 if stage == 3 else 2.0
         for blk in range(blocks):
             for j in range(VECTOR):

@@ -337,8 +337,10 @@ GENERAL_ROWS = (
         Slot(f"k_sum_{s.name}", f"{s.unit}/s", "the general pass: k1 + 2 k2 + 2 k3 + k4 so far")
         for s in STATE_LAYOUT.slots
     ),
+    Slot("steer_rad", "rad", "the steering angle the next two rows are of"),
     Slot("steer_cos", "-", "cos of the stage's steering angle (1 at 0)"),
     Slot("steer_sin", "-", "sin of the stage's steering angle (0 at 0)"),
+    Slot("heading_rad", "rad", "the heading the next two rows are of"),
     Slot("heading_cos", "-", "cos of the stage's heading (1 at 0)"),
     Slot("heading_sin", "-", "sin of the stage's heading (0 at 0)"),
     *_per_wheel("sx", "-", "the stage's longitudinal slip (u - w R)/|V|, unclipped"),
@@ -462,10 +464,19 @@ R_GMA = LANE_LAYOUT["gma_rate"]
 R_GENERAL = LANE_LAYOUT["general"]
 R_KPREV = LANE_LAYOUT["k_prev_vx"]
 R_KSUM = LANE_LAYOUT["k_sum_vx"]
+R_STEER = LANE_LAYOUT["steer_rad"]
 R_STEER_COS = LANE_LAYOUT["steer_cos"]
 R_STEER_SIN = LANE_LAYOUT["steer_sin"]
+R_HEAD = LANE_LAYOUT["heading_rad"]
 R_HEAD_COS = LANE_LAYOUT["heading_cos"]
 R_HEAD_SIN = LANE_LAYOUT["heading_sin"]
+if (R_STEER_COS, R_STEER_SIN, R_HEAD_COS, R_HEAD_SIN) != (
+    R_STEER + 1,
+    R_STEER + 2,
+    R_HEAD + 1,
+    R_HEAD + 2,
+):  # pragma: no cover
+    raise RuntimeError("an angle's cos and sin rows must follow its own (`put_angle`)")
 R_SX = LANE_LAYOUT["sx_fl"]
 R_VR = LANE_LAYOUT["vr_fl"]
 R_WCOS = LANE_LAYOUT["wheel_cos_fl"]
