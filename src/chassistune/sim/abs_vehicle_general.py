@@ -208,10 +208,11 @@ def put_wheels(st, row, l, commit, v):
 
 
 @inlined
-def stage_start(st, l, c, kc, srf):
+def stage_start(st, l, c, kc):
     """A stage's start in lane l: the wheels' kinematics at the stage point, and the load solve
-    returned where the loop is linear (no lateral slip or steering, every load >= 0: the closed
-    form, `closed_loads`), else started from the lane's last solution (`solve_loads`)."""
+    started from the lane's last solution (`solve_loads`) where the general pass steps the lane
+    (returned where not), the stage not straight; returns whether the loop may be linear there
+    (no lateral slip or steering: `stage_closed`)."""
     y = stage_point(st, l, c)
     b = y[0]
     k0 = steered(st, l, b, y[1][0], 0, kc)
@@ -222,19 +223,37 @@ def stage_start(st, l, c, kc, srf):
     put_wheel_kinematics(st, l, 1, k1)
     put_wheel_kinematics(st, l, 2, k2)
     put_wheel_kinematics(st, l, 3, k3)
-    _, s = laws_surfaces(st, l, srf)
-    c0 = force_per_load(k0[0], s[0])
-    c1 = force_per_load(k1[0], s[1])
-    c2 = force_per_load(k2[0], s[2])
-    c3 = force_per_load(k3[0], s[3])
-    ax, fx, loaded = closed_loads((c0, c1, c2, c3), kc)
-    flat = (k0[1] == 0.0) & (k1[1] == 0.0) & (k2[1] == 0.0) & (k3[1] == 0.0)
-    unsteered = (k0[3] == 0.0) & (k1[3] == 0.0) & (k2[3] == 0.0) & (k3[3] == 0.0)
-    closed = flat & unsteered & loaded
     general = lane_get(st, R_GENERAL, l) != 0.0
     st[R_NAX * LANES + l] = lane_get(st, R_AX, l)
     st[R_NAY * LANES + l] = lane_get(st, R_AY, l)
-    st[R_NDONE * LANES + l] = select(closed | (not general), 1.0, 0.0)
+    st[R_NDONE * LANES + l] = select(general, 0.0, 1.0)
+    st[R_STRAIGHT * LANES + l] = 0.0
+    flat = (k0[1] == 0.0) & (k1[1] == 0.0) & (k2[1] == 0.0) & (k3[1] == 0.0)
+    return flat & (k0[3] == 0.0) & (k1[3] == 0.0) & (k2[3] == 0.0) & (k3[3] == 0.0)
+
+
+@numba.njit(**INDEXING)
+def all_zero(st, row, l):
+    """Whether the four wheels' values of lane l from row `row` on are all 0 (branch-free)."""
+    v = wheel_rows(st, row, l)
+    return (v[0] == 0.0) & (v[1] == 0.0) & (v[2] == 0.0) & (v[3] == 0.0)
+
+
+@inlined
+def stage_closed(st, l, c, kc, srf):
+    """After `stage_start`, where lane l's loop is linear (no lateral slip or steering, every
+    load >= 0): the load solve returned in closed form (`closed_loads`), and whether the stage
+    is straight (no yaw, lateral velocity, heading or steering, every load >= 0)."""
+    b = stage_point(st, l, c)[0]
+    _, s = laws_surfaces(st, l, srf)
+    c0 = force_per_load(lane_get(st, R_SX, l), s[0])
+    c1 = force_per_load(lane_get(st, R_SX + 1, l), s[1])
+    c2 = force_per_load(lane_get(st, R_SX + 2, l), s[2])
+    c3 = force_per_load(lane_get(st, R_SX + 3, l), s[3])
+    ax, fx, loaded = closed_loads((c0, c1, c2, c3), kc)
+    linear = all_zero(st, R_VR, l) & all_zero(st, R_WSIN, l)
+    general = lane_get(st, R_GENERAL, l) != 0.0
+    st[R_NDONE * LANES + l] = select((linear & loaded) | (not general), 1.0, 0.0)
     put_loads(st, l, True, ax, 0.0, 0.0, fx, fx, (0.0, 0.0, 0.0, 0.0))
     straight = (b[1] == 0.0) & (b[2] == 0.0) & (b[5] == 0.0) & (b[6] == 0.0) & loaded
     st[R_STRAIGHT * LANES + l] = select(straight, 1.0, 0.0)
@@ -480,8 +499,12 @@ def general_steps(form, args):
         c = 0.0 if stage == 0 else (kc[KC_DT] if stage == 3 else kc[KC_HS])
         angles(st, width, R_KPREV, c)
         for blk in range(blocks):
+            linear = False
             for j in range(VECTOR):
-                stage_start(st, blk * VECTOR + j, c, kc, srf)
+                linear |= stage_start(st, blk * VECTOR + j, c, kc)
+            if linear:
+                for j in range(VECTOR):
+                    stage_closed(st, blk * VECTOR + j, c, kc, srf)
         for it in range(MAX_LOAD_ITERATIONS + 1):
             going = False
             for blk in range(blocks):
