@@ -110,7 +110,9 @@ def test_lane_step_vectorizes():
 def test_general_pass_vectorizes():
     """The general pass (`abs_vehicle_general.general_steps`: split-mu, the driver, an unloaded
     wheel) compiles its stage, load-solve and step-end loops to packed double arithmetic on
-    ymm/zmm registers: a call or a branch in their bodies would fall back to scalar code."""
+    ymm/zmm registers: a call or a branch in their bodies would fall back to scalar code. Every
+    division and square root (the kinematics, the load solve's forces and Newton steps, the
+    step's end) is packed."""
     import re
 
     import numba
@@ -134,6 +136,8 @@ def test_general_pass_vectorizes():
     asm = fresh.inspect_asm(fresh.signatures[0])
     packed = re.findall(r"\bv(?:mul|add|sub|div|sqrt|fmadd\w*)pd\s[^\n]*%[yz]mm", asm)
     assert len(packed) >= 600, "the general pass no longer vectorizes"
+    scalar = re.findall(r"\bv(?:div|sqrt)sd\s", asm)
+    assert not scalar, "a division or square root of the general pass runs on one lane"
 
 
 @pytest.mark.parametrize("params", [{"steering": "fixed"}, {"steering": "driver"}])

@@ -44,12 +44,14 @@ from chassistune.sim.abs_vehicle_layout import (
     P_R,
     R_AX,
     R_AY,
+    R_CX,
     R_DIST,
     R_DONE,
     R_FXB,
     R_FXW,
     R_FYB,
     R_GENERAL,
+    R_HEAD,
     R_HEAD_COS,
     R_HEAD_SIN,
     R_ITER,
@@ -59,14 +61,21 @@ from chassistune.sim.abs_vehicle_layout import (
     R_LAX,
     R_LAY,
     R_LIT,
+    R_MU,
     R_NAX,
     R_NAY,
     R_NDONE,
+    R_NOF,
+    R_NR1,
+    R_NR2,
     R_SLIP,
+    R_SN,
+    R_STEER,
     R_STEER_COS,
     R_STEER_SIN,
     R_STRAIGHT,
     R_SX,
+    R_SY,
     R_TGT,
     R_VR,
     R_WCOS,
@@ -108,6 +117,8 @@ from chassistune.sim.abs_vehicle_step_end import end_step
 from chassistune.sim.abs_vehicle_straight import closed_loads, held, stage_rates
 from chassistune.sim.abs_vehicle_wheels import (
     combined_force,
+    combined_force_derivative,
+    combined_slip,
     force_per_load,
     kinematics,
     steered_wheel,
@@ -130,15 +141,27 @@ def lane_start(st, l, live):
 @inlined
 def angles(st, width, row_k, c):
     """(cos, sin) of the heading and of the steering angle at the point x + c k (k in the rows
-    from row_k) of lanes 0 .. width - 1, (1, 0) at 0 as `kinematics`: the calls, in a scalar
-    loop, whose values the vector loops read as rows."""
+    from row_k) of lanes 0 .. width - 1 (`put_angle`), in a scalar loop whose values the vector
+    loops read as rows."""
     for l in range(width):
         psi = lane_get(st, S_PSI, l) + c * lane_get(st, row_k + S_PSI, l)
         delta = lane_get(st, S_DELTA, l) + c * lane_get(st, row_k + S_DELTA, l)
-        st[R_HEAD_COS * LANES + l] = math.cos(psi) if psi != 0.0 else 1.0
-        st[R_HEAD_SIN * LANES + l] = math.sin(psi) if psi != 0.0 else 0.0
-        st[R_STEER_COS * LANES + l] = math.cos(delta) if delta != 0.0 else 1.0
-        st[R_STEER_SIN * LANES + l] = math.sin(delta) if delta != 0.0 else 0.0
+        put_angle(st, R_HEAD, l, psi)
+        put_angle(st, R_STEER, l, delta)
+
+
+@numba.njit(**INDEXING)
+def put_angle(st, row, l, a):
+    """(cos a, sin a) of lane l into rows row + 1 and row + 2, (1, 0) at 0 as `kinematics`, and
+    a into row: computed only where row does not hold a already (a step's end is the next
+    step's first stage point)."""
+    if a == 0.0:
+        st[(row + 1) * LANES + l] = 1.0
+        st[(row + 2) * LANES + l] = 0.0
+    elif a != st[row * LANES + l]:
+        st[(row + 1) * LANES + l] = math.cos(a)
+        st[(row + 2) * LANES + l] = math.sin(a)
+    st[row * LANES + l] = a
 
 
 @inlined
@@ -185,10 +208,11 @@ def put_wheels(st, row, l, commit, v):
 
 
 @inlined
-def stage_start(st, l, c, kc, srf):
+def stage_start(st, l, c, kc):
     """A stage's start in lane l: the wheels' kinematics at the stage point, and the load solve
-    returned where the loop is linear (no lateral slip or steering, every load >= 0: the closed
-    form, `closed_loads`), else started from the lane's last solution (`solve_loads`)."""
+    started from the lane's last solution (`solve_loads`) where the general pass steps the lane
+    (returned where not), the stage not straight; returns whether the loop may be linear there
+    (no lateral slip or steering: `stage_closed`)."""
     y = stage_point(st, l, c)
     b = y[0]
     k0 = steered(st, l, b, y[1][0], 0, kc)
@@ -199,19 +223,37 @@ def stage_start(st, l, c, kc, srf):
     put_wheel_kinematics(st, l, 1, k1)
     put_wheel_kinematics(st, l, 2, k2)
     put_wheel_kinematics(st, l, 3, k3)
-    _, s = laws_surfaces(st, l, srf)
-    c0 = force_per_load(k0[0], s[0])
-    c1 = force_per_load(k1[0], s[1])
-    c2 = force_per_load(k2[0], s[2])
-    c3 = force_per_load(k3[0], s[3])
-    ax, fx, loaded = closed_loads((c0, c1, c2, c3), kc)
-    flat = (k0[1] == 0.0) & (k1[1] == 0.0) & (k2[1] == 0.0) & (k3[1] == 0.0)
-    unsteered = (k0[3] == 0.0) & (k1[3] == 0.0) & (k2[3] == 0.0) & (k3[3] == 0.0)
-    closed = flat & unsteered & loaded
     general = lane_get(st, R_GENERAL, l) != 0.0
     st[R_NAX * LANES + l] = lane_get(st, R_AX, l)
     st[R_NAY * LANES + l] = lane_get(st, R_AY, l)
-    st[R_NDONE * LANES + l] = select(closed | (not general), 1.0, 0.0)
+    st[R_NDONE * LANES + l] = select(general, 0.0, 1.0)
+    st[R_STRAIGHT * LANES + l] = 0.0
+    flat = (k0[1] == 0.0) & (k1[1] == 0.0) & (k2[1] == 0.0) & (k3[1] == 0.0)
+    return flat & (k0[3] == 0.0) & (k1[3] == 0.0) & (k2[3] == 0.0) & (k3[3] == 0.0)
+
+
+@numba.njit(**INDEXING)
+def all_zero(st, row, l):
+    """Whether the four wheels' values of lane l from row `row` on are all 0 (branch-free)."""
+    v = wheel_rows(st, row, l)
+    return (v[0] == 0.0) & (v[1] == 0.0) & (v[2] == 0.0) & (v[3] == 0.0)
+
+
+@inlined
+def stage_closed(st, l, c, kc, srf):
+    """After `stage_start`, where lane l's loop is linear (no lateral slip or steering, every
+    load >= 0): the load solve returned in closed form (`closed_loads`), and whether the stage
+    is straight (no yaw, lateral velocity, heading or steering, every load >= 0)."""
+    b = stage_point(st, l, c)[0]
+    _, s = laws_surfaces(st, l, srf)
+    c0 = force_per_load(lane_get(st, R_SX, l), s[0])
+    c1 = force_per_load(lane_get(st, R_SX + 1, l), s[1])
+    c2 = force_per_load(lane_get(st, R_SX + 2, l), s[2])
+    c3 = force_per_load(lane_get(st, R_SX + 3, l), s[3])
+    ax, fx, loaded = closed_loads((c0, c1, c2, c3), kc)
+    linear = all_zero(st, R_VR, l) & all_zero(st, R_WSIN, l)
+    general = lane_get(st, R_GENERAL, l) != 0.0
+    st[R_NDONE * LANES + l] = select((linear & loaded) | (not general), 1.0, 0.0)
     put_loads(st, l, True, ax, 0.0, 0.0, fx, fx, (0.0, 0.0, 0.0, 0.0))
     straight = (b[1] == 0.0) & (b[2] == 0.0) & (b[5] == 0.0) & (b[6] == 0.0) & loaded
     st[R_STRAIGHT * LANES + l] = select(straight, 1.0, 0.0)
@@ -219,13 +261,37 @@ def stage_start(st, l, c, kc, srf):
 
 @numba.njit(**INDEXING)
 def wheel_load(st, l, ax, ay, j, s, kc):
-    """Wheel j's load at (ax, ay) (held >= 0) and its forces: (wheel-frame Fx, body-frame Fx,
-    Fy and their derivatives in the load)."""
+    """Wheel j's load at (ax, ay) (held >= 0) and its forces (wheel-frame Fx, body-frame Fx,
+    Fy); the tire's slip there (`combined_slip`) into its rows, for `wheel_load_derivative`."""
     z = fmax(kc[KC_FZ0 + j] + kc[KC_A + j] * ax + kc[KC_B + j] * ay, 0.0)
-    fx, fy, dfx, dfy = combined_force(lane_get(st, R_SX + j, l), lane_get(st, R_VR + j, l), z, s)
+    sx = lane_get(st, R_SX + j, l)
+    sy, sn, mu, cx, cy, none = combined_slip(sx, lane_get(st, R_VR + j, l), z, s)
+    fx, fy = combined_force(z, mu, cx, cy, none)
+    st[(R_SY + j) * LANES + l] = sy
+    st[(R_SN + j) * LANES + l] = sn
+    st[(R_MU + j) * LANES + l] = mu
+    st[(R_CX + j) * LANES + l] = cx
+    st[(R_NOF + j) * LANES + l] = select(none, 1.0, 0.0)
     cs = lane_get(st, R_WCOS + j, l)
     sn = lane_get(st, R_WSIN + j, l)
-    return fx, cs * fx - sn * fy, sn * fx + cs * fy, cs * dfx - sn * dfy, sn * dfx + cs * dfy
+    return fx, cs * fx - sn * fy, sn * fx + cs * fy
+
+
+@numba.njit(**INDEXING)
+def wheel_load_derivative(st, l, j, s):
+    """Wheel j's body-frame (dFx/dFz, dFy/dFz) at the slip `wheel_load` left in its rows."""
+    dfx, dfy = combined_force_derivative(
+        lane_get(st, R_SX + j, l),
+        lane_get(st, R_SY + j, l),
+        lane_get(st, R_SN + j, l),
+        lane_get(st, R_MU + j, l),
+        lane_get(st, R_CX + j, l),
+        lane_get(st, R_NOF + j, l) != 0.0,
+        s,
+    )
+    cs = lane_get(st, R_WCOS + j, l)
+    sn = lane_get(st, R_WSIN + j, l)
+    return cs * dfx - sn * dfy, sn * dfx + cs * dfy
 
 
 @inlined
@@ -240,12 +306,11 @@ def wheel_sum(a0, a1, a2, a3):
 
 
 @inlined
-def load_iteration(st, l, it, kc, srf):
+def load_residual(st, l, it, kc, srf):
     """Iteration `it` of lane l's load solve by Newton's method on (ax, ay) (`solve_loads`,
     the same operations), where it has not returned: the forces at the iterate, then the
-    return (residual within LOAD_TOL_M_S2, or the last iteration) or the step (Newton's,
-    fixed-point after MAX_LOAD_ITERATIONS // 2 or at a singular Jacobian). Returns whether
-    the solve goes on."""
+    return where the residual is within LOAD_TOL_M_S2 or at the last iteration. Returns
+    whether the solve goes on (`load_step` then takes its step)."""
     ax = lane_get(st, R_NAX, l)
     ay = lane_get(st, R_NAY, l)
     _, s = laws_surfaces(st, l, srf)
@@ -255,18 +320,6 @@ def load_iteration(st, l, it, kc, srf):
     f3 = wheel_load(st, l, ax, ay, 3, s[3], kc)
     sfx = wheel_sum(f0[1], f1[1], f2[1], f3[1])
     sfy = wheel_sum(f0[2], f1[2], f2[2], f3[2])
-    j11 = wheel_sum(
-        f0[3] * kc[KC_A], f1[3] * kc[KC_A + 1], f2[3] * kc[KC_A + 2], f3[3] * kc[KC_A + 3]
-    )
-    j12 = wheel_sum(
-        f0[3] * kc[KC_B], f1[3] * kc[KC_B + 1], f2[3] * kc[KC_B + 2], f3[3] * kc[KC_B + 3]
-    )
-    j21 = wheel_sum(
-        f0[4] * kc[KC_A], f1[4] * kc[KC_A + 1], f2[4] * kc[KC_A + 2], f3[4] * kc[KC_A + 3]
-    )
-    j22 = wheel_sum(
-        f0[4] * kc[KC_B], f1[4] * kc[KC_B + 1], f2[4] * kc[KC_B + 2], f3[4] * kc[KC_B + 3]
-    )
     mass = kc[KC_MASS]
     r1 = sfx / mass - ax
     r2 = sfy / mass - ay
@@ -283,17 +336,57 @@ def load_iteration(st, l, it, kc, srf):
         (f0[1], f1[1], f2[1], f3[1]),
         (f0[2], f1[2], f2[2], f3[2]),
     )
+    lane_put(st, R_NDONE, l, pending & done, 1.0)
+    st[R_NR1 * LANES + l] = r1
+    st[R_NR2 * LANES + l] = r2
+    return pending & (not done)
+
+
+@inlined
+def load_step(st, l, it, kc, srf):
+    """The step of iteration `it` of lane l's load solve where it goes on (`solve_loads`, the
+    same operations): Newton's, fixed-point after MAX_LOAD_ITERATIONS // 2 or at a singular
+    Jacobian, from the residual and the tire's slip `load_residual` left in the rows."""
+    _, s = laws_surfaces(st, l, srf)
+    d0 = wheel_load_derivative(st, l, 0, s[0])
+    d1 = wheel_load_derivative(st, l, 1, s[1])
+    d2 = wheel_load_derivative(st, l, 2, s[2])
+    d3 = wheel_load_derivative(st, l, 3, s[3])
+    j11 = wheel_sum(
+        d0[0] * kc[KC_A], d1[0] * kc[KC_A + 1], d2[0] * kc[KC_A + 2], d3[0] * kc[KC_A + 3]
+    )
+    j12 = wheel_sum(
+        d0[0] * kc[KC_B], d1[0] * kc[KC_B + 1], d2[0] * kc[KC_B + 2], d3[0] * kc[KC_B + 3]
+    )
+    j21 = wheel_sum(
+        d0[1] * kc[KC_A], d1[1] * kc[KC_A + 1], d2[1] * kc[KC_A + 2], d3[1] * kc[KC_A + 3]
+    )
+    j22 = wheel_sum(
+        d0[1] * kc[KC_B], d1[1] * kc[KC_B + 1], d2[1] * kc[KC_B + 2], d3[1] * kc[KC_B + 3]
+    )
+    mass = kc[KC_MASS]
+    r1 = lane_get(st, R_NR1, l)
+    r2 = lane_get(st, R_NR2, l)
     a11 = j11 / mass - 1.0
     a12 = j12 / mass
     a21 = j21 / mass
     a22 = j22 / mass - 1.0
     det = a11 * a22 - a12 * a21
     newton = (it < MAX_LOAD_ITERATIONS // 2) & (det != 0.0)
-    going = pending & (not done)
+    going = lane_get(st, R_NDONE, l) == 0.0
+    ax = lane_get(st, R_NAX, l)
+    ay = lane_get(st, R_NAY, l)
     lane_put(st, R_NAX, l, going, ax + select(newton, (-r1 * a22 + r2 * a12) / det, r1))
     lane_put(st, R_NAY, l, going, ay + select(newton, (-r2 * a11 + r1 * a21) / det, r2))
-    lane_put(st, R_NDONE, l, pending & done, 1.0)
-    return going
+
+
+@inlined
+def solving(st, blk):
+    """Whether a lane of vector `blk` has a load solve that has not returned."""
+    pending = False
+    for j in range(VECTOR):
+        pending |= lane_get(st, R_NDONE, blk * VECTOR + j) == 0.0
+    return pending
 
 
 @numba.njit(**INLINE)
@@ -388,12 +481,13 @@ def general_end(st, l, kc):
 def general_steps(form, args):
     """One RK4 step, args = (st, width, kc, srf, ctrl, live), with the laws' continuous form of
     key `form` (a literal: compiled once per form), of the live lanes among 0 .. width - 1
-    (whole vectors) that the vector pass
-    did not commit (split-mu, a driver steering, an unloaded wheel, the step of a stop), in
-    the general case, all lanes at once: each stage's kinematics and closed-form loads, the
-    Newton load solve iterated while a lane's has not returned (the others frozen by select),
-    the stage's derivatives (`stage_rates`, as the straight pass); then the step's end.
-    Straight-line stages give the straight pass's numbers (they leave the load guess as it
+    (whole vectors) that the vector pass did not commit (split-mu, a driver steering, an
+    unloaded wheel, the step of a stop), in the general case, all lanes at once: each stage's
+    kinematics and closed-form loads, the Newton load solve iterated while a lane's has not
+    returned (the others frozen by select; each iteration's forces and residual in one loop,
+    its step in a second run only while a lane goes on: the last iteration computes no
+    Jacobian), the stage's derivatives (`stage_rates`, as the straight pass); then the step's
+    end. Straight-line stages give the straight pass's numbers (they leave the load guess as it
     was). Returns 1 if a run ended."""
     numba.literally(form)
     st, width, kc, srf, ctrl, live = args
@@ -405,15 +499,24 @@ def general_steps(form, args):
         c = 0.0 if stage == 0 else (kc[KC_DT] if stage == 3 else kc[KC_HS])
         angles(st, width, R_KPREV, c)
         for blk in range(blocks):
+            linear = False
             for j in range(VECTOR):
-                stage_start(st, blk * VECTOR + j, c, kc, srf)
+                linear |= stage_start(st, blk * VECTOR + j, c, kc)
+            if linear:
+                for j in range(VECTOR):
+                    stage_closed(st, blk * VECTOR + j, c, kc, srf)
         for it in range(MAX_LOAD_ITERATIONS + 1):
             going = False
             for blk in range(blocks):
-                for j in range(VECTOR):
-                    going |= load_iteration(st, blk * VECTOR + j, it, kc, srf)
+                if solving(st, blk):
+                    for j in range(VECTOR):
+                        going |= load_residual(st, blk * VECTOR + j, it, kc, srf)
             if not going:
                 break
+            for blk in range(blocks):
+                if solving(st, blk):
+                    for j in range(VECTOR):
+                        load_step(st, blk * VECTOR + j, it, kc, srf)
         weight = 1.0 if stage == 3 else 2.0
         for blk in range(blocks):
             for j in range(VECTOR):

@@ -337,8 +337,10 @@ GENERAL_ROWS = (
         Slot(f"k_sum_{s.name}", f"{s.unit}/s", "the general pass: k1 + 2 k2 + 2 k3 + k4 so far")
         for s in STATE_LAYOUT.slots
     ),
+    Slot("steer_rad", "rad", "the steering angle the next two rows are of"),
     Slot("steer_cos", "-", "cos of the stage's steering angle (1 at 0)"),
     Slot("steer_sin", "-", "sin of the stage's steering angle (0 at 0)"),
+    Slot("heading_rad", "rad", "the heading the next two rows are of"),
     Slot("heading_cos", "-", "cos of the stage's heading (1 at 0)"),
     Slot("heading_sin", "-", "sin of the stage's heading (0 at 0)"),
     *_per_wheel("sx", "-", "the stage's longitudinal slip (u - w R)/|V|, unclipped"),
@@ -348,6 +350,13 @@ GENERAL_ROWS = (
     Slot("newton_ax_m_s2", "m/s^2", "the load solve's iterate"),
     Slot("newton_ay_m_s2", "m/s^2"),
     Slot("newton_done", "-", "1: the lane's load solve has returned"),
+    Slot("newton_r_ax_m_s2", "m/s^2", "the residual at the iterate (sum Fx / m - ax)"),
+    Slot("newton_r_ay_m_s2", "m/s^2"),
+    *_per_wheel("slip_lateral", "-", "the tire at the iterate (`combined_slip`): sy"),
+    *_per_wheel("slip_norm", "-", "|s|"),
+    *_per_wheel("friction", "-", "mu(min(|s|, 1))"),
+    *_per_wheel("slip_cos", "-", "sx / |s|"),
+    *_per_wheel("no_force", "-", "1: no force (Fz <= 0 or s = 0)"),
     Slot("load_ax_m_s2", "m/s^2", "the load solve's result"),
     Slot("load_ay_m_s2", "m/s^2"),
     Slot("load_iteration", "-", "its Newton iterations"),
@@ -455,10 +464,19 @@ R_GMA = LANE_LAYOUT["gma_rate"]
 R_GENERAL = LANE_LAYOUT["general"]
 R_KPREV = LANE_LAYOUT["k_prev_vx"]
 R_KSUM = LANE_LAYOUT["k_sum_vx"]
+R_STEER = LANE_LAYOUT["steer_rad"]
 R_STEER_COS = LANE_LAYOUT["steer_cos"]
 R_STEER_SIN = LANE_LAYOUT["steer_sin"]
+R_HEAD = LANE_LAYOUT["heading_rad"]
 R_HEAD_COS = LANE_LAYOUT["heading_cos"]
 R_HEAD_SIN = LANE_LAYOUT["heading_sin"]
+if (R_STEER_COS, R_STEER_SIN, R_HEAD_COS, R_HEAD_SIN) != (
+    R_STEER + 1,
+    R_STEER + 2,
+    R_HEAD + 1,
+    R_HEAD + 2,
+):  # pragma: no cover
+    raise RuntimeError("an angle's cos and sin rows must follow its own (`put_angle`)")
 R_SX = LANE_LAYOUT["sx_fl"]
 R_VR = LANE_LAYOUT["vr_fl"]
 R_WCOS = LANE_LAYOUT["wheel_cos_fl"]
@@ -466,6 +484,13 @@ R_WSIN = LANE_LAYOUT["wheel_sin_fl"]
 R_NAX = LANE_LAYOUT["newton_ax_m_s2"]
 R_NAY = LANE_LAYOUT["newton_ay_m_s2"]
 R_NDONE = LANE_LAYOUT["newton_done"]
+R_NR1 = LANE_LAYOUT["newton_r_ax_m_s2"]
+R_NR2 = LANE_LAYOUT["newton_r_ay_m_s2"]
+R_SY = LANE_LAYOUT["slip_lateral_fl"]
+R_SN = LANE_LAYOUT["slip_norm_fl"]
+R_MU = LANE_LAYOUT["friction_fl"]
+R_CX = LANE_LAYOUT["slip_cos_fl"]
+R_NOF = LANE_LAYOUT["no_force_fl"]
 R_LAX = LANE_LAYOUT["load_ax_m_s2"]
 R_LAY = LANE_LAYOUT["load_ay_m_s2"]
 R_LIT = LANE_LAYOUT["load_iteration"]

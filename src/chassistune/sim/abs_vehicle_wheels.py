@@ -169,26 +169,32 @@ def force_per_load(sx, s):
 
 
 @inlined
-def combined_force(sx, vr, fz, s):
-    """(Fx, Fy, dFx/dFz, dFy/dFz) of a wheel in its own frame on surface s (design.md 3.3):
-    `plants.abs_vehicle.tire_force` bit for bit, branch-free (0 where fz <= 0 or s = 0)."""
+def combined_slip(sx, vr, fz, s):
+    """The combined slip of a wheel with load fz on surface s (design.md 3.3), as
+    `plants.abs_vehicle.tire_force` computes it: (sy, |s|, mu(min(|s|, 1)), the slip's direction
+    (sx, sy) / |s|, and whether the wheel has no force: fz <= 0 or s = 0). Branch-free."""
     sy = vr * s[5] / fz
     sn = math.sqrt(sx * sx + sy * sy)
-    sc = fmin(sn, 1.0)
-    mu = bilinear(sc, s)
-    dmu = select(sc <= s[0], s[1], select(sn < 1.0, -s[3], 0.0))
+    mu = bilinear(fmin(sn, 1.0), s)
+    return sy, sn, mu, sx / sn, sy / sn, (fz <= 0.0) | (sn == 0.0)
+
+
+@inlined
+def combined_force(fz, mu, cx, cy, none):
+    """(Fx, Fy) of a wheel in its own frame from its `combined_slip` (load fz, friction mu,
+    slip direction (cx, cy)): `plants.abs_vehicle.tire_force` bit for bit, 0 where `none`."""
     f = fz * mu
-    cx = sx / sn
-    cy = sy / sn
+    return select(none, 0.0, -f * cx), select(none, 0.0, -f * cy)
+
+
+@inlined
+def combined_force_derivative(sx, sy, sn, mu, cx, none, s):
+    """(dFx/dFz, dFy/dFz) of a wheel in its own frame on surface s from its `combined_slip`:
+    `plants.abs_vehicle.tire_force` bit for bit, 0 where `none`."""
+    dmu = select(fmin(sn, 1.0) <= s[0], s[1], select(sn < 1.0, -s[3], 0.0))
     # F = -Fz phi(s) (sx, sy) with phi = mu/s and sy ~ 1/Fz: differentiate in Fz
     t = (dmu * sn - mu) / (sn * sn) * sy * sy / sn
-    none = (fz <= 0.0) | (sn == 0.0)
-    return (
-        select(none, 0.0, -f * cx),
-        select(none, 0.0, -f * cy),
-        select(none, 0.0, -mu * cx + t * sx),
-        select(none, 0.0, t * sy),
-    )
+    return select(none, 0.0, -mu * cx + t * sx), select(none, 0.0, t * sy)
 
 
 @inlined
