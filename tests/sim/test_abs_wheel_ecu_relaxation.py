@@ -161,3 +161,28 @@ def test_plant_rows_mixing_zero_and_positive_lengths_are_refused() -> None:
             np.zeros((2, 3)), rows, sc.ecu.vector, *sc._kernel_args[1:5], sc.ecu.table,
             sc.ecu.grid, sc.ecu.noise, np.zeros((0, 1)), np.zeros((2, 1)),
         )  # fmt: skip
+
+
+def test_in_its_ideal_limit_the_ecu_feels_the_lag_as_the_ideal_kernel() -> None:
+    """On a car's wheel (ford-escort, 1.7 kg m^2, dt 0.25 ms, dry concrete, registry PID) with the
+    ECU at its ideal limit (a sample every step, no delay, the true wheel speed and reference,
+    the continuous valve, no schedule), the lag of 0.3 m lengthens the stop as it does in the
+    ideal kernel: by 0.121 of the bound against 0.123 (measured; the two PIDs differ in their
+    discrete form, 1.207 / 1.086 against 1.198 / 1.075). With the default ECU the same lag costs
+    1.2 bounds (2.43 against 1.21): the sampled loop's own physics, not the lag's model."""
+    limit = {
+        "ecu": "realistic", "sensor": "ideal", "valves": "continuous", "vref": "true",
+        "ecu_delay_samples": 0, "ecu_ts_s": 0.00025, "valve_dead_time_s": 0.0,
+        "valve_min_on_s": 0.0, "gain_schedule": "off",
+    }  # fmt: skip
+
+    def ratio(params: dict[str, Any]) -> float:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            sc = PLANT.scenario("ford-escort", "dry-concrete", "pid", params)
+        return float(sc.metrics(sc.gains_array(None)[None, :])["distance_ratio"][0])
+
+    ecu = ratio({**limit, "relaxation_length_m": 0.3}) - ratio(limit)
+    ideal = ratio({"relaxation_length_m": 0.3}) - ratio({})
+    assert ideal > 0.1
+    assert abs(ecu - ideal) < 0.01

@@ -25,13 +25,14 @@ described in docs/ecu.md) and refines between the best cap that does not lock an
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
 from chassistune.errors import InputError
-from chassistune.params import to_float
+from chassistune.params import ImplausibleValue, to_float
 from chassistune.scenarios.base import Scenario, Trace
 from chassistune.scenarios.registry import get_plant
 
@@ -124,7 +125,8 @@ def _constant_pressure_run(
     cap: float,
     lock_ratio: float,
 ) -> tuple[float, bool]:
-    """(t from 40 to 20 km/h, locked above 20 km/h) for one constant pressure cap."""
+    """(t from 40 to 20 km/h, locked above 20 km/h) for one constant pressure cap (a cap of the
+    search, not the user's: below the plausible range of q_max without a warning)."""
     run_params = {
         **params,
         **_NO_HOPELESS,
@@ -132,7 +134,9 @@ def _constant_pressure_run(
         "v_stop_m_s": K_LO_M_S - _END_MARGIN_M_S,
         "q_max": cap,
     }
-    _, tr = _trace(preset, road, "none", run_params)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ImplausibleValue)
+        _, tr = _trace(preset, road, "none", run_params)
     locked = _locked_above(tr.signals, K_LO_M_S, lock_ratio)
     return window_time_s(
         tr.signals["time_s"], tr.signals["vehicle_speed_m_s"], K_HI_M_S, K_LO_M_S
