@@ -17,19 +17,19 @@ from typing import Any
 from numba.core import event
 
 COMPILE_CPU_S = {
-    "abs_vehicle_kernel": 41,
-    "abs_wheel_kernel": 33,
-    "abs_wheel_ecu_kernel": 30,
-    "quarter_car_kernel": 11,
-    "lyapunov": 6,
-    "discrete": 2,
+    "abs_vehicle_kernel": 29,
+    "abs_wheel_kernel": 26,
+    "abs_wheel_ecu_kernel": 24,
+    "quarter_car_kernel": 8,
+    "lyapunov": 4,
+    "discrete": 1,
 }
 """CPU seconds numba takes to compile a kernel of each module (the single wheel's one entry
 point, with every tire law and integration method; the realistic ECU kernel, whose step loop
 is compiled once per tire law; the vehicle's lane loop with its straight and general passes and
 its law ticks; the C export's replay of the discrete laws, which loads the ECU's law dispatch),
 measured with `time.process_time` around each compilation on a fresh cache (`chassistune
-warmup`, 2026-11-28, AMD EPYC, 2 cores, nothing else running): about the wall time on an idle
+warmup` of a fresh clone, 2026-11-28 16:10, 2 cores, nothing else running): about the wall time on an idle
 core, several times that while other work shares it."""
 
 OTHER_CPU_S = 3
