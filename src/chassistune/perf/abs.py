@@ -132,9 +132,12 @@ def accuracy_figures(box: bool) -> dict[str, float]:
     }
 
 
-def _controller_speed(controller: str, repeats: int) -> tuple[float, float]:
-    """(wall, cpu) sims/s of 50 gain rows uniform in the controller's bounds (dry concrete)."""
-    sc = PLANT.scenario("paper-derlsp-ao", "dry-concrete", controller)
+def _controller_speed(
+    controller: str, repeats: int, params: dict[str, object] | None = None
+) -> tuple[float, float]:
+    """(wall, cpu) sims/s of 50 gain rows uniform in the controller's bounds (dry concrete),
+    with the controller's parameters `params`."""
+    sc = PLANT.scenario("paper-derlsp-ao", "dry-concrete", controller, params or {})
     gains = box_population(sc, 50, 12345)
     sc.raw(gains[:2], workers=1)
     wall = best_time(lambda: sc.raw(gains, workers=1), repeats)
@@ -209,6 +212,7 @@ def figures(quick: bool = False) -> dict[str, float]:
     fuzzy_wall, fuzzy_cpu = _controller_speed("fuzzy-pid", repeats)
     immune_wall, immune_cpu = _controller_speed("fuzzy-immune-pid", repeats)
     mpc_wall, mpc_cpu = _controller_speed("mpc", repeats)
+    mpc3_wall, mpc3_cpu = _controller_speed("mpc", repeats, {"horizon": 3})
     return {
         "abs_sims_per_s": sims_per_s,
         "abs_sims_per_s_cpu": cpu,
@@ -223,4 +227,6 @@ def figures(quick: bool = False) -> dict[str, float]:
         "abs_immune_sims_per_s_cpu": immune_cpu,
         "abs_mpc_sims_per_s": mpc_wall,
         "abs_mpc_sims_per_s_cpu": mpc_cpu,
+        "abs_mpc_horizon3_sims_per_s": mpc3_wall,
+        "abs_mpc_horizon3_sims_per_s_cpu": mpc3_cpu,
     }
