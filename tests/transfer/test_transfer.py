@@ -84,13 +84,23 @@ def test_tiny_transfer_scores_every_cell(tiny: Path) -> None:
         else:
             assert len(rows) == 1
     page = (tiny / PAGE).read_text()
-    assert "not available: tire" in page and (tiny / figure_name(source)).stat().st_size > 0
+    refusals = [r for r in map(missing, every) if r is not None]
+    assert all(f"not available: {r}" in page for r in refusals)
+    assert ("not available" in page) == bool(refusals)
+    assert (tiny / figure_name(source)).stat().st_size > 0
 
 
 def _distances_respect_their_bounds(scores: pd.DataFrame) -> None:
     ran = scores[~scores.status.str.startswith(NOT_AVAILABLE)]
     stopped = ran[ran.status == "stopped"]
-    assert len(stopped) > 0.8 * len(ran)
+    # in the papers' ideal ECU nearly every run stops (all of them in the quick run); with the
+    # realistic ECU fewer (the fuzzy immune PID's paper gains never on asphalt-0.8: measured 79 %
+    # at this budget, 87-96 % in the quick run), and with the lag as well fewer still (41 % in the
+    # quick run: the sampled loop's, tests/sim/test_abs_wheel_ecu_relaxation), not asserted
+    ideal = ran[ran.ecu == "ideal"]
+    unlagged = ran[(ran.ecu == "realistic") & ~ran.tire.str.contains("lag")]
+    assert (ideal.status == "stopped").mean() > 0.9
+    assert (unlagged.status == "stopped").mean() > 0.7
     assert (stopped.distance_ratio >= 1.0).all(), stopped[stopped.distance_ratio < 1.0]
     assert ran[ran.status != "stopped"].distance_ratio.isna().all()
     eps = ran[ran.plant == "abs-wheel"].r13h_epsilon.dropna()

@@ -50,9 +50,11 @@ _COMMAND_FLAGS = {
     "export": {"plant": "--plant"},
     "simulate": {"tire": "--tire"},
     "tune": {"tire": "--tire"},
+    "transfer": {"reproduction": "--from", "sources": "--source"},
 }
 """Where a command spells a head otherwise (export takes the plant as an option; simulate and
-tune take a TIR file as --tire, the command `tire` as its argument)."""
+tune take a TIR file as --tire, the command `tire` as its argument; transfer reads a
+reproduction's output from --from and its sources from --source)."""
 
 
 def cli_field(field: str, command: str | None = None) -> str:

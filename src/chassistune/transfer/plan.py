@@ -38,13 +38,13 @@ class Setting:
 
 def source_folder(from_dir: str | Path, study: str) -> Path:
     """The reproduction's store of `study` under DIR/studies: the full one where it exists, else
-    the quick one (InputError naming `--from` when neither does)."""
+    the quick one (InputError naming the field `reproduction` when neither does)."""
     for name in (study, f"{study}-quick"):
         folder = Path(from_dir) / "studies" / name
         if (folder / "study.sqlite").is_file():
             return folder
     raise InputError(
-        "--from",
+        "reproduction",
         f"{from_dir} holds no study {study} under studies/ (make one: chassistune reproduce "
         f"{study} --quick --out {from_dir})",
     )
@@ -76,19 +76,19 @@ def tunings(folder: Path, source: Source, group: str) -> Tunings:
 
 
 def source_folders(from_dir: str | Path, setting: Setting) -> list[Path]:
-    """The reproduction's store of each source study (InputError naming `--from` for one
+    """The reproduction's store of each source study (InputError naming `reproduction` for one
     missing), before any work."""
     return [source_folder(from_dir, s) for s in dict.fromkeys(s.study for s in setting.sources)]
 
 
 def source_tunings(from_dir: str | Path, source: Source) -> Tunings:
     """The paper's tunings of the source, from the reproduction's store (InputError naming
-    `--from` where a road set has no finished run)."""
+    `reproduction` where a road set has no finished run)."""
     folder = source_folder(from_dir, source.study)
     out = tunings(folder, source, source.cell)
     if len(out) < len(source.road_sets):
         raise InputError(
-            "--from",
+            "reproduction",
             f"{folder} has no finished {source.optimizer} run of every road of {source.cell}",
         )
     return out
@@ -143,13 +143,13 @@ def retune_config(setting: Setting, study: str) -> StudyConfig:
     )
 
 
-OPTIONS = {"budget.pop_size": "--pop", "budget.evaluations": "--evals"}
-"""The command's option behind a budget field that its overrides set."""
+OPTIONS = {"budget.pop_size": "pop_size", "budget.evaluations": "max_evals"}
+"""The override behind a budget field (the command's `--pop` and `--evals`)."""
 
 
 def plans(setting: Setting) -> dict[str, StudyPlan]:
     """The re-tuning study plan of each source study with a cell to re-tune, by study
-    (InputError naming `--pop` or `--evals` for an override the optimizer refuses)."""
+    (InputError naming `pop_size` or `max_evals` for an override the optimizer refuses)."""
     studies = dict.fromkeys(s.study for s in setting.sources)
     out = {}
     for study in studies:
@@ -177,11 +177,11 @@ def retuned(
 
 
 def check_sources(names: Sequence[str]) -> tuple[Source, ...]:
-    """The sources named `study:cell` (all when none), InputError naming `--source` else."""
+    """The sources named `study:cell` (all when none), InputError naming `sources` else."""
     if not names:
         return SOURCES
     by_key = {s.key: s for s in SOURCES}
     for n in names:
         if n not in by_key:
-            raise InputError("--source", f"unknown source {n!r} (known: {', '.join(by_key)})")
+            raise InputError("sources", f"unknown source {n!r} (known: {', '.join(by_key)})")
     return tuple(by_key[n] for n in dict.fromkeys(names))
