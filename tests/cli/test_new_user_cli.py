@@ -96,6 +96,25 @@ def test_mu_lock_above_mu_peak_is_bad_input(cli):
     )
 
 
+def test_a_warning_is_shown_once_per_command(capsys):
+    """The same warning raised again (a file read for every case of a study) is one stderr line;
+    the next command shows it again."""
+    import warnings
+
+    from chassistune.cli.main import _warning_printer
+
+    for _ in range(2):
+        show = _warning_printer()
+        for _ in range(3):
+            show(UserWarning("tire.tir: 17 coefficients absent"), UserWarning, "x.py", 1)
+        show(UserWarning("another"), UserWarning, "x.py", 2)
+        assert capsys.readouterr().err.splitlines() == [
+            "chassistune: warning: tire.tir: 17 coefficients absent",
+            "chassistune: warning: another",
+        ]
+    assert warnings.showwarning is not show
+
+
 @pytest.mark.parametrize(
     "assignment", ["mass_kg=1e30", "wheel_radius_m=500", "v0_m_s=108", "wheel_inertia_kg_m2=400"]
 )

@@ -11,6 +11,7 @@ from __future__ import annotations
 import functools
 import sys
 import warnings
+from collections.abc import Callable
 from typing import Any
 
 import click
@@ -96,24 +97,34 @@ def _one_line(text: str) -> str:
     return " ".join(str(text).split())
 
 
-def _show_warning(
-    message: Warning | str,
-    category: type[Warning],
-    filename: str,
-    lineno: int,
-    file: object = None,
-    line: str | None = None,
-) -> None:
-    """A warning as one stderr line; a parameter's field named as on the command line."""
-    from chassistune.cli.common import cli_field
-    from chassistune.params import ImplausibleValue
+def _warning_printer() -> Callable[..., None]:
+    """`warnings.showwarning` for one command: a warning as one stderr line, a parameter's field
+    named as on the command line, and a line already shown not again (a TIR file read for every
+    case of a study would repeat its warning once per case)."""
+    shown: set[str] = set()
 
-    text = (
-        f"{cli_field(message.field)}: {message.problem}"
-        if isinstance(message, ImplausibleValue)
-        else str(message)
-    )
-    click.echo(f"chassistune: warning: {_one_line(text)}", err=True)
+    def show(
+        message: Warning | str,
+        category: type[Warning],
+        filename: str,
+        lineno: int,
+        file: object = None,
+        line: str | None = None,
+    ) -> None:
+        from chassistune.cli.common import cli_field
+        from chassistune.params import ImplausibleValue
+
+        text = (
+            f"{cli_field(message.field)}: {message.problem}"
+            if isinstance(message, ImplausibleValue)
+            else str(message)
+        )
+        out = f"chassistune: warning: {_one_line(text)}"
+        if out not in shown:
+            shown.add(out)
+            click.echo(out, err=True)
+
+    return show
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -123,7 +134,7 @@ def main(argv: list[str] | None = None) -> None:
 
         install()
     args = sys.argv[1:] if argv is None else argv
-    warnings.showwarning = _show_warning
+    warnings.showwarning = _warning_printer()
     if not args:  # no command: the usual help, as `--help` prints it
         args = ["--help"]
     try:
