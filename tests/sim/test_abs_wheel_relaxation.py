@@ -310,29 +310,23 @@ def test_plant_rows_mixing_zero_and_positive_lengths_are_refused() -> None:
 MF61 = str(Path(__file__).parents[1] / "plants" / "data" / "MagicFormula61_Parameters.tir")
 
 
-def test_the_tir_files_length_at_the_wheels_load() -> None:
+@pytest.mark.parametrize("path", [MF61, CHRONO], ids=["mf61-carcass-stiffness", "mf52-ptx"])
+def test_the_tir_files_length_at_the_wheels_load(path: str) -> None:
+    """`relaxation_length_m=tire` takes the file's length at the wheel's load: MF 6.1's from its
+    carcass stiffness (MFeval's sample), MF 5.2's from PTX1-3 (Chrono's PAC2002 file, which has
+    no LONGITUDINAL_STIFFNESS); echoed as a number, which replays the run bit for bit."""
     sc = _scenario(
-        "paper-derlsp-ao", TIRE_SURFACE, "pid", {"tire": MF61, "relaxation_length_m": "tire"}
+        "paper-derlsp-ao", TIRE_SURFACE, "pid", {"tire": path, "relaxation_length_m": "tire"}
     )
     assert isinstance(sc.tire, MagicFormulaCurve)
     sigma = longitudinal_relaxation_length_m(sc.tire.tire.kernel_array(), sc.tire.fz_n)
     assert sc.plant_params.relaxation_length_m == sigma > 0.0
     assert sc.params()["relaxation_length_m"] == sigma  # echoed as a number: replayable
     given = _scenario(
-        "paper-derlsp-ao", TIRE_SURFACE, "pid", {"tire": MF61, "relaxation_length_m": sigma}
+        "paper-derlsp-ao", TIRE_SURFACE, "pid", {"tire": path, "relaxation_length_m": sigma}
     )
     g = _population(sc, 3, 1)
     assert sc.raw(g, workers=1).tobytes() == given.raw(g, workers=1).tobytes()
-
-
-def test_an_mf52_files_length_from_its_ptx_coefficients() -> None:
-    """Chrono's PAC2002 file gives no LONGITUDINAL_STIFFNESS but PTX1-3: MF 5.2's length."""
-    sc = _scenario(
-        "paper-derlsp-ao", TIRE_SURFACE, "pid", {"tire": CHRONO, "relaxation_length_m": "tire"}
-    )
-    assert isinstance(sc.tire, MagicFormulaCurve)
-    sigma = longitudinal_relaxation_length_m(sc.tire.tire.kernel_array(), sc.tire.fz_n)
-    assert sc.plant_params.relaxation_length_m == sigma > 0.0
 
 
 def test_a_tir_file_without_the_length_or_no_tir_file_is_refused() -> None:
