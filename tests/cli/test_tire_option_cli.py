@@ -60,7 +60,7 @@ def test_a_bad_file_is_one_line_naming_its_line(cli, tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     "args",
     [
-        ("simulate", "abs-vehicle"),
+        ("simulate", "quarter-car"),
         ("tune", "abs-wheel", "--optimizer", "de", "--vary", "mass_kg=300:400"),
     ],
 )

@@ -47,9 +47,9 @@ ecu_option = click.option(
 tire_option = click.option(
     "--tire",
     metavar="FILE.tir",
-    help="abs-wheel, ideal ECU: the Magic Formula tire of a tyre property file (docs/tires.md) "
-    "at the wheel's load; without --road on the file's own surface (road tire-surface), with "
-    "--road its friction scaled to the road's peak through LMUX and LMUY.",
+    help="abs-wheel and abs-vehicle: the Magic Formula tire of a tyre property file "
+    "(docs/tires.md) at the wheel's load; without --road on the file's own surface (road "
+    "tire-surface), with --road its friction scaled to the road's peak through LMUX and LMUY.",
 )
 executor_options = stacked(
     click.option(
@@ -70,16 +70,12 @@ executor_options = stacked(
 
 
 def with_tire(plant: str, tire: str | None, values: MutableMapping[str, Any]) -> None:
-    """`--tire FILE.tir` into the run's parameters (`tire`): abs-wheel only (the plants that do
-    not take it refuse it, naming --tire)."""
+    """`--tire FILE.tir` into the run's parameters (`tire`): the ABS plants (the others refuse
+    it, naming --tire)."""
     if tire is None:
         return
-    if plant != "abs-wheel":
+    if plant not in ("abs-wheel", "abs-vehicle"):
         from chassistune.errors import InputError
 
-        raise InputError(
-            "--tire",
-            f"the Magic Formula tire runs on the single wheel (abs-wheel) only "
-            f"so far, not on {plant}",
-        )
+        raise InputError("--tire", f"the Magic Formula tire runs on the ABS plants, not on {plant}")
     values["tire"] = tire

@@ -15,7 +15,8 @@ i.e. Fz_i = Fz0_i + A_i ax + B_i ay (lateral transfer split by the static axle l
 Tire (combined slip, in the slip-vector form of design.md 3.3 scaled by S_T), with |V| the wheel
 centre's speed floored at `min_speed_m_s`:
     sx = (u - w R)/|V|,   sy = (v/|V|) C S_T/(mu_h Fz),   s = |(sx, sy)|,
-    |F| = Fz mu(min(s, 1)),   (Fx, Fy) = -|F| (sx, sy)/s     (mu the bilinear curve of 3.2).
+    |F| = Fz mu(min(s, 1)),   (Fx, Fy) = -|F| (sx, sy)/s     (mu the bilinear curve of 3.2),
+or the Magic Formula under combined slip from a TIR file (`plants.vehicle_mf`).
 """
 
 from __future__ import annotations
@@ -27,14 +28,21 @@ import numba
 import numpy as np
 
 from chassistune.plants.abs_vehicle_params import VehicleParams
+from chassistune.plants.mf_arrays import forces_n
+from chassistune.plants.mf_coefficients import N_MF_COEFFICIENTS, MagicFormulaTire
+from chassistune.plants.mf_peak import braking_peak
+from chassistune.plants.vehicle_mf import wheel_forces_and_derivative
 
 WHEELS = ("fl", "fr", "rl", "rr")
 N_WHEELS = 4
 
 # surface rows (one per surface of a road): bilinear coefficients as `tires.tire_mu` reads them,
-# then the peak, the lock value and C S_T / mu_h (the lateral slip scale times Fz)
-SF_ST, SF_RISE, SF_FALL0, SF_FALL1, SF_MU_PEAK, SF_MU_LOCK, SF_LAT, SF_TARGET = range(8)
-N_SURFACE = 8
+# then the peak, the lock value and C S_T / mu_h (the lateral slip scale times Fz), the target
+# slip; then 1.0 for the Magic Formula tire (`plants.vehicle_mf`) and its coefficients
+# (`MagicFormulaTire.kernel_array`, the friction scaled to the surface), 0 for the bilinear one
+SF_ST, SF_RISE, SF_FALL0, SF_FALL1, SF_MU_PEAK, SF_MU_LOCK, SF_LAT, SF_TARGET, SF_MF = range(9)
+SF_COEF = 9
+N_SURFACE = SF_COEF + N_MF_COEFFICIENTS
 
 # work rows of one force evaluation (columns: the four wheels)
 WK_SX, WK_VR, WK_CS, WK_SN, WK_FZ, WK_FXW, WK_FXB, WK_FYB = range(8)
@@ -42,6 +50,9 @@ N_WORK = 8
 # geometry rows (columns: the four wheels): x_i, y_i, Fz0_i, A_i, B_i
 GEO_X, GEO_Y, GEO_FZ0, GEO_A, GEO_B = range(5)
 N_GEO = 5
+
+MF_SLIP_OPT_MAX = 0.999
+"""The target slip of a Magic Formula curve that peaks at a locked wheel (or beyond)."""
 
 RK4_REAL_LIMIT = 2.785
 """RK4's stability limit on the negative real axis (|lambda dt| below it)."""
@@ -89,6 +100,21 @@ def surface_row(
     return row
 
 
+def mf_surface_row(tire: MagicFormulaTire, fz_n: float, stiffness_n_rad: float) -> np.ndarray:
+    """One surface row of the Magic Formula tire `tire` (its friction already the surface's):
+    the bilinear columns from its braking curve at the load fz_n (the peak's slip and friction,
+    the locked wheel's friction; the target is the peak's slip), then SF_MF = 1 and the
+    coefficients. The bilinear columns serve the bounds' and step checks' figures only: the
+    kernel's forces are the Magic Formula's."""
+    kappa, force_n = braking_peak(tire, fz_n)
+    peak = -force_n / fz_n
+    lock = -float(forces_n(tire, -1.0, 0.0, fz_n)[0]) / fz_n
+    row = surface_row(min(-kappa, MF_SLIP_OPT_MAX), peak, min(lock, peak), stiffness_n_rad)
+    row[SF_MF] = 1.0
+    row[SF_COEF:] = tire.kernel_array()
+    return row
+
+
 @numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
 def bilinear_mu(s, surfs, k):
     """mu(s) of surface row k for s in [0, 1] (the longitudinal curve, as `tires.tire_mu`)."""
@@ -100,13 +126,17 @@ def bilinear_mu(s, surfs, k):
 
 
 @numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
-def tire_force(sx, vr, fz, surfs, k):
+def tire_force(sx, vr, fz, surfs, k, right=False):
     """Combined-slip force (Fx, Fy) of one wheel in its own frame and dF/dFz (design.md 3.3).
 
     sx = (u - w R)/|V|, vr = v/|V|; the surface is row k of `surfs` (indexed in place: a row
     view would cost reference counting in the kernel's inner loop). Returns
     (fx, fy, dfx_dfz, dfy_dfz). With vr = 0 the force is exactly fx = -mu(|sx|) Fz sign(sx), fy = 0.
+    A Magic Formula surface (SF_MF) gives `vehicle_mf.wheel_forces_and_derivative` instead, the
+    file's tyre mirrored on a `right` wheel.
     """
+    if surfs[k, SF_MF] != 0.0:
+        return wheel_forces_and_derivative(sx, vr, max(fz, 0.0), surfs[k, SF_COEF:], right)
     if fz <= 0.0:
         return 0.0, 0.0, 0.0, 0.0
     sy = vr * surfs[k, SF_LAT] / fz
@@ -151,9 +181,10 @@ def solve_loads(wk, surfs, sidx, col, geo, mass, ax0, ay0):
     longitudinal force wk[WK_FXW] and the body-frame forces wk[WK_FXB], wk[WK_FYB]; returns
     (ax, ay, iterations). Without lateral slip and steering the loop is linear:
     ax = -sum c_i Fz0_i / (m + sum c_i A_i) with Fx_i = -c_i Fz_i (iterations 0); otherwise
-    Newton's method on (ax, ay) from (ax0, ay0) (the previous evaluation's values).
+    Newton's method on (ax, ay) from (ax0, ay0) (the previous evaluation's values), always with
+    the Magic Formula tire (a road's surfaces are both of one tire).
     """
-    straight = True
+    straight = surfs[0, SF_MF] == 0.0  # the Magic Formula's force is not linear in the load
     for i in range(4):
         if wk[WK_VR, i] != 0.0 or wk[WK_SN, i] != 0.0:
             straight = False
@@ -193,7 +224,9 @@ def solve_loads(wk, surfs, sidx, col, geo, mass, ax0, ay0):
         for i in range(4):
             z = max(geo[GEO_FZ0, i] + geo[GEO_A, i] * ax + geo[GEO_B, i] * ay, 0.0)
             wk[WK_FZ, i] = z
-            fx, fy, dfx, dfy = tire_force(wk[WK_SX, i], wk[WK_VR, i], z, surfs, sidx[i, col])
+            fx, fy, dfx, dfy = tire_force(
+                wk[WK_SX, i], wk[WK_VR, i], z, surfs, sidx[i, col], i % 2 == 1
+            )
             cs = wk[WK_CS, i]
             sn = wk[WK_SN, i]
             bx = cs * fx - sn * fy
@@ -278,6 +311,12 @@ def mu_jump_bound(pp: VehicleParams, mu_first: float, mu_second: float, x_jump_m
         (pp.wheelbase_m, axle_limited_deceleration(pp, mu_second, mu_first)),
         (math.inf, mu_second * g),
     )
+    return phased_bound(pp, segments)
+
+
+def phased_bound(pp: VehicleParams, segments: tuple[tuple[float, float], ...]) -> Bound:
+    """Integrate v dv/dx = -a over consecutive segments (length in m, the largest deceleration a
+    in m/s^2 on it), from v0 down to v_stop."""
     half_v2 = 0.5 * pp.v0_m_s**2
     end = 0.5 * pp.v_stop_m_s**2
     dist = 0.0

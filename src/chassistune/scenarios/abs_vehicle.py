@@ -26,7 +26,6 @@ from chassistune.plants.abs_vehicle import (
     geometry,
     mu_jump_bound,
     split_mu_bound,
-    surface_row,
     uniform_bound,
     wheel_mode_rate,
 )
@@ -38,6 +37,7 @@ from chassistune.plants.abs_vehicle_params import (
     VehicleParams,
     steering_on,
 )
+from chassistune.plants.mf_curve import TIRE_SURFACE
 from chassistune.plants.presets import Preset
 from chassistune.plants.vehicle_roads import (
     ROAD_MU_JUMP,
@@ -47,6 +47,7 @@ from chassistune.plants.vehicle_roads import (
     VehicleRoad,
     make_road,
 )
+from chassistune.scenarios import vehicle_tire
 from chassistune.scenarios.abs_wheel import _no_surface, fuzzy_table
 from chassistune.scenarios.base import PENALTY, Plant, Scenario, Trace, json_scalar, pick_preset
 from chassistune.scenarios.controller_params import kernel_gains, resolve_controller_params
@@ -57,6 +58,7 @@ from chassistune.scenarios.road_knowledge import (
     controller_spec,
     road_knowledge,
 )
+from chassistune.scenarios.vehicle_tire import VehicleTire
 from chassistune.sim import abs_vehicle_kernel as K
 from chassistune.sim import abs_vehicle_layout as VL
 from chassistune.sim.batch import run_chunked
@@ -88,8 +90,11 @@ PER_BOUND = frozenset({"distance_ratio"})
 friction compare on one scale, as on the single wheel."""
 
 
-def road_bound(pp: VehicleParams, road: VehicleRoad) -> Bound:
-    """The exact bound of design.md 3.3 for this road."""
+def road_bound(pp: VehicleParams, road: VehicleRoad, tire: VehicleTire | None = None) -> Bound:
+    """The exact bound of design.md 3.3 for this road, or the Magic Formula tire's on it
+    (`vehicle_tire.bound`)."""
+    if tire is not None:
+        return vehicle_tire.bound(pp, road, tire)
     a, b = (t.mu_peak for t in road.surfaces)
     if road.kind == ROAD_MU_JUMP:
         return mu_jump_bound(pp, a, b, road.x_jump_m)
@@ -114,12 +119,16 @@ def _passing_step(pp: VehicleParams, lam_1_s: float) -> tuple[float, int]:
     return float(f"{pp.dt_s / k:.6g}"), k
 
 
-def check_step(pp: VehicleParams, road: VehicleRoad) -> None:
+def check_step(pp: VehicleParams, road: VehicleRoad, tire: VehicleTire | None = None) -> None:
     """Refuse a (dt_s, v_stop_m_s) pair past RK4's stability limit of the wheel mode, naming a
     step that passes (`_passing_step`), the largest one and the least v_stop_m_s at this step
-    (both rounded to three digits on the passing side)."""
-    rise = max(t.mu_peak / t.slip_opt for t in road.surfaces)
+    (both rounded to three digits on the passing side). The Magic Formula tire's slope is its
+    curve's at zero slip (`vehicle_tire.slope_at_zero_slip`)."""
     mu = max(t.mu_peak for t in road.surfaces)
+    if tire is None:
+        rise = max(t.mu_peak / t.slip_opt for t in road.surfaces)
+    else:
+        rise = vehicle_tire.slope_at_zero_slip(pp, tire, mu)
     lam = wheel_mode_rate(pp, rise, mu)
     if lam * pp.dt_s > RK4_REAL_LIMIT:
         dt_pass, k = _passing_step(pp, lam)
@@ -136,7 +145,11 @@ def check_step(pp: VehicleParams, road: VehicleRoad) -> None:
 
 
 def _check_consistency(
-    pp: VehicleParams, road: VehicleRoad, steering: SteeringParams, scoring: VehicleScoring
+    pp: VehicleParams,
+    road: VehicleRoad,
+    steering: SteeringParams,
+    scoring: VehicleScoring,
+    tire: VehicleTire | None,
 ) -> None:
     """Refuse parameter combinations the model does not describe (one InputError naming the
     field)."""
@@ -165,7 +178,7 @@ def _check_consistency(
         raise InputError("params.t_max_s", f"must be at least 10 steps, got {pp.t_max_s:g}")
     if pp.t_max_s / pp.dt_s > 5e7:
         raise InputError("params.dt_s", "too many steps (t_max_s / dt_s above 5e7)")
-    check_step(pp, road)
+    check_step(pp, road, tire)
 
 
 def locked_slip_shown(signals: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
@@ -200,6 +213,7 @@ class AbsVehicleScenario(Scenario):
         scoring: VehicleScoring,
         seed: int,
         knowledge: str = "oracle",
+        tire: VehicleTire | None = None,
     ) -> None:
         super().__init__(PLANT_NAME, preset, road.name, controller, seed)
         self.road_knowledge = knowledge
@@ -210,7 +224,9 @@ class AbsVehicleScenario(Scenario):
         self.steering = steering
         self.controller_params = controller_params
         self.scoring = scoring
-        bound = road_bound(plant_params, road)
+        self.tire = tire
+        """The Magic Formula tire of a TIR file on the road's surfaces, or None (bilinear)."""
+        bound = road_bound(plant_params, road, tire)
         self.bound_distance_m = bound.distance_m
         self.bound_time_s = bound.time_s
         self.target_slips = tuple(t.slip_opt for t in road.surfaces)
@@ -259,12 +275,7 @@ class AbsVehicleScenario(Scenario):
         }
         p = VL.PLANT_LAYOUT.pack(values)
         geo = geometry(pp)
-        surfs = np.stack(
-            [
-                surface_row(t.slip_opt, t.mu_peak, t.mu_lock, pp.cornering_stiffness_n_rad)
-                for t in road.surfaces
-            ]
-        )
+        surfs = vehicle_tire.surface_rows(road, self.tire, pp.cornering_stiffness_n_rad)
         c = VL.CONTROLLER_LAYOUT.pack(
             {n: cp.get(n, 0.0) for n in VL.CONTROLLER_LAYOUT.names}
             | {"ts_s": cp.get("ts_s", pp.dt_s)}
@@ -291,6 +302,8 @@ class AbsVehicleScenario(Scenario):
         out: dict[str, Any] = as_dict(self.plant_params)
         out.update(as_dict(self.steering))
         out.update(self.road_params)
+        if self.tire is not None:
+            out["tire"] = self.tire.path
         if self.road_knowledge == "oracle":
             out["target_slips"] = list(self.target_slips)
         out[FIELD] = self.road_knowledge
@@ -408,7 +421,13 @@ class AbsVehiclePlant(Plant):
             raise InputError(
                 "params.steering", f"must be auto, fixed or driver, got {steering.steering!r}"
             )
-        road_spec, used_road, road_params = make_road(road_name, values)
+        own_surface = road_name == TIRE_SURFACE
+        road_spec, used_road, road_params = (
+            (None, set(), {}) if own_surface else make_road(road_name, values)
+        )
+        plant_params = validate(plant_params, "params.")
+        road_spec, tire = vehicle_tire.on_surfaces(road_name, road_spec, values, plant_params)
+        used |= {"tire"} if tire is not None else set()
         split_mu = road_spec.kind == ROAD_SPLIT
         steering = dataclasses.replace(steering, steering=steering_on(steering.steering, split_mu))
         scoring, used_scoring = override(VehicleScoring(), values)
@@ -428,8 +447,7 @@ class AbsVehiclePlant(Plant):
             spec = vehicle_specs.per_axle(spec)
         spec = GMA.controller_spec(spec, gma == "on")
         spec = controller_spec(spec, knowledge)  # one fixed target for all four wheels
-        plant_params = validate(plant_params, "params.")
-        _check_consistency(plant_params, road_spec, steering, scoring)
+        _check_consistency(plant_params, road_spec, steering, scoring, tire)
         scenario = AbsVehicleScenario(
             preset,
             road_spec,
@@ -441,6 +459,7 @@ class AbsVehiclePlant(Plant):
             scoring,
             seed,
             knowledge,
+            tire,
         )
         for warning in implausible(plant_params) + implausible(steering) + implausible(scoring):
             warnings.warn(warning, stacklevel=3)  # valid input only

@@ -24,6 +24,8 @@ from chassistune.sim.abs_vehicle_lane import (
     lane_get,
     lane_put,
     laws_surfaces,
+    magic_formula,
+    magic_formula_forces,
     put_state,
     state_of,
 )
@@ -61,6 +63,8 @@ from chassistune.sim.abs_vehicle_layout import (
     R_LAX,
     R_LAY,
     R_LIT,
+    R_MF_DFX,
+    R_MF_DFY,
     R_MU,
     R_NAX,
     R_NAY,
@@ -74,6 +78,7 @@ from chassistune.sim.abs_vehicle_layout import (
     R_STEER_COS,
     R_STEER_SIN,
     R_STRAIGHT,
+    R_SURF,
     R_SX,
     R_SY,
     R_TGT,
@@ -260,35 +265,48 @@ def stage_closed(st, l, c, kc, srf):
 
 
 @numba.njit(**INDEXING)
-def wheel_load(st, l, ax, ay, j, s, kc):
+def wheel_load(st, l, ax, ay, j, s, kc, mf, srf):
     """Wheel j's load at (ax, ay) (held >= 0) and its forces (wheel-frame Fx, body-frame Fx,
-    Fy); the tire's slip there (`combined_slip`) into its rows, for `wheel_load_derivative`."""
+    Fy); the tire's slip there (`combined_slip`) into its rows, for `wheel_load_derivative`, or
+    with the Magic Formula tire (`mf`) its forces' load derivative
+    (`vehicle_mf.wheel_forces_and_derivative`, as `plants.abs_vehicle.tire_force`)."""
     z = fmax(kc[KC_FZ0 + j] + kc[KC_A + j] * ax + kc[KC_B + j] * ay, 0.0)
     sx = lane_get(st, R_SX + j, l)
-    sy, sn, mu, cx, cy, none = combined_slip(sx, lane_get(st, R_VR + j, l), z, s)
-    fx, fy = combined_force(z, mu, cx, cy, none)
-    st[(R_SY + j) * LANES + l] = sy
-    st[(R_SN + j) * LANES + l] = sn
-    st[(R_MU + j) * LANES + l] = mu
-    st[(R_CX + j) * LANES + l] = cx
-    st[(R_NOF + j) * LANES + l] = select(none, 1.0, 0.0)
+    vr = lane_get(st, R_VR + j, l)
+    if mf:
+        fx, fy, dfx, dfy = magic_formula_forces(srf, lane_get(st, R_SURF + j, l), j, sx, vr, z)
+        st[(R_MF_DFX + j) * LANES + l] = dfx
+        st[(R_MF_DFY + j) * LANES + l] = dfy
+    else:
+        sy, sn, mu, cx, cy, none = combined_slip(sx, vr, z, s)
+        fx, fy = combined_force(z, mu, cx, cy, none)
+        st[(R_SY + j) * LANES + l] = sy
+        st[(R_SN + j) * LANES + l] = sn
+        st[(R_MU + j) * LANES + l] = mu
+        st[(R_CX + j) * LANES + l] = cx
+        st[(R_NOF + j) * LANES + l] = select(none, 1.0, 0.0)
     cs = lane_get(st, R_WCOS + j, l)
     sn = lane_get(st, R_WSIN + j, l)
     return fx, cs * fx - sn * fy, sn * fx + cs * fy
 
 
 @numba.njit(**INDEXING)
-def wheel_load_derivative(st, l, j, s):
-    """Wheel j's body-frame (dFx/dFz, dFy/dFz) at the slip `wheel_load` left in its rows."""
-    dfx, dfy = combined_force_derivative(
-        lane_get(st, R_SX + j, l),
-        lane_get(st, R_SY + j, l),
-        lane_get(st, R_SN + j, l),
-        lane_get(st, R_MU + j, l),
-        lane_get(st, R_CX + j, l),
-        lane_get(st, R_NOF + j, l) != 0.0,
-        s,
-    )
+def wheel_load_derivative(st, l, j, s, mf):
+    """Wheel j's body-frame (dFx/dFz, dFy/dFz) at the slip `wheel_load` left in its rows (the
+    Magic Formula tire's: the derivatives it left there)."""
+    if mf:
+        dfx = lane_get(st, R_MF_DFX + j, l)
+        dfy = lane_get(st, R_MF_DFY + j, l)
+    else:
+        dfx, dfy = combined_force_derivative(
+            lane_get(st, R_SX + j, l),
+            lane_get(st, R_SY + j, l),
+            lane_get(st, R_SN + j, l),
+            lane_get(st, R_MU + j, l),
+            lane_get(st, R_CX + j, l),
+            lane_get(st, R_NOF + j, l) != 0.0,
+            s,
+        )
     cs = lane_get(st, R_WCOS + j, l)
     sn = lane_get(st, R_WSIN + j, l)
     return cs * dfx - sn * dfy, sn * dfx + cs * dfy
@@ -306,7 +324,7 @@ def wheel_sum(a0, a1, a2, a3):
 
 
 @inlined
-def load_residual(st, l, it, kc, srf):
+def load_residual(st, l, it, kc, srf, mf):
     """Iteration `it` of lane l's load solve by Newton's method on (ax, ay) (`solve_loads`,
     the same operations), where it has not returned: the forces at the iterate, then the
     return where the residual is within LOAD_TOL_M_S2 or at the last iteration. Returns
@@ -314,10 +332,10 @@ def load_residual(st, l, it, kc, srf):
     ax = lane_get(st, R_NAX, l)
     ay = lane_get(st, R_NAY, l)
     _, s = laws_surfaces(st, l, srf)
-    f0 = wheel_load(st, l, ax, ay, 0, s[0], kc)
-    f1 = wheel_load(st, l, ax, ay, 1, s[1], kc)
-    f2 = wheel_load(st, l, ax, ay, 2, s[2], kc)
-    f3 = wheel_load(st, l, ax, ay, 3, s[3], kc)
+    f0 = wheel_load(st, l, ax, ay, 0, s[0], kc, mf, srf)
+    f1 = wheel_load(st, l, ax, ay, 1, s[1], kc, mf, srf)
+    f2 = wheel_load(st, l, ax, ay, 2, s[2], kc, mf, srf)
+    f3 = wheel_load(st, l, ax, ay, 3, s[3], kc, mf, srf)
     sfx = wheel_sum(f0[1], f1[1], f2[1], f3[1])
     sfy = wheel_sum(f0[2], f1[2], f2[2], f3[2])
     mass = kc[KC_MASS]
@@ -343,15 +361,15 @@ def load_residual(st, l, it, kc, srf):
 
 
 @inlined
-def load_step(st, l, it, kc, srf):
+def load_step(st, l, it, kc, srf, mf):
     """The step of iteration `it` of lane l's load solve where it goes on (`solve_loads`, the
     same operations): Newton's, fixed-point after MAX_LOAD_ITERATIONS // 2 or at a singular
     Jacobian, from the residual and the tire's slip `load_residual` left in the rows."""
     _, s = laws_surfaces(st, l, srf)
-    d0 = wheel_load_derivative(st, l, 0, s[0])
-    d1 = wheel_load_derivative(st, l, 1, s[1])
-    d2 = wheel_load_derivative(st, l, 2, s[2])
-    d3 = wheel_load_derivative(st, l, 3, s[3])
+    d0 = wheel_load_derivative(st, l, 0, s[0], mf)
+    d1 = wheel_load_derivative(st, l, 1, s[1], mf)
+    d2 = wheel_load_derivative(st, l, 2, s[2], mf)
+    d3 = wheel_load_derivative(st, l, 3, s[3], mf)
     j11 = wheel_sum(
         d0[0] * kc[KC_A], d1[0] * kc[KC_A + 1], d2[0] * kc[KC_A + 2], d3[0] * kc[KC_A + 3]
     )
@@ -491,6 +509,7 @@ def general_steps(form, args):
     was). Returns 1 if a run ended."""
     numba.literally(form)
     st, width, kc, srf, ctrl, live = args
+    mf = magic_formula(srf)  # no closed-form loads: the force is not linear in the load
     blocks = width // VECTOR
     for blk in range(blocks):
         for j in range(VECTOR):
@@ -502,7 +521,7 @@ def general_steps(form, args):
             linear = False
             for j in range(VECTOR):
                 linear |= stage_start(st, blk * VECTOR + j, c, kc)
-            if linear:
+            if linear and not mf:
                 for j in range(VECTOR):
                     stage_closed(st, blk * VECTOR + j, c, kc, srf)
         for it in range(MAX_LOAD_ITERATIONS + 1):
@@ -510,13 +529,13 @@ def general_steps(form, args):
             for blk in range(blocks):
                 if solving(st, blk):
                     for j in range(VECTOR):
-                        going |= load_residual(st, blk * VECTOR + j, it, kc, srf)
+                        going |= load_residual(st, blk * VECTOR + j, it, kc, srf, mf)
             if not going:
                 break
             for blk in range(blocks):
                 if solving(st, blk):
                     for j in range(VECTOR):
-                        load_step(st, blk * VECTOR + j, it, kc, srf)
+                        load_step(st, blk * VECTOR + j, it, kc, srf, mf)
         weight = 1.0 if stage == 3 else 2.0
         for blk in range(blocks):
             for j in range(VECTOR):

@@ -68,7 +68,13 @@ import numpy as np
 from chassistune.controllers.laws import registry as laws
 from chassistune.controllers.laws.dispatch import by_continuous_form, law_sampled
 from chassistune.sim.abs_vehicle_general import general_steps, trace_row
-from chassistune.sim.abs_vehicle_lane import NO_REFCOUNT, constants, lane_get, surfaces
+from chassistune.sim.abs_vehicle_lane import (
+    NO_REFCOUNT,
+    constants,
+    lane_get,
+    magic_formula,
+    surfaces,
+)
 from chassistune.sim.abs_vehicle_layout import (
     KC_DT,
     KC_VSTOP,
@@ -204,6 +210,7 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
     n = gains.shape[0]
     kc = constants(p, geo)
     srf = surfaces(surfs)
+    mf = magic_formula(srf)
     dt = kc[KC_DT]
     n_g = gains.shape[1] // 2 if p[P_AXLE] != 0.0 else gains.shape[1]
     col0[:] = 0  # first gain column of each wheel
@@ -241,7 +248,8 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
                     tick(st, l, i, k, gains, col0, laws_key, ctrl_kind, c, table, kc, ts)
         width = -(-live // VECTOR) * VECTOR
         ended = False
-        if all_general:  # skip the straight pass (the general one gives the same numbers)
+        if all_general or mf:  # skip the straight pass (the general one gives the same numbers;
+            # the Magic Formula's loads have no closed form)
             for l in range(width):
                 st[R_DONE * LANES + l] = 0.0
         else:

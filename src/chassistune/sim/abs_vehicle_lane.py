@@ -12,7 +12,17 @@ import numba
 from numba.extending import register_jitable
 
 from chassistune._branchfree import select
-from chassistune.plants.abs_vehicle import SF_FALL0, SF_FALL1, SF_LAT, SF_RISE, SF_ST, SF_TARGET
+from chassistune.plants.abs_vehicle import (
+    SF_COEF,
+    SF_FALL0,
+    SF_FALL1,
+    SF_LAT,
+    SF_MF,
+    SF_RISE,
+    SF_ST,
+    SF_TARGET,
+)
+from chassistune.plants.vehicle_mf import wheel_forces_and_derivative
 from chassistune.sim.abs_vehicle_layout import (
     G_A,
     G_B,
@@ -153,7 +163,9 @@ def constants(p, geo):
 @numba.njit(**INLINE)
 def surfaces(surfs):
     """The road's two surfaces as the lanes read them (`surface_of`): (S_T, rise, fall0,
-    fall1, target, lateral scale C S_T / mu_h) of surface 0, then of surface 1."""
+    fall1, target, lateral scale C S_T / mu_h) of surface 0, then of surface 1; then (at
+    SURFACE_ROWS) the surface rows themselves, where the Magic Formula tire reads its
+    coefficients (`magic_formula_forces`)."""
     return (
         surfs[0, SF_ST],
         surfs[0, SF_RISE],
@@ -167,7 +179,26 @@ def surfaces(surfs):
         surfs[1, SF_FALL1],
         surfs[1, SF_TARGET],
         surfs[1, SF_LAT],
+        surfs,
     )
+
+
+SURFACE_ROWS = 12
+"""Where `surfaces` puts the surface rows."""
+
+
+@inlined
+def magic_formula(srf):
+    """Whether the road's surfaces are of the Magic Formula tire (`plants.vehicle_mf`)."""
+    return srf[SURFACE_ROWS][0, SF_MF] != 0.0
+
+
+@inlined
+def magic_formula_forces(srf, b, j, sx, vr, fz):
+    """`vehicle_mf.wheel_forces_and_derivative` of wheel j on the surface it is on (b: 1.0 the
+    second), with the coefficients of that surface's row, mirrored on the right wheels."""
+    c = srf[SURFACE_ROWS][1 if b != 0.0 else 0, SF_COEF:]
+    return wheel_forces_and_derivative(sx, vr, fz, c, j % 2 == 1)
 
 
 @register_jitable

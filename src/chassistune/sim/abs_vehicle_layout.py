@@ -357,6 +357,8 @@ GENERAL_ROWS = (
     *_per_wheel("friction", "-", "mu(min(|s|, 1))"),
     *_per_wheel("slip_cos", "-", "sx / |s|"),
     *_per_wheel("no_force", "-", "1: no force (Fz <= 0 or s = 0)"),
+    *_per_wheel("mf_dfx_dfz", "-", "the Magic Formula tire at the iterate: dFx/dFz"),
+    *_per_wheel("mf_dfy_dfz", "-", "dFy/dFz"),
     Slot("load_ax_m_s2", "m/s^2", "the load solve's result"),
     Slot("load_ay_m_s2", "m/s^2"),
     Slot("load_iteration", "-", "its Newton iterations"),
@@ -491,6 +493,8 @@ R_SN = LANE_LAYOUT["slip_norm_fl"]
 R_MU = LANE_LAYOUT["friction_fl"]
 R_CX = LANE_LAYOUT["slip_cos_fl"]
 R_NOF = LANE_LAYOUT["no_force_fl"]
+R_MF_DFX = LANE_LAYOUT["mf_dfx_dfz_fl"]
+R_MF_DFY = LANE_LAYOUT["mf_dfy_dfz_fl"]
 R_LAX = LANE_LAYOUT["load_ax_m_s2"]
 R_LAY = LANE_LAYOUT["load_ay_m_s2"]
 R_LIT = LANE_LAYOUT["load_iteration"]

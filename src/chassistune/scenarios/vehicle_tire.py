@@ -1,0 +1,135 @@
+"""The tire of an abs-vehicle run: the road's bilinear surfaces, or the Magic Formula tire of a TIR
+file on them (`--tire FILE.tir`, docs/tires.md "On the vehicle").
+
+With a TIR file, every surface of the road gets the file's tire with its friction scaled to the
+surface (LMUX and LMUY times the surface's peak over the tire's, `mf_peak.scaled_to_road`), both
+peaks at the reference load m g / 4; on the road `tire-surface` the file's own surface, unscaled.
+The road then carries each surface's Magic Formula braking curve at that load as its bilinear
+figures (peak slip, peak and locked friction): the target slip is the curve's peak slip. The
+adhesion bound takes the largest total braking force the four tires can give over every load
+split summing to m g (`vehicle_mf.braking_capacity_n`), per phase of the road as the bilinear
+bound (on split-mu, as there, each side carries half the weight); the step check takes the curve's slope at zero slip, K_x / F_z, at the heaviest wheel's
+load.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from chassistune.errors import InputError
+from chassistune.plants.abs_vehicle import (
+    SF_MU_LOCK,
+    SF_MU_PEAK,
+    SF_ST,
+    Bound,
+    load_coefficients,
+    mf_surface_row,
+    phased_bound,
+    surface_row,
+)
+from chassistune.plants.abs_vehicle_params import VehicleParams
+from chassistune.plants.magic_formula import longitudinal_shape
+from chassistune.plants.mf_coefficients import MagicFormulaTire
+from chassistune.plants.mf_curve import TIRE_SURFACE
+from chassistune.plants.mf_peak import scaled_to_road
+from chassistune.plants.tires import BilinearTire
+from chassistune.plants.vehicle_mf import braking_capacity_n
+from chassistune.plants.vehicle_roads import ROAD_MU_JUMP, ROAD_SPLIT, ROAD_UNIFORM, VehicleRoad
+
+
+@dataclass(frozen=True)
+class VehicleTire:
+    """The Magic Formula tire of a TIR file on each of the road's two surfaces."""
+
+    path: str
+    surfaces: tuple[MagicFormulaTire, MagicFormulaTire]
+    reference_load_n: float
+
+
+def reference_load_n(pp: VehicleParams) -> float:
+    """m g / 4, the load at which a surface's friction scales the tire and its curve is read."""
+    return pp.mass_kg * pp.g_m_s2 / 4.0
+
+
+def on_surfaces(
+    road_name: str, road: VehicleRoad | None, values: Mapping[str, object], pp: VehicleParams
+) -> tuple[VehicleRoad, VehicleTire | None]:
+    """The road with the tire of `values["tire"]` (a TIR file) on its surfaces, and that tire;
+    the road unchanged and None without a file. `road` is None on TIRE_SURFACE."""
+    if "relaxation_length_m" in values:
+        raise InputError(
+            "params.relaxation_length_m",
+            "the lagged slip runs on the single wheel (abs-wheel) only so far, not on abs-vehicle",
+        )
+    if "tire" not in values:
+        if road is None:
+            raise InputError("road", f"{TIRE_SURFACE} is a TIR file's surface: needs --tire")
+        return road, None
+    from chassistune.plants.tir import read_tir
+
+    path = str(values["tire"])
+    tire = read_tir(path, lateral=True)
+    fz = reference_load_n(pp)
+    if road is None:
+        tires = (tire, tire)
+        road = VehicleRoad(TIRE_SURFACE, ROAD_UNIFORM, (TIRE_SURFACE,) * 2, (_curve(tire, fz),) * 2)
+    else:
+        a, b = (scaled_to_road(tire, s.mu_peak, fz) for s in road.surfaces)
+        tires = (a, b)
+        road = dataclasses.replace(road, surfaces=(_curve(a, fz), _curve(b, fz)))
+    return road, VehicleTire(path, tires, fz)
+
+
+def _curve(tire: MagicFormulaTire, fz_n: float) -> BilinearTire:
+    """The tire's braking figures at fz_n as a surface (`abs_vehicle.mf_surface_row`)."""
+    row = mf_surface_row(tire, fz_n, 0.0)
+    return BilinearTire(float(row[SF_ST]), float(row[SF_MU_PEAK]), float(row[SF_MU_LOCK]))
+
+
+def surface_rows(road: VehicleRoad, tire: VehicleTire | None, stiffness_n_rad: float) -> np.ndarray:
+    """The kernel's surface rows (`plants.abs_vehicle` SF_* columns) of the road's two surfaces."""
+    if tire is None:
+        rows = [
+            surface_row(t.slip_opt, t.mu_peak, t.mu_lock, stiffness_n_rad) for t in road.surfaces
+        ]
+    else:
+        rows = [mf_surface_row(t, tire.reference_load_n, stiffness_n_rad) for t in tire.surfaces]
+    return np.stack(rows)
+
+
+def bound(pp: VehicleParams, road: VehicleRoad, tire: VehicleTire) -> Bound:
+    """The adhesion bound with the Magic Formula tire (module docstring): the braking capacity
+    per phase, all wheels on the first surface, then (mu-jump) the front axle on the second, then
+    all on the second; split-mu each side's two wheels at half the weight (the bilinear bound's
+    equal side loads)."""
+    a, b = tire.surfaces
+    m_g = pp.mass_kg * pp.g_m_s2
+
+    def deceleration(*tires: MagicFormulaTire) -> float:
+        return braking_capacity_n(tires, m_g) / pp.mass_kg
+
+    if road.kind == ROAD_MU_JUMP:
+        phases = (
+            (road.x_jump_m, deceleration(a, a, a, a)),
+            (pp.wheelbase_m, deceleration(b, b, a, a)),
+            (float("inf"), deceleration(b, b, b, b)),
+        )
+    elif road.kind == ROAD_SPLIT:  # each side at half the weight, as the bilinear bound
+        side_n = 0.5 * m_g
+        total_n = braking_capacity_n((a, a), side_n) + braking_capacity_n((b, b), side_n)
+        phases = ((float("inf"), total_n / pp.mass_kg),)
+    else:
+        phases = ((float("inf"), deceleration(a, a, a, a)),)
+    return phased_bound(pp, phases)
+
+
+def slope_at_zero_slip(pp: VehicleParams, tire: VehicleTire, mu_peak_max: float) -> float:
+    """The steepest braking curve's K_x / F_z over the surfaces at the load `wheel_mode_rate`
+    takes, the heaviest wheel's braking at mu_peak_max g."""
+    fz0, a, _ = load_coefficients(pp)
+    fz = float(np.max(fz0 - a * mu_peak_max * pp.g_m_s2))
+    return max(float(longitudinal_shape(t.kernel_array(), 0.0, fz)[6]) / fz for t in tire.surfaces)
