@@ -55,6 +55,7 @@ def reference_rhs(
     path length. Fuzzy PID (gains ke, kec, ku_p, ku_i, ku_d, kp0, ki0, kd0) or PID (kp, ki, kd).
     """
     from chassistune.fuzzy.surface import surface_lookup
+    from chassistune.plants.magic_formula import lateral_force_n, longitudinal_force_n
 
     pp = scenario.plant_params
     geo = geometry(pp)
@@ -67,6 +68,15 @@ def reference_rhs(
     table = scenario.fuzzy_surface
     fuzzy = len(gains) == 8
     out = np.zeros(3)
+    mf = scenario.tire
+
+    def mf_tire(kappa: float, tan_alpha: float, fz: float, k: int, right: bool) -> tuple[float, float]:
+        # the TIR file's tyre on the left wheels, its mirror image on the right ones (ISO-W)
+        c = mf.surfaces[k].kernel_array()
+        a = -tan_alpha if right else tan_alpha
+        fx = longitudinal_force_n(c, kappa, a, fz) if fz > 0.0 else 0.0
+        fy = lateral_force_n(c, kappa, a, fz) if fz > 0.0 else 0.0
+        return fx, -fy if right else fy
 
     def mu_of(s: float, k: int) -> float:
         st, h, g = surf[k]
@@ -88,15 +98,20 @@ def reference_rhs(
         wheel = y[6:26].reshape(4, 5)
         sx = np.zeros(4)
         vr = np.zeros(4)
+        slips = []
         for j in range(4):
             u, v = vx - r * ys[j], vy + r * xs[j]
             vabs = max(math.hypot(u, v), pp.min_speed_m_s)
             sx[j] = (u - max(wheel[j, 0], 0.0) * pp.wheel_radius_m) / vabs
             vr[j] = v / vabs
+            slips.append(((max(wheel[j, 0], 0.0) * pp.wheel_radius_m - u) / abs(u), v / abs(u)))
         ax = ay = 0.0
         for _ in range(200):  # the load/force loop, by fixed-point iteration
             fz = np.maximum(fz0 + ca * ax + cb * ay, 0.0)
-            forces = [tire(sx[j], vr[j], fz[j], side[j]) for j in range(4)]
+            if mf is None:
+                forces = [tire(sx[j], vr[j], fz[j], side[j]) for j in range(4)]
+            else:
+                forces = [mf_tire(*slips[j], fz[j], side[j], j % 2 == 1) for j in range(4)]
             new_ax = sum(f[0] for f in forces) / pp.mass_kg
             new_ay = sum(f[1] for f in forces) / pp.mass_kg
             done = abs(new_ax - ax) + abs(new_ay - ay) < 1e-12
