@@ -70,7 +70,9 @@ def reference_rhs(
     out = np.zeros(3)
     mf = scenario.tire
 
-    def mf_tire(kappa: float, tan_alpha: float, fz: float, k: int, right: bool) -> tuple[float, float]:
+    def mf_tire(
+        kappa: float, tan_alpha: float, fz: float, k: int, right: bool
+    ) -> tuple[float, float]:
         # the TIR file's tyre on the left wheels, its mirror image on the right ones (ISO-W)
         c = mf.surfaces[k].kernel_array()
         a = -tan_alpha if right else tan_alpha

@@ -8,8 +8,8 @@ The road then carries each surface's Magic Formula braking curve at that load as
 figures (peak slip, peak and locked friction): the target slip is the curve's peak slip. The
 adhesion bound takes the largest total braking force the four tires can give over every load
 split summing to m g (`vehicle_mf.braking_capacity_n`), per phase of the road as the bilinear
-bound (on split-mu, as there, each side carries half the weight); the step check takes the curve's slope at zero slip, K_x / F_z, at the heaviest wheel's
-load.
+bound (on split-mu, as there, each side carries half the weight); the step check takes the
+curve's slope at zero slip, K_x / F_z, at the heaviest wheel's load.
 """
 
 from __future__ import annotations

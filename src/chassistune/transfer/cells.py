@@ -9,6 +9,7 @@ from __future__ import annotations
 import functools
 import warnings
 from dataclasses import dataclass
+from importlib import resources
 
 from chassistune.errors import InputError
 from chassistune.plants.abs_wheel import BRAKE_FIELDS, PRESETS
@@ -19,6 +20,14 @@ from chassistune.studies.spec import ScenarioConfig
 RELAXATION_LENGTH_M = 0.3
 """sigma of the lagged-slip variant: CommonRoad's PAC2002 file gives no relaxation length (it has
 neither LONGITUDINAL_STIFFNESS nor PTX1-3, docs/tires.md), so this is our choice, not car data."""
+
+VEHICLE_TIR = "chrono_185_80R14_pac2002.tir"
+"""The vehicle's Magic Formula tire: CommonRoad's PAC2002 set has no PKY2, which lateral forces
+need (docs/tires.md), so the vehicle cells take the shipped Project Chrono 185/80 R14 file."""
+
+VEHICLE_MF_STEP_S = 5e-4
+"""The vehicle's step with the Magic Formula tire: the least whole divisor of the cars' 1 ms that
+RK4's stability check passes with the Chrono tire at v_stop 2 m/s (docs/transfer.md)."""
 
 ECUS = ("ideal", "realistic")
 """The controller's ECU: the ideal one (exact slip, continuous valve) or the realistic one
@@ -88,8 +97,9 @@ SOURCES = (
 paper's other reading, 200 kg, is the same plant heavier); the proposed optimizer's run each."""
 
 TIRES = ("road", "mf", "mf+lag")
-"""A car's tire: the road's curve (the paper's tire law), CommonRoad's PAC2002 Magic Formula
-scaled to the road, the same with the lagged slip (`RELAXATION_LENGTH_M`)."""
+"""A car's tire: the road's curve (the paper's tire law), CommonRoad's PAC2002 Magic Formula (the
+vehicle: `VEHICLE_TIR`) scaled to the road, the same with the lagged slip
+(`RELAXATION_LENGTH_M`)."""
 
 
 @dataclass(frozen=True)
@@ -119,7 +129,10 @@ class Cell:
         if self.source.plant == "abs-wheel" and self.target in CARS:
             paper = PRESETS[self.source.preset].params
             out |= {f: float(getattr(paper, f)) for f in BRAKE_FIELDS}
-        if self.tire != "road":
+        if self.tire != "road" and self.source.plant == "abs-vehicle":
+            out["tire"] = str(resources.files("chassistune") / "data" / "tires" / VEHICLE_TIR)
+            out["dt_s"] = VEHICLE_MF_STEP_S
+        elif self.tire != "road":
             out["tire"] = shared_tir_path()
         if self.tire == "mf+lag":
             out["relaxation_length_m"] = RELAXATION_LENGTH_M

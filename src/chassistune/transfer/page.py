@@ -146,7 +146,9 @@ def write_page(
         "",
         "Each controller as its paper's reproduction tuned it (the median run of the paper's "
         "optimizer), run unchanged on its paper plant and on each real car (the road it was "
-        "tuned on; CommonRoad's PAC2002 Magic Formula tire scaled to that road; the same with "
+        "tuned on; CommonRoad's PAC2002 Magic Formula tire scaled to that road, on the vehicle "
+        "Project Chrono's 185/80 R14 PAC2002 file at a 0.5 ms step (CommonRoad's set has no "
+        "lateral load law, PKY2); the same with "
         f"the lagged slip, sigma = {RELAXATION_LENGTH_M:g} m; the ideal and the realistic ECU), "
         f"then re-tuned on each car and variant. {budget_text} {run_text}",
         "",
