@@ -86,7 +86,7 @@ def test_tune_on_the_tire(cli) -> None:
     )  # fmt: skip
     assert r.code == 0, r.err
     doc = json.loads(r.out)
-    assert doc["roads"] == ["tire-surface"] and doc["params"]["tire"] == CHRONO
+    assert doc["road"] == "tire-surface" and doc["params"]["tire"] == CHRONO
 
 
 def test_a_tune_on_the_tire_replays_with_from(cli, tmp_path: Path) -> None:
@@ -114,3 +114,21 @@ def test_export_refuses_the_tire_in_one_line(cli, tmp_path: Path) -> None:
     assert r.err.startswith("chassistune: error: --param tire: ")
     assert len(r.err.splitlines()) == 1
     assert not any(out.glob("*")) if out.exists() else True
+
+
+def test_the_vehicle_runs_on_the_tire_at_the_step_it_needs(cli) -> None:
+    """The paper preset's 1 ms is past RK4's limit with the file's stiffness: refused in one line
+    naming the step that passes (no warning about the file before it); at that step it runs."""
+    r = cli("simulate", "abs-vehicle", "--tire", CHRONO)
+    assert r.code == 2 and r.out == ""
+    assert r.err.startswith("chassistune: error: --param dt_s: ") and len(r.err.splitlines()) == 1
+    assert "dt_s = 0.0002 (the step divided by 5) passes" in r.err
+    r = cli(
+        "simulate", "abs-vehicle", "--tire", CHRONO, "--json",
+        "--param", "dt_s=0.0002", "--param", "v0_m_s=15",
+    )  # fmt: skip
+    assert r.code == 0, r.err
+    doc = json.loads(r.out)
+    assert doc["params"]["tire"] == CHRONO and doc["road"] == "tire-surface"
+    assert doc["metrics"]["status"] == "stopped"
+    assert doc["metrics"]["stop_distance_m"] >= doc["metrics"]["bound_distance_m"]

@@ -461,7 +461,13 @@ class AbsVehiclePlant(Plant):
             knowledge,
             tire,
         )
-        for warning in implausible(plant_params) + implausible(steering) + implausible(scoring):
+        tire_warnings = tire.file_warnings if tire is not None else ()
+        for warning in (
+            *tire_warnings,
+            *implausible(plant_params),
+            *implausible(steering),
+            *implausible(scoring),
+        ):
             warnings.warn(warning, stacklevel=3)  # valid input only
         return scenario
 

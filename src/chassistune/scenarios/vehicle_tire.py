@@ -15,6 +15,7 @@ curve's slope at zero slip, K_x / F_z, at the heaviest wheel's load.
 from __future__ import annotations
 
 import dataclasses
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -48,6 +49,8 @@ class VehicleTire:
     path: str
     surfaces: tuple[MagicFormulaTire, MagicFormulaTire]
     reference_load_n: float
+    file_warnings: tuple[Warning, ...] = ()
+    """The reader's warnings about the file, for the scenario to show once its input is valid."""
 
 
 def reference_load_n(pp: VehicleParams) -> float:
@@ -72,7 +75,9 @@ def on_surfaces(
     from chassistune.plants.tir import read_tir
 
     path = str(values["tire"])
-    tire = read_tir(path, lateral=True)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        tire = read_tir(path, lateral=True)
     fz = reference_load_n(pp)
     if road is None:
         tires = (tire, tire)
@@ -81,7 +86,7 @@ def on_surfaces(
         a, b = (scaled_to_road(tire, s.mu_peak, fz) for s in road.surfaces)
         tires = (a, b)
         road = dataclasses.replace(road, surfaces=(_curve(a, fz), _curve(b, fz)))
-    return road, VehicleTire(path, tires, fz)
+    return road, VehicleTire(path, tires, fz, tuple(w.message for w in caught))
 
 
 def _curve(tire: MagicFormulaTire, fz_n: float) -> BilinearTire:
