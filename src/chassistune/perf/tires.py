@@ -8,6 +8,11 @@ realistic ECU's (`tire_ecu_*`: the default `EcuParams`), and each kernel's bilin
 lagged slip (`*_lagged_bilinear_*`: relaxation length 0.3 m, docs/tires.md, transient slip);
 steps are stop time / dt summed over the candidates. Best of 7 timed runs (`quick`: 3); the ratio
 of the Magic Formula to the bilinear tire is measured in the same run, per kernel.
+
+The vehicle (`tire_vehicle_*`): the PID's first VEHICLE_ROWS rows of `perf.vehicle`'s population
+on paper-deffao from 15 m/s at dt 0.2 ms (the step the Chrono file needs there), on dry concrete
+and on split-mu with the steering fixed, bilinear against the Magic Formula (`--tire`, docs/tires.md
+"On the vehicle"), each candidate-step the four wheels; best of 3.
 """
 
 from __future__ import annotations
@@ -18,9 +23,12 @@ from importlib.resources import files
 import numpy as np
 
 from chassistune.perf import abs as abs_perf
+from chassistune.perf import vehicle as vehicle_perf
 from chassistune.perf.timing import best_cpu_time
 from chassistune.plants.tir import TirWarning
+from chassistune.scenarios.abs_vehicle import PLANT as VEHICLE
 from chassistune.scenarios.abs_wheel import PLANT, AbsWheelScenario
+from chassistune.sim import abs_vehicle_layout as VL
 from chassistune.sim import abs_wheel_layout as KL
 
 SAMPLE_TIR = str(files("chassistune") / "data" / "tires" / "chrono_185_80R14_pac2002.tir")
@@ -42,6 +50,36 @@ def ns_per_candidate_step(sc: AbsWheelScenario, gains: np.ndarray, repeats: int)
     return 1e9 * best_cpu_time(lambda: sc.raw(gains, workers=1), repeats) / steps
 
 
+VEHICLE_ROWS = 8
+"""Rows of the vehicle's population (a Magic Formula run costs about 10 us a step)."""
+VEHICLE_CASES: dict[str, tuple[str, dict[str, object]]] = {
+    "dry_concrete": ("dry-concrete", {}),
+    "split_mu": ("split-mu", {"steering": "fixed"}),
+}
+"""Vehicle figure -> (road, overrides)."""
+
+
+def vehicle_figures() -> dict[str, float]:
+    """The vehicle's ns per candidate-step per tire and road (module docstring), and the Magic
+    Formula's over the bilinear's per road."""
+    out = {}
+    for case, (road, overrides) in VEHICLE_CASES.items():
+        for law, extra in (("bilinear", {}), ("magic_formula", {"tire": SAMPLE_TIR})):
+            params = {"dt_s": 2e-4, "v0_m_s": 15.0, **overrides, **extra}
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", TirWarning)
+                sc = VEHICLE.scenario("paper-deffao", road, "pid", params)
+            gains = vehicle_perf.bench_population(sc)[:VEHICLE_ROWS]
+            steps = float(np.sum(sc.raw(gains, workers=1)[:, VL.M_TIME])) / sc.plant_params.dt_s
+            ns = 1e9 * best_cpu_time(lambda: sc.raw(gains, workers=1), 3) / steps  # noqa: B023
+            out[f"tire_vehicle_{law}_{case}_ns_per_candidate_step"] = ns
+        out[f"tire_vehicle_magic_formula_over_bilinear_{case}"] = (
+            out[f"tire_vehicle_magic_formula_{case}_ns_per_candidate_step"]
+            / out[f"tire_vehicle_bilinear_{case}_ns_per_candidate_step"]
+        )
+    return out
+
+
 def figures(quick: bool = False) -> dict[str, float]:
     """ns per candidate-step per tire law, and the Magic Formula's over the bilinear's."""
     gains = abs_perf.bench_population()
@@ -60,4 +98,4 @@ def figures(quick: bool = False) -> dict[str, float]:
             out[f"tire_{kernel}magic_formula_ns_per_candidate_step"]
             / out[f"tire_{kernel}bilinear_ns_per_candidate_step"]
         )
-    return out
+    return out | vehicle_figures()
