@@ -265,18 +265,21 @@ def stage_closed(st, l, c, kc, srf):
 
 
 @numba.njit(**INDEXING)
-def wheel_load(st, l, ax, ay, j, s, kc, mf, srf):
+def wheel_load(st, l, ax, ay, j, s, kc, mf, srf, first):
     """Wheel j's load at (ax, ay) (held >= 0) and its forces (wheel-frame Fx, body-frame Fx,
     Fy); the tire's slip there (`combined_slip`) into its rows, for `wheel_load_derivative`, or
-    with the Magic Formula tire (`mf`) its forces' load derivative
-    (`vehicle_mf.wheel_forces_and_derivative`, as `plants.abs_vehicle.tire_force`)."""
+    with the Magic Formula tire (`mf`), at the solve's `first` iterate only, its forces' load
+    derivative (`vehicle_mf.wheel_forces_and_derivative`): the later iterations keep that
+    Jacobian (a chord method: the iterate stops on the same exact residual)."""
     z = fmax(kc[KC_FZ0 + j] + kc[KC_A + j] * ax + kc[KC_B + j] * ay, 0.0)
     sx = lane_get(st, R_SX + j, l)
     vr = lane_get(st, R_VR + j, l)
     if mf:
-        fx, fy, dfx, dfy = magic_formula_forces(srf, lane_get(st, R_SURF + j, l), j, sx, vr, z)
-        st[(R_MF_DFX + j) * LANES + l] = dfx
-        st[(R_MF_DFY + j) * LANES + l] = dfy
+        b = lane_get(st, R_SURF + j, l)
+        fx, fy, dfx, dfy = magic_formula_forces(srf, b, j, sx, vr, z, first)
+        if first:
+            st[(R_MF_DFX + j) * LANES + l] = dfx
+            st[(R_MF_DFY + j) * LANES + l] = dfy
     else:
         sy, sn, mu, cx, cy, none = combined_slip(sx, vr, z, s)
         fx, fy = combined_force(z, mu, cx, cy, none)
@@ -332,10 +335,10 @@ def load_residual(st, l, it, kc, srf, mf):
     ax = lane_get(st, R_NAX, l)
     ay = lane_get(st, R_NAY, l)
     _, s = laws_surfaces(st, l, srf)
-    f0 = wheel_load(st, l, ax, ay, 0, s[0], kc, mf, srf)
-    f1 = wheel_load(st, l, ax, ay, 1, s[1], kc, mf, srf)
-    f2 = wheel_load(st, l, ax, ay, 2, s[2], kc, mf, srf)
-    f3 = wheel_load(st, l, ax, ay, 3, s[3], kc, mf, srf)
+    f0 = wheel_load(st, l, ax, ay, 0, s[0], kc, mf, srf, it == 0)
+    f1 = wheel_load(st, l, ax, ay, 1, s[1], kc, mf, srf, it == 0)
+    f2 = wheel_load(st, l, ax, ay, 2, s[2], kc, mf, srf, it == 0)
+    f3 = wheel_load(st, l, ax, ay, 3, s[3], kc, mf, srf, it == 0)
     sfx = wheel_sum(f0[1], f1[1], f2[1], f3[1])
     sfy = wheel_sum(f0[2], f1[2], f2[2], f3[2])
     mass = kc[KC_MASS]

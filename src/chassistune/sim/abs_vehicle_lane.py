@@ -22,7 +22,7 @@ from chassistune.plants.abs_vehicle import (
     SF_ST,
     SF_TARGET,
 )
-from chassistune.plants.vehicle_mf import wheel_forces_and_derivative
+from chassistune.plants.vehicle_mf import wheel_forces, wheel_forces_and_derivative
 from chassistune.sim.abs_vehicle_layout import (
     G_A,
     G_B,
@@ -194,11 +194,15 @@ def magic_formula(srf):
 
 
 @inlined
-def magic_formula_forces(srf, b, j, sx, vr, fz):
+def magic_formula_forces(srf, b, j, sx, vr, fz, derivative):
     """`vehicle_mf.wheel_forces_and_derivative` of wheel j on the surface it is on (b: 1.0 the
-    second), with the coefficients of that surface's row, mirrored on the right wheels."""
+    second), with the coefficients of that surface's row, mirrored on the right wheels; without
+    `derivative` its forces only (`wheel_forces`) and zero derivatives."""
     c = srf[SURFACE_ROWS][1 if b != 0.0 else 0, SF_COEF:]
-    return wheel_forces_and_derivative(sx, vr, fz, c, j % 2 == 1)
+    if derivative:
+        return wheel_forces_and_derivative(sx, vr, fz, c, j % 2 == 1)
+    fx, fy = wheel_forces(sx, vr, fz, c, j % 2 == 1)
+    return fx, fy, 0.0, 0.0
 
 
 @register_jitable
