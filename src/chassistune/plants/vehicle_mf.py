@@ -46,6 +46,9 @@ CAPACITY_GRID = 400
 """Load steps of the adhesion bound's search over load splits (`braking_capacity_n`)."""
 
 _jit = numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
+_called = numba.njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
+"""A function compiled once and called (not inlined: the Magic Formula's body copied into every
+caller costs the vehicle kernel's compile about 20 s), without numba's runtime, as the kernel."""
 
 
 @_jit
@@ -55,7 +58,7 @@ def magic_formula_slips(sx: float, vr: float) -> tuple[float, float]:
     return -sx / c, vr / c
 
 
-@_jit
+@_called
 def wheel_forces(
     sx: float, vr: float, fz: float, c: np.ndarray, mirrored: bool
 ) -> tuple[float, float]:
@@ -69,7 +72,7 @@ def wheel_forces(
     return longitudinal_force_n(c, kappa, alpha, fz), side * lateral_force_n(c, kappa, alpha, fz)
 
 
-@_jit
+@_called
 def wheel_forces_and_derivative(
     sx: float, vr: float, fz: float, c: np.ndarray, mirrored: bool
 ) -> tuple[float, float, float, float]:
