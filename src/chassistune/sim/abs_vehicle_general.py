@@ -402,6 +402,33 @@ def load_step(st, l, it, kc, srf, mf):
 
 
 @inlined
+def load_solve(st, blocks, kc, srf, mf):
+    """The lanes' load solves of a stage (`load_residual`, `load_step`) until each has returned,
+    with the Magic Formula tire or not (`mf`: a constant at each call, so that LLVM drops the
+    other tire's code from the bilinear tire's vector loops)."""
+    for it in range(MAX_LOAD_ITERATIONS + 1):
+        going = False
+        for blk in range(blocks):
+            if solving(st, blk):
+                for j in range(VECTOR):
+                    going |= load_residual(st, blk * VECTOR + j, it, kc, srf, mf)
+        if not going:
+            return
+        for blk in range(blocks):
+            if solving(st, blk):
+                for j in range(VECTOR):
+                    load_step(st, blk * VECTOR + j, it, kc, srf, mf)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
+def magic_formula_load_solve(st, blocks, kc, srf):
+    """`load_solve` with the Magic Formula tire, a function of its own: its loops call the
+    tire's forces (`vehicle_mf.wheel_forces`) and stay scalar, apart from the bilinear tire's
+    vector loops."""
+    load_solve(st, blocks, kc, srf, True)
+
+
+@inlined
 def solving(st, blk):
     """Whether a lane of vector `blk` has a load solve that has not returned."""
     pending = False
@@ -527,18 +554,10 @@ def general_steps(form, args):
             if linear and not mf:
                 for j in range(VECTOR):
                     stage_closed(st, blk * VECTOR + j, c, kc, srf)
-        for it in range(MAX_LOAD_ITERATIONS + 1):
-            going = False
-            for blk in range(blocks):
-                if solving(st, blk):
-                    for j in range(VECTOR):
-                        going |= load_residual(st, blk * VECTOR + j, it, kc, srf, mf)
-            if not going:
-                break
-            for blk in range(blocks):
-                if solving(st, blk):
-                    for j in range(VECTOR):
-                        load_step(st, blk * VECTOR + j, it, kc, srf, mf)
+        if mf:
+            magic_formula_load_solve(st, blocks, kc, srf)
+        else:
+            load_solve(st, blocks, kc, srf, False)
         weight = 1.0 if stage == 3 else 2.0
         for blk in range(blocks):
             for j in range(VECTOR):
