@@ -74,6 +74,7 @@ def reference_rhs(
         kappa: float, tan_alpha: float, fz: float, k: int, right: bool
     ) -> tuple[float, float]:
         # the TIR file's tyre on the left wheels, its mirror image on the right ones (ISO-W)
+        assert mf is not None
         c = mf.surfaces[k].kernel_array()
         a = -tan_alpha if right else tan_alpha
         fx = longitudinal_force_n(c, kappa, a, fz) if fz > 0.0 else 0.0

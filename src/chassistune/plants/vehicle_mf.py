@@ -26,6 +26,7 @@ exact; the difference only sets its rate).
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numba
 import numpy as np
@@ -46,7 +47,8 @@ CAPACITY_GRID = 400
 """Load steps of the adhesion bound's search over load splits (`braking_capacity_n`)."""
 
 _jit = numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
-_called = numba.njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
+_CALLED: dict[str, Any] = {"cache": True, "nogil": True, "error_model": "numpy", "_nrt": False}
+_called = numba.njit(**_CALLED)
 """A function compiled once and called (not inlined: the Magic Formula's body copied into every
 caller costs the vehicle kernel's compile about 20 s), without numba's runtime, as the kernel."""
 

@@ -49,7 +49,7 @@ class VehicleTire:
     path: str
     surfaces: tuple[MagicFormulaTire, MagicFormulaTire]
     reference_load_n: float
-    file_warnings: tuple[Warning, ...] = ()
+    file_warnings: tuple[Warning | str, ...] = ()
     """The reader's warnings about the file, for the scenario to show once its input is valid."""
 
 
@@ -117,6 +117,7 @@ def bound(pp: VehicleParams, road: VehicleRoad, tire: VehicleTire) -> Bound:
     def deceleration(*tires: MagicFormulaTire) -> float:
         return braking_capacity_n(tires, m_g) / pp.mass_kg
 
+    phases: tuple[tuple[float, float], ...]
     if road.kind == ROAD_MU_JUMP:
         phases = (
             (road.x_jump_m, deceleration(a, a, a, a)),

@@ -420,7 +420,7 @@ def load_solve(st, blocks, kc, srf, mf):
                     load_step(st, blk * VECTOR + j, it, kc, srf, mf)
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy", _nrt=False)
+@numba.njit(**NO_REFCOUNT)
 def magic_formula_load_solve(st, blocks, kc, srf):
     """`load_solve` with the Magic Formula tire, a function of its own: its loops call the
     tire's forces (`vehicle_mf.wheel_forces`) and stay scalar, apart from the bilinear tire's
