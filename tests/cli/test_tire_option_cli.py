@@ -86,7 +86,7 @@ def test_tune_on_the_tire(cli) -> None:
     )  # fmt: skip
     assert r.code == 0, r.err
     doc = json.loads(r.out)
-    assert doc["road"] == "tire-surface" and doc["params"]["tire"] == CHRONO
+    assert doc["roads"] == ["tire-surface"] and doc["params"]["tire"] == CHRONO
 
 
 def test_a_tune_on_the_tire_replays_with_from(cli, tmp_path: Path) -> None:
