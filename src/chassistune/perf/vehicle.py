@@ -69,13 +69,13 @@ def reference_rhs(
     fuzzy = len(gains) == 8
     out = np.zeros(3)
     mf = scenario.tire
+    mf_coefficients = [t.kernel_array() for t in mf.surfaces] if mf is not None else []
 
     def mf_tire(
         kappa: float, tan_alpha: float, fz: float, k: int, right: bool
     ) -> tuple[float, float]:
         # the TIR file's tyre on the left wheels, its mirror image on the right ones (ISO-W)
-        assert mf is not None
-        c = mf.surfaces[k].kernel_array()
+        c = mf_coefficients[k]
         a = -tan_alpha if right else tan_alpha
         fx = longitudinal_force_n(c, kappa, a, fz) if fz > 0.0 else 0.0
         fy = lateral_force_n(c, kappa, a, fz) if fz > 0.0 else 0.0

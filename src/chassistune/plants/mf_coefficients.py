@@ -176,9 +176,9 @@ class MagicFormulaTire:
     PTX3,
     LSGKP,
 ) = range(73)
+"""Index of each coefficient in `MagicFormulaTire.kernel_array()` (the dataclass's field order)."""
 N_MF_COEFFICIENTS = len(dataclasses.fields(MagicFormulaTire))
 """Length of `MagicFormulaTire.kernel_array`."""
-"""Index of each coefficient in `MagicFormulaTire.kernel_array()` (the dataclass's field order)."""
 
 REQUIRED_LONGITUDINAL = ("FNOMIN", "UNLOADED_RADIUS", "PCX1", "PDX1", "PKX1")
 """Coefficients without which there is no longitudinal force: an absent one is an error."""

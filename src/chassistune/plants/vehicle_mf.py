@@ -92,16 +92,14 @@ def braking_capacity_n(tires: tuple[MagicFormulaTire, ...], total_load_n: float)
     convolution of the tires' peak-force curves on CAPACITY_GRID load steps, and the equal split
     (the optimum when every curve is concave in the load, as with linear load sensitivity)."""
     loads = np.linspace(0.0, total_load_n, CAPACITY_GRID + 1)
-    best = np.zeros(CAPACITY_GRID + 1)
-    for i, tire in enumerate(tires):
-        peak = np.array([0.0] + [-braking_peak(tire, z)[1] for z in loads[1:]])
-        if i == 0:
-            best = peak
-            continue
-        # best[k] over the first i + 1 tires = max over j of best[j] + peak[k - j]
-        k = np.arange(CAPACITY_GRID + 1)
-        j = np.arange(CAPACITY_GRID + 1)
-        sums = np.where(j[None, :] <= k[:, None], best[None, :] + peak[np.abs(k[:, None] - j)], -1)
-        best = sums.max(axis=1)
+    curves = {t: np.array([0.0] + [-braking_peak(t, z)[1] for z in loads[1:]]) for t in set(tires)}
+    k = np.arange(CAPACITY_GRID + 1)
+    below = k[None, :] <= k[:, None]  # j <= k
+    best = curves[tires[0]]
+    for tire in tires[1:]:
+        # best[k] over the tires so far = max over j <= k of best[j] + peak[k - j]
+        peak = curves[tire]
+        best = np.where(below, best[None, :] + peak[np.abs(k[:, None] - k[None, :])], -1.0)
+        best = best.max(axis=1)
     equal = total_load_n / len(tires)
     return max(float(best[-1]), sum(-braking_peak(t, equal)[1] for t in tires))

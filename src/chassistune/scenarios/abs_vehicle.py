@@ -421,6 +421,12 @@ class AbsVehiclePlant(Plant):
             raise InputError(
                 "params.steering", f"must be auto, fixed or driver, got {steering.steering!r}"
             )
+        if "relaxation_length_m" in values:
+            raise InputError(
+                "params.relaxation_length_m",
+                "the lagged slip runs on the single wheel (abs-wheel) only so far, "
+                "not on abs-vehicle",
+            )
         own_surface = road_name == TIRE_SURFACE
         road_spec, used_road, road_params = (
             (None, set(), {}) if own_surface else make_road(road_name, values)

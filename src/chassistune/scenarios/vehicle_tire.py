@@ -49,6 +49,8 @@ class VehicleTire:
     path: str
     surfaces: tuple[MagicFormulaTire, MagicFormulaTire]
     reference_load_n: float
+    rows: np.ndarray
+    """The kernel's surface rows of the two surfaces (`abs_vehicle.mf_surface_row`)."""
     file_warnings: tuple[Warning | str, ...] = ()
     """The reader's warnings about the file, for the scenario to show once its input is valid."""
 
@@ -63,11 +65,6 @@ def on_surfaces(
 ) -> tuple[VehicleRoad, VehicleTire | None]:
     """The road with the tire of `values["tire"]` (a TIR file) on its surfaces, and that tire;
     the road unchanged and None without a file. `road` is None on TIRE_SURFACE."""
-    if "relaxation_length_m" in values:
-        raise InputError(
-            "params.relaxation_length_m",
-            "the lagged slip runs on the single wheel (abs-wheel) only so far, not on abs-vehicle",
-        )
     if "tire" not in values:
         if road is None:
             raise InputError("road", f"{TIRE_SURFACE} is a TIR file's surface: needs --tire")
@@ -81,29 +78,30 @@ def on_surfaces(
     fz = reference_load_n(pp)
     if road is None:
         tires = (tire, tire)
-        road = VehicleRoad(TIRE_SURFACE, ROAD_UNIFORM, (TIRE_SURFACE,) * 2, (_curve(tire, fz),) * 2)
     else:
         a, b = (scaled_to_road(tire, s.mu_peak, fz) for s in road.surfaces)
         tires = (a, b)
-        road = dataclasses.replace(road, surfaces=(_curve(a, fz), _curve(b, fz)))
-    return road, VehicleTire(path, tires, fz, tuple(w.message for w in caught))
+    rows = np.stack([mf_surface_row(t, fz, pp.cornering_stiffness_n_rad) for t in tires])
+    curves = (_curve(rows[0]), _curve(rows[1]))
+    if road is None:
+        road = VehicleRoad(TIRE_SURFACE, ROAD_UNIFORM, (TIRE_SURFACE,) * 2, curves)
+    else:
+        road = dataclasses.replace(road, surfaces=curves)
+    return road, VehicleTire(path, tires, fz, rows, tuple(w.message for w in caught))
 
 
-def _curve(tire: MagicFormulaTire, fz_n: float) -> BilinearTire:
-    """The tire's braking figures at fz_n as a surface (`abs_vehicle.mf_surface_row`)."""
-    row = mf_surface_row(tire, fz_n, 0.0)
+def _curve(row: np.ndarray) -> BilinearTire:
+    """A surface row's braking figures (peak slip, peak and locked friction) as a surface."""
     return BilinearTire(float(row[SF_ST]), float(row[SF_MU_PEAK]), float(row[SF_MU_LOCK]))
 
 
 def surface_rows(road: VehicleRoad, tire: VehicleTire | None, stiffness_n_rad: float) -> np.ndarray:
     """The kernel's surface rows (`plants.abs_vehicle` SF_* columns) of the road's two surfaces."""
-    if tire is None:
-        rows = [
-            surface_row(t.slip_opt, t.mu_peak, t.mu_lock, stiffness_n_rad) for t in road.surfaces
-        ]
-    else:
-        rows = [mf_surface_row(t, tire.reference_load_n, stiffness_n_rad) for t in tire.surfaces]
-    return np.stack(rows)
+    if tire is not None:
+        return tire.rows
+    return np.stack(
+        [surface_row(t.slip_opt, t.mu_peak, t.mu_lock, stiffness_n_rad) for t in road.surfaces]
+    )
 
 
 def bound(pp: VehicleParams, road: VehicleRoad, tire: VehicleTire) -> Bound:
