@@ -60,22 +60,24 @@ def edge_angle(k, teeth, spacing):
 @_jit
 def hermite_angle(s, theta0, theta1, w0, w1, dt):
     """Cubic Hermite interpolant of the angle at s in [0, 1] of a step of length dt."""
-    s2 = s * s
-    s3 = s2 * s
-    return (
-        (2.0 * s3 - 3.0 * s2 + 1.0) * theta0
-        + (s3 - 2.0 * s2 + s) * dt * w0
-        + (-2.0 * s3 + 3.0 * s2) * theta1
-        + (s3 - s2) * dt * w1
-    )
+    return theta0 + hermite_advance(s, theta1 - theta0, w0, w1, dt)
 
 
 @_jit
-def hermite_rate(s, theta0, theta1, w0, w1, dt):
-    """d/ds of `hermite_angle`."""
+def hermite_advance(s, dtheta, w0, w1, dt):
+    """`hermite_angle` less theta0, from the step's increment dtheta = theta1 - theta0: the
+    angle the wheel turned by s, free of the rounding of a large theta0."""
+    s2 = s * s
+    s3 = s2 * s
+    return (-2.0 * s3 + 3.0 * s2) * dtheta + (s3 - 2.0 * s2 + s) * dt * w0 + (s3 - s2) * dt * w1
+
+
+@_jit
+def hermite_rate(s, dtheta, w0, w1, dt):
+    """d/ds of `hermite_advance`."""
     s2 = s * s
     return (
-        (6.0 * s2 - 6.0 * s) * (theta0 - theta1)
+        (6.0 * s - 6.0 * s2) * dtheta
         + (3.0 * s2 - 4.0 * s + 1.0) * dt * w0
         + (3.0 * s2 - 2.0 * s) * dt * w1
     )
@@ -83,23 +85,30 @@ def hermite_rate(s, theta0, theta1, w0, w1, dt):
 
 @_jit
 def crossing_start(target, theta0, theta1):
-    """Start of `crossing_fraction`'s search: (s, lo, hi, done), s the linear guess."""
-    s = min(max((target - theta0) / (theta1 - theta0), 0.0), 1.0)
-    return s, 0.0, 1.0, False
+    """Start of `crossing_fraction`'s search: (s, lo, hi, done, a, dtheta), s the linear guess,
+    a = target - theta0 and dtheta = theta1 - theta0 (exact differences where theta0 >= dtheta:
+    Sterbenz's lemma) the search's target and increment relative to theta0."""
+    a = target - theta0
+    dtheta = theta1 - theta0
+    s = min(max(a / dtheta, 0.0), 1.0)
+    return s, 0.0, 1.0, False, a, dtheta
 
 
 @_jit
-def crossing_iteration(s, lo, hi, done, target, theta0, theta1, w0, w1, dt):
-    """One iteration of `crossing_fraction`'s search, branch-free (a finished search, `done`,
-    stays as it is): the bracket [lo, hi] narrowed at s; done there when the angle hits the
-    target or the bracket is at float resolution; else the Newton iterate, or the bracket's
-    middle when Newton would leave it, done when Newton moved by at most one ulp of 1."""
-    f = hermite_angle(s, theta0, theta1, w0, w1, dt) - target
+def crossing_iteration(s, lo, hi, done, a, dtheta, w0, w1, dt):
+    """One iteration of `crossing_fraction`'s search on the angle turned, a =
+    `hermite_advance`(s) (the relative form keeps the residual's rounding at the scale of one
+    step's turn, so that Newton settles to float resolution in s in 3-5 iterations at any
+    angle), branch-free (a finished search, `done`, stays as it is): the bracket [lo, hi]
+    narrowed at s; done there when the angle hits the target or the bracket is at float
+    resolution; else the Newton iterate, or the bracket's middle when Newton would leave it,
+    done when Newton moved by at most one ulp of 1."""
+    f = hermite_advance(s, dtheta, w0, w1, dt) - a
     below = f < 0.0
     lo2 = select(below, s, lo)
     hi2 = select(below, hi, s)
     hit = (f == 0.0) | (hi2 - lo2 <= 4.0 * _EPS)
-    d = hermite_rate(s, theta0, theta1, w0, w1, dt)
+    d = hermite_rate(s, dtheta, w0, w1, dt)
     newton = select(d > 0.0, s - f / d, -1.0)
     inside = (lo2 < newton) & (newton < hi2)
     nxt = select(inside, newton, 0.5 * (lo2 + hi2))
@@ -121,9 +130,9 @@ def crossing_fraction(target, theta0, theta1, w0, w1, dt):
 
     theta0 < target <= theta1; the first crossing of a monotone interpolant (w0, w1 >= 0 and
     the angle increment between their bounds keep it monotone)."""
-    s, lo, hi, done = crossing_start(target, theta0, theta1)
+    s, lo, hi, done, a, dtheta = crossing_start(target, theta0, theta1)
     for _ in range(CROSSING_ITERATIONS):
-        s, lo, hi, done = crossing_iteration(s, lo, hi, done, target, theta0, theta1, w0, w1, dt)
+        s, lo, hi, done = crossing_iteration(s, lo, hi, done, a, dtheta, w0, w1, dt)
         if done:
             break
     return s

@@ -782,11 +782,9 @@ _LAGGED_STEPS = _plant_steps_of(-1, lagged=True)
 """Every tire law's, with the lagged slip: one loop, not one per tire law, for compile time."""
 
 
-EDGE_FIELDS = ("lane", "k", "target", "theta0", "theta1", "w0", "w1", "s", "lo", "hi", "done")
+EDGE_FIELDS = ("lane", "k", "advance", "dtheta", "w0", "w1", "s", "lo", "hi", "done")
 """Rows of the scratch `edges` (an edge crossed in a step, one per column; `sensor_edges`)."""
-E_LANE, E_K, E_TARGET, E_THETA0, E_THETA1, E_W0, E_W1, E_S, E_LO, E_HI, E_DONE = range(
-    len(EDGE_FIELDS)
-)
+E_LANE, E_K, E_ADVANCE, E_DTHETA, E_W0, E_W1, E_S, E_LO, E_HI, E_DONE = range(len(EDGE_FIELDS))
 EDGE_COLUMNS = 2 * LANES
 """Columns of `edges` (a lane's step keeps at most its last two edges, `edges_passed`): row f
 of column i at f * EDGE_COLUMNS + i, a flat array whose rows sit at constant distances, so
@@ -805,13 +803,12 @@ def _lane_edges(st, l, teeth, spacing, edges, n):
         _settle_sensor(st, l, k_end, teeth, spacing)
     while k <= k_end:
         target = E.edge_angle(k, teeth, spacing)
-        s, lo, hi, done = E.crossing_start(target, theta0, theta1)
+        s, lo, hi, done, advance, dtheta = E.crossing_start(target, theta0, theta1)
         item = (
             float(l),
             float(k),
-            target,
-            theta0,
-            theta1,
+            advance,
+            dtheta,
             w0,
             w1,
             s,
@@ -854,9 +851,8 @@ def _search_crossings(edges, n, dt):
                 edges[E_LO * EDGE_COLUMNS + i],
                 edges[E_HI * EDGE_COLUMNS + i],
                 edges[E_DONE * EDGE_COLUMNS + i] != 0.0,
-                edges[E_TARGET * EDGE_COLUMNS + i],
-                edges[E_THETA0 * EDGE_COLUMNS + i],
-                edges[E_THETA1 * EDGE_COLUMNS + i],
+                edges[E_ADVANCE * EDGE_COLUMNS + i],
+                edges[E_DTHETA * EDGE_COLUMNS + i],
                 edges[E_W0 * EDGE_COLUMNS + i],
                 edges[E_W1 * EDGE_COLUMNS + i],
                 dt,
