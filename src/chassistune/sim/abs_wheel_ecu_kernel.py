@@ -23,15 +23,16 @@ Each iteration of the lane loop, per lane, in the order of docs/ecu.md "The real
   K/(s(Ts+1)); three-state: a pulse, `duty_pulse` for a law whose command is a pressure rate
   K u (the PID laws), `switching_pulse` for the switching laws, the driver's demand after the
   cut-out);
-- `valve_switches`: whether a valve switches inside the step (three-state valves), and then the
-  exact pressures through the switch (`modulator_advance`);
-- `plant_step`: one RK4 step (three-state valves: the stages read the one-state orifice
-  solution, or the pressures of a step with a switch), then `step_metrics`: its metrics and end
-  flags; straight-line code (selects, no calls, no branches) in two vector loops of 8 lanes,
-  each a function of its own: the step's (`_plant_steps_of`) compiled once per tire law (a
+- three-state valves: whether a valve switches inside the step (`switch_within`: after a tick
+  here, `valve_switches`; else the flag the last step's metrics left), and then the exact
+  pressures through the switch (`switch_pressures`, `modulator_advance`);
+- `plant_step`: one RK4 step (three-state valves: the stages read the one-state orifice solution, or
+  the pressures of a step with a switch), then `step_metrics`: its metrics, end flags and the next
+  step's switch flag; straight-line code (selects, no calls, no branches) in two vector loops of 8
+  lanes, each a function of its own: the step's (`_plant_steps_of`) compiled once per tire law (a
   constant in each copy, picked by the lane loop), the metrics' (`_metric_steps`) once (numba
-  inlines a function by copying its IR, at a cost that grows with what it inlines: inlined
-  into the lane loop, each copy would be compiled again there);
+  inlines a function by copying its IR, at a cost that grows with what it inlines: inlined into the
+  lane loop, each copy would be compiled again there);
 - `sensor_edges`: the toothed sensor, for the lanes whose wheel passed an edge in the step
   (`sensor_step` in its pieces, the edge-time searches of all those lanes in lockstep);
 - a finished run writes its metrics, and its lane takes the next candidate.
@@ -545,24 +546,40 @@ def _tick(st, l, aux, base, x, ts, t, tire, tc, table, grid, acc_noise, laws_key
     st[R_TICK * LANES + l] = tick + 1.0
 
 
+@_inline
+def switch_within(st, l, t, dt):
+    """Three-state valves (docs/ecu.md, Three-state modulator): whether a pulse boundary of lane
+    l falls inside the step from t, t < b < t + dt (1.0 or 0.0). Branch-free: the metrics'
+    vector loop flags the next step of every lane (`step_metrics`), a tick its own
+    (`valve_switches`)."""
+    t_end = t + dt
+    b0 = st[R_PS0 * LANES + l] + st[R_PO0 * LANES + l]
+    b1 = st[R_PS1 * LANES + l]
+    b2 = b1 + st[R_PO1 * LANES + l]
+    inside = ((t < b0) & (b0 < t_end)) | ((t < b1) & (b1 < t_end)) | ((t < b2) & (b2 < t_end))
+    return select(inside, 1.0, 0.0)
+
+
 @inlined
-def valve_switches(st, l, t, hs, dt, x):
-    """Three-state valves (docs/ecu.md, Three-state modulator): whether a pulse boundary falls
-    inside the step from t; if so, the exact pressures at t + dt/2 and t + dt through it
+def switch_pressures(st, l, t, hs, dt, x):
+    """The exact pressures at t + dt/2 and t + dt through the valve switch inside lane l's step
     (`modulator_advance`), which the step reads instead of its own one-state solution."""
+    q, kb, kd, q_max = st[R_Q * LANES + l], x[X_KB], x[X_KD], st[R_QMAX * LANES + l]
     pm0, ps0, po0 = st[R_PM0 * LANES + l], st[R_PS0 * LANES + l], st[R_PO0 * LANES + l]
     pm1, ps1, po1 = st[R_PM1 * LANES + l], st[R_PS1 * LANES + l], st[R_PO1 * LANES + l]
-    t_end = t + dt
-    switch = False
-    for b in (ps0 + po0, ps1, ps1 + po1):
-        switch |= t < b < t_end
-    st[R_QSWITCH * LANES + l] = 1.0 if switch else 0.0
-    if switch:
-        q, kb, kd, q_max = st[R_Q * LANES + l], x[X_KB], x[X_KD], st[R_QMAX * LANES + l]
-        for row, h in ((R_QA, hs), (R_QB, dt)):
-            st[row * LANES + l] = E.modulator_advance(
-                q, t, h, pm0, ps0, po0, pm1, ps1, po1, kb, kd, q_max, 0.0
-            )
+    for row, h in ((R_QA, hs), (R_QB, dt)):
+        st[row * LANES + l] = E.modulator_advance(
+            q, t, h, pm0, ps0, po0, pm1, ps1, po1, kb, kd, q_max, 0.0
+        )
+
+
+@inlined
+def valve_switches(st, l, t, hs, dt, x):
+    """After a tick's new pulse: whether a valve switches inside lane l's step
+    (`switch_within`) and, if so, the exact pressures through it (`switch_pressures`)."""
+    st[R_QSWITCH * LANES + l] = switch_within(st, l, t, dt)
+    if st[R_QSWITCH * LANES + l] != 0.0:
+        switch_pressures(st, l, t, hs, dt, x)
 
 
 @_inline
@@ -678,8 +695,9 @@ def lagged_plant_step(st, l, tire, three_state, dt, hs, h6, tc, kb, kd):
 @_inline
 def step_metrics(st, l, dt, n_steps, t_timeout, live):
     """The metrics of lane l's step just taken (the ideal kernel's quadrature; the slip
-    objectives and the lock before the cut-out only) and its end flags. Straight-line code, a
-    body of the vector loop; returns 1 if a live lane ended."""
+    objectives and the lock before the cut-out only), its end flags and whether a valve
+    switches inside its next step (`switch_within`; a tick redoes it after a new pulse).
+    Straight-line code, a body of the vector loop; returns 1 if a live lane ended."""
     v, vn, wn, qn, rn = (
         st[R_V_START * LANES + l],
         st[R_V * LANES + l],
@@ -736,6 +754,7 @@ def step_metrics(st, l, dt, n_steps, t_timeout, live):
     st[R_ITAE * LANES + l] = itae
     st[R_DIST * LANES + l] = dist
     st[R_STEP * LANES + l] = k + 1.0
+    st[R_QSWITCH * LANES + l] = switch_within(st, l, (k + 1.0) * dt, dt)
     return ended & (l < live)
 
 
@@ -1061,8 +1080,10 @@ def _simulate(
             if k == st[R_TICK * LANES + l] * m:
                 base = lp[lane_of[l]]
                 _tick(st, l, aux[l], base, x, ts, t, tire, tc, table, grid, acc_noise, laws_key)
-            if three_state:
-                valve_switches(st, l, t, hs, dt, x)
+                if three_state:
+                    valve_switches(st, l, t, hs, dt, x)
+            elif three_state and st[R_QSWITCH * LANES + l] != 0.0:
+                switch_pressures(st, l, t, hs, dt, x)
         width = -(-live // VECTOR) * VECTOR
         if lagged:
             _LAGGED_STEPS(st, width, three_state, lagged_step)
