@@ -56,6 +56,22 @@ def degressive_friction_scale(scale: float) -> float:
 
 
 @_jit
+def cos_arctan(x: float) -> float:
+    """cos(arctan x) = 1 / sqrt(1 + x^2), the identity (one square root for an arctangent and a
+    cosine in series)."""
+    return 1.0 / math.sqrt(1.0 + x * x)
+
+
+@_jit
+def sin_shape_arctan(shape: float, x: float) -> float:
+    """sin(shape arctan x), by the identity sin(2 arctan x) = 2 x / (1 + x^2) at MF 5.2's shape
+    2 (PKY4's neutral value)."""
+    if shape == 2.0:
+        return 2.0 * x / (1.0 + x * x)
+    return math.sin(shape * math.atan(x))
+
+
+@_jit
 def sine_curve(b: float, cs: float, d: float, e: float, x: float) -> float:
     """D sin[C arctan{B x - E (B x - arctan B x)}], the Magic Formula (4.E9, 4.E19)."""
     bx = b * x
@@ -133,7 +149,7 @@ def lateral_shape(
         ky = (
             c[mfc.PKY1]
             * fz0
-            * math.sin(c[mfc.PKY4] * math.atan(fz_n / (c[mfc.PKY2] * fz0)))
+            * sin_shape_arctan(c[mfc.PKY4], fz_n / (c[mfc.PKY2] * fz0))
             * c[mfc.LKY]
         )
     cy = c[mfc.PCY1] * c[mfc.LCY]
@@ -156,7 +172,7 @@ def lateral_force_pure_n(
 def longitudinal_weight(c: np.ndarray, kappa: float, alpha: float, fz_n: float) -> float:
     """G_xalpha, the reduction of F_x by lateral slip (4.E51-4.E57 at zero camber)."""
     shxa = c[mfc.RHX1]
-    bxa = c[mfc.RBX1] * math.cos(math.atan(c[mfc.RBX2] * kappa)) * c[mfc.LXAL]
+    bxa = c[mfc.RBX1] * cos_arctan(c[mfc.RBX2] * kappa) * c[mfc.LXAL]
     cxa = c[mfc.RCX1]
     exa = min(c[mfc.REX1] + c[mfc.REX2] * load_increment(c, fz_n), 1.0)
     return cosine_curve(bxa, cxa, exa, alpha + shxa) / cosine_curve(bxa, cxa, exa, shxa)
@@ -167,7 +183,7 @@ def lateral_weight(c: np.ndarray, kappa: float, alpha: float, fz_n: float) -> fl
     """G_ykappa, the reduction of F_y by longitudinal slip (4.E59-4.E65 at zero camber)."""
     dfz = load_increment(c, fz_n)
     shyk = c[mfc.RHY1] + c[mfc.RHY2] * dfz
-    byk = c[mfc.RBY1] * math.cos(math.atan(c[mfc.RBY2] * (alpha - c[mfc.RBY3]))) * c[mfc.LYKA]
+    byk = c[mfc.RBY1] * cos_arctan(c[mfc.RBY2] * (alpha - c[mfc.RBY3])) * c[mfc.LYKA]
     cyk = c[mfc.RCY1]
     eyk = min(c[mfc.REY1] + c[mfc.REY2] * dfz, 1.0)
     return cosine_curve(byk, cyk, eyk, kappa + shyk) / cosine_curve(byk, cyk, eyk, shyk)
@@ -179,7 +195,7 @@ def lateral_shift_by_slip_n(
 ) -> float:
     """S_Vykappa, the lateral force longitudinal slip induces (4.E66, 4.E67 at zero camber)."""
     dvyk = mu_y * fz_n * (c[mfc.RVY1] + c[mfc.RVY2] * load_increment(c, fz_n))
-    dvyk *= math.cos(math.atan(c[mfc.RVY4] * alpha))
+    dvyk *= cos_arctan(c[mfc.RVY4] * alpha)
     return dvyk * math.sin(c[mfc.RVY5] * math.atan(c[mfc.RVY6] * kappa)) * c[mfc.LVYKA]
 
 
