@@ -91,9 +91,8 @@ def lateral_relaxation_length_m(c: np.ndarray, fz_n: float) -> float:
     (`pac2002_lateral_relaxation_length_m`); NaN where it gives neither."""
     if c[mfc.LATERAL_STIFFNESS_N_M] > 0.0:
         return carcass_lateral_relaxation_length_m(c, fz_n)
-    if c[mfc.PTY1] > 0.0 and c[mfc.PTY2] > 0.0:
-        return pac2002_lateral_relaxation_length_m(c, fz_n)
-    return math.nan
+    pac2002 = c[mfc.PTY1] > 0.0 and c[mfc.PTY2] > 0.0
+    return pac2002_lateral_relaxation_length_m(c, fz_n) if pac2002 else math.nan
 
 
 @numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")

@@ -398,9 +398,7 @@ GENERAL_ROWS = (
     Slot("heading_rad", "rad", "the heading the next two rows are of"),
     Slot("heading_cos", "-", "cos of the stage's heading (1 at 0)"),
     Slot("heading_sin", "-", "sin of the stage's heading (0 at 0)"),
-    *_per_wheel(
-        "sx", "-", "the stage's longitudinal slip (u - w R)/|V| the tire reads, unclipped"
-    ),
+    *_per_wheel("sx", "-", "the stage's longitudinal slip (u - w R)/|V| the tire reads, unclipped"),
     *_per_wheel("vr", "-", "the stage's v/|V| in the wheel frame the tire reads"),
     *_per_wheel(
         "kinematic_slip",
