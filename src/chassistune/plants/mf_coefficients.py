@@ -190,6 +190,13 @@ class MagicFormulaTire:
     LSGAL,
 ) = range(79)
 """Index of each coefficient in `MagicFormulaTire.kernel_array()` (the dataclass's field order)."""
+if (PCFX1, PCFX2, PCFY1, PCFY2) != (
+    LONGITUDINAL_STIFFNESS_N_M + 1,
+    LONGITUDINAL_STIFFNESS_N_M + 2,
+    LATERAL_STIFFNESS_N_M + 1,
+    LATERAL_STIFFNESS_N_M + 2,
+):  # pragma: no cover
+    raise RuntimeError("a carcass stiffness's load terms must follow it (`carcass_length_m`)")
 N_MF_COEFFICIENTS = len(dataclasses.fields(MagicFormulaTire))
 """Length of `MagicFormulaTire.kernel_array`."""
 

@@ -77,11 +77,18 @@ def carcass_relaxation_length_m(c: np.ndarray, fz_n: float) -> float:
     stiffness C_x = LONGITUDINAL_STIFFNESS (1 + PCFX1 dfz + PCFX2 dfz^2) (Besselink, Schmeitz and
     Pacejka 2010, Vehicle System Dynamics 48 sup. 1, eqs. 17 and 19, at nominal pressure). Needs
     LONGITUDINAL_STIFFNESS > 0 (0 in `MagicFormulaTire` when the file does not give it)."""
+    k = longitudinal_shape(c, 0.0, fz_n)[6]
+    return carcass_length_m(c, k, mfc.LONGITUDINAL_STIFFNESS_N_M, fz_n)
+
+
+@numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def carcass_length_m(c: np.ndarray, slip_stiffness: float, row: int, fz_n: float) -> float:
+    """|K / C| at load fz_n, the carcass stiffness C = c[row] (1 + c[row + 1] dfz + c[row + 2]
+    dfz^2): LONGITUDINAL_STIFFNESS, PCFX1, PCFX2 or LATERAL_STIFFNESS, PCFY1, PCFY2 (Besselink,
+    Schmeitz and Pacejka 2010, eqs. 17-19, at nominal pressure)."""
     dfz = load_increment(c, fz_n)
-    stiffness_n_m = c[mfc.LONGITUDINAL_STIFFNESS_N_M] * (
-        1.0 + c[mfc.PCFX1] * dfz + c[mfc.PCFX2] * dfz * dfz
-    )
-    return abs(longitudinal_shape(c, 0.0, fz_n)[6] / stiffness_n_m)
+    stiffness_n_m = c[row] * (1.0 + c[row + 1] * dfz + c[row + 2] * dfz * dfz)
+    return abs(slip_stiffness / stiffness_n_m)
 
 
 @numba.njit(cache=True, nogil=True, inline="always", error_model="numpy")
@@ -112,8 +119,5 @@ def carcass_lateral_relaxation_length_m(c: np.ndarray, fz_n: float) -> float:
     C_y = LATERAL_STIFFNESS (1 + PCFY1 dfz + PCFY2 dfz^2) (Besselink, Schmeitz and Pacejka 2010,
     eqs. 18 and 19, at nominal pressure) and K_yalpha at zero camber (4.E25). Needs
     LATERAL_STIFFNESS > 0 (0 in `MagicFormulaTire` when the file does not give it)."""
-    dfz = load_increment(c, fz_n)
-    stiffness_n_m = c[mfc.LATERAL_STIFFNESS_N_M] * (
-        1.0 + c[mfc.PCFY1] * dfz + c[mfc.PCFY2] * dfz * dfz
-    )
-    return abs(lateral_shape(c, 0.0, fz_n)[6] / stiffness_n_m)
+    k = lateral_shape(c, 0.0, fz_n)[6]
+    return carcass_length_m(c, k, mfc.LATERAL_STIFFNESS_N_M, fz_n)
