@@ -2,8 +2,9 @@
 unloaded wheel: the step of the lanes the vector pass did not commit, on lanes (`general_steps`:
 each stage in branch-free vector loops over the lanes, the loads by Newton's method iterated
 while a lane's solve has not returned, the others frozen by select, in the operations of
-`plants.abs_vehicle.solve_loads`); and a trace row, its loads by `solve_loads` re-evaluated at
-the lane's state."""
+`plants.abs_vehicle.solve_loads`), with the tires' lagged slips where the run has relaxation
+lengths (`abs_vehicle_lag`); and a trace row, its loads by `solve_loads` re-evaluated at the
+lane's state."""
 
 from __future__ import annotations
 

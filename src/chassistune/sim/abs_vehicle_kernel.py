@@ -26,8 +26,9 @@ at v_stop (CG speed) is located by linear interpolation inside the last step, an
 
 The stages, one module each: the layouts (`abs_vehicle_layout`), a lane's rows
 (`abs_vehicle_lane`), the wheels (`abs_vehicle_wheels`), the straight path
-(`abs_vehicle_straight`), the general path (`abs_vehicle_general`), the step's end
-(`abs_vehicle_step_end`), instants inside a step (`abs_vehicle_stop`), the wheel laws
+(`abs_vehicle_straight`), the general path (`abs_vehicle_general`), the tires' lagged slips
+(`abs_vehicle_lag`: a run with a relaxation length takes the general path at every step), the
+step's end (`abs_vehicle_step_end`), instants inside a step (`abs_vehicle_stop`), the wheel laws
 (`abs_vehicle_ticks`); here the lane loop and the entry point.
 
 Lanes (the design of `abs_wheel_kernel`). Every per-candidate quantity lives in ONE flat array `st`
