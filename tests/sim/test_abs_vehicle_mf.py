@@ -114,12 +114,6 @@ def test_the_step_check_takes_the_curves_slope():
     assert scenario("dry-concrete", dt_s=passing).plant_params.dt_s == passing
 
 
-def test_the_lagged_slip_is_refused_on_the_vehicle():
-    with pytest.raises(InputError) as err:
-        scenario("dry-concrete", relaxation_length_m=0.3)
-    assert err.value.field == "params.relaxation_length_m"
-
-
 @pytest.mark.slow
 def test_the_closed_loop_agrees_with_an_independent_scipy_integration():
     """Split-mu, steering fixed: the kernel's RK4 against scipy's RK45 at rtol 1e-8 on the plain

@@ -12,7 +12,9 @@ of the Magic Formula to the bilinear tire is measured in the same run, per kerne
 The vehicle (`tire_vehicle_*`): the PID's first VEHICLE_ROWS rows of `perf.vehicle`'s population
 on paper-deffao from 15 m/s at dt 0.2 ms (the step the Chrono file needs there), on dry concrete
 and on split-mu with the steering fixed, bilinear against the Magic Formula (`--tire`, docs/tires.md
-"On the vehicle"), each candidate-step the four wheels; best of 3.
+"On the vehicle") and the bilinear tire with both lagged slips (`tire_vehicle_lagged_bilinear_*`:
+relaxation lengths 0.3 m, docs/tires.md "Transient slip on the vehicle"), each candidate-step the
+four wheels; best of 3.
 """
 
 from __future__ import annotations
@@ -57,6 +59,12 @@ VEHICLE_CASES: dict[str, tuple[str, dict[str, object]]] = {
     "split_mu": ("split-mu", {"steering": "fixed"}),
 }
 """Vehicle figure -> (road, overrides)."""
+VEHICLE_LAWS: dict[str, dict[str, object]] = {
+    "bilinear": {},
+    "magic_formula": {"tire": SAMPLE_TIR},
+    "lagged_bilinear": {"relaxation_length_m": 0.3, "lateral_relaxation_length_m": 0.3},
+}
+"""Vehicle tire -> its parameters."""
 
 
 def vehicle_figures() -> dict[str, float]:
@@ -64,7 +72,7 @@ def vehicle_figures() -> dict[str, float]:
     Formula's over the bilinear's per road."""
     out = {}
     for case, (road, overrides) in VEHICLE_CASES.items():
-        for law, extra in (("bilinear", {}), ("magic_formula", {"tire": SAMPLE_TIR})):
+        for law, extra in VEHICLE_LAWS.items():
             params = {"dt_s": 2e-4, "v0_m_s": 15.0, **overrides, **extra}
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", TirWarning)

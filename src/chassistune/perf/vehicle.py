@@ -52,7 +52,9 @@ def reference_rhs(
     """The closed loop's right-hand side in plain Python (straight steering, no driver).
 
     State: vx, vy, r, X, Y, psi, then per wheel w, q, qrate, z, xf (wheel-major), then the CG
-    path length. Fuzzy PID (gains ke, kec, ku_p, ku_i, ku_d, kp0, ki0, kd0) or PID (kp, ki, kd).
+    path length; with relaxation lengths (`lagged_states`), then the four wheels' lagged slips
+    s' = -kappa' and tan(alpha') (docs/tires.md, "Transient slip on the vehicle"). Fuzzy PID
+    (gains ke, kec, ku_p, ku_i, ku_d, kp0, ki0, kd0) or PID (kp, ki, kd).
     """
     from chassistune.fuzzy.surface import surface_lookup
     from chassistune.plants.magic_formula import lateral_force_n, longitudinal_force_n
@@ -96,23 +98,42 @@ def reference_rhs(
         f = fz * mu_of(min(s, 1.0), k)
         return -f * sx / s, -f * sy / s
 
+    sigma_x, sigma_y = pp.relaxation_length_m, pp.lateral_relaxation_length_m
+    lagged = lagged_states(scenario) > 0
+
     def rhs(t: float, y: np.ndarray) -> np.ndarray:
         vx, vy, r, _x, _y, psi = y[:6]
         wheel = y[6:26].reshape(4, 5)
         sx = np.zeros(4)
         vr = np.zeros(4)
+        tire_sx = np.zeros(4)
+        tire_vr = np.zeros(4)
         slips = []
+        dy = np.zeros_like(y)
         for j in range(4):
             u, v = vx - r * ys[j], vy + r * xs[j]
             vabs = max(math.hypot(u, v), pp.min_speed_m_s)
-            sx[j] = (u - max(wheel[j, 0], 0.0) * pp.wheel_radius_m) / vabs
+            slip_speed = u - max(wheel[j, 0], 0.0) * pp.wheel_radius_m
+            sx[j] = slip_speed / vabs
             vr[j] = v / vabs
-            slips.append(((max(wheel[j, 0], 0.0) * pp.wheel_radius_m - u) / abs(u), v / abs(u)))
+            s_tire, t_tire = slip_speed / abs(u), v / abs(u)
+            if lagged:  # the lag: sigma ds'/dt = (u - w R) - |u| s', sigma dt'/dt = v - |u| t'
+                s_lag, t_lag = y[27 + j], y[31 + j]
+                if sigma_x > 0.0:
+                    dy[27 + j] = (slip_speed - abs(u) * s_lag) / sigma_x
+                    s_tire = s_lag
+                if sigma_y > 0.0:
+                    dy[31 + j] = (v - abs(u) * t_lag) / sigma_y
+                    t_tire = t_lag
+            slips.append((-s_tire, t_tire))
+            cos = 1.0 / math.hypot(1.0, t_tire) if lagged else 1.0
+            tire_sx[j] = s_tire * cos if lagged else sx[j]
+            tire_vr[j] = t_tire * cos if lagged else vr[j]
         ax = ay = 0.0
         for _ in range(200):  # the load/force loop, by fixed-point iteration
             fz = np.maximum(fz0 + ca * ax + cb * ay, 0.0)
             if mf is None:
-                forces = [tire(sx[j], vr[j], fz[j], side[j]) for j in range(4)]
+                forces = [tire(tire_sx[j], tire_vr[j], fz[j], side[j]) for j in range(4)]
             else:
                 forces = [mf_tire(*slips[j], fz[j], side[j], j % 2 == 1) for j in range(4)]
             new_ax = sum(f[0] for f in forces) / pp.mass_kg
@@ -122,7 +143,6 @@ def reference_rhs(
             if done:
                 break
         mz = sum(xs[j] * forces[j][1] - ys[j] * forces[j][0] for j in range(4))
-        dy = np.zeros_like(y)
         dy[0] = ax + vy * r
         dy[1] = ay - vx * r
         dy[2] = mz / pp.yaw_inertia_kg_m2
@@ -156,13 +176,18 @@ def reference_rhs(
     return rhs
 
 
+def lagged_states(scenario: AbsVehicleScenario) -> int:
+    """The reference's lagged-slip states: 8 with a relaxation length, else none."""
+    return 8 if scenario.lagged else 0
+
+
 def reference_solution(scenario: AbsVehicleScenario, gains: np.ndarray, **options: float) -> object:
     """scipy `solve_ivp` (RK45, max_step 1e-3 unless `options` say otherwise) of the reference
     right-hand side from the kernel's initial state, to v_stop or t_max."""
     from scipy.integrate import solve_ivp
 
     pp = scenario.plant_params
-    y0 = np.zeros(27)
+    y0 = np.zeros(27 + lagged_states(scenario))  # the lagged slips start at the kinematic 0
     y0[0] = pp.v0_m_s
     road = scenario.road_spec
     for j in range(4):

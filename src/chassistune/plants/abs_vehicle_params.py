@@ -60,6 +60,12 @@ class VehicleParams:
     """A wheel counts as locked while w R < lock_ratio |V|."""
     min_speed_m_s: float = field(default=0.1, metadata=positive(0.01, 1.0))
     """Floor of |V| in the slip definitions."""
+    relaxation_length_m: float = field(default=0.0, metadata=nonnegative(0.0, 1.0))
+    """sigma_kappa of every wheel: 0, the tires read the kinematic slip; positive, a lagged slip
+    (docs/tires.md, "Transient slip on the vehicle"); `tire` on the command line: the TIR
+    file's own, at each wheel's static load."""
+    lateral_relaxation_length_m: float = field(default=0.0, metadata=nonnegative(0.0, 1.0))
+    """sigma_alpha of every wheel, the lateral slip's lag as `relaxation_length_m`."""
 
     @property
     def wheelbase_m(self) -> float:

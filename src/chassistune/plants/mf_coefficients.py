@@ -4,7 +4,8 @@
 order of the kernel array (`kernel_array`), whose indices are the upper-case names below, so a
 compiled force function reads `c[PCX1]`. Names are the TIR file's, lower-case; the three
 dimensional ones carry their SI unit. LONGITUDINAL_STIFFNESS and PCFX1-2 (MF 6.1), or PTX1-3
-and LSGKP (MF 5.2), give the relaxation length (`plants.mf_relaxation`). Absent coefficients
+and LSGKP (MF 5.2), give the longitudinal relaxation length, LATERAL_STIFFNESS and PCFY1-2, or
+PTY1-2 and LSGAL, the lateral one (`plants.mf_relaxation`). Absent coefficients
 take the neutral values of `neutral`: 0 for shifts and load terms, 1 for the scaling factors
 (LFZO, LCX, ...), PKY4 = 2 (MF 5.2's constant, which 6.1 made a coefficient).
 """
@@ -95,6 +96,12 @@ class MagicFormulaTire:
     ptx2: float
     ptx3: float
     lsgkp: float
+    lateral_stiffness_n_m: float
+    pcfy1: float
+    pcfy2: float
+    pty1: float
+    pty2: float
+    lsgal: float
 
     def kernel_array(self) -> np.ndarray:
         """The coefficients as one float64 array, indexed by the module's upper-case constants."""
@@ -175,8 +182,21 @@ class MagicFormulaTire:
     PTX2,
     PTX3,
     LSGKP,
-) = range(73)
+    LATERAL_STIFFNESS_N_M,
+    PCFY1,
+    PCFY2,
+    PTY1,
+    PTY2,
+    LSGAL,
+) = range(79)
 """Index of each coefficient in `MagicFormulaTire.kernel_array()` (the dataclass's field order)."""
+if (PCFX1, PCFX2, PCFY1, PCFY2) != (
+    LONGITUDINAL_STIFFNESS_N_M + 1,
+    LONGITUDINAL_STIFFNESS_N_M + 2,
+    LATERAL_STIFFNESS_N_M + 1,
+    LATERAL_STIFFNESS_N_M + 2,
+):  # pragma: no cover
+    raise RuntimeError("a carcass stiffness's load terms must follow it (`carcass_length_m`)")
 N_MF_COEFFICIENTS = len(dataclasses.fields(MagicFormulaTire))
 """Length of `MagicFormulaTire.kernel_array`."""
 
@@ -190,6 +210,7 @@ LATERAL_ONLY = frozenset(
     {"LCY", "LMUY", "LEY", "LKY", "LHY", "LVY", "LYKA", "LVYKA"}
     | {f"P{k}Y{i}" for k in "CDEKHV" for i in range(1, 5)}
     | {f"R{k}Y{i}" for k in "BCEHV" for i in range(1, 7)}
+    | {"LATERAL_STIFFNESS", "PCFY1", "PCFY2", "PTY1", "PTY2", "LSGAL"}
 )
 """TIR names used only by the lateral force (not read, not warned about, for longitudinal use)."""
 
@@ -205,10 +226,11 @@ def tir_name(field_name: str) -> str:
 def neutral(name: str) -> float:
     """A coefficient's neutral value (its TIR name): 1 for a scaling factor (L...), 2 for PKY4,
     else 0 (shifts, load and combined-slip terms); FZMAX has none (no upper limit: inf), nor
-    LONGITUDINAL_STIFFNESS (0: not given, no relaxation length from the file)."""
+    LONGITUDINAL_STIFFNESS and LATERAL_STIFFNESS (0: not given, no relaxation length from the
+    file)."""
     if name == "FZMAX":
         return float("inf")
-    if name == "LONGITUDINAL_STIFFNESS":
+    if name in ("LONGITUDINAL_STIFFNESS", "LATERAL_STIFFNESS"):
         return 0.0
     if name == "PKY4":
         return 2.0

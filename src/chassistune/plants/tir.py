@@ -50,9 +50,10 @@ REQUIRED_SECTIONS = ("MODEL", "DIMENSION", "VERTICAL", "LONGITUDINAL_COEFFICIENT
 
 _FORCES = ("FNOMIN", "FZMIN", "FZMAX")
 _LENGTHS = ("UNLOADED_RADIUS",)
-_STIFFNESSES = ("LONGITUDINAL_STIFFNESS",)
+_STIFFNESSES = ("LONGITUDINAL_STIFFNESS", "LATERAL_STIFFNESS")
 _OPTIONAL = (
-    "FZMIN", "FZMAX", "LONGITUDINAL_STIFFNESS", "PCFX1", "PCFX2", "PTX1", "PTX2", "PTX3", "LSGKP"
+    "FZMIN", "FZMAX", "LONGITUDINAL_STIFFNESS", "PCFX1", "PCFX2", "PTX1", "PTX2", "PTX3", "LSGKP",
+    "LATERAL_STIFFNESS", "PCFY1", "PCFY2", "PTY1", "PTY2", "LSGAL",
 )  # fmt: skip
 """Not force coefficients: absent (no load limits; no relaxation length, or one independent of
 the load; MF 5.2's relaxation terms in an MF 6.1 file, and the reverse), without a warning."""

@@ -48,7 +48,7 @@ from chassistune.plants.vehicle_roads import (
     make_road,
 )
 from chassistune.scenarios import vehicle_tire
-from chassistune.scenarios.abs_wheel import _no_surface, fuzzy_table
+from chassistune.scenarios.abs_wheel import LENGTH_FROM_TIRE, _no_surface, fuzzy_table
 from chassistune.scenarios.base import PENALTY, Plant, Scenario, Trace, json_scalar, pick_preset
 from chassistune.scenarios.controller_params import kernel_gains, resolve_controller_params
 from chassistune.scenarios.registry import ABS_VEHICLE
@@ -178,6 +178,15 @@ def _check_consistency(
         raise InputError("params.t_max_s", f"must be at least 10 steps, got {pp.t_max_s:g}")
     if pp.t_max_s / pp.dt_s > 5e7:
         raise InputError("params.dt_s", "too many steps (t_max_s / dt_s above 5e7)")
+    shortest = pp.v0_m_s * pp.dt_s
+    for name in vehicle_tire.LENGTH_FIELDS:
+        sigma = getattr(pp, name)
+        if 0.0 < sigma < shortest:
+            raise InputError(
+                f"params.{name}",
+                f"must be 0 or at least v0_m_s dt_s = {shortest:g} m (a step no longer than the "
+                f"lag's time constant sigma / |u|), got {sigma:g}",
+            )
     check_step(pp, road, tire)
 
 
@@ -273,6 +282,9 @@ class AbsVehicleScenario(Scenario):
             "target_gain_column": self._gain_column(TARGET_GAIN.name),
             "gma_gain_column": self._gain_column(GMA.RATE_GAIN.name),
         }
+        for w in VL.WHEELS:
+            values[f"relaxation_length_{w}_m"] = pp.relaxation_length_m
+            values[f"lateral_relaxation_length_{w}_m"] = pp.lateral_relaxation_length_m
         p = VL.PLANT_LAYOUT.pack(values)
         geo = geometry(pp)
         surfs = vehicle_tire.surface_rows(road, self.tire, pp.cornering_stiffness_n_rad)
@@ -364,15 +376,24 @@ class AbsVehicleScenario(Scenario):
         p, geo, surfs, ckind, c, table = self._kernel_args
         g = self._kernel_gains(np.asarray(gains, dtype=np.float64).reshape(1, -1))
         n_rows = math.ceil(self.plant_params.t_max_s / self.plant_params.dt_s) + 2
-        tr = np.zeros((n_rows, VL.N_TRACE))
+        lagged = self.lagged
+        tr = np.zeros((n_rows, VL.N_TRACE_LAGGED if lagged else VL.N_TRACE))
         out = np.zeros((1, VL.N_METRICS))
         K.simulate_abs_vehicle(g, p, geo, surfs, ckind, c, table, tr, out, K.scratch())
         rows = int(out[0, VL.M_NTRACE])
-        signals = VL.TRACE_LAYOUT.decode(tr[:rows])
+        signals = VL.TRACE_LAYOUT.decode(tr[:rows, : VL.N_TRACE])
+        units = dict(VL.TRACE_LAYOUT.units)
+        if lagged:  # the slips the tires read (`abs_vehicle_lag`)
+            signals |= VL.LAG_TRACE_LAYOUT.decode(tr[:rows, VL.N_TRACE :])
+            units |= VL.LAG_TRACE_LAYOUT.units
         metrics = {k: json_scalar(v[0]) for k, v in self.metrics_from_raw(out).items()}
-        return Trace(
-            signals, metrics, self.units(VL.TRACE_LAYOUT.units), locked_slip_shown(signals)
-        )
+        return Trace(signals, metrics, self.units(units), locked_slip_shown(signals))
+
+    @property
+    def lagged(self) -> bool:
+        """Whether the tires read lagged slips (a relaxation length: docs/tires.md)."""
+        pp = self.plant_params
+        return pp.relaxation_length_m > 0.0 or pp.lateral_relaxation_length_m > 0.0
 
 
 class AbsVehiclePlant(Plant):
@@ -414,18 +435,14 @@ class AbsVehiclePlant(Plant):
         gma = str(values.get(GMA.FIELD, "off"))
         if gma not in GMA.CHOICES:
             raise InputError(f"params.{GMA.FIELD}", f"must be off or on, got {gma!r}")
-        plant_params, used = override(pre.params, values)
-        used |= {FIELD, GMA.FIELD}
+        from_tire = {n for n in vehicle_tire.LENGTH_FIELDS if values.get(n) == LENGTH_FROM_TIRE}
+        numeric = {k: v for k, v in values.items() if k not in from_tire}
+        plant_params, used = override(pre.params, numeric)
+        used |= {FIELD, GMA.FIELD} | from_tire
         steering, used_steering = override(SteeringParams(), values)
         if steering.steering not in STEERING_MODES:
             raise InputError(
                 "params.steering", f"must be auto, fixed or driver, got {steering.steering!r}"
-            )
-        if "relaxation_length_m" in values:
-            raise InputError(
-                "params.relaxation_length_m",
-                "the lagged slip runs on the single wheel (abs-wheel) only so far, "
-                "not on abs-vehicle",
             )
         own_surface = road_name == TIRE_SURFACE
         road_spec, used_road, road_params = (
@@ -433,6 +450,7 @@ class AbsVehiclePlant(Plant):
         )
         plant_params = validate(plant_params, "params.")
         road_spec, tire = vehicle_tire.on_surfaces(road_name, road_spec, values, plant_params)
+        plant_params = vehicle_tire.with_file_lengths(plant_params, tire, from_tire)
         used |= {"tire"} if tire is not None else set()
         split_mu = road_spec.kind == ROAD_SPLIT
         steering = dataclasses.replace(steering, steering=steering_on(steering.steering, split_mu))

@@ -37,6 +37,10 @@ from chassistune.plants.magic_formula import longitudinal_shape
 from chassistune.plants.mf_coefficients import MagicFormulaTire
 from chassistune.plants.mf_curve import TIRE_SURFACE
 from chassistune.plants.mf_peak import scaled_to_road
+from chassistune.plants.mf_relaxation import (
+    lateral_relaxation_length_m,
+    longitudinal_relaxation_length_m,
+)
 from chassistune.plants.tires import BilinearTire
 from chassistune.plants.vehicle_mf import braking_capacity_n
 from chassistune.plants.vehicle_roads import ROAD_MU_JUMP, ROAD_SPLIT, ROAD_UNIFORM, VehicleRoad
@@ -53,6 +57,39 @@ class VehicleTire:
     """The kernel's surface rows of the two surfaces (`abs_vehicle.mf_surface_row`)."""
     file_warnings: tuple[Warning | str, ...] = ()
     """The reader's warnings about the file, for the scenario to show once its input is valid."""
+
+
+LENGTH_FIELDS = ("relaxation_length_m", "lateral_relaxation_length_m")
+"""The vehicle's relaxation lengths (`abs_vehicle_params.VehicleParams`), each a number or
+`tire` (`with_file_lengths`)."""
+
+
+def with_file_lengths(
+    pp: VehicleParams, tire: VehicleTire | None, fields: set[str]
+) -> VehicleParams:
+    """`pp` with the relaxation lengths named in `fields` (given as `tire`) the TIR file's at the
+    reference load m g / 4 (`mf_relaxation`: MF 6.1's from the carcass stiffness, else MF 5.2's
+    from PTX1-3 or PTY1-2); InputError naming the field without a file or a length in it."""
+    lengths = {}
+    for name in sorted(fields):
+        field = f"params.{name}"
+        if tire is None:
+            raise InputError(field, "'tire' takes the TIR file's length: needs --tire")
+        c = tire.surfaces[0].kernel_array()  # a road scales friction, not the lengths' terms
+        if name == "relaxation_length_m":
+            sigma = float(longitudinal_relaxation_length_m(c, tire.reference_load_n))
+            needs = "LONGITUDINAL_STIFFNESS (MF 6.1) nor a positive PTX1 (MF 5.2)"
+        else:
+            sigma = float(lateral_relaxation_length_m(c, tire.reference_load_n))
+            needs = "LATERAL_STIFFNESS (MF 6.1) nor positive PTY1 and PTY2 (MF 5.2)"
+        if not sigma > 0.0:
+            raise InputError(
+                field,
+                f"{tire.path} gives no relaxation length: it has neither {needs}; give the "
+                "length in metres",
+            )
+        lengths[name] = sigma
+    return dataclasses.replace(pp, **lengths)
 
 
 def reference_load_n(pp: VehicleParams) -> float:

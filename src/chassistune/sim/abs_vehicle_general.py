@@ -2,8 +2,9 @@
 unloaded wheel: the step of the lanes the vector pass did not commit, on lanes (`general_steps`:
 each stage in branch-free vector loops over the lanes, the loads by Newton's method iterated
 while a lane's solve has not returned, the others frozen by select, in the operations of
-`plants.abs_vehicle.solve_loads`); and a trace row, its loads by `solve_loads` re-evaluated at
-the lane's state."""
+`plants.abs_vehicle.solve_loads`), with the tires' lagged slips where the run has relaxation
+lengths (`abs_vehicle_lag`); and a trace row, its loads by `solve_loads` re-evaluated at the
+lane's state."""
 
 from __future__ import annotations
 
@@ -16,6 +17,14 @@ from chassistune.plants.abs_vehicle import (
     LOAD_TOL_M_S2,
     MAX_LOAD_ITERATIONS,
     solve_loads,
+)
+from chassistune.sim.abs_vehicle_lag import (
+    has_lengths,
+    kinematic_slips_back,
+    lag_end,
+    lag_stage,
+    lag_trace,
+    lagged,
 )
 from chassistune.sim.abs_vehicle_lane import (
     NO_REFCOUNT,
@@ -44,6 +53,8 @@ from chassistune.sim.abs_vehicle_layout import (
     P_KQ,
     P_MASS,
     P_R,
+    P_SIGMA_X,
+    P_SIGMA_Y,
     R_AX,
     R_AY,
     R_CX,
@@ -540,34 +551,59 @@ def general_steps(form, args):
     numba.literally(form)
     st, width, kc, srf, ctrl, live = args
     mf = magic_formula(srf)  # no closed-form loads: the force is not linear in the load
+    relaxed = lagged(kc)  # the tires read lagged slips (`abs_vehicle_lag`)
     blocks = width // VECTOR
     for blk in range(blocks):
         for j in range(VECTOR):
             lane_start(st, blk * VECTOR + j, live)
     for stage in range(4):
         c = 0.0 if stage == 0 else (kc[KC_DT] if stage == 3 else kc[KC_HS])
+        weight = 1.0 if stage == 3 else 2.0
         angles(st, width, R_KPREV, c)
-        for blk in range(blocks):
-            linear = False
-            for j in range(VECTOR):
-                linear |= stage_start(st, blk * VECTOR + j, c, kc)
-            if linear and not mf:
+        if relaxed:
+            lagged_stage_start(st, blocks, c, stage == 0, weight, kc, srf)
+        else:
+            for blk in range(blocks):
+                linear = False
                 for j in range(VECTOR):
-                    stage_closed(st, blk * VECTOR + j, c, kc, srf)
+                    linear |= stage_start(st, blk * VECTOR + j, c, kc)
+                if linear and not mf:
+                    for j in range(VECTOR):
+                        stage_closed(st, blk * VECTOR + j, c, kc, srf)
         if mf:
             magic_formula_load_solve(st, blocks, kc, srf)
         else:
             load_solve(st, blocks, kc, srf, False)
-        weight = 1.0 if stage == 3 else 2.0
+        if relaxed:
+            kinematic_slips_back(st, blocks)
         for blk in range(blocks):
             for j in range(VECTOR):
                 stage_end(form, st, blk * VECTOR + j, c, stage == 0, weight, kc, srf, ctrl)
     angles(st, width, R_KSUM, kc[KC_H6])
+    if relaxed:
+        lag_end(st, blocks, kc)
     ended = False
     for blk in range(blocks):
         for j in range(VECTOR):
             ended |= general_end(st, blk * VECTOR + j, kc)
     return ended
+
+
+@numba.njit(**NO_REFCOUNT)
+def lagged_stage_start(st, blocks, c, first, weight, kc, srf):
+    """A stage's start in the lanes of `blocks` vectors where the tires read lagged slips: the
+    wheels' kinematics (`stage_start`), the lag (`abs_vehicle_lag.lag_stage`: the tire's slips in
+    the rows the load solve reads) and, with the bilinear tire, the loads in closed form where
+    the lagged slips are linear (`stage_closed`)."""
+    mf = magic_formula(srf)
+    for blk in range(blocks):
+        for j in range(VECTOR):
+            stage_start(st, blk * VECTOR + j, c, kc)
+        for j in range(VECTOR):
+            lag_stage(st, blk * VECTOR + j, c, first, weight, kc)
+        if not mf:
+            for j in range(VECTOR):
+                stage_closed(st, blk * VECTOR + j, c, kc, srf)
 
 
 @numba.njit(**NO_REFCOUNT)
@@ -583,6 +619,8 @@ def trace_row(trace_row, start, t, st, l, work):
     for j in range(4):
         wbuf[j] = y[S_W + j]
     kinematics(y[S_VX], y[S_VY], y[S_YR], y[S_DELTA], wbuf, p, geo, sc)
+    if has_lengths(p, P_SIGMA_X, P_SIGMA_Y):
+        lag_trace(trace_row, st, l, p, sc)
     guess[0, 0], guess[1, 0], _ = solve_loads(
         sc, surfs, sidx, 0, geo, p[P_MASS], guess[0, 0], guess[1, 0]
     )

@@ -26,8 +26,9 @@ at v_stop (CG speed) is located by linear interpolation inside the last step, an
 
 The stages, one module each: the layouts (`abs_vehicle_layout`), a lane's rows
 (`abs_vehicle_lane`), the wheels (`abs_vehicle_wheels`), the straight path
-(`abs_vehicle_straight`), the general path (`abs_vehicle_general`), the step's end
-(`abs_vehicle_step_end`), instants inside a step (`abs_vehicle_stop`), the wheel laws
+(`abs_vehicle_straight`), the general path (`abs_vehicle_general`), the tires' lagged slips
+(`abs_vehicle_lag`: a run with a relaxation length takes the general path at every step), the
+step's end (`abs_vehicle_step_end`), instants inside a step (`abs_vehicle_stop`), the wheel laws
 (`abs_vehicle_ticks`); here the lane loop and the entry point.
 
 Lanes (the design of `abs_wheel_kernel`). Every per-candidate quantity lives in ONE flat array `st`
@@ -68,6 +69,7 @@ import numpy as np
 from chassistune.controllers.laws import registry as laws
 from chassistune.controllers.laws.dispatch import by_continuous_form, law_sampled
 from chassistune.sim.abs_vehicle_general import general_steps, trace_row
+from chassistune.sim.abs_vehicle_lag import lagged
 from chassistune.sim.abs_vehicle_lane import (
     NO_REFCOUNT,
     constants,
@@ -211,6 +213,7 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
     kc = constants(p, geo)
     srf = surfaces(surfs)
     mf = magic_formula(srf)
+    relaxed = lagged(kc)
     dt = kc[KC_DT]
     n_g = gains.shape[1] // 2 if p[P_AXLE] != 0.0 else gains.shape[1]
     col0[:] = 0  # first gain column of each wheel
@@ -248,8 +251,9 @@ def _simulate(laws_key, gains, p, geo, surfs, ctrl_kind, c, table, trace, out, s
                     tick(st, l, i, k, gains, col0, laws_key, ctrl_kind, c, table, kc, ts)
         width = -(-live // VECTOR) * VECTOR
         ended = False
-        if all_general or mf:  # skip the straight pass (the general one gives the same numbers;
-            # the Magic Formula's loads have no closed form)
+        if all_general or mf or relaxed:  # skip the straight pass (the general one gives the
+            # same numbers; the Magic Formula's loads have no closed form; the lag is the
+            # general pass's)
             for l in range(width):
                 st[R_DONE * LANES + l] = 0.0
         else:

@@ -50,6 +50,8 @@ from chassistune.sim.abs_vehicle_layout import (
     P_R,
     P_ROAD,
     P_SELECT_LOW,
+    P_SIGMA_X,
+    P_SIGMA_Y,
     P_SPLIT_ROAD,
     P_STAU,
     P_TAU,
@@ -157,6 +159,14 @@ def constants(p, geo):
         n_steps * dt,
         p[P_TCOL],
         p[P_GCOL],
+        p[P_SIGMA_X],
+        p[P_SIGMA_X + 1],
+        p[P_SIGMA_X + 2],
+        p[P_SIGMA_X + 3],
+        p[P_SIGMA_Y],
+        p[P_SIGMA_Y + 1],
+        p[P_SIGMA_Y + 2],
+        p[P_SIGMA_Y + 3],
     )
 
 

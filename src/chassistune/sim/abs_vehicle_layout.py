@@ -100,6 +100,22 @@ PLANT_LAYOUT = Layout(
             "the gain column of the yaw-moment build-up rate r_gma (controllers.yaw_moment_delay); "
             "-1: no delay",
         ),
+        *(
+            Slot(
+                f"relaxation_length_{w}_m",
+                "m",
+                "the wheel's longitudinal relaxation length sigma_kappa (0: the kinematic slip)",
+            )
+            for w in WHEELS
+        ),
+        *(
+            Slot(
+                f"lateral_relaxation_length_{w}_m",
+                "m",
+                "the wheel's lateral relaxation length sigma_alpha (0: the kinematic slip angle)",
+            )
+            for w in WHEELS
+        ),
     ),
 )
 GEOMETRY_LAYOUT = Layout(
@@ -122,6 +138,16 @@ STATE_LAYOUT = Layout(
         Slot("y", "m"),
         Slot("heading", "rad"),
         Slot("steer", "rad"),
+        *(
+            Slot(
+                f"lagged_slip_{w}",
+                "-",
+                "the tire's lagged longitudinal slip s' = -kappa' (`abs_vehicle_lag`; 0 while the "
+                "wheel's relaxation length is 0)",
+            )
+            for w in WHEELS
+        ),
+        *(Slot(f"lagged_tan_alpha_{w}", "-", "the tire's lagged tan(alpha')") for w in WHEELS),
         *(Slot(f"w_{w}", "rad/s") for w in WHEELS),
         *(Slot(f"q_{w}", "unit") for w in WHEELS),
         *(Slot(f"qrate_{w}", "unit/s") for w in WHEELS),
@@ -201,6 +227,28 @@ TRACE_LAYOUT = Layout(
         *(Slot(f"surface_{w}", "-", "index of the surface under the wheel") for w in WHEELS),
     ),
 )
+LAG_TRACE_LAYOUT = Layout(
+    "abs-vehicle trace columns of a run with relaxation lengths (after TRACE_LAYOUT's)",
+    (
+        *(
+            Slot(
+                f"lagged_slip_{w}",
+                "-",
+                "the longitudinal slip the tire reads, s' = -kappa' (braking positive, over |u|; "
+                "the kinematic (u - w R)/|u| where the length is 0)",
+            )
+            for w in WHEELS
+        ),
+        *(
+            Slot(
+                f"lagged_tan_alpha_{w}",
+                "-",
+                "tan(alpha') the tire reads (the kinematic v/|u| where the length is 0)",
+            )
+            for w in WHEELS
+        ),
+    ),
+)
 
 P_MASS = PLANT_LAYOUT["mass_kg"]
 P_IZ = PLANT_LAYOUT["yaw_inertia_kg_m2"]
@@ -233,6 +281,8 @@ P_AXLE = PLANT_LAYOUT["axle_gains"]
 P_WINDOW = PLANT_LAYOUT["yaw_window_s"]
 P_TCOL = PLANT_LAYOUT["target_gain_column"]
 P_GCOL = PLANT_LAYOUT["gma_gain_column"]
+P_SIGMA_X = PLANT_LAYOUT["relaxation_length_fl_m"]
+P_SIGMA_Y = PLANT_LAYOUT["lateral_relaxation_length_fl_m"]
 
 G_X = GEOMETRY_LAYOUT["x_m"]
 G_Y = GEOMETRY_LAYOUT["y_m"]
@@ -249,6 +299,8 @@ S_X = STATE_LAYOUT["x"]
 S_Y = STATE_LAYOUT["y"]
 S_PSI = STATE_LAYOUT["heading"]
 S_DELTA = STATE_LAYOUT["steer"]
+S_LAG_X = STATE_LAYOUT["lagged_slip_fl"]
+S_LAG_Y = STATE_LAYOUT["lagged_tan_alpha_fl"]
 S_W = STATE_LAYOUT["w_fl"]
 S_Q = STATE_LAYOUT["q_fl"]
 S_QR = STATE_LAYOUT["qrate_fl"]
@@ -300,6 +352,9 @@ T_TB = TRACE_LAYOUT["brake_torque_fl_n_m"]
 T_FX = TRACE_LAYOUT["fx_fl_n"]
 T_SURF = TRACE_LAYOUT["surface_fl"]
 N_TRACE = len(TRACE_LAYOUT)
+T_LAG_X = N_TRACE + LAG_TRACE_LAYOUT["lagged_slip_fl"]
+T_LAG_Y = N_TRACE + LAG_TRACE_LAYOUT["lagged_tan_alpha_fl"]
+N_TRACE_LAGGED = N_TRACE + len(LAG_TRACE_LAYOUT)
 
 # scratch rows of one evaluation (columns: the wheels): the physics' work rows, then ours
 W_SX, W_VR, W_CS, W_SN, W_FZ, W_FXW, W_FXB, W_FYB = (
@@ -343,8 +398,14 @@ GENERAL_ROWS = (
     Slot("heading_rad", "rad", "the heading the next two rows are of"),
     Slot("heading_cos", "-", "cos of the stage's heading (1 at 0)"),
     Slot("heading_sin", "-", "sin of the stage's heading (0 at 0)"),
-    *_per_wheel("sx", "-", "the stage's longitudinal slip (u - w R)/|V|, unclipped"),
-    *_per_wheel("vr", "-", "the stage's v/|V| in the wheel frame"),
+    *_per_wheel("sx", "-", "the stage's longitudinal slip (u - w R)/|V| the tire reads, unclipped"),
+    *_per_wheel("vr", "-", "the stage's v/|V| in the wheel frame the tire reads"),
+    *_per_wheel(
+        "kinematic_slip",
+        "-",
+        "the stage's kinematic slip clipped to [0, 1], the laws' input, where the tire reads "
+        "lagged slips (`abs_vehicle_lag`)",
+    ),
     *_per_wheel("wheel_cos", "-", "the wheel-to-body rotation (cos, sin)"),
     *_per_wheel("wheel_sin", "-"),
     Slot("newton_ax_m_s2", "m/s^2", "the load solve's iterate"),
@@ -481,6 +542,7 @@ if (R_STEER_COS, R_STEER_SIN, R_HEAD_COS, R_HEAD_SIN) != (
     raise RuntimeError("an angle's cos and sin rows must follow its own (`put_angle`)")
 R_SX = LANE_LAYOUT["sx_fl"]
 R_VR = LANE_LAYOUT["vr_fl"]
+R_KSLIP = LANE_LAYOUT["kinematic_slip_fl"]
 R_WCOS = LANE_LAYOUT["wheel_cos_fl"]
 R_WSIN = LANE_LAYOUT["wheel_sin_fl"]
 R_NAX = LANE_LAYOUT["newton_ax_m_s2"]
@@ -543,6 +605,8 @@ CONSTANTS_LAYOUT = Layout(
         Slot("t_timeout_s", "s", "n_steps dt"),
         Slot("target_gain_column", "-"),
         Slot("gma_gain_column", "-"),
+        *(Slot(f"relaxation_length_{w}_m", "m") for w in WHEELS),
+        *(Slot(f"lateral_relaxation_length_{w}_m", "m") for w in WHEELS),
     ),
 )
 """Slots named as a plant slot hold that slot's value, `inv_` ones its inverse,
@@ -584,3 +648,5 @@ KC_NSTEPS = CONSTANTS_LAYOUT["n_steps"]
 KC_TTIMEOUT = CONSTANTS_LAYOUT["t_timeout_s"]
 KC_TCOL = CONSTANTS_LAYOUT["target_gain_column"]
 KC_GCOL = CONSTANTS_LAYOUT["gma_gain_column"]
+KC_SIGMA_X = CONSTANTS_LAYOUT["relaxation_length_fl_m"]
+KC_SIGMA_Y = CONSTANTS_LAYOUT["lateral_relaxation_length_fl_m"]

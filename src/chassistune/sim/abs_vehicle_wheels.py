@@ -77,18 +77,25 @@ def kinematics(vx, vy, r, delta, w, p, geo, sc):
 
 
 @inlined
-def steered_wheel(b, w, cd, sd, j, kc):
-    """`kinematics` of wheel j (spin w) at body state b, the steering angle given as its
-    (cos, sin) = (cd, sd) (1, 0 at 0): (sx, v/|V|, wheel-to-body (cos, sin), |V|, clipped
-    slip), a front wheel turned where sd != 0. Branch-free."""
+def wheel_velocity(b, cd, sd, j, kc):
+    """The velocity (u, v) of wheel j's centre in the wheel's frame at body state b = (vx, vy,
+    r, ...), the steering angle given as its (cos, sin) = (cd, sd) (1, 0 at 0), and whether the
+    wheel is turned (a front wheel where sd != 0). Branch-free."""
     vx = b[0]
     vy = b[1]
     r = b[2]
     u = vx - r * kc[KC_GY + j]
     v = vy + r * kc[KC_GX + j]
     turned = (j < 2) & (sd != 0.0)
-    uw = select(turned, cd * u + sd * v, u)
-    vw = select(turned, cd * v - sd * u, v)
+    return select(turned, cd * u + sd * v, u), select(turned, cd * v - sd * u, v), turned
+
+
+@inlined
+def steered_wheel(b, w, cd, sd, j, kc):
+    """`kinematics` of wheel j (spin w) at body state b, the steering angle given as its
+    (cos, sin) = (cd, sd) (1, 0 at 0): (sx, v/|V|, wheel-to-body (cos, sin), |V|, clipped
+    slip), a front wheel turned where sd != 0. Branch-free."""
+    uw, vw, turned = wheel_velocity(b, cd, sd, j, kc)
     sx, vr, vabs, slip = wheel_kinematics(uw, vw, w, kc[KC_RW], kc[KC_VMIN])
     return sx, vr, select(turned, cd, 1.0), select(turned, sd, 0.0), vabs, slip
 
