@@ -63,7 +63,7 @@ class VehicleParams:
     relaxation_length_m: float = field(default=0.0, metadata=nonnegative(0.0, 1.0))
     """sigma_kappa of every wheel: 0, the tires read the kinematic slip; positive, a lagged slip
     (docs/tires.md, "Transient slip on the vehicle"); `tire` on the command line: the TIR
-    file's own, at each wheel's static load."""
+    file's own, at the reference load m g / 4."""
     lateral_relaxation_length_m: float = field(default=0.0, metadata=nonnegative(0.0, 1.0))
     """sigma_alpha of every wheel, the lateral slip's lag as `relaxation_length_m`."""
 
