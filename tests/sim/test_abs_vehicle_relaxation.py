@@ -160,7 +160,11 @@ def test_zero_lengths_are_the_magic_formula_tires_static_run(road):
         ("dry-concrete", {"relaxation_length_m": 0.3}),
         ("split-mu", {**LAG, "steering": "driver"}),
         ("mu-jump", LAG),
-        ("split-mu", {**MF, "relaxation_length_m": "tire", "lateral_relaxation_length_m": "tire"}),
+        pytest.param(
+            "split-mu",
+            {**MF, "relaxation_length_m": "tire", "lateral_relaxation_length_m": "tire"},
+            marks=pytest.mark.slow,  # about 20 s: the Magic Formula's Newton loads
+        ),
     ],
 )
 def test_batch_row_equals_single_run_on_one_and_two_threads(road, params):
