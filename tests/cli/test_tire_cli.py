@@ -3,6 +3,7 @@ naming the file's line, exit 2, with nothing on stdout and no warning."""
 
 from __future__ import annotations
 
+import math
 from importlib.resources import files
 from pathlib import Path
 
@@ -13,6 +14,7 @@ from chassistune.plants.tir import read_tir_file
 
 SAMPLE_TIR = str(files("chassistune") / "data" / "tires" / "commonroad_pac2002.tir")
 SAMPLE = Path(SAMPLE_TIR).read_text(encoding="utf-8")
+CHRONO_TIR = str(files("chassistune") / "data" / "tires" / "chrono_185_80R14_pac2002.tir")
 MF61_TIR = str(Path(__file__).parents[1] / "plants" / "data" / "MagicFormula61_Parameters.tir")
 
 
@@ -39,6 +41,26 @@ def test_an_mf61_file_with_lateral_coefficients(cli) -> None:
     assert "mu = 1.0951 at kappa = -0.1071" in r.out
     assert "sigma_kappa at FNOMIN: 0.568 m" in r.out
     assert "ignored (80): PDX3 " in r.out and "absent, neutral values used (0): -" in r.out
+    assert "sigma_alpha at FNOMIN: 0.7238 m (MF 6.1, |K / C| with LATERAL_STIFFNESS)" in r.out
+
+
+def test_an_mf52_file_gives_its_lengths_from_ptx_and_pty(cli) -> None:
+    """Chrono's PAC2002 file has no carcass stiffness: its lengths are MF 5.2's, at FNOMIN
+    (dfz = 0) sigma_kappa = PTX1 R_0 LSGKP and sigma_alpha = PTY1 sin(2 arctan(1 / PTY2)) R_0
+    LSGAL, by hand from the file's PTX1 1.9021, PTY1 1.8473, PTY2 1.9465, R_0 0.376 m."""
+    r = cli("tire", CHRONO_TIR, "--lateral")
+    assert r.code == 0, r.err
+    sigma_kappa = 1.9021 * 0.376
+    sigma_alpha = 1.8473 * math.sin(2.0 * math.atan(1.0 / 1.9465)) * 0.376
+    assert f"sigma_kappa at FNOMIN: {sigma_kappa:.4g} m (MF 5.2, PTX1-3)" in r.out
+    assert f"sigma_alpha at FNOMIN: {sigma_alpha:.4g} m (MF 5.2, PTY1-2)" in r.out
+    r = cli("tire", CHRONO_TIR)
+    assert "sigma_alpha" not in r.out
+
+
+def test_a_file_without_lengths_says_which_coefficients_are_missing(cli) -> None:
+    r = cli("tire", SAMPLE_TIR)
+    assert "sigma_kappa at FNOMIN: not given (neither LONGITUDINAL_STIFFNESS nor PTX1-3)" in r.out
 
 
 def test_a_file_named_like_a_field_is_named_as_given(
