@@ -17,21 +17,21 @@ from typing import Any
 from numba.core import event
 
 COMPILE_CPU_S = {
-    "abs_vehicle_kernel": 31,
-    "abs_wheel_kernel": 26,
-    "abs_wheel_ecu_kernel": 24,
-    "quarter_car_kernel": 8,
-    "lyapunov": 4,
-    "discrete": 1,
+    "abs_vehicle_kernel": 58,
+    "abs_wheel_ecu_kernel": 41,
+    "abs_wheel_kernel": 40,
+    "quarter_car_kernel": 12,
+    "lyapunov": 7,
+    "discrete": 2,
 }
 """CPU seconds numba takes to compile a kernel of each module (the single wheel's one entry
 point, with every tire law and integration method; the realistic ECU kernel, whose step loop
 is compiled once per tire law; the vehicle's lane loop with its straight and general passes and
-its law ticks; the C export's replay of the discrete laws, which loads the ECU's law dispatch),
-measured with `time.process_time` around each compilation on a fresh cache (`chassistune
-warmup` of a fresh clone, 2026-11-28 16:10, 2 cores, nothing else running; the vehicle's
-again with the Magic Formula tire, 1.8 s more than before it measured back to back): about the
-wall time on an idle core, several times that while other work shares it."""
+its law ticks, the Magic Formula and the lagged slips; the C export's replay of the discrete
+laws, which loads the ECU's law dispatch), measured with `time.process_time` around each
+compilation on a fresh cache, the kernels one after another in one process (2026-11-29, 2 cores,
+nothing else running): about the wall time on an idle core, several times that while other work
+shares it."""
 
 OTHER_CPU_S = 3
 """About the CPU seconds of any other compiled function (a fuzzy surface, a C export replay)."""
