@@ -175,6 +175,26 @@ def test_cocopp_postprocessing_writes_its_ecdf_pages(tiny: Path, cli) -> None:
     assert list((tiny / "ppdata").rglob("pprldmany*"))  # the ECDF figures
 
 
+@pytest.mark.slow
+def test_offline_postprocessing_says_nothing_of_cocopps_online_archive(tiny: Path) -> None:
+    """Importing cocopp fetches the list of its online archive of reference results, and warns
+    where that fails: offline (an unreachable proxy here) the command prints no such line, since
+    no reference result is compared. A fresh process: an imported cocopp does not fetch again."""
+    env = {**os.environ, "https_proxy": "http://127.0.0.1:9", "http_proxy": "http://127.0.0.1:9"}
+    code = (
+        "import sys; from pathlib import Path; from chassistune.plots.coco_ecdf import "
+        "postprocess; coco = Path(sys.argv[1]) / 'coco'; "
+        "postprocess(sorted(coco.iterdir()), Path(sys.argv[2]))"
+    )
+    pp = tiny.parent / "pp-offline"
+    done = subprocess.run(
+        [sys.executable, "-c", code, str(tiny), str(pp)], env=env, capture_output=True, text=True
+    )
+    assert done.returncode == 0, done.stderr
+    assert (pp / "index.html").is_file()
+    assert "failed to connect" not in done.stderr and "Warning" not in done.stderr
+
+
 @pytest.mark.parametrize("executor", ["process", "dask"])
 def test_every_executor_stores_the_serial_traces(executor: str, tiny: Path, cli) -> None:
     """The same plan on two worker processes (a process pool, a Dask LocalCluster) stores, run for
