@@ -8,6 +8,7 @@ import subprocess
 import sys
 import time
 from dataclasses import dataclass
+from importlib.resources import files
 from pathlib import Path
 
 import pytest
@@ -15,6 +16,10 @@ import pytest
 pytestmark = pytest.mark.slow
 
 RUN = "import sys; from chassistune.cli.main import main; main()"
+
+TIRES = files("chassistune") / "data" / "tires"
+CHRONO = str(TIRES / "chrono_185_80R14_pac2002.tir")
+COMMONROAD = str(TIRES / "commonroad_pac2002.tir")
 
 DOCUMENTED = [
     "simulate abs-wheel --road wet-asphalt --controller pid --gains kp=5000,kd=230 --csv run.csv",
@@ -34,6 +39,12 @@ DOCUMENTED = [
     "export --controller fuzzy-pid --gains ke=12 --format mat --out mat",
     "simulate --from tuned/tune.json --compare none,pid,threshold",
     "league --quick --seeds 1 --out league-quick",
+    f"tire --lateral {CHRONO}",
+    f"tire {COMMONROAD}",
+    f"simulate abs-wheel --tire {CHRONO} --param relaxation_length_m=tire",
+    f"simulate abs-wheel --tire {COMMONROAD} --ecu realistic --param relaxation_length_m=0.3",
+    f"simulate abs-vehicle --tire {CHRONO} --road split-mu --param dt_s=0.0002"
+    " --param relaxation_length_m=tire --param lateral_relaxation_length_m=tire",
 ]
 """The README's tour and docs/ commands, one per kernel variant they reach (budgets cut: the
 budget picks no kernel)."""

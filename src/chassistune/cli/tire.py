@@ -25,6 +25,11 @@ import click
 def tire_command(file: str, lateral: bool) -> None:
     """Inspect a tyre property file (.tir): version, FNOMIN, radius, the braking peak mu and its
     slip at FNOMIN, the relaxation lengths at FNOMIN (m), ignored and absent coefficients."""
+    click.echo("\n".join(report_lines(file, lateral)))
+
+
+def report_lines(file: str, lateral: bool) -> list[str]:
+    """What `chassistune tire` prints about the tyre property file `file`."""
     from chassistune.plants.mf_peak import braking_peak
     from chassistune.plants.mf_relaxation import (
         lateral_relaxation_length_m,
@@ -64,7 +69,7 @@ def tire_command(file: str, lateral: bool) -> None:
         _names("ignored", contents.ignored),
         _names("absent, neutral values used", contents.absent),
     ]
-    click.echo("\n".join(lines))
+    return lines
 
 
 def _length(sigma_m: float, carcass: bool, names: tuple[str, str]) -> str:

@@ -11,7 +11,11 @@ import click
 
 def _warm_rest() -> None:
     """The kernels no scenario run reaches: the C export's closed-loop replay of each exportable
-    law and the fuzzy engine of each built-in rule base (`fuzzy eval`)."""
+    law, the fuzzy engine of each built-in rule base (`fuzzy eval`) and the Magic Formula's
+    peak and relaxation lengths of `chassistune tire` (on each shipped tyre file, with its
+    lateral coefficients where it has them)."""
+    from importlib.resources import files
+
     import numpy as np
 
     from chassistune.controllers import laws
@@ -28,6 +32,30 @@ def _warm_rest() -> None:
     for name in builtin_names():
         rb = load_rulebase(name)
         evaluate(rb, np.zeros((1, len(rb.inputs))))
+    for tir in sorted((files("chassistune") / "data" / "tires").iterdir(), key=str):
+        if tir.name.endswith(".tir"):
+            _warm_tire(str(tir))
+
+
+def _warm_tire(tir: str) -> None:
+    """`chassistune tire` on the tyre file `tir` (with `--lateral` where it gives the lateral
+    force's coefficients) and its forces over arrays (`mf_arrays.forces_n`: the curve a run
+    fits when its tyre's polynomial is not cached yet)."""
+    import numpy as np
+
+    from chassistune.cli.tire import report_lines
+    from chassistune.errors import InputError
+    from chassistune.plants.mf_arrays import forces_n
+    from chassistune.plants.tir import read_tir_file
+
+    tire = read_tir_file(tir).tire
+    forces_n(tire, -np.linspace(0.0, 1.0, 3), 0.0, tire.fnomin_n)
+    try:
+        read_tir_file(tir, lateral=True)
+    except InputError:
+        report_lines(tir, lateral=False)
+        return
+    report_lines(tir, lateral=True)
 
 
 @click.command("warmup")
