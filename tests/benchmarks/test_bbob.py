@@ -100,7 +100,8 @@ def _dat_rows(path: Path) -> list[tuple[float, list[tuple[int, float]]]]:
 
 
 def test_coco_folder_holds_the_stored_improvements_and_cocopp_reads_it(tiny: Path) -> None:
-    from cocopp.pproc import DataSetList
+    with warnings.catch_warnings(record=True):  # cocopp's import fetches its online archive list
+        from cocopp.pproc import DataSetList
 
     runs = {(r.spec.optimizer, r.spec.scenario): r for r in _records(tiny)}
     for name in ("cma-es", "random-search"):
