@@ -51,11 +51,9 @@ def _warm_tire(tir: str) -> None:
     tire = read_tir_file(tir).tire
     forces_n(tire, -np.linspace(0.0, 1.0, 3), 0.0, tire.fnomin_n)
     try:
-        read_tir_file(tir, lateral=True)
-    except InputError:
+        report_lines(tir, lateral=True)
+    except InputError:  # a file without the lateral force's coefficients
         report_lines(tir, lateral=False)
-        return
-    report_lines(tir, lateral=True)
 
 
 @click.command("warmup")

@@ -58,15 +58,10 @@ def edge_angle(k, teeth, spacing):
 
 
 @_jit
-def hermite_angle(s, theta0, theta1, w0, w1, dt):
-    """Cubic Hermite interpolant of the angle at s in [0, 1] of a step of length dt."""
-    return theta0 + hermite_advance(s, theta1 - theta0, w0, w1, dt)
-
-
-@_jit
 def hermite_advance(s, dtheta, w0, w1, dt):
-    """`hermite_angle` less theta0, from the step's increment dtheta = theta1 - theta0: the
-    angle the wheel turned by s, free of the rounding of a large theta0."""
+    """The angle the wheel turned by s in [0, 1] of a step of length dt: its cubic Hermite
+    interpolant less theta0, from the step's increment dtheta = theta1 - theta0 and the end
+    speeds w0, w1 (free of the rounding of a large theta0)."""
     s2 = s * s
     s3 = s2 * s
     return (-2.0 * s3 + 3.0 * s2) * dtheta + (s3 - 2.0 * s2 + s) * dt * w0 + (s3 - s2) * dt * w1
