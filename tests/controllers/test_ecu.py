@@ -409,6 +409,30 @@ def test_sensor_never_produces_nan(
     assert math.isfinite(E.sensor_read(w, tl, t0 + 3 * dt, teeth, True))
 
 
+@settings(max_examples=200, deadline=None)
+@given(
+    teeth=st.integers(3, 400),
+    seed=st.integers(0, 2**32 - 1),
+    theta0=st.floats(0.0, 1e4),
+    turn=st.floats(0.0, 3.0),
+)
+def test_edges_passed_are_the_last_two_edges_up_to_the_angle(
+    teeth: int, seed: int, theta0: float, turn: float
+) -> None:
+    """Against the definition: the largest edge index whose angle is at most theta1, and the one
+    before it unless that is before k_first, with spacing errors at the clip (edges in order)."""
+    pitch = 2.0 * math.pi / teeth
+    rng = np.random.default_rng(seed)
+    spacing = rng.uniform(-0.45, 0.45, teeth) * pitch
+    k_first = E.sensor_first_edge(theta0, teeth, spacing)
+    theta1 = max(theta0 + turn, E.edge_angle(k_first, teeth, spacing))
+    ks = np.arange(k_first - 2, k_first + 3 * teeth + 4)
+    angles = np.array([E.edge_angle(int(k), teeth, spacing) for k in ks])
+    assert np.all(np.diff(angles) > 0.0)
+    k_end = int(ks[angles <= theta1].max())
+    assert E.edges_passed(k_first, theta1, teeth, spacing) == (max(k_first, k_end - 1), k_end)
+
+
 @settings(max_examples=300, deadline=None)
 @given(
     rate=finite,

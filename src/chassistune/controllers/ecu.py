@@ -172,12 +172,12 @@ def sensor_step(
 @_jit
 def edges_passed(k_first, theta1, teeth, spacing):
     """(k, k_end): the edges of a step from the next edge k_first up to the angle theta1 that
-    matter, the last two (edge k_first is passed: edge_angle(k_first) <= theta1)."""
-    k_end = math.floor(theta1 * teeth / (2.0 * math.pi))
+    matter, the last two (edge k_first is passed: edge_angle(k_first) <= theta1). The edges are
+    in order (`ecu_params.SPACING_CLIP`), so the last one passed is found by walking on from
+    k_first, one comparison per edge of the step and no division."""
+    k_end = k_first
     while edge_angle(k_end + 1, teeth, spacing) <= theta1:
         k_end += 1
-    while edge_angle(k_end, teeth, spacing) > theta1:
-        k_end -= 1
     return max(k_first, k_end - 1), k_end
 
 
