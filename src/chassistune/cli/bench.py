@@ -11,6 +11,7 @@ import importlib
 import click
 
 from chassistune.cli.common import echo_json, fmt
+from chassistune.perf.targets import verdict
 
 AREAS = (
     "abs",
@@ -46,7 +47,8 @@ def bench_command(quick: bool, as_json: bool, only: tuple[str, ...], plot_path: 
     """Measure speed and accuracy: simulations/s, errors, speedups against baselines.
 
     Every ratio is measured against its baseline (scipy solve_ivp, JAX, mealpy, scikit-fuzzy,
-    the simulated objective) in the same run; `--quick` uses fewer repetitions. The last area,
+    the simulated objective) in the same run; `--quick` uses fewer repetitions. Each figure with
+    a target (docs/design.md 8) says whether this run met it. The last area,
     'scaling', measures the cost against population and iterations (about 3 minutes).
     """
     if plot_path is not None and only and "scaling" not in only:
@@ -71,6 +73,6 @@ def bench_command(quick: bool, as_json: bool, only: tuple[str, ...], plot_path: 
         echo_json({**figures, "notes": notes} if notes else figures)
         return
     for name, value in figures.items():
-        click.echo(f"{name:<36} {fmt(value)}")
+        click.echo(f"{name:<36} {fmt(value):<10} {verdict(name, value)}".rstrip())
     for area, note in notes.items():
         click.echo(f"{area:<36} {note}")
