@@ -37,6 +37,8 @@ VALVE_BUILD = 1
 CROSSING_ITERATIONS = 60
 """Most iterations of the edge-time search (a halving each at worst: float resolution)."""
 _EPS = 2.0**-52
+_INV_TWO_PI = 1.0 / (2.0 * math.pi)
+"""Turns per radian: `edges_passed` guesses an edge index by a product."""
 
 _jit = numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 
@@ -173,11 +175,14 @@ def sensor_step(
 def edges_passed(k_first, theta1, teeth, spacing):
     """(k, k_end): the edges of a step from the next edge k_first up to the angle theta1 that
     matter, the last two (edge k_first is passed: edge_angle(k_first) <= theta1). The edges are
-    in order (`ecu_params.SPACING_CLIP`), so the last one passed is found by walking on from
-    k_first, one comparison per edge of the step and no division."""
-    k_end = k_first
+    in order (`ecu_params.SPACING_CLIP`): the last one passed is found by walking from the
+    pitch's guess floor(theta1 N / 2 pi), never below k_first, a step or two on any wheel (a
+    product, no division)."""
+    k_end = max(k_first, math.floor(theta1 * teeth * _INV_TWO_PI))
     while edge_angle(k_end + 1, teeth, spacing) <= theta1:
         k_end += 1
+    while k_end > k_first and edge_angle(k_end, teeth, spacing) > theta1:
+        k_end -= 1
     return max(k_first, k_end - 1), k_end
 
 
